@@ -1,0 +1,67 @@
+#include <asf/pipeline.h>
+#include <tclap/CmdLine.h>
+
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+
+namespace asf::app {
+
+namespace {
+std::atomic<bool> g_stop{false};
+extern "C" void onSignal(int) { g_stop = true; }
+}  // namespace
+
+int cmdRun(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Runs the pipeline of CONFIG: source -> front-end -> back-end -> map -> segmenter -> "
+      "topological graph -> policy, until the source ends, the policy is done or a budget is "
+      "spent. Ctrl-C stops the run and still writes its outputs.",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::UnlabeledValueArg<std::string> config("config", "Pipeline INI file", true, "",
+                                               "CONFIG.ini", cmd);
+  TCLAP::ValueArg<std::string> out("o", "out", "Output folder (default: results/<config name>)",
+                                   false, "", "DIR", cmd);
+  TCLAP::MultiArg<std::string> set("s", "set", "Override a key: section.key=value (repeatable)",
+                                   false, "section.key=value", cmd);
+  std::vector<std::string> levels{"DEBUG", "INFO", "WARN", "ERROR"};
+  TCLAP::ValuesConstraint<std::string> lv(levels);
+  TCLAP::ValueArg<std::string> verb("v", "verbosity", "Log level (overrides [pipeline] verbosity)",
+                                    false, "", &lv, cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+
+  IniConfig ini = IniConfig::fromFile(config.getValue());
+  for (const auto& s : set.getValue()) ini.applyOverride(s);
+  if (!verb.getValue().empty()) ini.set("pipeline", "verbosity", verb.getValue(), "--verbosity");
+  Registry reg;
+  const ResolvedConfig rc = resolveConfig(ini, reg);
+
+  std::string dir = out.getValue();
+  if (dir.empty()) dir = "results/" + std::filesystem::path(config.getValue()).stem().string();
+  Pipeline pipeline(rc, dir);
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const RunSummary s = pipeline.run(&g_stop);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+
+  std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, "
+            << s.distance_m << " m, " << s.nodes << " nodes, " << s.edges << " edges, "
+            << s.regions << " regions";
+  if (s.final_pose_error_m >= 0)
+    std::cout << ", final pose error " << s.final_pose_error_m << " m (mean "
+              << s.mean_pose_error_m << " m)";
+  std::cout << " in " << s.wall_time_s << " s\n";
+  std::cout << "asf run: results in " << std::filesystem::absolute(dir).lexically_normal().string()
+            << "/ (";
+  const auto files = Pipeline::outputFiles();
+  for (std::size_t i = 0; i < files.size(); ++i) std::cout << (i ? ", " : "") << files[i];
+  std::cout << ")\n";
+  return g_stop ? kInterrupted : kOk;
+}
+
+}  // namespace asf::app

@@ -1,0 +1,23 @@
+#pragma once
+// Subcommands of the asf host. Each parses its own arguments (TCLAP, with --help) and
+// returns the process exit code; asf::Error escaping one is reported by main().
+#include <string>
+#include <vector>
+
+namespace asf::app {
+
+/// Exit codes shared by all subcommands.
+enum Exit : int {
+  kOk = 0,
+  kError = 1,        ///< bad configuration, plugin or input
+  kUsage = 2,        ///< bad command line
+  kTestsFailed = 3,  ///< conformance tests failed
+  kInterrupted = 130,
+};
+
+int cmdRun(int argc, char** argv);
+int cmdPlugins(int argc, char** argv);
+int cmdConfig(int argc, char** argv);
+int cmdConformance(int argc, char** argv);
+
+}  // namespace asf::app

@@ -1,0 +1,75 @@
+// asf: the host application. Loads plugins through the registry and runs pipelines
+// described by MRPT-style INI files.
+#include <asf/abi.h>
+#include <asf/errors.h>
+#include <tclap/CmdLine.h>
+
+#include <cstring>
+#include <iomanip>
+#include <iostream>
+
+#include "commands.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  int (*fn)(int, char**);
+  const char* summary;
+};
+
+const Command kCommands[] = {
+    {"run", asf::app::cmdRun, "Run the pipeline of an INI file and write its outputs"},
+    {"plugins", asf::app::cmdPlugins, "List the plugins found (name, kind, version, ABI, file)"},
+    {"config", asf::app::cmdConfig, "Print an INI file resolved, every default filled in"},
+    {"conformance", asf::app::cmdConformance,
+     "Run the plugin conformance kit on plugin files or names"},
+};
+
+void usage(std::ostream& os) {
+  os << "asf " ASF_VERSION_STRING " (plugin ABI " << ASF_ABI_VERSION
+     << "): Active SLAM framework\n\nUsage: asf <command> [options]   (asf <command> --help)\n\n"
+        "Commands:\n";
+  for (const auto& c : kCommands) os << "  " << std::left << std::setw(13) << c.name << c.summary << "\n";
+  os << "\nPlugins are searched in <asf>/../lib/asf/plugins, $ASF_PLUGIN_PATH and the INI's "
+        "[pipeline] plugin_path.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    usage(std::cerr);
+    return asf::app::kUsage;
+  }
+  const std::string sub = argv[1];
+  if (sub == "-h" || sub == "--help" || sub == "help") {
+    usage(std::cout);
+    return asf::app::kOk;
+  }
+  if (sub == "--version") {
+    std::cout << "asf " ASF_VERSION_STRING " (plugin ABI " << ASF_ABI_VERSION << ")\n";
+    return asf::app::kOk;
+  }
+  for (const auto& c : kCommands) {
+    if (sub != c.name) continue;
+    try {
+      return c.fn(argc - 1, argv + 1);
+    } catch (const TCLAP::ArgException& e) {
+      std::cerr << "asf " << sub << ": " << e.argId() << ": " << e.error() << "\n"
+                << "(asf " << sub << " --help)\n";
+      return asf::app::kUsage;
+    } catch (const TCLAP::ExitException& e) {
+      return e.getExitStatus();
+    } catch (const asf::Error& e) {
+      std::cerr << "asf " << sub << ": error: " << e.what() << "\n";
+      return asf::app::kError;
+    } catch (const std::exception& e) {
+      std::cerr << "asf " << sub << ": unexpected error: " << e.what() << "\n";
+      return asf::app::kError;
+    }
+  }
+  std::cerr << "asf: unknown command '" << sub << "'\n\n";
+  usage(std::cerr);
+  return asf::app::kUsage;
+}

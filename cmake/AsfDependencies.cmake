@@ -1,0 +1,54 @@
+# Finds asf's dependencies; a missing one stops configure naming the Debian package.
+# Used by the build tree and by installed asfConfig.cmake (out-of-tree plugins).
+include_guard(GLOBAL)
+
+macro(asf_require _found _what _pkg)
+  if(NOT ${_found})
+    message(FATAL_ERROR "asf: ${_what} not found. Install it with:\n"
+                        "  sudo apt-get install ${_pkg}\n"
+                        "or run scripts/install-deps.sh (installs everything asf needs).")
+  endif()
+endmacro()
+
+# MRPT 2.x ships one package per module (mrpt-<module>); its MRPT wrapper has no version file,
+# so the version is checked on the modules.
+set(ASF_MRPT_MODULES core system config poses obs maps graphs)
+foreach(_m ${ASF_MRPT_MODULES})
+  find_package(mrpt-${_m} 2.5 CONFIG QUIET)
+  asf_require(mrpt-${_m}_FOUND "MRPT >= 2.5 (module mrpt-${_m})" libmrpt-dev)
+endforeach()
+
+find_package(Eigen3 3.4 CONFIG QUIET)
+asf_require(Eigen3_FOUND "Eigen >= 3.4" libeigen3-dev)
+
+find_package(OpenCV 4 QUIET COMPONENTS core imgproc imgcodecs)
+asf_require(OpenCV_FOUND "OpenCV 4 (core, imgproc, imgcodecs)" libopencv-dev)
+
+find_package(octomap CONFIG QUIET)
+asf_require(octomap_FOUND "OctoMap" liboctomap-dev)
+
+# SuiteSparse 5 (bookworm) ships no CMake package: find CHOLMOD by hand.
+find_path(ASF_CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
+find_library(ASF_CHOLMOD_LIBRARY cholmod)
+if(ASF_CHOLMOD_INCLUDE_DIR AND ASF_CHOLMOD_LIBRARY)
+  set(ASF_CHOLMOD_FOUND TRUE)
+endif()
+asf_require(ASF_CHOLMOD_FOUND "SuiteSparse CHOLMOD" libsuitesparse-dev)
+if(NOT TARGET asf_deps::cholmod)
+  add_library(asf_deps::cholmod INTERFACE IMPORTED)
+  set_target_properties(asf_deps::cholmod PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES ${ASF_CHOLMOD_INCLUDE_DIR}
+    INTERFACE_LINK_LIBRARIES ${ASF_CHOLMOD_LIBRARY})
+endif()
+
+find_package(Threads REQUIRED)
+
+# The conformance kit (part of the installed framework) is GoogleTest based.
+find_package(GTest CONFIG QUIET)
+if(NOT GTest_FOUND)
+  find_package(GTest QUIET)
+endif()
+asf_require(GTest_FOUND "GoogleTest" "libgtest-dev libgmock-dev")
+
+find_package(nlohmann_json 3 CONFIG QUIET)
+asf_require(nlohmann_json_FOUND "nlohmann-json 3" nlohmann-json3-dev)

@@ -1,0 +1,45 @@
+# asf_add_plugin(<target> SOURCES <files...> [LIBRARIES <libs...>] [NO_CONFORMANCE])
+#
+# Builds an asf plugin: a MODULE library <target>.so that exports only its descriptor,
+# written to the plugin folder (build tree: lib/asf/plugins, or ASF_PLUGIN_OUTPUT_DIRECTORY)
+# and installed to <libdir>/asf/plugins. With testing enabled it also adds the CTest test
+# conformance.<target>, which runs the conformance kit (`asf conformance <file>`) on it.
+include_guard(GLOBAL)
+include(GNUInstallDirs)
+
+function(asf_add_plugin target)
+  cmake_parse_arguments(ARG "NO_CONFORMANCE" "" "SOURCES;LIBRARIES" ${ARGN})
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "asf_add_plugin(${target}): SOURCES is required")
+  endif()
+  add_library(${target} MODULE ${ARG_SOURCES})
+  if(TARGET asf_framework)
+    target_link_libraries(${target} PRIVATE asf_framework ${ARG_LIBRARIES})
+  else()
+    target_link_libraries(${target} PRIVATE asf::framework ${ARG_LIBRARIES})
+  endif()
+  if(NOT ASF_PLUGIN_OUTPUT_DIRECTORY)
+    set(ASF_PLUGIN_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/lib/asf/plugins)
+  endif()
+  if(NOT ASF_PLUGIN_INSTALL_DIR)
+    set(ASF_PLUGIN_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/asf/plugins)
+  endif()
+  set_target_properties(${target} PROPERTIES
+    PREFIX ""
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON
+    LIBRARY_OUTPUT_DIRECTORY ${ASF_PLUGIN_OUTPUT_DIRECTORY}
+    INSTALL_RPATH "$ORIGIN/../..;$ORIGIN")
+  install(TARGETS ${target} LIBRARY DESTINATION ${ASF_PLUGIN_INSTALL_DIR})
+
+  if(NOT ARG_NO_CONFORMANCE AND BUILD_TESTING_ASF_CONFORMANCE)
+    # The host runs the kit, so the test also exercises loading through the registry.
+    if(TARGET asf)
+      set(_asf_exe $<TARGET_FILE:asf>)
+    else()
+      set(_asf_exe ${ASF_EXECUTABLE})
+    endif()
+    add_test(NAME conformance.${target}
+             COMMAND ${_asf_exe} conformance $<TARGET_FILE:${target}>)
+  endif()
+endfunction()

@@ -1,0 +1,28 @@
+#pragma once
+/// \file grid_map.h
+/// The occupancy grid built from the pose graph (a framework service, see map_builder.h).
+#include <asf/geometry.h>
+
+#include <cstdint>
+#include <memory>
+
+namespace mrpt::maps {
+class COccupancyGridMap2D;
+}
+
+namespace asf {
+
+struct GridMap {
+  /// The grid (MRPT). MRPT's convention: getCell()/getPos() return the probability that
+  /// the cell is FREE (1 = free, 0 = occupied, 0.5 = unknown). Shared and never modified after publication: a new version is a new
+  /// object, so a consumer may keep the pointer.
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> grid;
+  /// Incremented on every change; 0 = no map yet.
+  std::uint64_t version = 0;
+  /// Map-frame box of what changed since version-1 (whole map after a rebuild).
+  Box2 changed;
+  /// True when known structure moved (loop closure -> rebuild), not only new cells.
+  bool rebuilt = false;
+};
+
+}  // namespace asf

@@ -1,0 +1,84 @@
+#pragma once
+/// \file pipeline.h
+/// The loop `asf run` drives: source -> front-end -> back-end -> map -> segmenter ->
+/// topological graph -> policy -> source navigation, with recorders writing the outputs.
+///
+/// INI: [pipeline] names one plugin per slot and the run's budget; each plugin reads the
+/// section named after the plugin; [map] and [topology] configure the framework services.
+#include <asf/backend.h>
+#include <asf/config.h>
+#include <asf/frontend.h>
+#include <asf/map_builder.h>
+#include <asf/planner.h>
+#include <asf/policy.h>
+#include <asf/registry.h>
+#include <asf/segmenter.h>
+#include <asf/source.h>
+#include <asf/topo_builder.h>
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+namespace asf {
+
+/// Keys of the [pipeline] section.
+const KeySpec* pipelineKeys(std::size_t& n);
+/// Framework-owned sections and their key tables (pipeline, map, topology).
+struct FrameworkSection {
+  const char* name;
+  const KeySpec* keys;
+  std::size_t num_keys;
+};
+std::vector<FrameworkSection> frameworkSections();
+
+/// A pipeline's configuration resolved against the framework's and the plugins' key tables.
+struct ResolvedConfig {
+  Params pipeline, map, topology;
+  /// slot name -> plugin (empty slots absent)
+  std::map<std::string, std::shared_ptr<const PluginInfo>> slots;
+  std::map<std::string, Params> plugin_params;  ///< plugin name -> its section's values
+  std::vector<std::string> warnings;
+  /// The whole configuration as INI text, every default filled in and commented.
+  std::string toIni() const;
+};
+
+/// Scans the default search path plus [pipeline] plugin_path into `registry`, then validates
+/// every section. Throws ConfigError listing all problems (unknown sections/keys with "did
+/// you mean", missing required keys, bad values, unknown plugins).
+ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry);
+
+struct RunSummary {
+  long steps = 0;
+  double distance_m = 0;       ///< travelled, from ground truth when known, else estimate
+  std::size_t nodes = 0, edges = 0;
+  double final_pose_error_m = -1;  ///< vs ground truth; -1 if unknown
+  double mean_pose_error_m = -1;
+  std::size_t regions = 0;
+  int decisions = 0;
+  bool finished = false;       ///< the policy said done, or the passive source ended
+  std::string stop_reason;
+  double wall_time_s = 0;
+};
+
+class Pipeline {
+ public:
+  /// Creates and configures every plugin of `cfg`; outputs go to `out_dir` (created).
+  /// Throws ConfigError/PluginError.
+  Pipeline(const ResolvedConfig& cfg, const std::string& out_dir);
+  ~Pipeline();
+
+  /// Runs until the source ends, the policy is done, the budget is spent or `stop` is set.
+  /// Writes the outputs as it goes; on an exception the outputs of what happened so far
+  /// are still written before it propagates.
+  RunSummary run(const std::atomic<bool>* stop = nullptr);
+
+  /// The files a run writes, relative to out_dir (for messages and docs).
+  static std::vector<std::string> outputFiles();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace asf

@@ -1,0 +1,37 @@
+#pragma once
+/// \file policy.h
+/// `policy` plugins: the exploration decision, taken when the robot is idle.
+///
+/// Contract:
+/// - decide() returns GoTo with a finite goal, or Done with a reason. It is called again
+///   after the robot reached the goal, or failed to (then `last_status` says why): a policy
+///   must not return the same unreachable goal forever.
+/// - Reads only the state; never blocks.
+#include <asf/goal.h>
+#include <asf/grid_map.h>
+#include <asf/plugin.h>
+#include <asf/pose_graph.h>
+#include <asf/topo_graph.h>
+
+namespace asf {
+
+struct ExplorationState {
+  const TopoGraph* topo = nullptr;        ///< never null
+  mrpt::poses::CPose2D robot;             ///< estimate, map frame
+  const GridMap* map = nullptr;           ///< may be null before the first map
+  const PoseGraph* graph = nullptr;       ///< may be null
+  double time = 0;                        ///< seconds since the start of the run
+  NavStatus last_status = NavStatus::Idle;  ///< outcome of the previous goal
+  Goal last_goal;                         ///< meaningful unless last_status == Idle
+};
+
+class Policy : public Plugin {
+ public:
+  static constexpr PluginKind kStaticKind = PluginKind::Policy;
+  PluginKind kind() const final { return kStaticKind; }
+  ~Policy() override;
+
+  virtual Decision decide(const ExplorationState& state) = 0;
+};
+
+}  // namespace asf

@@ -1,0 +1,30 @@
+#pragma once
+/// \file sensor_frame.h
+/// One step of a robot's data: what a source produces.
+#include <Eigen/Core>
+#include <mrpt/poses/CPose2D.h>
+
+#include <memory>
+#include <optional>
+
+namespace mrpt::obs {
+class CObservation2DRangeScan;
+}
+
+namespace asf {
+
+struct SensorFrame {
+  /// Seconds (any epoch, increasing along a stream).
+  double timestamp = 0;
+  /// Odometry increment since the previous frame, in the robot frame of the previous frame.
+  mrpt::poses::CPose2D odometry;
+  /// Covariance of `odometry` (x, y, phi).
+  Eigen::Matrix3d odometry_cov = Eigen::Matrix3d::Zero();
+  /// The 2D laser scan of this step, or null when the step has none. Its sensorPose is the
+  /// laser's pose on the robot.
+  std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> scan;
+  /// True pose in the world frame, when the source knows it (simulators, logs with GT).
+  std::optional<mrpt::poses::CPose2D> ground_truth;
+};
+
+}  // namespace asf

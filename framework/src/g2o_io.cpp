@@ -1,0 +1,151 @@
+// g2o 2D text format, read and written with line-precise errors.
+#include <asf/errors.h>
+#include <asf/pose_graph.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace asf {
+
+PoseGraph parseG2o(const std::string& text, const std::string& name) {
+  std::map<long, mrpt::poses::CPose2D> vertices;
+  std::map<long, int> vertex_line;
+  struct RawEdge {
+    long from, to;
+    PoseEdge e;
+    int line;
+  };
+  std::vector<RawEdge> raw;
+  std::vector<std::pair<long, int>> fixes;
+
+  std::istringstream is(text);
+  std::string line;
+  int n = 0;
+  auto fail = [&](const std::string& why) -> void {
+    throw InputError(name + ":" + std::to_string(n) + ": " + why);
+  };
+  while (std::getline(is, line)) {
+    ++n;
+    std::istringstream ls(line);
+    std::string tag;
+    if (!(ls >> tag) || tag[0] == '#') continue;
+    if (tag == "VERTEX_SE2") {
+      long id;
+      double x, y, th;
+      if (!(ls >> id >> x >> y >> th)) fail("malformed VERTEX_SE2 (expected: id x y theta)");
+      if (id < 0) fail("negative vertex id");
+      if (vertices.count(id))
+        fail("vertex " + std::to_string(id) + " defined twice (first at line " +
+             std::to_string(vertex_line[id]) + ")");
+      vertices[id] = mrpt::poses::CPose2D(x, y, th);
+      vertex_line[id] = n;
+    } else if (tag == "EDGE_SE2") {
+      RawEdge r;
+      double dx, dy, dth, i11, i12, i13, i22, i23, i33;
+      if (!(ls >> r.from >> r.to >> dx >> dy >> dth >> i11 >> i12 >> i13 >> i22 >> i23 >> i33))
+        fail("malformed EDGE_SE2 (expected: from to dx dy dtheta I11 I12 I13 I22 I23 I33)");
+      Eigen::Matrix3d I;
+      I << i11, i12, i13, i12, i22, i23, i13, i23, i33;
+      if (!I.allFinite()) fail("non-finite information matrix");
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
+      if (es.eigenvalues().minCoeff() <= 0)
+        fail("information matrix of edge " + std::to_string(r.from) + " -> " +
+             std::to_string(r.to) + " is not positive definite");
+      r.e.mean = mrpt::poses::CPose2D(dx, dy, dth);
+      r.e.information = I;
+      r.e.kind = std::abs(r.to - r.from) == 1 ? EdgeKind::Odometry : EdgeKind::LoopClosure;
+      r.line = n;
+      raw.push_back(r);
+    } else if (tag == "FIX") {
+      long id;
+      while (ls >> id) fixes.emplace_back(id, n);
+    } else {
+      fail("unknown record '" + tag + "' (expected VERTEX_SE2, EDGE_SE2 or FIX)");
+    }
+  }
+
+  PoseGraph g;
+  long max_id = -1;
+  if (!vertices.empty()) {
+    max_id = vertices.rbegin()->first;
+    for (long i = 0; i <= max_id; ++i)
+      if (!vertices.count(i))
+        throw InputError(name + ": vertex ids must be 0..n-1; vertex " + std::to_string(i) +
+                         " is missing");
+    for (const auto& [id, p] : vertices) g.addNode(p);
+  } else if (!raw.empty()) {
+    for (const auto& r : raw) max_id = std::max({max_id, r.from, r.to});
+    // Edge-only file: initial guess by composing the odometry chain i -> i+1.
+    std::map<long, const PoseEdge*> chain;
+    for (const auto& r : raw)
+      if (r.to == r.from + 1 && !chain.count(r.from)) chain[r.from] = &r.e;
+    g.addNode(mrpt::poses::CPose2D());
+    for (long i = 1; i <= max_id; ++i) {
+      auto it = chain.find(i - 1);
+      if (it == chain.end())
+        throw InputError(name + ": no VERTEX lines and no odometry edge " + std::to_string(i - 1) +
+                         " -> " + std::to_string(i) + " to compose an initial guess");
+      g.addNode(g.nodes.back().pose + it->second->mean);
+    }
+  }
+  for (const auto& r : raw) {
+    if (r.from < 0 || r.to < 0 || r.from >= static_cast<long>(g.nodes.size()) ||
+        r.to >= static_cast<long>(g.nodes.size()))
+      throw InputError(name + ":" + std::to_string(r.line) + ": edge " + std::to_string(r.from) +
+                       " -> " + std::to_string(r.to) + " names an undefined vertex");
+    PoseEdge e = r.e;
+    e.from = static_cast<NodeId>(r.from);
+    e.to = static_cast<NodeId>(r.to);
+    g.edges.push_back(e);
+  }
+  for (const auto& [id, l] : fixes) {
+    if (id < 0 || id >= static_cast<long>(g.nodes.size()))
+      throw InputError(name + ":" + std::to_string(l) + ": FIX names undefined vertex " +
+                       std::to_string(id));
+    g.fixed.push_back(static_cast<NodeId>(id));
+  }
+  return g;
+}
+
+PoseGraph readG2o(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path + ": cannot open");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return parseG2o(ss.str(), path);
+}
+
+std::string formatG2o(const PoseGraph& g) {
+  std::ostringstream os;
+  os << std::setprecision(17);
+  for (const auto& n : g.nodes)
+    os << "VERTEX_SE2 " << n.id << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi()
+       << '\n';
+  for (const auto& e : g.edges) {
+    const auto& I = e.information;
+    os << "EDGE_SE2 " << e.from << ' ' << e.to << ' ' << e.mean.x() << ' ' << e.mean.y() << ' '
+       << e.mean.phi() << ' ' << I(0, 0) << ' ' << I(0, 1) << ' ' << I(0, 2) << ' ' << I(1, 1)
+       << ' ' << I(1, 2) << ' ' << I(2, 2) << '\n';
+  }
+  for (auto id : g.fixed) os << "FIX " << id << '\n';
+  return os.str();
+}
+
+void writeG2o(const PoseGraph& g, const std::string& path) {
+  // Write to a temporary file and rename: a crash never leaves a half-written graph.
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw Error(path + ": cannot write");
+    f << formatG2o(g);
+    if (!f) throw Error(path + ": write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw Error(path + ": cannot rename " + tmp);
+}
+
+}  // namespace asf

@@ -1,0 +1,108 @@
+#include <asf/errors.h>
+#include <asf/map_builder.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cmath>
+#include <map>
+
+namespace asf {
+
+namespace {
+const KeySpec kMapKeys[] = {
+    keyDouble("resolution", "0.05", "Occupancy grid cell size [m]", 0.005, 2.0),
+    keyDouble("max_insertion_range", "15.0",
+              "Laser returns farther than this are not inserted [m]", 0.1, 1000.0),
+    keyDouble("rebuild_threshold", "0.05",
+              "Rebuild the map from all keyframes when an inserted keyframe moved more than "
+              "this (translation [m], or rotation [rad] x 1 m) since insertion", 1e-4, 100.0),
+    keyDouble("initial_half_size", "10.0",
+              "Half side of the initial grid around the origin [m]; it grows as needed", 1.0,
+              1000.0),
+};
+}  // namespace
+
+const KeySpec* MapBuilder::keys(std::size_t& n) {
+  n = std::size(kMapKeys);
+  return kMapKeys;
+}
+
+struct MapBuilder::Impl {
+  double resolution = 0.05, max_range = 15, rebuild_threshold = 0.05, half = 10;
+  mrpt::maps::COccupancyGridMap2D grid;
+  std::map<NodeId, mrpt::poses::CPose2D> inserted;  ///< node -> pose at insertion
+
+  void reset() {
+    grid.setSize(-half, half, -half, half, resolution, 0.5f);
+    grid.insertionOptions.maxDistanceInsertion = static_cast<float>(max_range);
+    inserted.clear();
+  }
+  /// Inserts one keyframe; returns the box its rays can have touched.
+  Box2 insert(const PoseNode& n) {
+    Box2 b;
+    if (!n.scan) return b;
+    grid.insertObservation(*n.scan, mrpt::poses::CPose3D(n.pose));
+    inserted[n.id] = n.pose;
+    const double r = std::min<double>(n.scan->maxRange, max_range);
+    b.extend(n.pose.x() - r, n.pose.y() - r);
+    b.extend(n.pose.x() + r, n.pose.y() + r);
+    return b;
+  }
+};
+
+MapBuilder::MapBuilder() : impl_(std::make_unique<Impl>()) { impl_->reset(); }
+MapBuilder::~MapBuilder() = default;
+
+void MapBuilder::configure(const Params& p) {
+  impl_->resolution = p.getDouble("resolution");
+  impl_->max_range = p.getDouble("max_insertion_range");
+  impl_->rebuild_threshold = p.getDouble("rebuild_threshold");
+  impl_->half = p.getDouble("initial_half_size");
+  impl_->reset();
+  map_ = GridMap{};
+}
+
+bool MapBuilder::update(const PoseGraph& graph) {
+  Impl& m = *impl_;
+  bool moved = false;
+  for (const auto& [id, pose] : m.inserted) {
+    if (id >= graph.nodes.size()) {
+      moved = true;  // the graph shrank: a new run; start over
+      break;
+    }
+    const auto& now = graph.nodes[id].pose;
+    const double dt = std::hypot(now.x() - pose.x(), now.y() - pose.y());
+    const double dr = std::abs(mrpt::math::wrapToPi(now.phi() - pose.phi()));
+    if (dt > m.rebuild_threshold || dr > m.rebuild_threshold) {
+      moved = true;
+      break;
+    }
+  }
+  Box2 changed;
+  bool any = false;
+  if (moved) {
+    m.reset();
+    for (const auto& n : graph.nodes) {
+      const Box2 b = m.insert(n);
+      if (!b.empty()) changed.extend(b.min_x, b.min_y), changed.extend(b.max_x, b.max_y);
+    }
+    any = true;
+  } else {
+    for (const auto& n : graph.nodes) {
+      if (m.inserted.count(n.id) || !n.scan) continue;
+      const Box2 b = m.insert(n);
+      changed.extend(b.min_x, b.min_y), changed.extend(b.max_x, b.max_y);
+      any = true;
+    }
+  }
+  if (!any) return false;
+  map_.grid = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(m.grid);
+  ++map_.version;
+  map_.changed = changed;
+  map_.rebuilt = moved;
+  return true;
+}
+
+}  // namespace asf

@@ -1,0 +1,454 @@
+#include <asf/errors.h>
+#include <asf/pipeline.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "recorder.h"
+
+namespace asf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const KeySpec kPipelineKeys[] = {
+    keyString("source", nullptr, "Source plugin: simulator or log (`asf plugins` lists them)"),
+    keyString("frontend", nullptr, "Front-end plugin: frames -> pose-graph nodes and edges"),
+    keyString("backend", "", "Back-end plugin: optimizes the graph, gives marginals (empty: none)"),
+    keyString("segmenter", "", "Segmenter plugin: map -> regions (empty: none)"),
+    keyString("planner", "", "Planner plugin: path between pose-graph nodes (empty: none)"),
+    keyString("policy", "", "Exploration policy plugin; needs an active source (empty: none)"),
+    keyInt("seed", "1", "Seed of every random draw of the run (each plugin gets its own stream)",
+           0),
+    keyString("plugin_path", "",
+              "Extra plugin folders, ':'-separated, relative to this INI file's folder"),
+    keyInt("max_steps", "100000", "Stop after this many source steps (0: no limit)", 0),
+    keyDouble("max_distance", "0", "Stop after travelling this far [m] (0: no limit)", 0),
+    keyInt("optimize_every", "1", "Run the back-end after this many new nodes", 1),
+    keyBool("marginals", "true", "Recover marginal covariances after each optimization"),
+    keyInt("segment_every", "1", "Segment every n-th map version", 1),
+    keyInt("max_failed_goals", "50",
+           "Stop when the policy's goals failed (unreachable/blocked) this many times in a row",
+           1),
+    keyDouble("progress_interval", "2.0", "Seconds between progress lines (0: none)", 0),
+    keyEnum("verbosity", "INFO", "DEBUG|INFO|WARN|ERROR", "Log level of the host and plugins"),
+};
+
+const char* const kSlots[] = {"source", "frontend", "backend", "segmenter", "planner", "policy"};
+const PluginKind kSlotKinds[] = {PluginKind::Source,    PluginKind::Frontend,
+                                 PluginKind::Backend,   PluginKind::Segmenter,
+                                 PluginKind::Planner,   PluginKind::Policy};
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+mrpt::system::VerbosityLevel parseVerbosity(const std::string& s) {
+  if (s == "DEBUG") return mrpt::system::LVL_DEBUG;
+  if (s == "WARN") return mrpt::system::LVL_WARN;
+  if (s == "ERROR") return mrpt::system::LVL_ERROR;
+  return mrpt::system::LVL_INFO;
+}
+
+void appendSection(std::ostringstream& os, const std::string& name, const Params& p,
+                   const KeySpec* keys, std::size_t n, const std::string& title) {
+  os << "\n; " << title << "\n[" << name << "]\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const KeySpec& k = keys[i];
+    if (!p.has(k.name)) continue;
+    os << "; " << k.doc << " (" << keyTypeName(k.type);
+    if (k.type == KeyType::Enum && k.choices) os << ": " << k.choices;
+    if (!std::isinf(k.min) || !std::isinf(k.max)) os << ", range [" << k.min << ", " << k.max << "]";
+    os << (p.isDefault(k.name) ? ", default" : ", set") << ")\n";
+    os << k.name << " = " << p.getString(k.name) << "\n";
+  }
+}
+
+}  // namespace
+
+const KeySpec* pipelineKeys(std::size_t& n) {
+  n = std::size(kPipelineKeys);
+  return kPipelineKeys;
+}
+
+std::vector<FrameworkSection> frameworkSections() {
+  std::vector<FrameworkSection> v;
+  std::size_t n;
+  const KeySpec* k = pipelineKeys(n);
+  v.push_back({"pipeline", k, n});
+  k = MapBuilder::keys(n);
+  v.push_back({"map", k, n});
+  k = TopoBuilder::keys(n);
+  v.push_back({"topology", k, n});
+  return v;
+}
+
+std::string ResolvedConfig::toIni() const {
+  std::ostringstream os;
+  os << "; asf configuration, resolved: every key with its value or default.\n";
+  const auto fw = frameworkSections();
+  appendSection(os, "pipeline", pipeline, fw[0].keys, fw[0].num_keys, "framework: the pipeline");
+  appendSection(os, "map", map, fw[1].keys, fw[1].num_keys, "framework: occupancy grid builder");
+  appendSection(os, "topology", topology, fw[2].keys, fw[2].num_keys,
+                "framework: topological graph builder");
+  for (const char* slot : kSlots) {
+    auto it = slots.find(slot);
+    if (it == slots.end()) continue;
+    const PluginInfo& info = *it->second;
+    const auto& d = *info.descriptor;
+    appendSection(os, d.name, plugin_params.at(d.name), d.keys, d.num_keys,
+                  std::string(slot) + " plugin '" + d.name + "' " + d.version + ": " +
+                      d.description + " (" + info.file + ")");
+  }
+  return os.str();
+}
+
+ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
+  ResolvedConfig rc;
+  std::vector<std::string> errors;
+  auto attempt = [&](auto&& fn) {
+    try {
+      fn();
+    } catch (const Error& e) {
+      errors.push_back(e.what());
+    }
+  };
+  const auto fw = frameworkSections();
+  attempt([&] { rc.pipeline = ini.resolve("pipeline", fw[0].keys, fw[0].num_keys); });
+  attempt([&] { rc.map = ini.resolve("map", fw[1].keys, fw[1].num_keys); });
+  attempt([&] { rc.topology = ini.resolve("topology", fw[2].keys, fw[2].num_keys); });
+  if (!ini.hasSection("pipeline"))
+    errors.insert(errors.begin(), ini.fileName() + ": no [pipeline] section");
+
+  for (const auto& d : Registry::defaultSearchPath()) registry.scanDirectory(d);
+  // Slots and plugin_path are read from the INI directly, so their errors are reported
+  // even when another [pipeline] key is invalid.
+  {
+    std::stringstream ss(ini.get("pipeline", "plugin_path"));
+    std::string d;
+    while (std::getline(ss, d, ':')) {
+      if (d.empty()) continue;
+      fs::path p(d);
+      if (p.is_relative() && !ini.baseDir().empty()) p = fs::path(ini.baseDir()) / p;
+      if (!fs::is_directory(p))
+        errors.push_back(ini.where("pipeline", "plugin_path") + ": [pipeline] plugin_path: '" +
+                         p.string() + "' is not a folder");
+      registry.scanDirectory(p.string());
+    }
+  }
+
+  for (std::size_t i = 0; i < std::size(kSlots); ++i) {
+    const std::string name = ini.get("pipeline", kSlots[i]);
+    if (name.empty()) continue;
+    try {
+      rc.slots[kSlots[i]] = registry.find(name, kSlotKinds[i]);
+    } catch (const PluginError& e) {
+      errors.push_back(ini.where("pipeline", kSlots[i]) + ": [pipeline] " + kSlots[i] + ": " +
+                       e.what());
+    }
+  }
+  if (rc.slots.count("policy") && rc.slots.count("source") &&
+      !rc.slots.count("segmenter"))
+    rc.warnings.push_back("[pipeline] a policy without a segmenter sees a topological graph "
+                          "with no regions");
+
+  std::vector<std::string> known_sections;
+  for (const auto& s : fw) known_sections.push_back(s.name);
+  for (const auto& p : registry.plugins()) known_sections.push_back(p->name());
+  for (const auto& section : ini.sections()) {
+    bool framework = false;
+    for (const auto& s : fw) framework = framework || section == s.name;
+    if (framework) continue;
+    bool selected = false;
+    for (const auto& [slot, info] : rc.slots) selected = selected || info->name() == section;
+    if (selected) continue;
+    std::shared_ptr<const PluginInfo> other;
+    try {
+      other = registry.find(section);
+    } catch (const PluginError&) {
+    }
+    if (other) {
+      // Validated all the same, so a typo waits for no one to switch plugins.
+      attempt([&] { ini.resolve(section, other->descriptor->keys, other->descriptor->num_keys); });
+      rc.warnings.push_back(ini.where(section) + ": [" + section + "] configures plugin '" +
+                            section + "', which this pipeline does not use");
+      continue;
+    }
+    std::string msg = ini.where(section) + ": unknown section [" + section + "]";
+    const std::string hint = didYouMean(section, known_sections);
+    if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
+    msg += "; sections are [pipeline], [map], [topology] and one per plugin, named after it";
+    errors.push_back(msg);
+  }
+  for (const auto& [slot, info] : rc.slots) {
+    attempt([&, &info = info] {
+      rc.plugin_params[info->name()] =
+          ini.resolve(info->name(), info->descriptor->keys, info->descriptor->num_keys);
+    });
+  }
+  if (!errors.empty()) {
+    std::string msg;
+    for (const auto& e : errors) msg += (msg.empty() ? "" : "\n") + e;
+    throw ConfigError(msg);
+  }
+  return rc;
+}
+
+struct Pipeline::Impl : public mrpt::system::COutputLogger {
+  Impl() : COutputLogger("asf") {}
+  ResolvedConfig cfg;
+  std::string out_dir;
+  PluginHandle<Source> source;
+  PluginHandle<Frontend> frontend;
+  PluginHandle<Backend> backend;
+  PluginHandle<Segmenter> segmenter;
+  PluginHandle<Planner> planner;
+  PluginHandle<Policy> policy;
+  MapBuilder map;
+  TopoBuilder topo;
+  PoseGraph graph;
+  Marginals marginals;
+  Segmentation seg;
+  std::vector<mrpt::poses::CPose2D> path;
+
+  template <class T>
+  void make(const char* slot, int index, PluginHandle<T>& h) {
+    auto it = cfg.slots.find(slot);
+    if (it == cfg.slots.end()) return;
+    h = Registry::create<T>(it->second);
+    h->setMinLoggingLevel(getMinLoggingLevel());
+    PluginContext ctx;
+    ctx.seed = splitmix64(static_cast<std::uint64_t>(cfg.pipeline.getInt("seed")) * 8 + index);
+    ctx.output_dir = out_dir;
+    try {
+      h->configure(cfg.plugin_params.at(it->second->name()), ctx);
+    } catch (const ConfigError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw PluginError(it->second->file + ": plugin '" + it->second->name() +
+                        "': configure() failed: " + e.what());
+    }
+  }
+};
+
+Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.cfg = cfg;
+  m.out_dir = out_dir;
+  m.setMinLoggingLevel(parseVerbosity(cfg.pipeline.getString("verbosity")));
+  for (const auto& w : cfg.warnings) m.logStr(mrpt::system::LVL_WARN, w);
+  m.make("source", 0, m.source);
+  m.make("frontend", 1, m.frontend);
+  m.make("backend", 2, m.backend);
+  m.make("segmenter", 3, m.segmenter);
+  m.make("planner", 4, m.planner);
+  m.make("policy", 5, m.policy);
+  if (!m.source || !m.frontend) throw ConfigError("[pipeline] needs a source and a frontend");
+  m.map.configure(cfg.map);
+  m.topo.configure(cfg.topology);
+  if (m.policy && !m.source->isActive())
+    m.logStr(mrpt::system::LVL_WARN, "the policy is ignored: source '" +
+                                         cfg.slots.at("source")->name() + "' is passive");
+}
+
+Pipeline::~Pipeline() = default;
+
+std::vector<std::string> Pipeline::outputFiles() {
+  return {"config.ini",  "trajectory.csv", "decisions.csv", "graph.g2o",
+          "map.png",     "regions.png",    "topology.json", "summary.json"};
+}
+
+RunSummary Pipeline::run(const std::atomic<bool>* stop) {
+  Impl& m = *impl_;
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  auto last_progress = t_start;
+  Recorder rec(m.out_dir, m.cfg);
+  RunSummary sum;
+
+  const Params& P = m.cfg.pipeline;
+  const long max_steps = static_cast<long>(P.getInt("max_steps"));
+  const double max_distance = P.getDouble("max_distance");
+  const long optimize_every = static_cast<long>(P.getInt("optimize_every"));
+  const bool want_marginals = P.getBool("marginals");
+  const long segment_every = static_cast<long>(P.getInt("segment_every"));
+  const int max_failed = static_cast<int>(P.getInt("max_failed_goals"));
+  const double progress_interval = P.getDouble("progress_interval");
+  const bool exploring = m.policy && m.source->isActive();
+
+  std::optional<mrpt::poses::CPose2D> gt0, last_truth;
+  mrpt::poses::CPose2D last_est;
+  double err_sum = 0, t0 = 0, now_t = 0;
+  long err_n = 0, nodes_since_opt = 0;
+  int failed_in_row = 0;
+  Goal last_goal;
+  bool have_goal = false;
+
+  auto progress = [&](bool force) {
+    const auto now = Clock::now();
+    if (!force && (progress_interval <= 0 ||
+                   std::chrono::duration<double>(now - last_progress).count() < progress_interval))
+      return;
+    last_progress = now;
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(2) << "step " << sum.steps << "  dist "
+       << sum.distance_m << " m  nodes " << m.graph.size() << "  edges " << m.graph.edges.size()
+       << "  regions " << m.seg.regions.size() << "  decisions " << sum.decisions;
+    if (err_n) os << "  pose error " << std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) << " m";
+    os << "  (" << std::setprecision(1)
+       << std::chrono::duration<double>(now - t_start).count() << " s)";
+    m.logStr(mrpt::system::LVL_INFO, os.str());
+  };
+
+  auto body = [&] {
+    for (;;) {
+      if (stop && stop->load()) {
+        sum.stop_reason = "interrupted";
+        break;
+      }
+      if (max_steps > 0 && sum.steps >= max_steps) {
+        sum.stop_reason = "step budget (" + std::to_string(max_steps) + ") spent";
+        break;
+      }
+      if (max_distance > 0 && sum.distance_m >= max_distance) {
+        sum.stop_reason = "distance budget spent";
+        break;
+      }
+      if (exploring && m.source->status() != NavStatus::Moving) {
+        const NavStatus st = have_goal ? m.source->status() : NavStatus::Idle;
+        failed_in_row = (st == NavStatus::Unreachable || st == NavStatus::Blocked) ? failed_in_row + 1 : 0;
+        if (failed_in_row >= max_failed) {
+          sum.stop_reason = "the policy's last " + std::to_string(failed_in_row) +
+                            " goals failed; giving up";
+          break;
+        }
+        ExplorationState s;
+        s.topo = &m.topo.graph();
+        s.robot = m.frontend->currentPose(m.graph);
+        s.map = m.map.map().version ? &m.map.map() : nullptr;
+        s.graph = &m.graph;
+        s.time = now_t;
+        s.last_status = st;
+        s.last_goal = last_goal;
+        const Decision d = m.policy->decide(s);
+        ++sum.decisions;
+        rec.decision(sum.steps, s.time, d, st);
+        if (d.type == Decision::Type::Done) {
+          sum.finished = true;
+          sum.stop_reason = "policy done: " + d.reason;
+          break;
+        }
+        if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y))
+          throw Error("policy '" + m.cfg.slots.at("policy")->name() + "' returned a non-finite goal");
+        NavigationContext ctx;
+        ctx.robot_estimate = s.robot;
+        ctx.map = s.map;
+        m.logStr(mrpt::system::LVL_DEBUG, "goal (" + std::to_string(d.goal.x) + ", " +
+                                              std::to_string(d.goal.y) + "): " + d.reason);
+        m.source->navigate(d.goal, ctx);
+        last_goal = d.goal;
+        have_goal = true;
+      }
+      std::optional<SensorFrame> frame = m.source->next();
+      if (!frame) {
+        sum.finished = !exploring;
+        sum.stop_reason = "source ended";
+        break;
+      }
+      if (sum.steps == 0) t0 = frame->timestamp;
+      ++sum.steps;
+      now_t = frame->timestamp - t0;
+      const bool changed = m.frontend->process(*frame, m.graph, m.marginals);
+      if (changed) ++nodes_since_opt;
+      if (changed && m.backend && nodes_since_opt >= optimize_every) {
+        nodes_since_opt = 0;
+        m.backend->optimize(m.graph);
+        if (want_marginals) m.marginals = m.backend->marginals(m.graph);
+        m.marginals.graph_revision = m.graph.revision;
+      }
+      if (changed && m.map.update(m.graph) && m.segmenter &&
+          m.map.map().version % segment_every == 0) {
+        m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
+        m.seg.map_version = m.map.map().version;
+        m.topo.update(m.seg, m.map.map());
+      }
+      const mrpt::poses::CPose2D est = m.frontend->currentPose(m.graph);
+      m.topo.observeRobot(est.x(), est.y(), frame->timestamp - t0);
+      std::optional<mrpt::poses::CPose2D> truth;
+      if (frame->ground_truth) {
+        if (!gt0) gt0 = *frame->ground_truth;
+        truth = *frame->ground_truth - *gt0;  // in the map frame (first pose = origin)
+      }
+      if (sum.steps > 1) {
+        if (truth && last_truth)
+          sum.distance_m += std::hypot(truth->x() - last_truth->x(), truth->y() - last_truth->y());
+        else
+          sum.distance_m += std::hypot(est.x() - last_est.x(), est.y() - last_est.y());
+      }
+      if (truth) {
+        err_sum += std::hypot(truth->x() - est.x(), truth->y() - est.y());
+        ++err_n;
+      }
+      last_truth = truth;
+      last_est = est;
+      m.path.push_back(est);
+      rec.step({sum.steps, frame->timestamp - t0, est, truth, m.graph.size(),
+                m.graph.edges.size(), sum.distance_m});
+      progress(false);
+    }
+  };
+
+  auto finish = [&] {
+    sum.nodes = m.graph.size();
+    sum.edges = m.graph.edges.size();
+    sum.regions = m.seg.regions.size();
+    if (err_n) {
+      sum.mean_pose_error_m = err_sum / err_n;
+      sum.final_pose_error_m =
+          std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y());
+    }
+    sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+    std::string err;
+    rec.finish(m.graph, m.map.map(), m.seg, m.topo.graph(), m.path, sum, err);
+    if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
+  };
+
+  try {
+    body();
+  } catch (const std::exception& e) {
+    sum.stop_reason = std::string("error: ") + e.what();
+    finish();
+    throw;
+  }
+  if (m.planner && m.graph.size() > 1) {
+    PlanRequest req;
+    req.graph = &m.graph;
+    req.marginals = m.marginals.valid() ? &m.marginals : nullptr;
+    req.map = m.map.map().version ? &m.map.map() : nullptr;
+    req.start = static_cast<NodeId>(m.graph.size() - 1);
+    req.goal = 0;
+    const PlanResult r = m.planner->plan(req);
+    std::ostringstream os;
+    if (r.found)
+      os << "planner: path home (node " << req.start << " -> 0): " << r.nodes.size()
+         << " nodes, " << r.criterion << " " << r.cost;
+    else
+      os << "planner: no path home: " << r.reason;
+    m.logStr(mrpt::system::LVL_INFO, os.str());
+  }
+  progress(true);
+  finish();
+  return sum;
+}
+
+}  // namespace asf

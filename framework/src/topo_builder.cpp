@@ -1,0 +1,153 @@
+#include <asf/topo_builder.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <cmath>
+#include <map>
+
+namespace asf {
+
+namespace {
+const KeySpec kTopoKeys[] = {
+    keyDouble("min_border_width", "0.3",
+              "Two regions are joined when their shared free border is at least this wide [m]",
+              0.0, 100.0),
+    keyDouble("min_frontier_width", "0.5",
+              "A region gets a frontier edge when it borders unknown space over at least this "
+              "width [m]",
+              0.0, 100.0),
+    keyDouble("unknown_band", "0.02",
+              "A cell is unknown when |p(occupied) - 0.5| is below this", 0.0, 0.5),
+};
+
+using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)
+Key edgeKey(RegionId a, RegionId b) {
+  if (b == kUnexplored || a == kUnexplored) return {a == kUnexplored ? b : a, kUnexplored};
+  return a < b ? Key{a, b} : Key{b, a};
+}
+}  // namespace
+
+const KeySpec* TopoBuilder::keys(std::size_t& n) {
+  n = std::size(kTopoKeys);
+  return kTopoKeys;
+}
+
+void TopoBuilder::configure(const Params& p) {
+  min_border_width_ = p.getDouble("min_border_width");
+  min_frontier_width_ = p.getDouble("min_frontier_width");
+  unknown_band_ = p.getDouble("unknown_band");
+}
+
+void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
+  // Carry over what persists by region id / region pair.
+  std::map<RegionId, TopoNode> old_nodes;
+  for (const auto& n : graph_.nodes) old_nodes[n.region] = n;
+  std::map<Key, std::vector<Traversal>> old_trav;
+  std::map<RegionId, Key> old_entrance;
+  for (const auto& e : graph_.edges) old_trav[edgeKey(e.a, e.b)] = e.traversals;
+  for (const auto& n : graph_.nodes)
+    if (n.entrance_edge >= 0 && n.entrance_edge < static_cast<int>(graph_.edges.size()))
+      old_entrance[n.region] =
+          edgeKey(graph_.edges[n.entrance_edge].a, graph_.edges[n.entrance_edge].b);
+
+  seg_ = seg;
+  const LabelImage& L = seg.labels;
+  struct Acc {
+    int cells = 0;
+    double sx = 0, sy = 0;
+  };
+  std::map<Key, Acc> acc;
+  auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
+  auto cellY = [&](double cy) { return L.origin_y + (cy + 0.5) * L.resolution; };
+  const mrpt::maps::COccupancyGridMap2D* grid = map.grid.get();
+  auto unknown = [&](int cx, int cy) {
+    if (!grid) return false;
+    const double x = cellX(cx), y = cellY(cy);
+    const int gx = grid->x2idx(x), gy = grid->y2idx(y);
+    if (gx < 0 || gy < 0 || gx >= static_cast<int>(grid->getSizeX()) ||
+        gy >= static_cast<int>(grid->getSizeY()))
+      return true;  // beyond the grid: never observed
+    return std::abs(grid->getCell(gx, gy) - 0.5) < unknown_band_;
+  };
+  for (int cy = 0; cy < L.height; ++cy)
+    for (int cx = 0; cx < L.width; ++cx) {
+      const RegionId a = L.at(cx, cy);
+      if (a <= 0) continue;
+      bool frontier = false;
+      const int nb[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+      for (const auto& d : nb) {
+        const int nx = cx + d[0], ny = cy + d[1];
+        const bool inside = nx >= 0 && ny >= 0 && nx < L.width && ny < L.height;
+        const RegionId b = inside ? L.at(nx, ny) : 0;
+        if (b > 0 && b != a && (d[0] + d[1]) > 0) {  // each pair of cells once
+          auto& s = acc[edgeKey(a, b)];
+          ++s.cells;
+          s.sx += 0.5 * (cellX(cx) + cellX(nx));
+          s.sy += 0.5 * (cellY(cy) + cellY(ny));
+        }
+        if (b == 0 && (inside ? unknown(nx, ny) : true)) frontier = true;
+      }
+      if (frontier) {
+        auto& s = acc[edgeKey(a, kUnexplored)];
+        ++s.cells;
+        s.sx += cellX(cx);
+        s.sy += cellY(cy);
+      }
+    }
+
+  TopoGraph g;
+  g.current = graph_.current;
+  for (const auto& r : seg.regions) {
+    TopoNode n;
+    n.region = r.id;
+    n.centroid = r.centroid;
+    n.area = r.area;
+    auto it = old_nodes.find(r.id);
+    if (it != old_nodes.end()) n.visited = it->second.visited;
+    g.nodes.push_back(n);
+  }
+  TopoNode unexplored;
+  unexplored.region = kUnexplored;
+  g.nodes.push_back(unexplored);
+  for (const auto& [k, s] : acc) {
+    const double width = s.cells * L.resolution;
+    const bool is_frontier = k.second == kUnexplored;
+    if (width < (is_frontier ? min_frontier_width_ : min_border_width_)) continue;
+    TopoEdge e;
+    e.a = k.first;
+    e.b = k.second;
+    e.width = width;
+    e.midpoint = {s.sx / s.cells, s.sy / s.cells};
+    auto t = old_trav.find(k);
+    if (t != old_trav.end()) e.traversals = t->second;
+    g.edges.push_back(e);
+  }
+  for (auto& n : g.nodes) {
+    auto it = old_entrance.find(n.region);
+    if (it == old_entrance.end()) continue;
+    for (std::size_t i = 0; i < g.edges.size(); ++i)
+      if (edgeKey(g.edges[i].a, g.edges[i].b) == it->second) n.entrance_edge = static_cast<int>(i);
+  }
+  if (!g.node(g.current)) g.current = 0;
+  graph_ = std::move(g);
+}
+
+void TopoBuilder::observeRobot(double x, double y, double t) {
+  const RegionId r = seg_.labels.atPoint(x, y);
+  if (r <= 0 || r == graph_.current) return;
+  const RegionId from = graph_.current;
+  int edge = -1;
+  if (from > 0) {
+    for (std::size_t i = 0; i < graph_.edges.size(); ++i)
+      if (edgeKey(graph_.edges[i].a, graph_.edges[i].b) == edgeKey(from, r)) {
+        edge = static_cast<int>(i);
+        graph_.edges[i].traversals.push_back({graph_.edges[i].a == from, t});
+      }
+  }
+  if (TopoNode* n = graph_.node(r)) {
+    if (!n->visited) n->entrance_edge = edge;
+    n->visited = true;
+  }
+  graph_.current = r;
+}
+
+}  // namespace asf

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs every Debian package asf needs to build, test and run.
+# Idempotent: when everything is present it returns after one dpkg query.
+set -euo pipefail
+
+PKGS=(
+  build-essential cmake pkg-config ccache
+  libmrpt-dev
+  libeigen3-dev libopencv-dev liboctomap-dev libsuitesparse-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
+)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  # dpkg-query prints "install ok installed" only for fully installed packages.
+  st=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$st" == "install ok installed" ]] || missing+=("$p")
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "asf: installing missing Debian packages: ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "asf: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO=sudo
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y --no-install-recommends "${missing[@]}"

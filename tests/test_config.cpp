@@ -1,0 +1,149 @@
+// INI parsing and validation against key tables: every error names file:line, section, key.
+#include <asf/config.h>
+#include <asf/errors.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using asf::ConfigError;
+using asf::IniConfig;
+using asf::KeySpec;
+
+namespace {
+
+const KeySpec kKeys[] = {
+    asf::keyDouble("max_range", "8.0", "Laser range [m]", 0.1, 100.0),
+    asf::keyInt("rays", "181", "Rays per scan", 1, 10000),
+    asf::keyBool("enabled", "true", "On or off"),
+    asf::keyEnum("mode", "fast", "fast|exact", "How"),
+    asf::keyString("label", nullptr, "Required label"),
+    asf::keyPath("map", "", "A file"),
+    asf::keyDoubleList("weights", "1 2 3", "Weights", 0.0, 10.0),
+};
+
+std::string errorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no ConfigError thrown)";
+}
+
+bool has(const std::string& hay, const std::string& needle) {
+  return hay.find(needle) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(IniConfig, ResolvesValuesDefaultsAndTypes) {
+  const auto ini = IniConfig::fromText(
+      "; a comment\n[Sensor]\nMax_Range = 5.5 // inline comment\nlabel = front\n"
+      "mode = exact\nweights = 0.5, 1.5\nenabled = off\n",
+      "s.ini");
+  const auto p = ini.resolve("sensor", kKeys, std::size(kKeys));
+  EXPECT_DOUBLE_EQ(p.getDouble("max_range"), 5.5);
+  EXPECT_FALSE(p.isDefault("max_range"));
+  EXPECT_EQ(p.getInt("rays"), 181);
+  EXPECT_TRUE(p.isDefault("rays"));
+  EXPECT_FALSE(p.getBool("enabled"));
+  EXPECT_EQ(p.getString("mode"), "exact");
+  EXPECT_EQ(p.getString("label"), "front");
+  EXPECT_EQ(p.getDoubleList("weights"), (std::vector<double>{0.5, 1.5}));
+}
+
+TEST(IniConfig, UnknownKeyNamesFileLineSectionAndSuggests) {
+  const auto ini = IniConfig::fromText("[sensor]\nlabel = x\n\nmax_rnage = 3\n", "cfg.ini");
+  const std::string msg = errorOf([&] { ini.resolve("sensor", kKeys, std::size(kKeys)); });
+  EXPECT_TRUE(has(msg, "cfg.ini:4: [sensor] unknown key 'max_rnage' (did you mean 'max_range'?)"))
+      << msg;
+}
+
+TEST(IniConfig, MissingRequiredKeyIsAnError) {
+  const auto ini = IniConfig::fromText("[sensor]\nrays = 3\n", "cfg.ini");
+  const std::string msg = errorOf([&] { ini.resolve("sensor", kKeys, std::size(kKeys)); });
+  EXPECT_TRUE(has(msg, "cfg.ini:1: [sensor] missing required key 'label'")) << msg;
+}
+
+TEST(IniConfig, BadValuesAreReportedAllAtOnce) {
+  const auto ini = IniConfig::fromText(
+      "[sensor]\nlabel = x\nmax_range = far\nrays = 0\nmode = slow\nenabled = maybe\n"
+      "weights = 1 20\n",
+      "cfg.ini");
+  const std::string msg = errorOf([&] { ini.resolve("sensor", kKeys, std::size(kKeys)); });
+  EXPECT_TRUE(has(msg, "cfg.ini:3: [sensor] max_range = 'far': not a number")) << msg;
+  EXPECT_TRUE(has(msg, "cfg.ini:4: [sensor] rays = '0': out of range [1, 10000]")) << msg;
+  EXPECT_TRUE(has(msg, "cfg.ini:5: [sensor] mode = 'slow': not one of fast|exact")) << msg;
+  EXPECT_TRUE(has(msg, "cfg.ini:6: [sensor] enabled = 'maybe': not a bool")) << msg;
+  EXPECT_TRUE(has(msg, "cfg.ini:7: [sensor] weights = '1 20': item 20 out of range")) << msg;
+}
+
+TEST(IniConfig, OverridesWinAndAreNamedInErrors) {
+  auto ini = IniConfig::fromText("[sensor]\nlabel = x\nrays = 10\n", "cfg.ini");
+  ini.applyOverride("sensor.rays=20");
+  ini.applyOverride("Sensor.MAX_RANGE = 2");
+  auto p = ini.resolve("sensor", kKeys, std::size(kKeys));
+  EXPECT_EQ(p.getInt("rays"), 20);
+  EXPECT_DOUBLE_EQ(p.getDouble("max_range"), 2.0);
+  ini.applyOverride("sensor.rays=-1");
+  const std::string msg = errorOf([&] { ini.resolve("sensor", kKeys, std::size(kKeys)); });
+  EXPECT_TRUE(has(msg, "--set sensor.rays: [sensor] rays = '-1': out of range")) << msg;
+  EXPECT_TRUE(has(errorOf([&] { ini.applyOverride("norays"); }), "expected section.key=value"));
+  EXPECT_TRUE(has(errorOf([&] { ini.applyOverride(".x=1"); }), "expected section.key=value"));
+}
+
+TEST(IniConfig, MrptPreprocessorWorks) {
+  const auto ini = IniConfig::fromText(
+      "@define RANGE 4\n[sensor]\nlabel = x\nmax_range = ${RANGE}\nrays = $eval{RANGE*10}\n",
+      "cfg.ini");
+  const auto p = ini.resolve("sensor", kKeys, std::size(kKeys));
+  EXPECT_DOUBLE_EQ(p.getDouble("max_range"), 4.0);
+  EXPECT_EQ(p.getInt("rays"), 40);
+}
+
+TEST(IniConfig, SyntaxErrorsNameTheLine) {
+  EXPECT_TRUE(has(errorOf([] { IniConfig::fromText("[a]\nx = 1\nnot a key value\n", "bad.ini"); }),
+                  "bad.ini:3: expected 'key = value'"));
+  EXPECT_TRUE(has(errorOf([] { IniConfig::fromText("[a\nx = 1\n", "bad.ini"); }),
+                  "bad.ini:1: unterminated section header"));
+  EXPECT_TRUE(has(errorOf([] { IniConfig::fromText("x = 1\n[a]\n", "bad.ini"); }),
+                  "bad.ini:1: key 'x' before any [section]"));
+  EXPECT_TRUE(has(errorOf([] { IniConfig::fromFile("/nonexistent/asf.ini"); }),
+                  "/nonexistent/asf.ini: cannot open"));
+}
+
+TEST(IniConfig, RelativePathsResolveAgainstTheIniFolder) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "asf_test_config";
+  fs::create_directories(dir);
+  { std::ofstream(dir / "c.ini") << "[sensor]\nlabel = x\nmap = maps/world.png\n"; }
+  const auto ini = IniConfig::fromFile((dir / "c.ini").string());
+  const auto p = ini.resolve("sensor", kKeys, std::size(kKeys));
+  EXPECT_EQ(p.getString("map"), (dir / "maps/world.png").string());
+  fs::remove_all(dir);
+}
+
+TEST(Params, FromSpecsValidatesOverrides) {
+  auto p = asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys), {{"label", "a"}});
+  EXPECT_DOUBLE_EQ(p.getDouble("max_range"), 8.0);
+  EXPECT_TRUE(has(errorOf([] {
+                    asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys),
+                                           {{"label", "a"}, {"max_range", "1000"}});
+                  }),
+                  "max_range = '1000': out of range [0.1, 100]"));
+  EXPECT_TRUE(has(errorOf([] { asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys)); }),
+                  "missing required key 'label'"));
+  EXPECT_TRUE(has(errorOf([] {
+                    asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys),
+                                           {{"label", "a"}, {"nope", "1"}});
+                  }),
+                  "unknown key 'nope'"));
+  EXPECT_TRUE(has(errorOf([&] { p.fail("rays", "must be even"); }),
+                  "[sensor] rays = '181': must be even"));
+}
+
+TEST(DidYouMean, SuggestsOnlyCloseWords) {
+  EXPECT_EQ(asf::didYouMean("segmentr", {"segmenter", "source"}), "segmenter");
+  EXPECT_EQ(asf::didYouMean("xyz", {"segmenter", "source"}), "");
+}

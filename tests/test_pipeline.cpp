@@ -1,0 +1,183 @@
+// The pipeline end to end with the reference plugins: configuration errors, outputs of a
+// finished run, an interrupted run, and a run whose plugin fails midway.
+#include <asf/errors.h>
+#include <asf/pipeline.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kDefault = ASF_TEST_SOURCE_DIR "/configs/default.ini";
+
+std::string errorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const asf::Error& e) {
+    return e.what();
+  }
+  return "(no asf::Error thrown)";
+}
+bool has(const std::string& s, const std::string& n) { return s.find(n) != std::string::npos; }
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("asf_test_pipeline_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+nlohmann::json readJson(const fs::path& f) {
+  std::ifstream in(f);
+  return nlohmann::json::parse(in);
+}
+
+std::size_t lineCount(const fs::path& f) {
+  std::ifstream in(f);
+  std::size_t n = 0;
+  std::string l;
+  while (std::getline(in, l)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(PipelineConfig, DefaultConfigResolves) {
+  asf::Registry reg;
+  const auto rc = asf::resolveConfig(asf::IniConfig::fromFile(kDefault), reg);
+  EXPECT_EQ(rc.slots.size(), 6u) << "one plugin per slot";
+  EXPECT_TRUE(rc.warnings.empty());
+  const std::string ini = rc.toIni();
+  EXPECT_TRUE(has(ini, "[segment_world]"));
+  EXPECT_TRUE(has(ini, "max_steps = 100000"));
+  // The resolved text is itself a valid configuration that resolves to the same values.
+  asf::Registry reg2;
+  const auto rc2 = asf::resolveConfig(asf::IniConfig::fromText(ini, "resolved.ini"), reg2);
+  auto texts = [](const asf::Params& p) {
+    std::map<std::string, std::string> m;
+    for (const auto& [k, v] : p.values()) m[k] = v.text;
+    return m;
+  };
+  EXPECT_EQ(texts(rc2.pipeline), texts(rc.pipeline));
+  EXPECT_EQ(texts(rc2.map), texts(rc.map));
+  ASSERT_EQ(rc2.plugin_params.size(), rc.plugin_params.size());
+  for (const auto& [name, p] : rc.plugin_params) EXPECT_EQ(texts(rc2.plugin_params.at(name)), texts(p)) << name;
+}
+
+TEST(PipelineConfig, ErrorsNameFileSectionKeyAndSuggest) {
+  asf::Registry reg;
+  const auto ini = asf::IniConfig::fromText(
+      "[pipeline]\nsource = segment_world\nfrontend = odometri\nbackend = dense_gn\n"
+      "seed = -3\n[segment_wrld]\nx = 1\n[dense_gn]\nmax_iteratons = 3\n",
+      "p.ini");
+  const std::string msg = errorOf([&] { asf::resolveConfig(ini, reg); });
+  EXPECT_TRUE(has(msg, "p.ini:5: [pipeline] seed = '-3': out of range")) << msg;
+  EXPECT_TRUE(has(msg, "p.ini:3: [pipeline] frontend: unknown frontend plugin 'odometri'; "
+                       "available frontend plugins: odometry")) << msg;
+  EXPECT_TRUE(has(msg, "p.ini:6: unknown section [segment_wrld] (did you mean [segment_world]?)"))
+      << msg;
+  EXPECT_TRUE(has(msg, "p.ini:9: [dense_gn] unknown key 'max_iteratons' (did you mean "
+                       "'max_iterations'?)")) << msg;
+}
+
+TEST(PipelineConfig, MissingSlotsAndWrongKinds) {
+  asf::Registry reg;
+  std::string msg = errorOf([&] { asf::resolveConfig(asf::IniConfig::fromText("[map]\n", "p.ini"), reg); });
+  EXPECT_TRUE(has(msg, "p.ini: no [pipeline] section")) << msg;
+  EXPECT_TRUE(has(msg, "missing required key 'source'")) << msg;
+  msg = errorOf([&] {
+    asf::resolveConfig(
+        asf::IniConfig::fromText("[pipeline]\nsource = dense_gn\nfrontend = odometry\n", "p.ini"), reg);
+  });
+  EXPECT_TRUE(has(msg, "p.ini:2: [pipeline] source: plugin 'dense_gn'")) << msg;
+  EXPECT_TRUE(has(msg, "is a backend, not a source")) << msg;
+}
+
+TEST(PipelineConfig, SectionOfAnUnusedPluginIsValidatedAndWarned) {
+  asf::Registry reg;
+  const auto ini = asf::IniConfig::fromText(
+      "[pipeline]\nsource = segment_world\nfrontend = odometry\n[shortest]\n", "p.ini");
+  const auto rc = asf::resolveConfig(ini, reg);
+  ASSERT_EQ(rc.warnings.size(), 1u);
+  EXPECT_TRUE(has(rc.warnings[0], "configures plugin 'shortest', which this pipeline does not use"));
+}
+
+TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
+  asf::Registry reg;
+  auto ini = asf::IniConfig::fromFile(kDefault);
+  ini.set("pipeline", "progress_interval", "0");
+  const auto rc = asf::resolveConfig(ini, reg);
+  const fs::path out = tempDir("default");
+  asf::Pipeline p(rc, out.string());
+  const asf::RunSummary s = p.run();
+  EXPECT_TRUE(s.finished) << s.stop_reason;
+  EXPECT_TRUE(has(s.stop_reason, "policy done")) << s.stop_reason;
+  EXPECT_GT(s.distance_m, 15.0) << "the route is about 20 m long";
+  EXPECT_GT(s.nodes, 20u);
+  EXPECT_GE(s.regions, 1u);
+  EXPECT_GE(s.final_pose_error_m, 0.0);
+  EXPECT_LT(s.final_pose_error_m, 1.0) << "2% odometry noise over ~20 m";
+  for (const auto& f : asf::Pipeline::outputFiles())
+    EXPECT_TRUE(fs::exists(out / f)) << f << " missing";
+  EXPECT_EQ(lineCount(out / "trajectory.csv"), static_cast<std::size_t>(s.steps) + 1);
+  const auto j = readJson(out / "summary.json");
+  EXPECT_EQ(j["steps"], s.steps);
+  EXPECT_EQ(j["finished"], true);
+  EXPECT_EQ(j["plugins"]["policy"], "waypoints");
+  const auto g = asf::readG2o((out / "graph.g2o").string());
+  EXPECT_EQ(g.nodes.size(), s.nodes);
+  const auto topo = readJson(out / "topology.json");
+  EXPECT_GE(topo["nodes"].size(), 2u) << "regions + the unexplored node";
+
+  // Same seed, same run: deterministic to the last digit.
+  const fs::path out2 = tempDir("default2");
+  asf::Registry reg2;
+  asf::Pipeline p2(asf::resolveConfig(ini, reg2), out2.string());
+  const asf::RunSummary s2 = p2.run();
+  EXPECT_EQ(s2.steps, s.steps);
+  EXPECT_EQ(s2.final_pose_error_m, s.final_pose_error_m);
+  std::ifstream a(out / "trajectory.csv"), b(out2 / "trajectory.csv");
+  EXPECT_TRUE(std::equal(std::istreambuf_iterator<char>(a), {}, std::istreambuf_iterator<char>(b), {}));
+  fs::remove_all(out);
+  fs::remove_all(out2);
+}
+
+TEST(Pipeline, InterruptedRunLeavesValidOutputs) {
+  asf::Registry reg;
+  auto ini = asf::IniConfig::fromFile(kDefault);
+  ini.set("pipeline", "progress_interval", "0");
+  const fs::path out = tempDir("interrupted");
+  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+  std::atomic<bool> stop{true};
+  const asf::RunSummary s = p.run(&stop);
+  EXPECT_EQ(s.stop_reason, "interrupted");
+  EXPECT_FALSE(s.finished);
+  const auto j = readJson(out / "summary.json");
+  EXPECT_EQ(j["stop_reason"], "interrupted");
+  EXPECT_TRUE(fs::exists(out / "graph.g2o"));
+  fs::remove_all(out);
+}
+
+TEST(Pipeline, PluginFailureMidRunKeepsWhatWasProduced) {
+  // The test policy shuttles for 3 goals and throws on its 4th decision; the run must
+  // report the error and still leave the steps driven so far on disk.
+  asf::Registry reg;
+  auto ini = asf::IniConfig::fromFile(kDefault);
+  ini.set("pipeline", "policy", "test_policy");
+  ini.set("pipeline", "plugin_path", ASF_TEST_BINARY_DIR "/tests/plugins/good");
+  ini.set("pipeline", "progress_interval", "0");
+  ini.set("test_policy", "fail_after", "3");
+  const fs::path out = tempDir("failure");
+  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+  const std::string msg = errorOf([&] { p.run(); });
+  EXPECT_TRUE(has(msg, "test policy fails on purpose")) << msg;
+  const auto j = readJson(out / "summary.json");
+  EXPECT_TRUE(has(j["stop_reason"].get<std::string>(), "error: test policy fails on purpose"));
+  EXPECT_GT(lineCount(out / "trajectory.csv"), 10u) << "the steps before the failure";
+  EXPECT_EQ(j["decisions"], 3) << "the throwing decision is not counted";
+  EXPECT_TRUE(fs::exists(out / "config.ini"));
+  fs::remove_all(out);
+}

@@ -1,0 +1,161 @@
+// Framework services: the map builder (scans at keyframe poses -> occupancy grid) and the
+// topological graph builder (label image -> regions graph with traversal history).
+#include <asf/map_builder.h>
+#include <asf/segment_world.h>
+#include <asf/topo_builder.h>
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <cmath>
+
+namespace {
+
+/// A 360-ray scan from `pose` in a world, exact ranges.
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWorld& w,
+                                                           const mrpt::poses::CPose2D& pose) {
+  auto s = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+  const int n = 360;
+  s->aperture = static_cast<float>(2 * M_PI * (n - 1) / n);
+  s->rightToLeft = true;
+  s->maxRange = 10;
+  s->resizeScan(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = -0.5 * s->aperture + i * s->aperture / (n - 1);
+    const double r = w.castRay(pose.x(), pose.y(), pose.phi() + a, 10);
+    s->setScanRange(i, static_cast<float>(r));
+    s->setScanRangeValidity(i, r < 10);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(MapBuilder, WallsOccupiedInteriorFreeOutsideUnknown) {
+  const auto world = asf::SegmentWorld::rectangle(-2, -1.5, 3, 2.5);
+  asf::PoseGraph g;
+  g.addNode({0, 0, 0});
+  g.nodes[0].scan = scanAt(world, g.nodes[0].pose);
+  const asf::KeySpec* k;
+  std::size_t n;
+  k = asf::MapBuilder::keys(n);
+  asf::MapBuilder mb;
+  mb.configure(asf::Params::fromSpecs("map", k, n, {{"resolution", "0.05"}}));
+  ASSERT_TRUE(mb.update(g));
+  EXPECT_FALSE(mb.update(g)) << "nothing new: no new version";
+  const auto& grid = *mb.map().grid;
+  EXPECT_EQ(mb.map().version, 1u);
+  // MRPT's convention: a cell holds the probability of being FREE.
+  EXPECT_GT(grid.getPos(1.0, 1.0), 0.6) << "inside the room: free";
+  EXPECT_GT(grid.getPos(-1.0, -1.0), 0.6);
+  auto minAround = [&](double x, double y) {
+    float m = 1;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) m = std::min(m, grid.getPos(x + dx * 0.05, y + dy * 0.05));
+    return m;
+  };
+  EXPECT_LT(minAround(3.0, 0.0), 0.4) << "on the wall x = 3: occupied";
+  EXPECT_LT(minAround(0.0, 2.5), 0.4) << "on the wall y = 2.5: occupied";
+  EXPECT_GT(minAround(2.5, 0.0), 0.55) << "0.5 m before the wall: free";
+  EXPECT_NEAR(grid.getPos(5.0, 0.0), 0.5, 1e-3) << "behind the wall: unknown";
+}
+
+TEST(MapBuilder, RebuildsWhenKeyframesMove) {
+  const auto world = asf::SegmentWorld::rectangle(-2, -2, 2, 2);
+  asf::PoseGraph g;
+  g.addNode({0, 0, 0});
+  g.nodes[0].scan = scanAt(world, g.nodes[0].pose);
+  std::size_t n;
+  const asf::KeySpec* k = asf::MapBuilder::keys(n);
+  asf::MapBuilder mb;
+  mb.configure(asf::Params::fromSpecs("map", k, n));
+  ASSERT_TRUE(mb.update(g));
+  EXPECT_FALSE(mb.map().rebuilt);
+  g.addNode({0.5, 0, 0});
+  g.nodes[1].scan = scanAt(world, g.nodes[1].pose);
+  ASSERT_TRUE(mb.update(g));
+  EXPECT_FALSE(mb.map().rebuilt) << "a new keyframe is inserted incrementally";
+  // The back-end moves node 0 by 0.3 m: the map must be rebuilt with the scan moved.
+  g.nodes[0].pose = mrpt::poses::CPose2D(0.3, 0, 0);
+  ASSERT_TRUE(mb.update(g));
+  EXPECT_TRUE(mb.map().rebuilt);
+  EXPECT_EQ(mb.map().version, 3u);
+}
+
+TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {
+  // 12 x 6 cells at 0.1 m, walls on rows 0 and 5 and column 0; free cells x = 1..9:
+  // region 1 (x < 5) and region 2 (x >= 5) share a 4-cell border; columns 10-11 are
+  // unknown, so region 2 borders unexplored space over 4 cells.
+  asf::Segmentation seg;
+  auto& L = seg.labels;
+  L.width = 12, L.height = 6, L.resolution = 0.1;
+  L.labels.assign(72, 0);
+  auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(0.0f, 1.2f, 0.0f, 0.6f, 0.1f);
+  ASSERT_EQ(grid->getSizeX(), 12u);
+  ASSERT_EQ(grid->getSizeY(), 6u);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 12; ++x) {
+      const bool wall = y == 0 || y == 5 || x == 0;
+      const bool free = !wall && x <= 9;
+      grid->setCell(x, y, wall ? 0.9f : free ? 0.1f : 0.5f);
+      if (free) L.labels[y * 12 + x] = x < 5 ? 1 : 2;
+    }
+  asf::Region r1, r2;
+  r1.id = 1, r1.centroid = {0.3, 0.3}, r1.area = 0.16;
+  r2.id = 2, r2.centroid = {0.75, 0.3}, r2.area = 0.2;
+  seg.regions = {r1, r2};
+  asf::GridMap map;
+  map.grid = grid;
+  map.version = 1;
+
+  std::size_t n;
+  const asf::KeySpec* k = asf::TopoBuilder::keys(n);
+  asf::TopoBuilder tb;
+  tb.configure(asf::Params::fromSpecs("topology", k, n,
+                                      {{"min_border_width", "0.3"}, {"min_frontier_width", "0.3"}}));
+  tb.update(seg, map);
+  const auto& t = tb.graph();
+  ASSERT_EQ(t.nodes.size(), 3u);  // two regions + unexplored
+  ASSERT_EQ(t.edges.size(), 2u);
+  const asf::TopoEdge& e12 = t.edges[0].frontier() ? t.edges[1] : t.edges[0];
+  const asf::TopoEdge& ef = t.edges[0].frontier() ? t.edges[0] : t.edges[1];
+  EXPECT_EQ(e12.a, 1);
+  EXPECT_EQ(e12.b, 2);
+  EXPECT_NEAR(e12.width, 0.4, 1e-9);
+  EXPECT_NEAR(e12.midpoint.x, 0.5, 1e-9);
+  EXPECT_NEAR(e12.midpoint.y, 0.3, 1e-9);
+  EXPECT_EQ(ef.a, 2);
+  EXPECT_NEAR(ef.width, 0.4, 1e-9);
+  EXPECT_NEAR(ef.midpoint.x, 0.95, 1e-9);
+  EXPECT_NEAR(ef.midpoint.y, 0.3, 1e-9);
+
+  tb.observeRobot(0.2, 0.25, 1.0);
+  EXPECT_EQ(tb.graph().current, 1);
+  EXPECT_TRUE(tb.graph().node(1)->visited);
+  EXPECT_EQ(tb.graph().node(1)->entrance_edge, -1) << "start region has no entrance";
+  tb.observeRobot(0.7, 0.25, 2.0);
+  tb.observeRobot(0.3, 0.25, 3.0);
+  const auto& t2 = tb.graph();
+  const int ie = t2.edges[0].frontier() ? 1 : 0;
+  ASSERT_EQ(t2.edges[ie].traversals.size(), 2u);
+  EXPECT_TRUE(t2.edges[ie].traversals[0].forward);
+  EXPECT_FALSE(t2.edges[ie].traversals[1].forward);
+  EXPECT_EQ(t2.outwardTraversals(ie, 1), 1);
+  EXPECT_EQ(t2.outwardTraversals(ie, 2), 1);
+  EXPECT_EQ(t2.node(2)->entrance_edge, ie);
+  // History survives a new segmentation with the same regions.
+  tb.update(seg, map);
+  const int je = tb.graph().edges[0].frontier() ? 1 : 0;
+  EXPECT_EQ(tb.graph().edges[je].traversals.size(), 2u);
+  EXPECT_TRUE(tb.graph().node(2)->visited);
+  EXPECT_EQ(tb.graph().node(2)->entrance_edge, je);
+}
+
+TEST(Geometry, PolygonAreaAndCentroid) {
+  const asf::Polygon sq{{0, 0}, {2, 0}, {2, 1}, {0, 1}};
+  EXPECT_DOUBLE_EQ(asf::polygonArea(sq), 2.0);
+  EXPECT_DOUBLE_EQ(asf::polygonCentroid(sq).x, 1.0);
+  EXPECT_DOUBLE_EQ(asf::polygonCentroid(sq).y, 0.5);
+  const asf::Polygon cw{{0, 0}, {0, 1}, {2, 1}, {2, 0}};
+  EXPECT_DOUBLE_EQ(asf::polygonArea(cw), -2.0);
+}
