@@ -16,7 +16,7 @@ const KeySpec kTopoKeys[] = {
               "width [m]",
               0.0, 100.0),
     keyDouble("unknown_band", "0.02",
-              "A cell is unknown when |p(occupied) - 0.5| is below this", 0.0, 0.5),
+              "A cell is unknown when its probability differs from 0.5 by less than this", 0.0, 0.5),
 };
 
 using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)

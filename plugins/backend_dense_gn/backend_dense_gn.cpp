@@ -254,7 +254,7 @@ class DenseGnBackend final : public asf::Backend {
 
   int max_iterations_ = 50;
   double tolerance_ = 1e-9;
-  std::size_t max_nodes_ = 3000;
+  std::size_t max_nodes_ = 1000;
   double lambda_init_ = 1e-4;
 };
 
@@ -262,7 +262,7 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("max_iterations", "50", "Maximum Levenberg-Marquardt iterations", 1, 100000),
     asf::keyDouble("tolerance", "1e-9",
                    "Stop when an iteration decreases chi2 by less than this fraction", 0, 1),
-    asf::keyInt("max_nodes", "3000",
+    asf::keyInt("max_nodes", "1000",
                 "Refuse larger graphs (dense: O(n^2) memory, O(n^3) time per iteration)", 1,
                 100000),
     asf::keyDouble("lambda_init", "1e-4",

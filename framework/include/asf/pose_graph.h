@@ -32,8 +32,9 @@ struct PoseNode {
 enum class EdgeKind : std::uint8_t { Odometry = 0, ScanMatch = 1, LoopClosure = 2 };
 const char* edgeKindName(EdgeKind k);
 
-/// Relative pose measurement: pose(to) = pose(from) (+) mean, with information (inverse
-/// covariance) in the frame of `from`, ordering (x, y, phi).
+/// Relative pose measurement: pose(to) = pose(from) (+) mean. `information` is the inverse
+/// covariance of PoseGraph::edgeError(e) (the g2o convention: its translation is expressed
+/// in the frame of from (+) mean), ordering (x, y, phi).
 struct PoseEdge {
   NodeId from = 0, to = 0;
   mrpt::poses::CPose2D mean;
