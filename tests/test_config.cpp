@@ -3,6 +3,8 @@
 #include <asf/errors.h>
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 #include <fstream>
 
@@ -10,6 +12,10 @@ using asf::ConfigError;
 using asf::IniConfig;
 using asf::KeySpec;
 
+using asf_test::has;
+namespace {
+const auto errorOf = asf_test::errorOf<asf::ConfigError>;
+}
 namespace {
 
 const KeySpec kKeys[] = {
@@ -21,19 +27,6 @@ const KeySpec kKeys[] = {
     asf::keyPath("map", "", "A file"),
     asf::keyDoubleList("weights", "1 2 3", "Weights", 0.0, 10.0),
 };
-
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no ConfigError thrown)";
-}
-
-bool has(const std::string& hay, const std::string& needle) {
-  return hay.find(needle) != std::string::npos;
-}
 
 }  // namespace
 

@@ -3,20 +3,15 @@
 #include <asf/pose_graph.h>
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 
 using asf::InputError;
 
+using asf_test::has;
 namespace {
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError thrown)";
-}
-bool has(const std::string& s, const std::string& n) { return s.find(n) != std::string::npos; }
+const auto errorOf = asf_test::errorOf<asf::InputError>;
 }  // namespace
 
 TEST(G2o, RoundTripIsExact) {

@@ -1,6 +1,8 @@
 // The asf host as a user meets it: subcommands, --help, exit codes, messages.
 #include <asf/abi.h>
 #include <gtest/gtest.h>
+
+#include "test_util.h"
 #include <sys/wait.h>
 
 #include <array>
@@ -10,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+using asf_test::has;
 namespace fs = std::filesystem;
 
 namespace {
@@ -31,8 +34,6 @@ Result asf(const std::string& args) {
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
 }
-
-bool has(const std::string& s, const std::string& n) { return s.find(n) != std::string::npos; }
 
 fs::path writeIni(const std::string& name, const std::string& text) {
   const fs::path f = fs::temp_directory_path() / name;

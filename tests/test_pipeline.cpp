@@ -4,25 +4,21 @@
 #include <asf/pipeline.h>
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+using asf_test::has;
+namespace {
+const auto errorOf = asf_test::errorOf<asf::Error>;
+}
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kDefault = ASF_TEST_SOURCE_DIR "/configs/default.ini";
-
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const asf::Error& e) {
-    return e.what();
-  }
-  return "(no asf::Error thrown)";
-}
-bool has(const std::string& s, const std::string& n) { return s.find(n) != std::string::npos; }
 
 fs::path tempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("asf_test_pipeline_" + name);

@@ -4,9 +4,15 @@
 #include <asf/registry.h>
 #include <gtest/gtest.h>
 
+#include "test_util.h"
+
 #include <filesystem>
 #include <fstream>
 
+using asf_test::has;
+namespace {
+const auto errorOf = asf_test::errorOf<asf::PluginError>;
+}
 namespace fs = std::filesystem;
 using asf::PluginError;
 using asf::Registry;
@@ -14,14 +20,6 @@ using asf::Registry;
 namespace {
 const std::string kDir = ASF_TEST_BINARY_DIR "/tests/plugins";
 
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const PluginError& e) {
-    return e.what();
-  }
-  return "(no PluginError thrown)";
-}
 }  // namespace
 
 TEST(Registry, LoadsAGoodPluginAndCreatesIt) {

@@ -1,3 +1,4 @@
+#include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/params.h>
 
@@ -177,40 +178,10 @@ std::vector<double> Params::getDoubleList(const std::string& key) const {
 
 Params Params::fromSpecs(const std::string& section, const KeySpec* keys, std::size_t n,
                          const std::map<std::string, std::string>& overrides) {
-  Params p(section);
-  std::vector<std::string> errors;
-  for (std::size_t i = 0; i < n; ++i) {
-    const KeySpec& k = keys[i];
-    Value v;
-    v.type = k.type;
-    auto it = overrides.find(k.name);
-    if (it != overrides.end()) {
-      v.text = it->second;
-      v.is_default = false;
-      v.origin = "override";
-    } else if (k.default_value) {
-      v.text = k.default_value;
-      v.origin = "default";
-    } else {
-      errors.push_back("[" + section + "] missing required key '" + k.name + "'");
-      continue;
-    }
-    if (auto why = validateValue(k, v.text); !why.empty())
-      errors.push_back(v.origin + ": [" + section + "] " + k.name + " = '" + v.text +
-                       "': " + why);
-    p.set(k.name, v);
-  }
-  for (const auto& [key, val] : overrides) {
-    bool known = false;
-    for (std::size_t i = 0; i < n; ++i) known = known || key == keys[i].name;
-    if (!known) errors.push_back("[" + section + "] unknown key '" + key + "'");
-  }
-  if (!errors.empty()) {
-    std::string msg;
-    for (const auto& e : errors) msg += (msg.empty() ? "" : "\n") + e;
-    throw ConfigError(msg);
-  }
-  return p;
+  // The same validation as an INI file gets, so both report the same errors.
+  IniConfig ini;
+  for (const auto& [key, value] : overrides) ini.set(section, key, value, "override");
+  return ini.resolve(section, keys, n);
 }
 
 }  // namespace asf

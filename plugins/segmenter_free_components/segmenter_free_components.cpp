@@ -14,24 +14,6 @@
 
 namespace {
 
-double signedArea(const asf::Polygon& p) {
-  double a = 0;
-  for (std::size_t i = 0, n = p.size(); i < n; ++i) {
-    const auto& u = p[i];
-    const auto& v = p[(i + 1) % n];
-    a += u.x * v.y - v.x * u.y;
-  }
-  return 0.5 * a;
-}
-
-asf::RegionId labelAt(const asf::LabelImage& L, double x, double y) {
-  if (L.width <= 0 || L.height <= 0 || L.resolution <= 0) return 0;
-  const int cx = static_cast<int>(std::floor((x - L.origin_x) / L.resolution));
-  const int cy = static_cast<int>(std::floor((y - L.origin_y) / L.resolution));
-  if (cx < 0 || cy < 0 || cx >= L.width || cy >= L.height) return 0;
-  return L.at(cx, cy);
-}
-
 class FreeComponentsSegmenter final : public asf::Segmenter {
  public:
   void configure(const asf::Params& p, const asf::PluginContext&) override {
@@ -123,7 +105,7 @@ class FreeComponentsSegmenter final : public asf::Segmenter {
         std::map<asf::RegionId, long> overlap;
         for (const auto& [cx, cy] : comps[i].cells) {
           const asf::RegionId id =
-              labelAt(previous->labels, x0 + (cx + 0.5) * res, y0 + (cy + 0.5) * res);
+              previous->labels.atPoint(x0 + (cx + 0.5) * res, y0 + (cy + 0.5) * res);
           if (id > 0) ++overlap[id];
         }
         for (const auto& [id, count] : overlap) pairs.emplace_back(count, i, id);
@@ -168,7 +150,7 @@ class FreeComponentsSegmenter final : public asf::Segmenter {
     double best = -1;
     for (std::size_t i = 0; i < cs.size(); ++i) {
       asf::Polygon p = toPolygon(cs[i]);
-      const double a = signedArea(p);
+      const double a = asf::polygonArea(p);
       if (hierarchy[i][3] < 0) {  // top level: outer boundary (one per component)
         if (a < 0) std::reverse(p.begin(), p.end());
         if (std::abs(a) > best) {

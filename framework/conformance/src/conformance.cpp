@@ -93,7 +93,10 @@ std::string describeException(std::exception_ptr e) {
 
 bool allFinite(const Eigen::Matrix3d& m) { return m.allFinite(); }
 
-testing::AssertionResult isSymmetricPsd(const Eigen::Matrix3d& m, double tol) {
+namespace {
+/// Symmetric, and its smallest eigenvalue above -tol * scale (PSD) or above 0 (PD).
+testing::AssertionResult checkSymmetricDefinite(const Eigen::Matrix3d& m, bool strict,
+                                                double tol) {
   if (!m.allFinite()) return testing::AssertionFailure() << "not finite:\n" << m;
   const double mag = m.cwiseAbs().maxCoeff();
   if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * mag + 1e-15)
@@ -101,24 +104,19 @@ testing::AssertionResult isSymmetricPsd(const Eigen::Matrix3d& m, double tol) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (m + m.transpose()),
                                                     Eigen::EigenvaluesOnly);
   const double lo = es.eigenvalues().minCoeff();
-  if (lo < -tol * std::max(1.0, mag))
-    return testing::AssertionFailure() << "not positive semi-definite (eigenvalue " << lo
-                                       << "):\n" << m;
+  if (strict ? !(lo > 0) : lo < -tol * std::max(1.0, mag))
+    return testing::AssertionFailure() << "not positive " << (strict ? "" : "semi-")
+                                       << "definite (eigenvalue " << lo << "):\n" << m;
   return testing::AssertionSuccess();
+}
+}  // namespace
+
+testing::AssertionResult isSymmetricPsd(const Eigen::Matrix3d& m, double tol) {
+  return checkSymmetricDefinite(m, false, tol);
 }
 
 testing::AssertionResult isSymmetricPd(const Eigen::Matrix3d& m) {
-  if (!m.allFinite()) return testing::AssertionFailure() << "not finite:\n" << m;
-  const double mag = m.cwiseAbs().maxCoeff();
-  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * mag + 1e-15)
-    return testing::AssertionFailure() << "not symmetric:\n" << m;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(0.5 * (m + m.transpose()),
-                                                    Eigen::EigenvaluesOnly);
-  const double lo = es.eigenvalues().minCoeff();
-  if (!(lo > 0))
-    return testing::AssertionFailure() << "not positive definite (eigenvalue " << lo
-                                       << "):\n" << m;
-  return testing::AssertionSuccess();
+  return checkSymmetricDefinite(m, true, 0);
 }
 
 double angleDiff(double a, double b) {
