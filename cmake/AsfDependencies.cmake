@@ -52,3 +52,10 @@ asf_require(GTest_FOUND "GoogleTest" "libgtest-dev libgmock-dev")
 
 find_package(nlohmann_json 3 CONFIG QUIET)
 asf_require(nlohmann_json_FOUND "nlohmann-json 3" nlohmann-json3-dev)
+
+# bzip2 (C API): the Rawseeds streams are distributed as .csv.bz2 (asf rawseeds2rawlog).
+find_package(BZip2 QUIET)
+asf_require(BZIP2_FOUND "bzip2 library (libbz2)" libbz2-dev)
+# zlib (C API): gzip-compressed text logs (CARMEN .log.gz), with truncation detected.
+find_package(ZLIB QUIET)
+asf_require(ZLIB_FOUND "zlib" zlib1g-dev)

@@ -1,14 +1,17 @@
-# asf_add_plugin(<target> SOURCES <files...> [LIBRARIES <libs...>] [NO_CONFORMANCE])
+# asf_add_plugin(<target> SOURCES <files...> [LIBRARIES <libs...>] [NO_CONFORMANCE]
+#                [CONFORMANCE_CONFIG <file.ini>])
 #
 # Builds an asf plugin: a MODULE library <target>.so that exports only its descriptor,
 # written to the plugin folder (build tree: lib/asf/plugins, or ASF_PLUGIN_OUTPUT_DIRECTORY)
 # and installed to <libdir>/asf/plugins. With testing enabled it also adds the CTest test
-# conformance.<target>, which runs the conformance kit (`asf conformance <file>`) on it.
+# conformance.<target>, which runs the conformance kit (`asf conformance <file>`) on it;
+# CONFORMANCE_CONFIG passes an INI whose [<plugin name>] section configures the plugin there
+# (`asf conformance --config`: for keys the kit cannot make up, such as a data file).
 include_guard(GLOBAL)
 include(GNUInstallDirs)
 
 function(asf_add_plugin target)
-  cmake_parse_arguments(ARG "NO_CONFORMANCE" "" "SOURCES;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(ARG "NO_CONFORMANCE" "CONFORMANCE_CONFIG" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT ARG_SOURCES)
     message(FATAL_ERROR "asf_add_plugin(${target}): SOURCES is required")
   endif()
@@ -39,7 +42,11 @@ function(asf_add_plugin target)
     else()
       set(_asf_exe ${ASF_EXECUTABLE})
     endif()
+    set(_asf_conf_args)
+    if(ARG_CONFORMANCE_CONFIG)
+      set(_asf_conf_args --config ${ARG_CONFORMANCE_CONFIG})
+    endif()
     add_test(NAME conformance.${target}
-             COMMAND ${_asf_exe} conformance $<TARGET_FILE:${target}>)
+             COMMAND ${_asf_exe} conformance ${_asf_conf_args} $<TARGET_FILE:${target}>)
   endif()
 endfunction()

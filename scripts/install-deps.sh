@@ -5,9 +5,10 @@ set -euo pipefail
 
 PKGS=(
   build-essential cmake pkg-config ccache
-  libmrpt-dev
+  libmrpt-dev mrpt-common
   libeigen3-dev libopencv-dev liboctomap-dev libsuitesparse-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
+  libbz2-dev zlib1g-dev
 )
 
 missing=()

@@ -3,6 +3,7 @@
 
 #include <cstring>
 #include <iostream>
+#include <optional>
 
 #include "commands.h"
 
@@ -24,6 +25,11 @@ int cmdConformance(int argc, char** argv) {
   TCLAP::SwitchArg all("a", "all", "Every plugin found", cmd);
   TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
                                     "DIR", cmd);
+  TCLAP::ValueArg<std::string> config(
+      "c", "config",
+      "INI with a section per plugin name: values the kit configures that plugin with (keys "
+      "it cannot make up, e.g. a log source's file); relative paths from the INI's folder",
+      false, "", "FILE.ini", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(static_cast<int>(ours.size()), ours.data());
 
@@ -58,9 +64,11 @@ int cmdConformance(int argc, char** argv) {
     std::cerr << "asf conformance: name at least one plugin, or --all (asf conformance --help)\n";
     return kUsage;
   }
+  std::optional<IniConfig> ini;
+  if (!config.getValue().empty()) ini = IniConfig::fromFile(config.getValue());
   int n = static_cast<int>(gtest_args.size());
   gtest_args.push_back(nullptr);
-  const int rc = conformance::run(plugins, n, gtest_args.data());
+  const int rc = conformance::run(plugins, n, gtest_args.data(), ini ? &*ini : nullptr);
   return rc == 0 ? kOk : kTestsFailed;
 }
 

@@ -19,5 +19,8 @@ int cmdRun(int argc, char** argv);
 int cmdPlugins(int argc, char** argv);
 int cmdConfig(int argc, char** argv);
 int cmdConformance(int argc, char** argv);
+int cmdRawseeds2Rawlog(int argc, char** argv);
+int cmdRawlog2Rawseeds(int argc, char** argv);
+int cmdCarmen2Rawlog(int argc, char** argv);
 
 }  // namespace asf::app

@@ -24,13 +24,19 @@ const Command kCommands[] = {
     {"config", asf::app::cmdConfig, "Print an INI file resolved, every default filled in"},
     {"conformance", asf::app::cmdConformance,
      "Run the plugin conformance kit on plugin files or names"},
+    {"rawseeds2rawlog", asf::app::cmdRawseeds2Rawlog,
+     "Convert Rawseeds CSV streams (.csv/.csv.bz2) to a rawlog + ground truth"},
+    {"rawlog2rawseeds", asf::app::cmdRawlog2Rawseeds,
+     "Write a rawlog as Rawseeds CSV streams (to test the converter)"},
+    {"carmen2rawlog", asf::app::cmdCarmen2Rawlog,
+     "Convert a CARMEN log to a rawlog + ground truth (optionally synthetic odometry)"},
 };
 
 void usage(std::ostream& os) {
   os << "asf " ASF_VERSION_STRING " (plugin ABI " << ASF_ABI_VERSION
      << "): Active SLAM framework\n\nUsage: asf <command> [options]   (asf <command> --help)\n\n"
         "Commands:\n";
-  for (const auto& c : kCommands) os << "  " << std::left << std::setw(13) << c.name << c.summary << "\n";
+  for (const auto& c : kCommands) os << "  " << std::left << std::setw(17) << c.name << c.summary << "\n";
   os << "\nPlugins are searched in <asf>/../lib/asf/plugins, $ASF_PLUGIN_PATH and the INI's "
         "[pipeline] plugin_path.\n";
 }

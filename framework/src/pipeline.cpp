@@ -245,6 +245,12 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
   Impl& m = *impl_;
   m.cfg = cfg;
   m.out_dir = out_dir;
+  // Plugins may write into the output folder from configure() on (e.g. a simulator's log).
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) throw Error(out_dir + ": cannot create the output folder: " + ec.message());
+  }
   m.setMinLoggingLevel(parseVerbosity(cfg.pipeline.getString("verbosity")));
   for (const auto& w : cfg.warnings) m.logStr(mrpt::system::LVL_WARN, w);
   m.make("source", 0, m.source);

@@ -147,12 +147,13 @@ bool inRange(const KeySpec& k, double v) { return v >= k.min && v <= k.max; }
 }  // namespace
 
 bool synthesizeRequired(const PluginDescriptor& d, std::map<std::string, std::string>& out,
-                        std::string& why) {
+                        std::string& why, const std::set<std::string>& given) {
   out.clear();
   for (std::size_t i = 0; i < d.num_keys && d.keys; ++i) {
     const KeySpec& k = d.keys[i];
     if (k.default_value) continue;
     const std::string name = k.name ? k.name : "";
+    if (given.count(name)) continue;
     switch (k.type) {
       case KeyType::Bool:
         out[name] = "false";
@@ -195,8 +196,9 @@ bool synthesizeRequired(const PluginDescriptor& d, std::map<std::string, std::st
       case KeyType::DoubleList:
       default:
         why = "the plugin has a required key '" + name + "' (" + keyTypeName(k.type) +
-              ", no default) for which the kit cannot make up a value; test it with a "
-              "configuration of your own";
+              ", no default) for which the kit cannot make up a value; give it one with "
+              "`asf conformance --config FILE.ini` (section [" + std::string(d.name ? d.name : "") +
+              "])";
         return false;
     }
   }
@@ -219,22 +221,58 @@ std::string outOfRangeValue(const KeySpec& k, bool below) {
   return fmt(v);
 }
 
+namespace {
+
+/// The --config INIs of the plugins that have a section in one, by descriptor (filled by
+/// registerTests before any test runs).
+std::map<const PluginDescriptor*, std::shared_ptr<const IniConfig>>& givenConfigs() {
+  static std::map<const PluginDescriptor*, std::shared_ptr<const IniConfig>> m;
+  return m;
+}
+
+/// `ini`'s section for the plugin plus `values`, resolved like a pipeline section.
+Params resolveWith(const IniConfig& ini, const PluginDescriptor& d,
+                   const std::map<std::string, std::string>& values) {
+  IniConfig merged = ini;
+  for (const auto& [k, v] : values) merged.set(d.name, k, v, "conformance kit");
+  return merged.resolve(d.name, d.keys, d.num_keys);
+}
+
+}  // namespace
+
+const IniConfig* PluginTest::config() const {
+  auto it = givenConfigs().find(info_->descriptor);
+  return it == givenConfigs().end() ? nullptr : it->second.get();
+}
+
+std::set<std::string> PluginTest::givenKeys() const {
+  const IniConfig* c = config();
+  if (!c) return {};
+  const auto keys = c->keys(descriptor().name);
+  return {keys.begin(), keys.end()};
+}
+
 Params PluginTest::defaultParams(const std::map<std::string, std::string>& extra) const {
   std::map<std::string, std::string> ov;
   std::string why;
-  synthesizeRequired(descriptor(), ov, why);
+  synthesizeRequired(descriptor(), ov, why, givenKeys());
   for (const auto& [k, v] : extra) ov[k] = v;
+  if (const IniConfig* c = config()) return resolveWith(*c, descriptor(), ov);
   return Params::fromSpecs(section(), descriptor().keys, descriptor().num_keys, ov);
 }
 
 bool skipUnconfigurable(const PluginTest& t, std::string& why) {
   std::map<std::string, std::string> ov;
-  if (!synthesizeRequired(t.descriptor(), ov, why)) return true;
-  if (ov.empty()) return false;
-  // Values were made up for required keys: a plugin may reject them for reasons of its own
-  // (cross-key checks), which is not a conformance failure.
+  if (!synthesizeRequired(t.descriptor(), ov, why, t.givenKeys())) return true;
+  if (ov.empty() && !t.config()) return false;
+  // Values were made up for required keys (or given in --config): a plugin may reject them
+  // for reasons of its own (cross-key checks, a data file missing here), which is not a
+  // conformance failure.
   std::string list;
   for (const auto& [k, v] : ov) list += (list.empty() ? "" : ", ") + k + " = " + v;
+  if (t.config())
+    list = "[" + std::string(t.descriptor().name) + "] of " + t.config()->fileName() +
+           (list.empty() ? "" : ", and made up: " + list);
   try {
     auto p = Registry::instantiate(t.info());
     p->setMinLoggingLevel(mrpt::system::LVL_ERROR);
@@ -242,8 +280,8 @@ bool skipUnconfigurable(const PluginTest& t, std::string& why) {
     ctx.seed = kSeed;
     p->configure(t.defaultParams(), ctx);
   } catch (const ConfigError& e) {
-    why = "the plugin rejected the values the kit made up for its required keys (" + list +
-          "): " + e.what();
+    why = "the plugin rejected the values the kit configured it with (" + list + "): " +
+          e.what();
     return true;
   } catch (...) {
     // Reported by the test itself.
@@ -392,9 +430,9 @@ void registerCommonTests(const InfoPtr& info) {
 
   addTest<T>(info, "configure_rejects_out_of_range_values", Needs::Nothing, [](KindTest<T>& t) {
     const auto& d = t.descriptor();
-    std::map<std::string, std::string> base;
+    std::map<std::string, std::string> made_up;  // made up again by defaultParams() below
     std::string why;
-    const bool configurable = synthesizeRequired(d, base, why);
+    const bool configurable = synthesizeRequired(d, made_up, why, t.givenKeys());
     for (std::size_t i = 0; i < d.num_keys && d.keys; ++i) {
       const KeySpec& k = d.keys[i];
       for (bool below : {true, false}) {
@@ -404,10 +442,8 @@ void registerCommonTests(const InfoPtr& info) {
         SCOPED_TRACE("key '" + name + "' = " + bad);
         EXPECT_NE(validateValue(k, bad), "") << "asf::validateValue accepted an out-of-range value";
         if (!configurable) continue;
-        auto ov = base;
-        ov[name] = bad;
         try {
-          const Params p = Params::fromSpecs(t.section(), d.keys, d.num_keys, ov);
+          const Params p = t.defaultParams({{name, bad}});
           auto h = t.create();
           PluginContext ctx;
           ctx.seed = kSeed;
@@ -487,10 +523,22 @@ void registerKind(const InfoPtr& info, void (*kindTests)(const InfoPtr&)) {
 }  // namespace
 }  // namespace detail
 
-void registerTests(const std::shared_ptr<const PluginInfo>& plugin) {
+void registerTests(const std::shared_ptr<const PluginInfo>& plugin, const IniConfig* config) {
   using namespace detail;
   if (!plugin || !plugin->descriptor)
     throw PluginError("asf::conformance::registerTests: no plugin (null descriptor)");
+  const PluginDescriptor& d = *plugin->descriptor;
+  if (config && d.name && config->hasSection(d.name)) {
+    // Checked now, so a typo in the INI is one clear error rather than failing tests.
+    std::map<std::string, std::string> made_up;
+    std::string why;
+    synthesizeRequired(d, made_up, why, [&] {
+      const auto k = config->keys(d.name);
+      return std::set<std::string>(k.begin(), k.end());
+    }());
+    resolveWith(*config, d, made_up);
+    givenConfigs()[plugin->descriptor] = std::make_shared<IniConfig>(*config);
+  }
   registerDescriptorTests(plugin);
   switch (plugin->kind()) {
     case PluginKind::Source: registerKind<Source>(plugin, registerSourceTests); break;
@@ -503,11 +551,12 @@ void registerTests(const std::shared_ptr<const PluginInfo>& plugin) {
   }
 }
 
-int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv) {
+int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv,
+        const IniConfig* config) {
   testing::InitGoogleTest(&argc, argv);
   std::set<const PluginDescriptor*> done;
   for (const auto& p : plugins)
-    if (p && done.insert(p->descriptor).second) registerTests(p);
+    if (p && done.insert(p->descriptor).second) registerTests(p, config);
   return RUN_ALL_TESTS();
 }
 

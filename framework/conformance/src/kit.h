@@ -18,6 +18,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -70,11 +71,12 @@ double angleDiff(double a, double b);  ///< wrapped to [-pi, pi]
 // ---------------------------------------------------------------------------------------
 // Configuration with defaults.
 
-/// Values for the plugin's required keys (default_value == nullptr): numbers get a value
-/// within range, enums their first choice, bools false. Returns false (and why) when a
-/// required key cannot be synthesized (strings, paths, lists).
+/// Values for the plugin's required keys (default_value == nullptr) except those in `given`
+/// (set by the --config INI): numbers get a value within range, enums their first choice,
+/// bools false. Returns false (and why) when a required key cannot be synthesized (strings,
+/// paths, lists).
 bool synthesizeRequired(const PluginDescriptor& d, std::map<std::string, std::string>& out,
-                        std::string& why);
+                        std::string& why, const std::set<std::string>& given = {});
 
 /// An out-of-range value for a numeric key with a finite bound, or "" if none can be made.
 std::string outOfRangeValue(const KeySpec& k, bool below);
@@ -92,7 +94,12 @@ class PluginTest : public testing::Test {
   const InfoPtr& infoPtr() const { return info_; }
   /// INI section name used in the kit's Params (the kind, as in a pipeline INI).
   std::string section() const { return kindName(info_->kind()); }
-  /// Every default plus synthesized values for required keys (throws ConfigError).
+  /// The INI given with --config when it has a section for this plugin, else nullptr.
+  const IniConfig* config() const;
+  /// Keys set in that section (lowercase).
+  std::set<std::string> givenKeys() const;
+  /// Every default, the --config values, synthesized values for the required keys left,
+  /// then `extra` (throws ConfigError).
   Params defaultParams(const std::map<std::string, std::string>& extra = {}) const;
 
  protected:

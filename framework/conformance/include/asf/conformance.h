@@ -9,6 +9,7 @@
 ///     return asf::conformance::run({info}, argc, argv);
 ///   }
 /// \endcode
+#include <asf/config.h>
 #include <asf/registry.h>
 
 #include <memory>
@@ -18,10 +19,19 @@ namespace asf::conformance {
 
 /// Registers the kit's tests for one plugin with GoogleTest (suite "<kind>/<name>").
 /// Call after testing::InitGoogleTest and before RUN_ALL_TESTS.
-void registerTests(const std::shared_ptr<const PluginInfo>& plugin);
+///
+/// `config` (optional, `asf conformance --config FILE.ini`): its section named after the
+/// plugin, as in a pipeline INI, gives values the kit configures every instance with; the
+/// kit makes up values only for the required keys it leaves out. It is how a plugin with a
+/// key the kit cannot invent (a log source's data file) gets tested. The section is checked
+/// against the plugin's key table here (throws ConfigError); relative paths resolve against
+/// the INI's folder. Plugins without a section are configured as without `config`.
+void registerTests(const std::shared_ptr<const PluginInfo>& plugin,
+                   const IniConfig* config = nullptr);
 
 /// InitGoogleTest(argc, argv) (so --gtest_filter etc. work), registerTests for each plugin,
 /// RUN_ALL_TESTS. Returns its exit code (0 = every test passed).
-int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv);
+int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv,
+        const IniConfig* config = nullptr);
 
 }  // namespace asf::conformance

@@ -1,0 +1,151 @@
+#pragma once
+/// \file rawlog_io.h
+/// Reading and writing robot logs as MRPT rawlogs, and ground-truth files.
+///
+/// A rawlog (MRPT's binary log format) comes in two layouts:
+/// - action/sensory-frame pairs: CActionCollection (with a CActionRobotMovement2D, the
+///   odometry increment and its Gaussian covariance) followed by a CSensoryFrame (the
+///   observations of that step);
+/// - observation-only: a time-ordered sequence of CObservation objects
+///   (CObservationOdometry carries the absolute odometry pose, CObservation2DRangeScan the
+///   scans).
+/// Either may be gz-compressed. RawlogReader reads both and yields one SensorFrame per step;
+/// RawlogWriter writes action/sensory-frame pairs, one per SensorFrame, so a replayed stream
+/// equals the written one.
+///
+/// Ground-truth files are text, one pose per line: `timestamp x y phi` (seconds, metres,
+/// radians); `#` starts a comment line.
+#include <asf/sensor_frame.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace asf {
+
+/// MRPT's Gaussian odometry model (CActionRobotMovement2D::TMotionModelOptions, mmGaussian):
+/// the covariance of an odometry increment grows with the distance and angle travelled.
+/// Units as in MRPT: a1 [m/m], a2 [m/deg], a3 [deg/m], a4 [deg/deg]; minimum stds in m, deg.
+struct OdometryNoiseModel {
+  double a1 = 0.01, a2 = 0.001, a3 = 1.0, a4 = 0.05;
+  double min_std_xy = 0.01, min_std_phi_deg = 0.2;
+  /// Covariance (x, y, phi) of the increment `delta`, computed by MRPT's motion model.
+  Eigen::Matrix3d covariance(const mrpt::poses::CPose2D& delta) const;
+};
+
+struct GroundTruthPose {
+  double t = 0;
+  mrpt::poses::CPose2D pose;
+};
+
+/// Reads a ground-truth file. Throws asf::InputError naming the file and line on a bad line.
+/// Lines must have increasing timestamps.
+std::vector<GroundTruthPose> readGroundTruth(const std::string& path);
+
+/// Pose at time t by linear interpolation (angles on the circle) between the neighbouring
+/// lines; std::nullopt outside [first, last] or in a gap wider than max_gap seconds.
+/// A t within 1 us of a line (the resolution GT files are usually printed with) is that
+/// line's pose, also next to a gap or just past an end.
+std::optional<mrpt::poses::CPose2D> interpolateGroundTruth(
+    const std::vector<GroundTruthPose>& gt, double t, double max_gap = 0.5);
+
+/// Writes a ground-truth file line by line (flushed as it goes, so a crash keeps the lines
+/// written so far).
+class GroundTruthWriter {
+ public:
+  explicit GroundTruthWriter(const std::string& path);  ///< throws asf::InputError
+  ~GroundTruthWriter();
+  void write(double t, const mrpt::poses::CPose2D& pose);
+  void flush();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct RawlogReaderOptions {
+  /// Which CObservation2DRangeScan to use, by sensorLabel. Empty: the first laser seen;
+  /// scans of other labels are skipped (and counted).
+  std::string laser_label;
+  /// Covariance of odometry increments for logs that carry none (observation-only logs).
+  OdometryNoiseModel odometry_model;
+  /// Optional ground-truth file: frames get the pose interpolated at their timestamp.
+  std::string ground_truth_file;
+  double ground_truth_max_gap = 0.5;  ///< seconds, see interpolateGroundTruth
+};
+
+/// Streams a rawlog, one SensorFrame per step:
+/// - action/sensory-frame logs: one frame per pair; odometry from the CActionRobotMovement2D
+///   (mean and covariance), the scan with the chosen label (or none);
+/// - observation-only logs: one frame per chosen laser scan; odometry is the increment of the
+///   CObservationOdometry poses between consecutive scans (the last reading at or before
+///   each scan), its covariance from `odometry_model`.
+/// A truncated or corrupt log ends the stream with asf::InputError naming the file and the
+/// record index; every frame returned before stays valid.
+///
+/// Details:
+/// - the frame time is the chosen scan's timestamp, else the movement's, else (no valid
+///   time at all) the previous frame's; times are mrpt::Clock::toDouble of MRPT timestamps;
+/// - a first sensory frame without a movement before it (and the first frame of an
+///   observation-only log) has a zero increment with zero covariance; a later one gets a zero
+///   increment with `odometry_model`'s covariance of standing still; two actions in a row are
+///   composed (CPosePDFGaussian +=);
+/// - a movement whose PDF is not Gaussian (MRPT's sample-based Thrun model) is replaced by its
+///   raw odometry reading with `odometry_model`'s covariance (MRPT redraws those samples at
+///   random on every load);
+/// - observation-only logs: a reading timestamped after a scan is kept for the next scans even
+///   when stored before it; without readings the increment is zero (model covariance);
+/// - an empty file is a log without frames, not an error.
+class RawlogReader {
+ public:
+  RawlogReader(const std::string& path, RawlogReaderOptions options = {});
+  ~RawlogReader();
+  RawlogReader(const RawlogReader&) = delete;
+  RawlogReader& operator=(const RawlogReader&) = delete;
+
+  /// Next frame, or std::nullopt at the end (and on every later call).
+  std::optional<SensorFrame> next();
+  /// Index of the last record read (0-based; each serialized object is one record).
+  std::size_t recordIndex() const;
+  /// Laser labels seen so far and scans skipped because of their label.
+  std::vector<std::string> laserLabels() const;
+  std::size_t skippedScans() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Writes SensorFrames as action/sensory-frame pairs: a CActionCollection holding a
+/// CActionRobotMovement2D (odometry increment, its covariance as a CPosePDFGaussian, the
+/// frame's timestamp) and a CSensoryFrame holding the scan (empty when the frame has none).
+/// A path ending in ".gz" is gz-compressed. Flushes every `flush_every` frames and on close.
+///
+/// Replay fidelity (what RawlogReader gives back): timestamps as
+/// Clock::toDouble(Clock::fromDouble(t)) (100 ns ticks); odometry mean bit-identical; the
+/// covariance bit-identical when it is exactly symmetric (MRPT stores one triangle); the scan
+/// as serialized by MRPT, with its timestamp set to the frame's. The movement is written with
+/// estimationMethod = emScan2DMatching: for emOdometry MRPT serializes only the raw reading and
+/// recomputes the covariance from its motion model on load, which would lose ours.
+/// Ground truth is not written here (use GroundTruthWriter). flush_every = 0: only flush() and
+/// close flush.
+class RawlogWriter {
+ public:
+  explicit RawlogWriter(const std::string& path, std::size_t flush_every = 50);
+  ~RawlogWriter();  ///< closes (flushes) the file
+  RawlogWriter(const RawlogWriter&) = delete;
+  RawlogWriter& operator=(const RawlogWriter&) = delete;
+
+  void write(const SensorFrame& frame);
+  void flush();
+  std::size_t framesWritten() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace asf

@@ -1,0 +1,452 @@
+// Rawlog and ground-truth I/O (see rawlog_io.h). Everything binary goes through MRPT's
+// serialization, so logs written here open in MRPT's tools and vice versa.
+#include <asf/errors.h>
+#include <asf/rawlog_io.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <sstream>
+
+namespace asf {
+
+using mrpt::obs::CActionCollection;
+using mrpt::obs::CActionRobotMovement2D;
+using mrpt::obs::CObservation2DRangeScan;
+using mrpt::obs::CObservationOdometry;
+using mrpt::obs::CSensoryFrame;
+using mrpt::poses::CPose2D;
+using mrpt::poses::CPosePDFGaussian;
+
+namespace {
+
+bool hasTime(const mrpt::Clock::time_point& t) { return t != mrpt::Clock::time_point(); }
+
+Eigen::Matrix3d toEigen(const mrpt::math::CMatrixDouble33& m) {
+  Eigen::Matrix3d e;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) e(r, c) = m(r, c);
+  return e;
+}
+
+/// MRPT's exception texts nest ("Exception while parsing typed object 'X'" around the cause)
+/// and carry call traces. Keeps the cause and the objects it happened in:
+/// "(EOF?) Cannot read ... (in CSensoryFrame > CObservation2DRangeScan)".
+std::string mrptCause(const std::string& what) {
+  const std::string kMsg = "Message:", kParsing = "Exception while parsing typed object '";
+  std::istringstream is(what);
+  std::string line, cause, objects;
+  while (std::getline(is, line)) {
+    const auto m = line.find(kMsg);
+    if (m == std::string::npos) continue;
+    std::string text = line.substr(m + kMsg.size());
+    text.erase(0, text.find_first_not_of(' '));
+    if (text.compare(0, kParsing.size(), kParsing) == 0) {
+      const auto end = text.find('\'', kParsing.size());
+      const std::string cls = text.substr(kParsing.size(), end - kParsing.size());
+      if (end != std::string::npos && !cls.empty() && cls.find(' ') == std::string::npos)
+        objects += (objects.empty() ? "" : " > ") + cls;
+    } else if (!text.empty()) {
+      cause = text;  // the innermost message comes last
+    }
+  }
+  if (cause.empty()) {
+    std::istringstream first(what);
+    std::getline(first, cause);
+  }
+  return objects.empty() ? cause : cause + " (in " + objects + ")";
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- odometry model
+
+Eigen::Matrix3d OdometryNoiseModel::covariance(const CPose2D& delta) const {
+  CActionRobotMovement2D::TMotionModelOptions o;
+  o.modelSelection = CActionRobotMovement2D::mmGaussian;
+  // MRPT documents these fields in degrees but its formula uses them with radians (its own
+  // defaults are written RAD2DEG(0.001), DEG2RAD(1.0), DEG2RAD(0.2)): convert our documented
+  // units the same way.
+  o.gaussianModel.a1 = a1;
+  o.gaussianModel.a2 = mrpt::RAD2DEG(a2);  // m/deg -> m/rad
+  o.gaussianModel.a3 = mrpt::DEG2RAD(a3);  // deg/m -> rad/m
+  o.gaussianModel.a4 = a4;                 // deg/deg == rad/rad
+  o.gaussianModel.minStdXY = min_std_xy;
+  o.gaussianModel.minStdPHI = mrpt::DEG2RAD(min_std_phi_deg);
+  CActionRobotMovement2D act;
+  act.computeFromOdometry(delta, o);
+  mrpt::math::CMatrixDouble33 cov;
+  CPose2D mean;
+  act.poseChange->getCovarianceAndMean(cov, mean);
+  return toEigen(cov);
+}
+
+// ---------------------------------------------------------------- ground truth
+
+std::vector<GroundTruthPose> readGroundTruth(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the ground-truth file");
+  std::vector<GroundTruthPose> out;
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    const auto b = line.find_first_not_of(" \t\r");
+    if (b == std::string::npos || line[b] == '#') continue;
+    std::istringstream ls(line);
+    double v[4];
+    std::string extra;
+    const auto where = path + ":" + std::to_string(n) + ": ";
+    if (!(ls >> v[0] >> v[1] >> v[2] >> v[3]))
+      throw InputError(where + "expected 'timestamp x y phi', got '" + line + "'");
+    if (ls >> extra)
+      throw InputError(where + "unexpected '" + extra + "' after 'timestamp x y phi'");
+    for (double x : v)
+      if (!std::isfinite(x)) throw InputError(where + "non-finite value");
+    if (!out.empty() && !(v[0] > out.back().t))
+      throw InputError(where + "timestamp " + std::to_string(v[0]) +
+                       " is not after the previous line's " + std::to_string(out.back().t));
+    out.push_back({v[0], CPose2D(v[1], v[2], v[3])});
+  }
+  return out;
+}
+
+std::optional<CPose2D> interpolateGroundTruth(const std::vector<GroundTruthPose>& gt, double t,
+                                              double max_gap) {
+  if (gt.empty() || !std::isfinite(t)) return std::nullopt;
+  // Ground truth is usually logged at the sensor times but printed with 6 decimals: a frame
+  // within that rounding of a line is at that line, also when a gap or an end follows.
+  constexpr double kSameTime = 1e-6;
+  auto hi = std::upper_bound(gt.begin(), gt.end(), t,
+                             [](double x, const GroundTruthPose& g) { return x < g.t; });
+  if (hi != gt.end() && hi->t - t <= kSameTime) return hi->pose;
+  if (hi == gt.begin()) return std::nullopt;  // before the first line
+  const auto lo = hi - 1;
+  if (t - lo->t <= kSameTime) return lo->pose;
+  if (hi == gt.end()) return std::nullopt;  // after the last line
+  if (hi->t - lo->t > max_gap) return std::nullopt;
+  const double s = (t - lo->t) / (hi->t - lo->t);
+  const double dphi = mrpt::math::wrapToPi(hi->pose.phi() - lo->pose.phi());
+  return CPose2D(lo->pose.x() + s * (hi->pose.x() - lo->pose.x()),
+                 lo->pose.y() + s * (hi->pose.y() - lo->pose.y()),
+                 mrpt::math::wrapToPi(lo->pose.phi() + s * dphi));
+}
+
+struct GroundTruthWriter::Impl {
+  std::string path;
+  std::FILE* f = nullptr;
+};
+
+GroundTruthWriter::GroundTruthWriter(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->f = std::fopen(path.c_str(), "w");
+  if (!impl_->f) throw InputError(path + ": cannot create the ground-truth file");
+  std::fprintf(impl_->f, "# timestamp x y phi (s, m, m, rad)\n");
+  std::fflush(impl_->f);
+}
+
+GroundTruthWriter::~GroundTruthWriter() {
+  if (impl_ && impl_->f) std::fclose(impl_->f);
+}
+
+void GroundTruthWriter::write(double t, const CPose2D& pose) {
+  // Flushed per line: a crashed run keeps every pose written so far.
+  if (std::fprintf(impl_->f, "%.9f %.9f %.9f %.9f\n", t, pose.x(), pose.y(), pose.phi()) < 0 ||
+      std::fflush(impl_->f) != 0)
+    throw Error(impl_->path + ": write failed");
+}
+
+void GroundTruthWriter::flush() { std::fflush(impl_->f); }
+
+// ---------------------------------------------------------------- reader
+
+struct RawlogReader::Impl {
+  std::string path;
+  RawlogReaderOptions opt;
+  mrpt::io::CFileGZInputStream in;
+  std::unique_ptr<mrpt::serialization::CArchive> ar;
+  std::vector<GroundTruthPose> gt;
+  bool ended = false;
+  std::size_t records = 0;  // records read so far
+  std::optional<std::string> label;  // chosen laser label (set on the first scan if not given)
+  std::vector<std::string> labels_seen;
+  std::size_t skipped = 0;
+  std::size_t frames = 0;
+  double last_t = 0;
+
+  // Action/sensory-frame layout: the movement(s) since the last sensory frame.
+  bool have_action = false;
+  CPosePDFGaussian action;
+  mrpt::Clock::time_point action_t;
+
+  // Observation-only layout: odometry readings not yet assigned to a scan, and the odometry
+  // pose of the last emitted scan.
+  std::deque<std::pair<mrpt::Clock::time_point, CPose2D>> pending_odo;
+  std::optional<CPose2D> odo_now, odo_prev_scan;
+
+  [[noreturn]] void fail(std::string why) {
+    ended = true;
+    for (char& c : why)  // damaged bytes end up in MRPT's messages (e.g. a class name)
+      if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    throw InputError(path + ": record " + std::to_string(records) + ": " + why);
+  }
+
+  /// Whether `scan` is the chosen laser (choosing it if none is yet); counts the others.
+  bool chosen(const CObservation2DRangeScan& scan) {
+    if (std::find(labels_seen.begin(), labels_seen.end(), scan.sensorLabel) == labels_seen.end())
+      labels_seen.push_back(scan.sensorLabel);
+    if (!label) label = scan.sensorLabel;
+    if (scan.sensorLabel == *label) return true;
+    ++skipped;
+    return false;
+  }
+
+  SensorFrame finish(SensorFrame f) {
+    if (!gt.empty())
+      f.ground_truth = interpolateGroundTruth(gt, f.timestamp, opt.ground_truth_max_gap);
+    last_t = f.timestamp;
+    ++frames;
+    return f;
+  }
+
+  void addAction(const CActionCollection& acts) {
+    const auto mov = acts.getBestMovementEstimation();
+    if (!mov || !mov->poseChange) return;  // e.g. only 3D movements: no 2D odometry
+    CPosePDFGaussian g;
+    if (auto pg = std::dynamic_pointer_cast<CPosePDFGaussian>(mov->poseChange.get_ptr())) {
+      g = *pg;
+    } else {
+      // Sample-based PDF (MRPT's Thrun model, redrawn at random on load): use the raw
+      // reading with our Gaussian model instead, so replays are deterministic.
+      g.mean = mov->rawOdometryIncrementReading;
+      const Eigen::Matrix3d c = opt.odometry_model.covariance(g.mean);
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) g.cov(r, k) = c(r, k);
+    }
+    if (have_action) {
+      action += g;  // two actions in a row: compose them (mean and first-order covariance)
+    } else {
+      action = g;
+      have_action = true;
+    }
+    if (hasTime(mov->timestamp)) action_t = mov->timestamp;
+  }
+
+  SensorFrame frameFromSensoryFrame(const CSensoryFrame& sf) {
+    SensorFrame f;
+    for (const auto& o : sf) {
+      auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
+      if (!scan) continue;
+      if (!chosen(*scan)) continue;
+      if (f.scan) {
+        ++skipped;  // a second scan of the same laser in one step
+        continue;
+      }
+      f.scan = scan;
+    }
+    if (have_action) {
+      f.odometry = action.mean;  // as stored: a replay gives back exactly what was written
+      f.odometry_cov = toEigen(action.cov);
+    } else if (frames > 0) {
+      // A later step without a movement: no motion known; say so with the model's spread.
+      f.odometry_cov = opt.odometry_model.covariance(CPose2D());
+    }
+    mrpt::Clock::time_point t;
+    if (f.scan && hasTime(f.scan->timestamp)) t = f.scan->timestamp;
+    else if (have_action && hasTime(action_t)) t = action_t;
+    else
+      for (const auto& o : sf)
+        if (hasTime(o->timestamp)) {
+          t = o->timestamp;
+          break;
+        }
+    f.timestamp = hasTime(t) ? mrpt::Clock::toDouble(t) : last_t;
+    have_action = false;
+    action_t = mrpt::Clock::time_point();
+    return f;
+  }
+
+  SensorFrame frameFromScan(const CObservation2DRangeScan::Ptr& scan) {
+    // The odometry pose of this scan: the last reading at or before its time.
+    while (!pending_odo.empty() &&
+           (!hasTime(scan->timestamp) || !hasTime(pending_odo.front().first) ||
+            pending_odo.front().first <= scan->timestamp)) {
+      odo_now = pending_odo.front().second;
+      pending_odo.pop_front();
+    }
+    SensorFrame f;
+    f.scan = scan;
+    f.timestamp = hasTime(scan->timestamp) ? mrpt::Clock::toDouble(scan->timestamp) : last_t;
+    if (frames > 0) {
+      if (odo_now && odo_prev_scan) f.odometry = *odo_now - *odo_prev_scan;
+      f.odometry.normalizePhi();
+      f.odometry_cov = opt.odometry_model.covariance(f.odometry);
+    }
+    odo_prev_scan = odo_now;
+    return f;
+  }
+};
+
+RawlogReader::RawlogReader(const std::string& path, RawlogReaderOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->opt = std::move(options);
+  bool ok = false;
+  try {
+    ok = impl_->in.open(path);
+  } catch (const std::exception&) {
+    // MRPT throws for a missing file (std::filesystem) instead of returning false.
+  }
+  if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
+  impl_->ar = mrpt::serialization::archiveUniquePtrFrom(impl_->in);
+  if (!impl_->opt.laser_label.empty()) impl_->label = impl_->opt.laser_label;
+  if (!impl_->opt.ground_truth_file.empty())
+    impl_->gt = readGroundTruth(impl_->opt.ground_truth_file);
+}
+
+RawlogReader::~RawlogReader() = default;
+
+std::optional<SensorFrame> RawlogReader::next() {
+  Impl& m = *impl_;
+  while (!m.ended) {
+    mrpt::serialization::CSerializable::Ptr obj;
+    try {
+      obj = m.ar->ReadObject();
+    } catch (const mrpt::serialization::CExceptionEOF&) {
+      m.ended = true;  // clean end: EOF between records
+      break;
+    } catch (const std::bad_alloc&) {
+      m.fail("corrupt record (a length field asks for more memory than available)");
+    } catch (const std::exception& e) {
+      m.fail(mrptCause(e.what()));
+    }
+    ++m.records;
+    if (!obj) continue;  // a serialized null pointer
+    if (auto acts = std::dynamic_pointer_cast<CActionCollection>(obj)) {
+      m.addAction(*acts);
+    } else if (auto sf = std::dynamic_pointer_cast<CSensoryFrame>(obj)) {
+      return m.finish(m.frameFromSensoryFrame(*sf));
+    } else if (auto odo = std::dynamic_pointer_cast<CObservationOdometry>(obj)) {
+      m.pending_odo.emplace_back(odo->timestamp, odo->odometry);
+    } else if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(obj)) {
+      if (m.chosen(*scan)) return m.finish(m.frameFromScan(scan));
+    }
+    // Anything else (other sensors, metadata) is not used.
+  }
+  return std::nullopt;
+}
+
+std::size_t RawlogReader::recordIndex() const {
+  return impl_->records == 0 ? 0 : impl_->records - 1;
+}
+
+std::vector<std::string> RawlogReader::laserLabels() const { return impl_->labels_seen; }
+
+std::size_t RawlogReader::skippedScans() const { return impl_->skipped; }
+
+// ---------------------------------------------------------------- writer
+
+struct RawlogWriter::Impl {
+  std::string path;
+  bool gz = false;
+  std::size_t flush_every = 50;
+  std::size_t written = 0;
+  mrpt::io::CFileGZOutputStream gz_out;
+  mrpt::io::CFileOutputStream plain_out;
+
+  mrpt::io::CStream& stream() {
+    return gz ? static_cast<mrpt::io::CStream&>(gz_out) : plain_out;
+  }
+
+  bool open(mrpt::io::OpenMode mode) {
+    return gz ? gz_out.open(path, 1, std::nullopt, mode) : plain_out.open(path, mode);
+  }
+
+  void close() {
+    if (gz) gz_out.close();
+    else plain_out.close();
+  }
+};
+
+RawlogWriter::RawlogWriter(const std::string& path, std::size_t flush_every)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path;
+  impl_->gz = endsWith(path, ".gz");
+  impl_->flush_every = flush_every;
+  if (!impl_->open(mrpt::io::OpenMode::TRUNCATE))
+    throw InputError(path + ": cannot create the rawlog");
+}
+
+RawlogWriter::~RawlogWriter() {
+  try {
+    impl_->close();
+  } catch (...) {
+  }
+}
+
+void RawlogWriter::write(const SensorFrame& frame) {
+  const auto t = mrpt::Clock::fromDouble(frame.timestamp);
+
+  CActionRobotMovement2D mov;
+  // emScan2DMatching, not emOdometry: for emOdometry MRPT serializes only the raw reading and
+  // its motion-model parameters and recomputes the covariance on load, losing ours.
+  mov.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+  mov.rawOdometryIncrementReading = frame.odometry;
+  mov.hasEncodersInfo = false;
+  mrpt::math::CMatrixDouble33 cov;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) cov(r, c) = frame.odometry_cov(r, c);
+  mov.poseChange = CPosePDFGaussian::Create(frame.odometry, cov);
+  mov.timestamp = t;
+  CActionCollection acts;
+  acts.insert(mov);
+
+  CSensoryFrame sf;
+  if (frame.scan) {
+    // The reader takes the frame time from the scan: stamp it with the frame's time so the
+    // replay gives back exactly what was written.
+    auto scan = std::make_shared<CObservation2DRangeScan>(*frame.scan);
+    scan->timestamp = t;
+    sf.insert(scan);
+  }
+  try {
+    auto ar = mrpt::serialization::archiveFrom(impl_->stream());
+    ar << acts << sf;
+  } catch (const std::exception& e) {
+    throw Error(impl_->path + ": write failed: " + mrptCause(e.what()));
+  }
+  ++impl_->written;
+  if (impl_->flush_every > 0 && impl_->written % impl_->flush_every == 0) flush();
+}
+
+void RawlogWriter::flush() {
+  // MRPT's file streams have no flush(): close and reopen for appending. For .gz this starts
+  // a new gzip member, which gzip readers (and MRPT's) read as one stream.
+  impl_->close();
+  if (!impl_->open(mrpt::io::OpenMode::APPEND))
+    throw Error(impl_->path + ": cannot reopen the rawlog for appending");
+}
+
+std::size_t RawlogWriter::framesWritten() const { return impl_->written; }
+
+}  // namespace asf

@@ -1,0 +1,226 @@
+#include "sim2d_nav.h"
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+namespace asf::sim2d {
+
+namespace {
+
+enum Cell : std::uint8_t { kFree = 0, kUnknown = 1, kOccupied = 2 };
+
+struct Grid {
+  double x0 = 0, y0 = 0, res = 0.05;
+  int nx = 0, ny = 0;
+  std::vector<std::uint8_t> state;
+  std::vector<float> factor;  // step cost factor; +inf = lethal
+  int idx(int i, int j) const { return j * nx + i; }
+  bool inside(int i, int j) const { return i >= 0 && j >= 0 && i < nx && j < ny; }
+  int col(double x) const { return static_cast<int>(std::floor((x - x0) / res)); }
+  int row(double y) const { return static_cast<int>(std::floor((y - y0) / res)); }
+  Point2 centre(int i, int j) const { return {x0 + (i + 0.5) * res, y0 + (j + 0.5) * res}; }
+};
+
+Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
+               const Point2& goal, double tolerance, const NavOptions& o) {
+  Grid g;
+  g.res = map ? map->getResolution() : o.default_resolution;
+  Box2 box;
+  if (map) {
+    box.extend(map->getXMin(), map->getYMin());
+    box.extend(map->getXMax(), map->getYMax());
+  }
+  box.extend(start.x - o.border, start.y - o.border);
+  box.extend(start.x + o.border, start.y + o.border);
+  const double gb = o.border + tolerance;
+  box.extend(goal.x - gb, goal.y - gb);
+  box.extend(goal.x + gb, goal.y + gb);
+  g.x0 = box.min_x;
+  g.y0 = box.min_y;
+  g.nx = static_cast<int>(std::ceil((box.max_x - box.min_x) / g.res)) + 1;
+  g.ny = static_cast<int>(std::ceil((box.max_y - box.min_y) / g.res)) + 1;
+  g.state.assign(static_cast<std::size_t>(g.nx) * g.ny, kUnknown);
+  if (map) {
+    const int mx = static_cast<int>(map->getSizeX()), my = static_cast<int>(map->getSizeY());
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i) {
+        const Point2 c = g.centre(i, j);
+        const int cx = map->x2idx(c.x), cy = map->y2idx(c.y);
+        if (cx < 0 || cy < 0 || cx >= mx || cy >= my) continue;
+        const double p_free = map->getCell(cx, cy);  // MRPT stores p(free)
+        std::uint8_t s = kFree;
+        if (1.0 - p_free > o.occupied_threshold)
+          s = kOccupied;
+        else if (std::abs(p_free - 0.5) < o.unknown_band)
+          s = kUnknown;
+        g.state[g.idx(i, j)] = s;
+      }
+  }
+
+  // Clearance: distance to the nearest obstacle cell (occupied, and unknown if blocked).
+  cv::Mat1b free_mask(g.ny, g.nx);
+  bool any_obstacle = false;
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const std::uint8_t s = g.state[g.idx(i, j)];
+      const bool obstacle = s == kOccupied || (o.unknown_blocked && s == kUnknown);
+      free_mask(j, i) = obstacle ? 0 : 255;
+      any_obstacle |= obstacle;
+    }
+  cv::Mat1f dist;
+  if (any_obstacle) cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+
+  g.factor.assign(g.state.size(), 1.f);
+  const double inf = std::numeric_limits<float>::infinity();
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const int k = g.idx(i, j);
+      const bool obstacle = free_mask(j, i) == 0;
+      const double clear =
+          any_obstacle ? std::max(0.0, dist(j, i) * g.res - 0.5 * g.res) : 1e9;
+      const Point2 c = g.centre(i, j);
+      const bool near_start = std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius;
+      double f = 1.0;
+      if (obstacle || (clear < o.robot_radius && !near_start)) {
+        f = inf;
+      } else {
+        if (g.state[k] == kUnknown) f *= o.unknown_cost;
+        const double zone = o.robot_radius + o.inflation_margin;
+        if (o.inflation_margin > 0 && clear < zone)
+          f *= 1.0 + 2.0 * (zone - std::max(clear, o.robot_radius)) / o.inflation_margin;
+      }
+      g.factor[k] = static_cast<float>(f);
+    }
+  return g;
+}
+
+// Largest cost factor met on the straight segment a-b (sampled at half a cell), +inf if it
+// touches a lethal cell.
+float segmentMaxFactor(const Grid& g, const Point2& a, const Point2& b) {
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * g.res))));
+  float worst = 0;
+  for (int s = 0; s <= n; ++s) {
+    const double t = static_cast<double>(s) / n;
+    const int i = g.col(a.x + t * (b.x - a.x)), j = g.row(a.y + t * (b.y - a.y));
+    if (!g.inside(i, j)) return std::numeric_limits<float>::infinity();
+    worst = std::max(worst, g.factor[g.idx(i, j)]);
+  }
+  return worst;
+}
+
+}  // namespace
+
+NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
+                 const Point2& goal, double tolerance, const NavOptions& o) {
+  NavPlan plan;
+  const Grid g = buildGrid(map, start, goal, tolerance, o);
+  const int si = g.col(start.x), sj = g.row(start.y);
+  const int s = g.idx(si, sj);
+
+  // Targets: non-lethal cells whose centre lies within the tolerance of the goal.
+  std::vector<char> target(g.state.size(), 0);
+  bool any_target = false;
+  const int span = static_cast<int>(std::ceil(tolerance / g.res)) + 1;
+  const int gi = g.col(goal.x), gj = g.row(goal.y);
+  for (int j = gj - span; j <= gj + span; ++j)
+    for (int i = gi - span; i <= gi + span; ++i) {
+      if (!g.inside(i, j) || !std::isfinite(g.factor[g.idx(i, j)])) continue;
+      const Point2 c = g.centre(i, j);
+      if (std::hypot(c.x - goal.x, c.y - goal.y) <= tolerance || (i == gi && j == gj)) {
+        target[g.idx(i, j)] = 1;
+        any_target = true;
+      }
+    }
+  if (!any_target) {
+    plan.reason = "no free cell within " + std::to_string(tolerance) +
+                  " m of the goal (obstacle, inflation or blocked unknown space)";
+    return plan;
+  }
+
+  const auto h = [&](int i, int j) {
+    const Point2 c = g.centre(i, j);
+    return std::max(0.0, std::hypot(c.x - goal.x, c.y - goal.y) - tolerance);
+  };
+  std::vector<double> cost(g.state.size(), std::numeric_limits<double>::infinity());
+  std::vector<int> parent(g.state.size(), -1);
+  std::vector<char> closed(g.state.size(), 0);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  cost[s] = 0;
+  open.push({h(si, sj), s});
+  int reached = -1;
+  static const int kDi[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+  static const int kDj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  while (!open.empty()) {
+    const int k = open.top().second;
+    open.pop();
+    if (closed[k]) continue;
+    closed[k] = 1;
+    ++plan.expanded;
+    if (target[k]) {
+      reached = k;
+      break;
+    }
+    const int i = k % g.nx, j = k / g.nx;
+    for (int d = 0; d < 8; ++d) {
+      const int ni = i + kDi[d], nj = j + kDj[d];
+      if (!g.inside(ni, nj)) continue;
+      const int nk = g.idx(ni, nj);
+      if (closed[nk] || !std::isfinite(g.factor[nk])) continue;
+      // No corner cutting past lethal cells.
+      if (d >= 4 && (!std::isfinite(g.factor[g.idx(ni, j)]) ||
+                     !std::isfinite(g.factor[g.idx(i, nj)])))
+        continue;
+      const double step = (d >= 4 ? M_SQRT2 : 1.0) * g.res;
+      const double fk = std::isfinite(g.factor[k]) ? g.factor[k] : 1.0;  // start may be lethal
+      const double c = cost[k] + step * 0.5 * (fk + g.factor[nk]);
+      if (c < cost[nk]) {
+        cost[nk] = c;
+        parent[nk] = k;
+        open.push({c + h(ni, nj), nk});
+      }
+    }
+  }
+  if (reached < 0) {
+    plan.reason = "no collision-free path on the navigation grid";
+    return plan;
+  }
+
+  std::vector<Point2> cells;
+  for (int k = reached; k != -1; k = parent[k]) cells.push_back(g.centre(k % g.nx, k / g.nx));
+  std::reverse(cells.begin(), cells.end());
+  cells.front() = start;
+  // End exactly at the goal when its own cell is free (A* stops at the first cell within
+  // the tolerance, which may be a neighbour of it).
+  if (g.inside(gi, gj) && std::isfinite(g.factor[g.idx(gi, gj)])) {
+    if (cells.size() > 1 && std::isfinite(segmentMaxFactor(g, cells[cells.size() - 2], goal)))
+      cells.back() = goal;
+    else
+      cells.push_back(goal);
+  }
+
+  // String pulling: jump to the farthest cell reachable in a straight line without meeting
+  // a costlier cell than the grid path itself does.
+  std::size_t a = 0;
+  while (a + 1 < cells.size()) {
+    float path_max = 0;
+    std::size_t best = a + 1;
+    for (std::size_t b = a + 1; b < cells.size(); ++b) {
+      path_max = std::max(path_max, segmentMaxFactor(g, cells[b - 1], cells[b]));
+      if (segmentMaxFactor(g, cells[a], cells[b]) <= path_max) best = b;
+    }
+    plan.waypoints.push_back(cells[best]);
+    plan.length += std::hypot(cells[best].x - cells[a].x, cells[best].y - cells[a].y);
+    a = best;
+  }
+  plan.found = true;
+  return plan;
+}
+
+}  // namespace asf::sim2d

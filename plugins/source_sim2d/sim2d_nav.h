@@ -1,0 +1,40 @@
+#pragma once
+// Path planning for the simulated robot on the *estimated* occupancy grid: A* over an
+// 8-connected grid, obstacles inflated by the robot radius, unknown space blocked or costly.
+#include <asf/geometry.h>
+
+#include <string>
+#include <vector>
+
+namespace mrpt::maps {
+class COccupancyGridMap2D;
+}
+
+namespace asf::sim2d {
+
+struct NavOptions {
+  double robot_radius = 0.2;      ///< cells closer than this to an obstacle are lethal [m]
+  double inflation_margin = 0.1;  ///< beyond the radius, cost rises towards obstacles [m]
+  double occupied_threshold = 0.65;  ///< p(occupied) above this is an obstacle
+  double unknown_band = 0.02;     ///< |p - 0.5| below this is unknown
+  bool unknown_blocked = false;   ///< unknown cells are obstacles (else costly)
+  double unknown_cost = 4.0;      ///< cost factor of a step through unknown space
+  double default_resolution = 0.05;  ///< grid cell size when there is no map [m]
+  double border = 1.0;            ///< free room added around start and goal [m]
+};
+
+struct NavPlan {
+  bool found = false;
+  std::vector<Point2> waypoints;  ///< start excluded, goal (or the cell reached) last
+  double length = 0;              ///< metres along the waypoints
+  std::string reason;             ///< why not found
+  std::size_t expanded = 0;       ///< A* nodes expanded
+};
+
+/// Plans from `start` to any free cell within `tolerance` of `goal`. `map` may be null (no
+/// map yet: everything unknown). The cells within the robot radius of the start are never
+/// lethal unless occupied, so a robot that drifted close to a wall can still leave.
+NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
+                 const Point2& goal, double tolerance, const NavOptions& options);
+
+}  // namespace asf::sim2d

@@ -1,0 +1,356 @@
+// source_sim2d: a 2D robot simulator on an occupancy-grid world (map image or built-in
+// room). MRPT simulates the laser (COccupancyGridMap2D::laserScanSimulator) and gives the
+// odometry noise model (CActionRobotMovement2D's Gaussian model); the robot plans on the
+// *estimated* map, drives in fixed steps and never passes through a true wall.
+#include <asf/errors.h>
+#include <asf/rawlog_io.h>
+#include <asf/source.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+
+#include "sim2d_nav.h"
+#include "sim2d_world.h"
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+using mrpt::poses::CPose2D;
+
+class Sim2dSource final : public asf::Source {
+ public:
+  void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
+    const std::string image = p.getString("map_image");
+    try {
+      if (image.empty()) {
+        world_ = asf::sim2d::World::room(p.getDouble("room_width"), p.getDouble("room_height"),
+                                         p.getDouble("resolution"));
+      } else {
+        asf::sim2d::ImageWorldOptions o;
+        o.file = image;
+        o.resolution = p.getDouble("resolution");
+        o.origin_x = p.getDouble("origin_x");
+        o.origin_y = p.getDouble("origin_y");
+        o.occupied_threshold = p.getDouble("occupied_threshold");
+        o.pad_wall_px = static_cast<int>(p.getInt("pad_wall_px"));
+        world_ = asf::sim2d::World::fromImage(o);
+        if (world_.wallCells() == 0)
+          MRPT_LOG_WARN_STREAM(image << ": no pixel is darker than occupied_threshold; the "
+                                        "world has no walls");
+      }
+    } catch (const std::runtime_error& e) {
+      p.fail("map_image", e.what());
+    }
+    radius_ = p.getDouble("robot_radius");
+    true_pose_ = CPose2D(p.getDouble("start_x"), p.getDouble("start_y"),
+                         p.getDouble("start_phi_deg") * kDeg);
+    if (world_.clearance(true_pose_.x(), true_pose_.y()) < radius_) {
+      std::ostringstream os;
+      os << "the start (" << true_pose_.x() << ", " << true_pose_.y()
+         << ") is inside a wall, outside the map or closer than robot_radius to a wall "
+            "(clearance "
+         << world_.clearance(true_pose_.x(), true_pose_.y()) << " m)";
+      p.fail("start_x", os.str());
+    }
+
+    rays_ = static_cast<int>(p.getInt("laser_rays"));
+    fov_ = p.getDouble("laser_fov_deg") * kDeg;
+    max_range_ = p.getDouble("laser_max_range");
+    range_sigma_ = p.getDouble("range_sigma");
+    laser_rate_ = p.getDouble("laser_rate");
+    sensor_pose_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"),
+                                        p.getDouble("sensor_z"), p.getDouble("sensor_yaw_deg") * kDeg,
+                                        0, 0);
+    dt_ = p.getDouble("dt");
+    step_length_ = p.getDouble("step_length");
+    turn_step_ = p.getDouble("turn_step_deg") * kDeg;
+    heading_tol_ = p.getDouble("heading_tolerance_deg") * kDeg;
+    model_.a1 = p.getDouble("odo_a1");
+    model_.a2 = p.getDouble("odo_a2");
+    model_.a3 = p.getDouble("odo_a3");
+    model_.a4 = p.getDouble("odo_a4");
+    model_.min_std_xy = p.getDouble("odo_min_std_xy");
+    model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    nav_.robot_radius = radius_;
+    nav_.inflation_margin = p.getDouble("nav_inflation_margin");
+    nav_.occupied_threshold = p.getDouble("nav_occupied_threshold");
+    nav_.unknown_blocked = p.getString("nav_unknown") == "blocked";
+    nav_.unknown_cost = p.getDouble("nav_unknown_cost");
+    max_steps_ = p.getInt("max_steps");
+
+    const bool record = p.getBool("record");
+    const std::string name = p.getString("record_name");
+    if (record && name.empty()) p.fail("record_name", "must not be empty when record = true");
+    if (record && !ctx.output_dir.empty()) {
+      const std::filesystem::path base = std::filesystem::path(ctx.output_dir) / name;
+      rawlog_path_ = base.string() + ".rawlog";
+      gt_path_ = base.string() + ".gt.txt";
+      writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
+      gt_writer_ = std::make_unique<asf::GroundTruthWriter>(gt_path_);
+    }
+
+    rng_.seed(ctx.seed);
+    believed_ = true_pose_;
+    step_ = 0;
+    status_ = asf::NavStatus::Idle;
+    next_scan_time_ = 0;
+  }
+
+  ~Sim2dSource() override {
+    if (collisions_)
+      MRPT_LOG_WARN_STREAM(collisions_ << " moves were stopped by walls during the run");
+    if (writer_)
+      MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to "
+                                       << rawlog_path_ << " (ground truth: " << gt_path_ << ")");
+  }
+
+  bool isActive() const override { return true; }
+
+  asf::NavStatus navigate(const asf::Goal& goal, const asf::NavigationContext& ctx) override {
+    believed_ = ctx.robot_estimate;
+    path_.clear();
+    goal_.reset();
+    if (!std::isfinite(goal.x) || !std::isfinite(goal.y) || !std::isfinite(goal.tolerance) ||
+        goal.tolerance < 0) {
+      status_ = asf::NavStatus::Unreachable;
+      return status_;
+    }
+    goal_ = goal;
+    if (std::hypot(goal.x - believed_.x(), goal.y - believed_.y()) <= goal.tolerance) {
+      status_ = asf::NavStatus::Reached;
+      return status_;
+    }
+    const auto* grid = ctx.map && ctx.map->grid ? ctx.map->grid.get() : nullptr;
+    const asf::sim2d::NavPlan plan = asf::sim2d::planPath(grid, {believed_.x(), believed_.y()},
+                                                         {goal.x, goal.y}, goal.tolerance, nav_);
+    if (!plan.found) {
+      MRPT_LOG_INFO_STREAM("goal (" << goal.x << ", " << goal.y << ") unreachable: " << plan.reason);
+      status_ = asf::NavStatus::Unreachable;
+      return status_;
+    }
+    path_.assign(plan.waypoints.begin(), plan.waypoints.end());
+    // A generous step budget against oscillation: three times the straight driving and
+    // turning the path needs.
+    goal_budget_ = static_cast<std::int64_t>(3 * (plan.length / step_length_ +
+                                                  (plan.waypoints.size() + 1) * M_PI / turn_step_)) +
+                   100;
+    goal_steps_ = 0;
+    status_ = asf::NavStatus::Moving;
+    return status_;
+  }
+
+  asf::NavStatus status() const override { return status_; }
+
+  std::optional<asf::SensorFrame> next() override {
+    if (step_ >= max_steps_) return std::nullopt;
+    asf::SensorFrame f;
+    // The timestamp goes through MRPT's clock so a recorded rawlog replays it exactly.
+    f.timestamp = mrpt::Clock::toDouble(mrpt::Clock::fromDouble(static_cast<double>(step_) * dt_));
+    if (step_ > 0) move(f);
+    f.ground_truth = true_pose_;
+    if (laser_rate_ <= 0 || f.timestamp + 1e-9 >= next_scan_time_) {
+      f.scan = scan(f.timestamp);
+      if (laser_rate_ > 0) next_scan_time_ += 1.0 / laser_rate_;
+    }
+    if (writer_) {
+      writer_->write(f);
+      gt_writer_->write(f.timestamp, true_pose_);
+    }
+    ++step_;
+    return f;
+  }
+
+ private:
+  // The next command (forward, turn) from the believed pose towards the current waypoint.
+  CPose2D command() {
+    while (!path_.empty()) {
+      const asf::Point2& w = path_.front();
+      const double d = std::hypot(w.x - believed_.x(), w.y - believed_.y());
+      if (d > 0.5 * step_length_ && d > 1e-6) break;
+      path_.pop_front();
+    }
+    if (path_.empty()) {
+      status_ = asf::NavStatus::Reached;
+      return {};
+    }
+    if (++goal_steps_ > goal_budget_) {
+      MRPT_LOG_WARN_STREAM("stuck: no progress towards (" << goal_->x << ", " << goal_->y
+                                                          << ") after " << goal_budget_
+                                                          << " steps");
+      status_ = asf::NavStatus::Blocked;
+      return {};
+    }
+    const asf::Point2& w = path_.front();
+    const double d = std::hypot(w.x - believed_.x(), w.y - believed_.y());
+    const double err = mrpt::math::wrapToPi(std::atan2(w.y - believed_.y(), w.x - believed_.x()) -
+                                            believed_.phi());
+    if (std::abs(err) > heading_tol_)
+      return CPose2D(0, 0, std::copysign(std::min(std::abs(err), turn_step_), err));
+    return CPose2D(std::min(step_length_, d), 0, 0);
+  }
+
+  // One control step: the true pose moves by the command unless a wall is in the way, the
+  // odometry reads the true increment with noise from the motion model, and the believed
+  // pose integrates that reading.
+  void move(asf::SensorFrame& f) {
+    CPose2D u;
+    if (goal_ && status_ == asf::NavStatus::Moving) u = command();
+    if (u.x() != 0) {
+      const CPose2D to = true_pose_ + u;
+      if (world_.sweepCollides({true_pose_.x(), true_pose_.y()}, {to.x(), to.y()}, radius_)) {
+        ++collisions_;
+        MRPT_LOG_WARN_STREAM("blocked: moving " << u.x() << " m from (" << true_pose_.x() << ", "
+                                                << true_pose_.y() << ") would hit a wall");
+        status_ = asf::NavStatus::Blocked;
+        u = CPose2D();
+      }
+    }
+    true_pose_ = true_pose_ + u;
+    true_pose_.normalizePhi();
+
+    CPose2D reading;  // a robot at rest reads exactly zero
+    if (u.x() != 0 || u.y() != 0 || u.phi() != 0) {
+      const Eigen::Vector3d e = sampleNoise(model_.covariance(u));
+      reading = CPose2D(u.x() + e.x(), u.y() + e.y(), u.phi() + e.z());
+    }
+    f.odometry = reading;
+    f.odometry_cov = model_.covariance(reading);
+    believed_ = believed_ + reading;
+    believed_.normalizePhi();
+  }
+
+  Eigen::Vector3d sampleNoise(const Eigen::Matrix3d& cov) {
+    // cov = V D V^T; x = V sqrt(D) z works for singular covariances too.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    Eigen::Vector3d z(n01(rng_), n01(rng_), n01(rng_));
+    return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * z;
+  }
+
+  std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> scan(double t) {
+    auto obs = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+    obs->sensorLabel = "LASER";
+    obs->timestamp = mrpt::Clock::fromDouble(t);
+    obs->aperture = static_cast<float>(fov_);
+    obs->rightToLeft = true;
+    obs->maxRange = static_cast<float>(max_range_);
+    obs->stdError = static_cast<float>(range_sigma_);
+    obs->sensorPose = sensor_pose_;
+    world_.grid().laserScanSimulator(*obs, true_pose_, 0.5f, static_cast<std::size_t>(rays_));
+    std::normal_distribution<double> n01(0.0, 1.0);
+    for (std::size_t i = 0; i < obs->getScanSize(); ++i) {
+      const double noise = range_sigma_ * n01(rng_);  // one draw per ray: stable streams
+      if (!obs->getScanRangeValidity(i)) {
+        obs->setScanRange(i, static_cast<float>(max_range_));
+        continue;
+      }
+      const double z = obs->getScanRange(i) + noise;
+      const bool valid = z > 0 && z < max_range_;
+      obs->setScanRange(i, static_cast<float>(valid ? z : max_range_));
+      obs->setScanRangeValidity(i, valid);
+    }
+    return obs;
+  }
+
+  asf::sim2d::World world_;
+  asf::sim2d::NavOptions nav_;
+  asf::OdometryNoiseModel model_;
+  CPose2D true_pose_, believed_;
+  mrpt::poses::CPose3D sensor_pose_;
+  std::optional<asf::Goal> goal_;
+  std::deque<asf::Point2> path_;
+  asf::NavStatus status_ = asf::NavStatus::Idle;
+  std::mt19937_64 rng_;
+  std::int64_t step_ = 0, max_steps_ = 0, goal_steps_ = 0, goal_budget_ = 0, collisions_ = 0;
+  int rays_ = 0;
+  double fov_ = 0, max_range_ = 0, range_sigma_ = 0, laser_rate_ = 0, next_scan_time_ = 0;
+  double dt_ = 0, step_length_ = 0, turn_step_ = 0, heading_tol_ = 0, radius_ = 0;
+  std::string rawlog_path_, gt_path_;
+  std::unique_ptr<asf::RawlogWriter> writer_;
+  std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
+};
+
+const asf::KeySpec kKeys[] = {
+    asf::keyPath("map_image", "",
+                 "World image (PNG/PGM/...; dark = wall). Empty: a built-in rectangular room "
+                 "of room_width x room_height"),
+    asf::keyDouble("resolution", "0.04", "World cell size: metres per image pixel [m]", 1e-3,
+                   10),
+    asf::keyDouble("origin_x", "0", "World x of the image's lower-left corner [m]"),
+    asf::keyDouble("origin_y", "0", "World y of the image's lower-left corner [m]"),
+    asf::keyDouble("occupied_threshold", "0.5",
+                   "A pixel whose darkness 1 - gray/255 exceeds this is a wall", 0, 0.999),
+    asf::keyInt("pad_wall_px", "0",
+                "Wall of this many pixels added around the image (for maps without an outer "
+                "wall)",
+                0, 1000),
+    asf::keyDouble("room_width", "8.0", "Built-in room width, when map_image is empty [m]",
+                   0.5, 1000),
+    asf::keyDouble("room_height", "6.0", "Built-in room height, when map_image is empty [m]",
+                   0.5, 1000),
+    asf::keyDouble("start_x", "1.0", "True start position x, world frame [m]"),
+    asf::keyDouble("start_y", "1.0", "True start position y, world frame [m]"),
+    asf::keyDouble("start_phi_deg", "0", "True start heading [deg]", -360, 360),
+    asf::keyInt("laser_rays", "361", "Rays per scan", 2, 100000),
+    asf::keyDouble("laser_fov_deg", "180", "Laser field of view, centred ahead [deg]", 1, 360),
+    asf::keyDouble("laser_max_range", "8.0", "Maximum range; no echo beyond = invalid ray [m]",
+                   0.1, 1000),
+    asf::keyDouble("range_sigma", "0.01", "Std of the Gaussian range noise [m]", 0, 10),
+    asf::keyDouble("laser_rate", "0",
+                   "Scans per second of simulated time; 0 = one scan every step [Hz]", 0, 1e6),
+    asf::keyDouble("sensor_x", "0.1", "Laser position on the robot, x (ahead) [m]", -10, 10),
+    asf::keyDouble("sensor_y", "0", "Laser position on the robot, y (left) [m]", -10, 10),
+    asf::keyDouble("sensor_z", "0.3", "Laser height (recorded only) [m]", -10, 10),
+    asf::keyDouble("sensor_yaw_deg", "0", "Laser heading on the robot [deg]", -360, 360),
+    asf::keyDouble("dt", "0.1", "Simulated time per step [s]", 1e-4, 100),
+    asf::keyDouble("step_length", "0.05", "Distance driven per step [m]", 1e-3, 10),
+    asf::keyDouble("turn_step_deg", "10", "Rotation in place per step [deg]", 0.01, 180),
+    asf::keyDouble("heading_tolerance_deg", "10",
+                   "Drive forward once the heading error to the next waypoint is below this "
+                   "[deg]",
+                   0.01, 90),
+    asf::keyDouble("robot_radius", "0.2", "Robot radius: never closer than this to a wall [m]",
+                   0.01, 100),
+    asf::keyDouble("odo_a1", "0.01",
+                   "Odometry model (MRPT Gaussian): xy std per metre driven [m/m]", 0, 10),
+    asf::keyDouble("odo_a2", "0.001", "Odometry model: xy std per degree turned [m/deg]", 0, 10),
+    asf::keyDouble("odo_a3", "1.0", "Odometry model: heading std per metre driven [deg/m]", 0,
+                   1000),
+    asf::keyDouble("odo_a4", "0.05", "Odometry model: heading std per degree turned [deg/deg]",
+                   0, 10),
+    asf::keyDouble("odo_min_std_xy", "0.001",
+                   "Odometry model: minimum xy std of a moving step [m]", 0, 10),
+    asf::keyDouble("odo_min_std_phi_deg", "0.05",
+                   "Odometry model: minimum heading std of a moving step [deg]", 0, 360),
+    asf::keyEnum("nav_unknown", "costly", "costly|blocked",
+                 "Unknown cells of the estimated map: passable at nav_unknown_cost, or blocked"),
+    asf::keyDouble("nav_unknown_cost", "4.0", "Cost factor of driving through unknown space",
+                   1, 1e6),
+    asf::keyDouble("nav_inflation_margin", "0.15",
+                   "Beyond robot_radius, paths are penalised this close to obstacles [m]", 0,
+                   100),
+    asf::keyDouble("nav_occupied_threshold", "0.65",
+                   "Estimated-map cells with p(occupied) above this are obstacles", 0.5, 0.999),
+    asf::keyBool("record", "true",
+                 "Record the run to <output>/<record_name>.rawlog and .gt.txt (needs an output "
+                 "folder)"),
+    asf::keyString("record_name", "sim2d", "Base name of the recorded files"),
+    asf::keyInt("max_steps", "100000", "Frames produced before the stream ends", 1, 1e12),
+};
+
+}  // namespace
+
+ASF_PLUGIN(Sim2dSource, asf::PluginKind::Source, "sim2d", "1.0.0",
+           "2D simulator on a map image: MRPT laser and odometry models, A* navigation on the "
+           "estimated map, rawlog recording",
+           asf::ThreadSafety::ThreadCompatible, kKeys)
