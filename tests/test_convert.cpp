@@ -942,22 +942,8 @@ TEST(CarmenRealData, IntelCorrectedWithSyntheticOdometryFollowsTheModel) {
 // --------------------------------------------------------------------- host commands
 
 namespace {
-struct Run {
-  int code;
-  std::string out;
-};
-Run runAsf(const std::string& args) {
-  const std::string cmd = ASF_TEST_BINARY_DIR "/bin/asf " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  Run r{-1, {}};
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  std::size_t k;
-  while ((k = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), k);
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using Run = asf_test::HostResult;
+Run runAsf(const std::string& args) { return asf_test::runHost(args); }
 }  // namespace
 
 TEST(ConvertCommands, ExitCodesAndMessages) {

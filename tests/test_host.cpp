@@ -17,23 +17,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;  ///< stdout and stderr
-};
-
-Result asf(const std::string& args) {
-  const std::string cmd = ASF_TEST_BINARY_DIR "/bin/asf " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  Result r{-1, {}};
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using Result = asf_test::HostResult;
+Result asf(const std::string& args) { return asf_test::runHost(args); }
 
 fs::path writeIni(const std::string& name, const std::string& text) {
   const fs::path f = fs::temp_directory_path() / name;

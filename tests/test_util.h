@@ -1,5 +1,9 @@
 #pragma once
 // Helpers shared by the framework tests.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
 #include <functional>
 #include <string>
 
@@ -18,6 +22,25 @@ std::string errorOf(const std::function<void()>& fn) {
 
 inline bool has(const std::string& hay, const std::string& needle) {
   return hay.find(needle) != std::string::npos;
+}
+
+struct HostResult {
+  int code;
+  std::string out;  ///< stdout and stderr
+};
+
+/// Runs the built host, `asf <args>` (a shell command line), and collects what it printed.
+inline HostResult runHost(const std::string& args) {
+  const std::string cmd = ASF_TEST_BINARY_DIR "/bin/asf " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  HostResult r{-1, {}};
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
 }
 
 }  // namespace asf_test

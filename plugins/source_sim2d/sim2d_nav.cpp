@@ -27,7 +27,8 @@ struct Grid {
 };
 
 Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
-               const Point2& goal, double tolerance, const NavOptions& o) {
+               const Point2& goal, double tolerance, const NavOptions& o,
+               const std::vector<Point2>& obstacles) {
   Grid g;
   g.res = map ? map->getResolution() : o.default_resolution;
   Box2 box;
@@ -62,6 +63,11 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
       }
   }
 
+  for (const Point2& q : obstacles) {
+    const int i = g.col(q.x), j = g.row(q.y);
+    if (g.inside(i, j)) g.state[g.idx(i, j)] = kOccupied;
+  }
+
   // Clearance: distance to the nearest obstacle cell (occupied, and unknown if blocked).
   cv::Mat1b free_mask(g.ny, g.nx);
   bool any_obstacle = false;
@@ -75,18 +81,26 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
   cv::Mat1f dist;
   if (any_obstacle) cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
 
+  // A robot that ended up closer than its radius to an obstacle may leave, but only through
+  // cells no closer to obstacles than where it stands.
+  const auto clearanceAt = [&](int i, int j) {
+    return any_obstacle ? std::max(0.0, dist(j, i) * g.res - 0.5 * g.res) : 1e9;
+  };
+  const int si = g.col(start.x), sj = g.row(start.y);
+  const double start_clear = g.inside(si, sj) ? clearanceAt(si, sj) : 0.0;
   g.factor.assign(g.state.size(), 1.f);
   const double inf = std::numeric_limits<float>::infinity();
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) {
       const int k = g.idx(i, j);
       const bool obstacle = free_mask(j, i) == 0;
-      const double clear =
-          any_obstacle ? std::max(0.0, dist(j, i) * g.res - 0.5 * g.res) : 1e9;
+      const double clear = clearanceAt(i, j);
       const Point2 c = g.centre(i, j);
-      const bool near_start = std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius;
+      const bool escape = (i == si && j == sj) ||
+                          (std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius &&
+                           clear >= start_clear);
       double f = 1.0;
-      if (obstacle || (clear < o.robot_radius && !near_start)) {
+      if (obstacle || (clear < o.robot_radius && !escape)) {
         f = inf;
       } else {
         if (g.state[k] == kUnknown) f *= o.unknown_cost;
@@ -117,9 +131,10 @@ float segmentMaxFactor(const Grid& g, const Point2& a, const Point2& b) {
 }  // namespace
 
 NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
-                 const Point2& goal, double tolerance, const NavOptions& o) {
+                 const Point2& goal, double tolerance, const NavOptions& o,
+                 const std::vector<Point2>& obstacles) {
   NavPlan plan;
-  const Grid g = buildGrid(map, start, goal, tolerance, o);
+  const Grid g = buildGrid(map, start, goal, tolerance, o, obstacles);
   const int si = g.col(start.x), sj = g.row(start.y);
   const int s = g.idx(si, sj);
 

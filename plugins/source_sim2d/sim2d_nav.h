@@ -32,9 +32,13 @@ struct NavPlan {
 };
 
 /// Plans from `start` to any free cell within `tolerance` of `goal`. `map` may be null (no
-/// map yet: everything unknown). The cells within the robot radius of the start are never
-/// lethal unless occupied, so a robot that drifted close to a wall can still leave.
+/// map yet: everything unknown). A robot closer than its radius to an obstacle may still
+/// leave: cells within the radius of the start that are no closer to obstacles than the
+/// start are passable.
+/// `obstacles` (map frame) are marked occupied on top of the map: the latest scan's
+/// endpoints, which are right relative to the robot even where the map has drifted.
 NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
-                 const Point2& goal, double tolerance, const NavOptions& options);
+                 const Point2& goal, double tolerance, const NavOptions& options,
+                 const std::vector<Point2>& obstacles = {});
 
 }  // namespace asf::sim2d

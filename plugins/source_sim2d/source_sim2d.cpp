@@ -87,6 +87,8 @@ class Sim2dSource final : public asf::Source {
     nav_.unknown_blocked = p.getString("nav_unknown") == "blocked";
     nav_.unknown_cost = p.getDouble("nav_unknown_cost");
     max_steps_ = p.getInt("max_steps");
+    recovery_backup_ = p.getDouble("recovery_backup");
+    replan_every_ = p.getInt("replan_every");
 
     const bool record = p.getBool("record");
     const std::string name = p.getString("record_name");
@@ -99,7 +101,10 @@ class Sim2dSource final : public asf::Source {
       gt_writer_ = std::make_unique<asf::GroundTruthWriter>(gt_path_);
     }
 
-    rng_.seed(ctx.seed);
+    // Separate streams: changing the laser does not change the odometry noise (and so the
+    // path), which keeps runs comparable across sensor settings.
+    motion_rng_.seed(ctx.seed);
+    laser_rng_.seed(ctx.seed ^ 0x9e3779b97f4a7c15ULL);
     believed_ = true_pose_;
     step_ = 0;
     status_ = asf::NavStatus::Idle;
@@ -130,22 +135,17 @@ class Sim2dSource final : public asf::Source {
       status_ = asf::NavStatus::Reached;
       return status_;
     }
-    const auto* grid = ctx.map && ctx.map->grid ? ctx.map->grid.get() : nullptr;
-    const asf::sim2d::NavPlan plan = asf::sim2d::planPath(grid, {believed_.x(), believed_.y()},
-                                                         {goal.x, goal.y}, goal.tolerance, nav_);
-    if (!plan.found) {
-      MRPT_LOG_INFO_STREAM("goal (" << goal.x << ", " << goal.y << ") unreachable: " << plan.reason);
-      status_ = asf::NavStatus::Unreachable;
+    plan_grid_ = ctx.map ? ctx.map->grid : nullptr;
+    goal_steps_ = 0;
+    if (collided_) {
+      // Recovery, as navigation stacks do: back away from the wall first, then plan from
+      // there (planning from against the wall tends to lead straight back into it).
+      collided_ = false;
+      backup_left_ = recovery_backup_;
+      status_ = asf::NavStatus::Moving;
       return status_;
     }
-    path_.assign(plan.waypoints.begin(), plan.waypoints.end());
-    // A generous step budget against oscillation: three times the straight driving and
-    // turning the path needs.
-    goal_budget_ = static_cast<std::int64_t>(3 * (plan.length / step_length_ +
-                                                  (plan.waypoints.size() + 1) * M_PI / turn_step_)) +
-                   100;
-    goal_steps_ = 0;
-    status_ = asf::NavStatus::Moving;
+    status_ = plan() ? asf::NavStatus::Moving : asf::NavStatus::Unreachable;
     return status_;
   }
 
@@ -160,6 +160,7 @@ class Sim2dSource final : public asf::Source {
     f.ground_truth = true_pose_;
     if (laser_rate_ <= 0 || f.timestamp + 1e-9 >= next_scan_time_) {
       f.scan = scan(f.timestamp);
+      last_scan_ = f.scan;
       if (laser_rate_ > 0) next_scan_time_ += 1.0 / laser_rate_;
     }
     if (writer_) {
@@ -171,8 +172,59 @@ class Sim2dSource final : public asf::Source {
   }
 
  private:
+  // Plans from the believed pose to goal_ on the map given to navigate() plus the latest
+  // scan; false (and the reason logged) when there is no path.
+  bool plan(bool first = true) {
+    const asf::sim2d::NavPlan p =
+        asf::sim2d::planPath(plan_grid_.get(), {believed_.x(), believed_.y()},
+                             {goal_->x, goal_->y}, goal_->tolerance, nav_, scanObstacles());
+    if (!p.found) {
+      MRPT_LOG_INFO_STREAM("goal (" << goal_->x << ", " << goal_->y
+                                    << ") unreachable: " << p.reason);
+      return false;
+    }
+    path_.assign(p.waypoints.begin(), p.waypoints.end());
+    since_plan_ = 0;
+    if (!first) return true;
+    // A generous step budget against oscillation: three times the straight driving and
+    // turning the path needs.
+    goal_budget_ = goal_steps_ +
+                   static_cast<std::int64_t>(3 * (p.length / step_length_ +
+                                                  (p.waypoints.size() + 1) * M_PI / turn_step_)) +
+                   100;
+    return true;
+  }
+
+  // Endpoints of the latest scan in the map frame (placed with the believed pose): the
+  // obstacles around the robot as it senses them now, right relative to it even when the
+  // estimated map has drifted (a local obstacle layer, as navigation stacks have).
+  std::vector<asf::Point2> scanObstacles() const {
+    std::vector<asf::Point2> pts;
+    if (!last_scan_) return pts;
+    const CPose2D laser = believed_ + CPose2D(last_scan_->sensorPose);
+    for (std::size_t i = 0; i < last_scan_->getScanSize(); ++i) {
+      if (!last_scan_->getScanRangeValidity(i)) continue;
+      const double r = last_scan_->getScanRange(i), a = last_scan_->getScanAngle(i);
+      double gx = 0, gy = 0;
+      laser.composePoint(r * std::cos(a), r * std::sin(a), gx, gy);
+      pts.push_back({gx, gy});
+    }
+    return pts;
+  }
+
   // The next command (forward, turn) from the believed pose towards the current waypoint.
   CPose2D command() {
+    if (backup_left_ > 0) {
+      const double back = std::min(step_length_, backup_left_);
+      backup_left_ -= back;
+      if (backup_left_ <= 1e-12 && !plan()) status_ = asf::NavStatus::Unreachable;
+      return CPose2D(-back, 0, 0);
+    }
+    // Replan now and then: the latest scan corrects the path where the map has drifted.
+    if (replan_every_ > 0 && ++since_plan_ >= replan_every_ && !path_.empty() && !plan(false)) {
+      status_ = asf::NavStatus::Blocked;
+      return {};
+    }
     while (!path_.empty()) {
       const asf::Point2& w = path_.front();
       const double d = std::hypot(w.x - believed_.x(), w.y - believed_.y());
@@ -194,9 +246,11 @@ class Sim2dSource final : public asf::Source {
     const double d = std::hypot(w.x - believed_.x(), w.y - believed_.y());
     const double err = mrpt::math::wrapToPi(std::atan2(w.y - believed_.y(), w.x - believed_.x()) -
                                             believed_.phi());
-    if (std::abs(err) > heading_tol_)
-      return CPose2D(0, 0, std::copysign(std::min(std::abs(err), turn_step_), err));
-    return CPose2D(std::min(step_length_, d), 0, 0);
+    const double turn = std::copysign(std::min(std::abs(err), turn_step_), err);
+    if (std::abs(err) > heading_tol_) return CPose2D(0, 0, turn);
+    // Drive and correct the heading in the same step, so the robot stays on the planned
+    // segment instead of drifting sideways by up to the heading tolerance.
+    return CPose2D(std::min(step_length_, d), 0, turn);
   }
 
   // One control step: the true pose moves by the command unless a wall is in the way, the
@@ -209,6 +263,8 @@ class Sim2dSource final : public asf::Source {
       const CPose2D to = true_pose_ + u;
       if (world_.sweepCollides({true_pose_.x(), true_pose_.y()}, {to.x(), to.y()}, radius_)) {
         ++collisions_;
+        collided_ = true;
+        backup_left_ = 0;
         MRPT_LOG_WARN_STREAM("blocked: moving " << u.x() << " m from (" << true_pose_.x() << ", "
                                                 << true_pose_.y() << ") would hit a wall");
         status_ = asf::NavStatus::Blocked;
@@ -233,7 +289,7 @@ class Sim2dSource final : public asf::Source {
     // cov = V D V^T; x = V sqrt(D) z works for singular covariances too.
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     std::normal_distribution<double> n01(0.0, 1.0);
-    Eigen::Vector3d z(n01(rng_), n01(rng_), n01(rng_));
+    Eigen::Vector3d z(n01(motion_rng_), n01(motion_rng_), n01(motion_rng_));
     return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * z;
   }
 
@@ -249,7 +305,7 @@ class Sim2dSource final : public asf::Source {
     world_.grid().laserScanSimulator(*obs, true_pose_, 0.5f, static_cast<std::size_t>(rays_));
     std::normal_distribution<double> n01(0.0, 1.0);
     for (std::size_t i = 0; i < obs->getScanSize(); ++i) {
-      const double noise = range_sigma_ * n01(rng_);  // one draw per ray: stable streams
+      const double noise = range_sigma_ * n01(laser_rng_);  // one draw per ray: stable streams
       if (!obs->getScanRangeValidity(i)) {
         obs->setScanRange(i, static_cast<float>(max_range_));
         continue;
@@ -268,9 +324,14 @@ class Sim2dSource final : public asf::Source {
   CPose2D true_pose_, believed_;
   mrpt::poses::CPose3D sensor_pose_;
   std::optional<asf::Goal> goal_;
+  std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> last_scan_;
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> plan_grid_;
+  bool collided_ = false;
+  double backup_left_ = 0, recovery_backup_ = 0;
+  std::int64_t since_plan_ = 0, replan_every_ = 0;
   std::deque<asf::Point2> path_;
   asf::NavStatus status_ = asf::NavStatus::Idle;
-  std::mt19937_64 rng_;
+  std::mt19937_64 motion_rng_, laser_rng_;
   std::int64_t step_ = 0, max_steps_ = 0, goal_steps_ = 0, goal_budget_ = 0, collisions_ = 0;
   int rays_ = 0;
   double fov_ = 0, max_range_ = 0, range_sigma_ = 0, laser_rate_ = 0, next_scan_time_ = 0;
@@ -332,11 +393,19 @@ const asf::KeySpec kKeys[] = {
                    "Odometry model: minimum xy std of a moving step [m]", 0, 10),
     asf::keyDouble("odo_min_std_phi_deg", "0.05",
                    "Odometry model: minimum heading std of a moving step [deg]", 0, 360),
+    asf::keyDouble("recovery_backup", "0.15",
+                   "After a wall stopped the robot, the next goal starts by backing up this far "
+                   "[m]",
+                   0, 10),
+    asf::keyInt("replan_every", "20",
+                "Replan the path every this many driving steps with the latest scan (0: plan "
+                "once per goal)",
+                0, 1000000),
     asf::keyEnum("nav_unknown", "costly", "costly|blocked",
                  "Unknown cells of the estimated map: passable at nav_unknown_cost, or blocked"),
     asf::keyDouble("nav_unknown_cost", "4.0", "Cost factor of driving through unknown space",
                    1, 1e6),
-    asf::keyDouble("nav_inflation_margin", "0.15",
+    asf::keyDouble("nav_inflation_margin", "0.4",
                    "Beyond robot_radius, paths are penalised this close to obstacles [m]", 0,
                    100),
     asf::keyDouble("nav_occupied_threshold", "0.65",

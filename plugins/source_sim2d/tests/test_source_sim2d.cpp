@@ -347,7 +347,8 @@ TEST(Sim2dSource, ReachesGoalsInTheRoom) {
 TEST(Sim2dSource, WallsStopTheRobot) {
   // No map: the plan goes straight through unknown space, into the room's right wall.
   auto src = make({{"room_width", "4"}, {"room_height", "3"}, {"start_x", "1"},
-                   {"start_y", "1.5"}, {"laser_rays", "10"}, {"robot_radius", "0.25"}});
+                   {"start_y", "1.5"}, {"laser_rays", "10"}, {"robot_radius", "0.25"},
+                   {"odo_a4", "0.01"}});
   std::vector<asf::NavStatus> st;
   const auto frames = drive(*src, {{6, 1.5, 0.1}}, &st);
   ASSERT_EQ(st.size(), 1u);
@@ -355,6 +356,27 @@ TEST(Sim2dSource, WallsStopTheRobot) {
   const auto w = asf::sim2d::World::room(4, 3, 0.04);
   for (const auto& f : frames) EXPECT_GE(w.clearance(f.ground_truth->x(), f.ground_truth->y()), 0.25 - 0.04);
   EXPECT_GT(frames.back().ground_truth->x(), 3.5);  // it did drive up to the wall
+
+  // Recovery: the next goal (world (1, 1.5), the start) starts by backing away from the
+  // wall (recovery_backup 0.15 m = three 0.05 m steps), then the robot gets there.
+  asf::NavigationContext ctx;
+  CPose2D odo;
+  for (const auto& f : frames) odo = odo + f.odometry;
+  ctx.robot_estimate = odo;
+  ASSERT_EQ(src->navigate({0, 0, 0.1}, ctx), asf::NavStatus::Moving);
+  std::vector<double> forward;
+  asf::NavStatus s = asf::NavStatus::Moving;
+  CPose2D prev = *frames.back().ground_truth;
+  for (int k = 0; k < 2000 && s == asf::NavStatus::Moving; ++k) {
+    const CPose2D now = *src->next()->ground_truth;
+    forward.push_back((now - prev).x());  // in the robot's frame
+    prev = now;
+    s = src->status();
+  }
+  EXPECT_EQ(s, asf::NavStatus::Reached);
+  ASSERT_GE(forward.size(), 3u);
+  EXPECT_NEAR(forward[0], -0.05, 1e-9);
+  EXPECT_NEAR(forward[2], -0.05, 1e-9);
 }
 
 TEST(Sim2dSource, DeterministicForASeed) {
@@ -368,6 +390,10 @@ TEST(Sim2dSource, DeterministicForASeed) {
     for (std::size_t i = 0; i < a[k].scan->getScanSize(); ++i)
       ASSERT_EQ(a[k].scan->getScanRange(i), b[k].scan->getScanRange(i));
   }
+  // The laser draws from its own stream: another laser leaves the path unchanged.
+  const auto d = drive(*make({{"laser_rays", "7"}, {"range_sigma", "0.2"}}, 3), goals);
+  ASSERT_EQ(d.size(), a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(*d[k].ground_truth, *a[k].ground_truth);
   bool differs = a.size() != c.size();
   for (std::size_t k = 0; !differs && k < a.size(); ++k) differs = !(a[k].odometry == c[k].odometry);
   EXPECT_TRUE(differs);
