@@ -226,9 +226,12 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
   while (a + 1 < cells.size()) {
     float path_max = 0;
     std::size_t best = a + 1;
+    // Stops at the first cell not reachable in a straight line: linear in the path length
+    // (a full scan for the farthest visible cell would be quadratic).
     for (std::size_t b = a + 1; b < cells.size(); ++b) {
       path_max = std::max(path_max, segmentMaxFactor(g, cells[b - 1], cells[b]));
-      if (segmentMaxFactor(g, cells[a], cells[b]) <= path_max) best = b;
+      if (segmentMaxFactor(g, cells[a], cells[b]) > path_max) break;
+      best = b;
     }
     plan.waypoints.push_back(cells[best]);
     plan.length += std::hypot(cells[best].x - cells[a].x, cells[best].y - cells[a].y);
