@@ -12,7 +12,8 @@ endmacro()
 
 # MRPT 2.x ships one package per module (mrpt-<module>); its MRPT wrapper has no version file,
 # so the version is checked on the modules.
-set(ASF_MRPT_MODULES core system config poses obs maps graphs)
+# slam: CICP (icp_graph); graphslam: the mrpt_levmarq baseline back-end.
+set(ASF_MRPT_MODULES core system config poses obs maps graphs slam graphslam)
 foreach(_m ${ASF_MRPT_MODULES})
   find_package(mrpt-${_m} 2.5 CONFIG QUIET)
   asf_require(mrpt-${_m}_FOUND "MRPT >= 2.5 (module mrpt-${_m})" libmrpt-dev)
@@ -59,3 +60,4 @@ asf_require(BZIP2_FOUND "bzip2 library (libbz2)" libbz2-dev)
 # zlib (C API): gzip-compressed text logs (CARMEN .log.gz), with truncation detected.
 find_package(ZLIB QUIET)
 asf_require(ZLIB_FOUND "zlib" zlib1g-dev)
+

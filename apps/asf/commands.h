@@ -19,6 +19,7 @@ int cmdRun(int argc, char** argv);
 int cmdPlugins(int argc, char** argv);
 int cmdConfig(int argc, char** argv);
 int cmdConformance(int argc, char** argv);
+int cmdOptimize(int argc, char** argv);
 int cmdRawseeds2Rawlog(int argc, char** argv);
 int cmdRawlog2Rawseeds(int argc, char** argv);
 int cmdCarmen2Rawlog(int argc, char** argv);

@@ -24,6 +24,8 @@ const Command kCommands[] = {
     {"config", asf::app::cmdConfig, "Print an INI file resolved, every default filled in"},
     {"conformance", asf::app::cmdConformance,
      "Run the plugin conformance kit on plugin files or names"},
+    {"optimize", asf::app::cmdOptimize,
+     "Optimize a g2o pose graph with a back-end: chi2, iterations, time (--json)"},
     {"rawseeds2rawlog", asf::app::cmdRawseeds2Rawlog,
      "Convert Rawseeds CSV streams (.csv/.csv.bz2) to a rawlog + ground truth"},
     {"rawlog2rawseeds", asf::app::cmdRawlog2Rawseeds,

@@ -29,6 +29,12 @@ PoseGraph parseG2o(const std::string& text, const std::string& name) {
   auto fail = [&](const std::string& why) -> void {
     throw InputError(name + ":" + std::to_string(n) + ": " + why);
   };
+  // Anything after a record's values but a comment means the line is not what we think.
+  auto requireEnd = [&](std::istringstream& ls, const std::string& record) {
+    std::string extra;
+    if (ls >> extra && extra[0] != '#')
+      fail("malformed " + record + ": unexpected '" + extra + "' after its values");
+  };
   while (std::getline(is, line)) {
     ++n;
     std::istringstream ls(line);
@@ -38,7 +44,10 @@ PoseGraph parseG2o(const std::string& text, const std::string& name) {
       long id;
       double x, y, th;
       if (!(ls >> id >> x >> y >> th)) fail("malformed VERTEX_SE2 (expected: id x y theta)");
+      requireEnd(ls, "VERTEX_SE2");
       if (id < 0) fail("negative vertex id");
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(th))
+        fail("vertex " + std::to_string(id) + " has a non-finite pose");
       if (vertices.count(id))
         fail("vertex " + std::to_string(id) + " defined twice (first at line " +
              std::to_string(vertex_line[id]) + ")");
@@ -49,9 +58,15 @@ PoseGraph parseG2o(const std::string& text, const std::string& name) {
       double dx, dy, dth, i11, i12, i13, i22, i23, i33;
       if (!(ls >> r.from >> r.to >> dx >> dy >> dth >> i11 >> i12 >> i13 >> i22 >> i23 >> i33))
         fail("malformed EDGE_SE2 (expected: from to dx dy dtheta I11 I12 I13 I22 I23 I33)");
+      requireEnd(ls, "EDGE_SE2");
+      if (!std::isfinite(dx) || !std::isfinite(dy) || !std::isfinite(dth))
+        fail("edge " + std::to_string(r.from) + " -> " + std::to_string(r.to) +
+             " has a non-finite measurement");
       Eigen::Matrix3d I;
       I << i11, i12, i13, i12, i22, i23, i13, i23, i33;
-      if (!I.allFinite()) fail("non-finite information matrix");
+      if (!I.allFinite())
+        fail("information matrix of edge " + std::to_string(r.from) + " -> " +
+             std::to_string(r.to) + " is not finite");
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
       if (es.eigenvalues().minCoeff() <= 0)
         fail("information matrix of edge " + std::to_string(r.from) + " -> " +
@@ -63,7 +78,18 @@ PoseGraph parseG2o(const std::string& text, const std::string& name) {
       raw.push_back(r);
     } else if (tag == "FIX") {
       long id;
-      while (ls >> id) fixes.emplace_back(id, n);
+      int count = 0;
+      while (ls >> id) {
+        fixes.emplace_back(id, n);
+        ++count;
+      }
+      if (!ls.eof()) {  // stopped on something that is not an id
+        ls.clear();
+        std::string extra;
+        ls >> extra;
+        if (extra[0] != '#') fail("malformed FIX: '" + extra + "' is not a vertex id");
+      }
+      if (count == 0) fail("malformed FIX (expected: FIX id [id ...])");
     } else {
       fail("unknown record '" + tag + "' (expected VERTEX_SE2, EDGE_SE2 or FIX)");
     }

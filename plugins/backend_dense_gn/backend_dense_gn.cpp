@@ -1,10 +1,9 @@
 // backend_dense_gn: Levenberg-Marquardt on SE(2) pose graphs with analytic Jacobians and
 // dense normal equations. Small, exact and slow: the reference and test oracle for the sparse
 // back-ends.
-#include "se2_edge.h"
-
 #include <asf/backend.h>
 #include <asf/errors.h>
+#include <asf/se2_edge.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -14,7 +13,7 @@
 
 namespace {
 
-using asf_dense_gn::linearizeEdge;
+using asf::se2::linearizeEdge;
 using Poses = std::vector<Eigen::Vector3d>;
 
 class DenseGnBackend final : public asf::Backend {
@@ -66,7 +65,7 @@ class DenseGnBackend final : public asf::Backend {
             for (std::size_t i = 0; i < x.size(); ++i) {
               if (L.index[i] < 0) continue;
               x_new[i] += dx.segment<3>(L.index[i]);
-              x_new[i].z() = asf_dense_gn::wrapAngle(x_new[i].z());
+              x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
             }
             chi_new = chi2(g, x_new);
             if (chi_new < chi) {
@@ -189,7 +188,7 @@ class DenseGnBackend final : public asf::Backend {
     double c = 0;
     for (const auto& e : g.edges) {
       const Eigen::Vector3d z(e.mean.x(), e.mean.y(), e.mean.phi());
-      const Eigen::Vector3d r = asf_dense_gn::edgeError(x[e.from], x[e.to], z);
+      const Eigen::Vector3d r = asf::se2::edgeError(x[e.from], x[e.to], z);
       c += r.dot(e.information * r);
     }
     return c;

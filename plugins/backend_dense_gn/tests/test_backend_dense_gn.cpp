@@ -1,5 +1,5 @@
 // Tests of the dense_gn back-end against analytic and numeric oracles.
-#include "../se2_edge.h"
+#include <asf/se2_edge.h>
 
 #include <asf/backend.h>
 #include <asf/errors.h>
@@ -67,7 +67,7 @@ TEST(DenseGn, ErrorFollowsThePoseGraphConvention) {
   for (int k = 0; k < 200; ++k) {
     const CPose2D a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), z(u(rng), u(rng), u(rng));
     const CPose2D ref = (b - a) - z;  // mean^-1 (+) (from^-1 (+) to)
-    const Eigen::Vector3d e = asf_dense_gn::edgeError({a.x(), a.y(), a.phi()},
+    const Eigen::Vector3d e = asf::se2::edgeError({a.x(), a.y(), a.phi()},
                                                       {b.x(), b.y(), b.phi()},
                                                       {z.x(), z.y(), z.phi()});
     EXPECT_NEAR(e.x(), ref.x(), 1e-9);
@@ -96,16 +96,16 @@ TEST(DenseGn, JacobiansMatchNumericDifferentiation) {
   for (int k = 0; k < 200; ++k) {
     const Eigen::Vector3d xi(u(rng), u(rng), u(rng)), xj(u(rng), u(rng), u(rng)),
         z(u(rng), u(rng), u(rng));
-    const auto L = asf_dense_gn::linearizeEdge(xi, xj, z);
+    const auto L = asf::se2::linearizeEdge(xi, xj, z);
     if (std::abs(L.e.z()) > M_PI - 1e-3) continue;  // wrap discontinuity
     const double h = 1e-6;
     for (int c = 0; c < 3; ++c) {
       Eigen::Vector3d d = Eigen::Vector3d::Zero();
       d[c] = h;
-      const Eigen::Vector3d ni = (asf_dense_gn::edgeError(xi + d, xj, z) -
-                                  asf_dense_gn::edgeError(xi - d, xj, z)) / (2 * h);
-      const Eigen::Vector3d nj = (asf_dense_gn::edgeError(xi, xj + d, z) -
-                                  asf_dense_gn::edgeError(xi, xj - d, z)) / (2 * h);
+      const Eigen::Vector3d ni = (asf::se2::edgeError(xi + d, xj, z) -
+                                  asf::se2::edgeError(xi - d, xj, z)) / (2 * h);
+      const Eigen::Vector3d nj = (asf::se2::edgeError(xi, xj + d, z) -
+                                  asf::se2::edgeError(xi, xj - d, z)) / (2 * h);
       EXPECT_LT((ni - L.Ji.col(c)).norm(), 1e-6) << "Ji col " << c << "\n" << L.Ji;
       EXPECT_LT((nj - L.Jj.col(c)).norm(), 1e-6) << "Jj col " << c << "\n" << L.Jj;
     }

@@ -1,7 +1,7 @@
 #pragma once
 /// \file se2_edge.h
-/// Error and analytic Jacobians of one SE(2) relative-pose edge, shared by the dense_gn
-/// back-end and its tests (header-only, not part of the framework's API).
+/// Error and analytic Jacobians of one SE(2) relative-pose edge, shared by the SE(2)
+/// back-ends (dense_gn, sparse_lm) and their tests. Header-only.
 ///
 /// Poses are (x, y, theta) in the global frame; updates are additive on (x, y, theta).
 /// With Ri, Rz the rotations of pose i and of the measurement z:
@@ -12,8 +12,9 @@
 
 #include <cmath>
 
-namespace asf_dense_gn {
+namespace asf::se2 {
 
+/// a wrapped to [-pi, pi).
 inline double wrapAngle(double a) {
   a = std::fmod(a + M_PI, 2 * M_PI);
   if (a < 0) a += 2 * M_PI;
@@ -60,4 +61,4 @@ inline EdgeLinearization linearizeEdge(const Eigen::Vector3d& xi, const Eigen::V
   return L;
 }
 
-}  // namespace asf_dense_gn
+}  // namespace asf::se2

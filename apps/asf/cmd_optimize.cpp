@@ -1,0 +1,139 @@
+// asf optimize: one back-end on one g2o file, timed; the command behind the back-end
+// figures of docs/BENCHMARKS.md.
+#include <asf/backend.h>
+#include <asf/config.h>
+#include <asf/errors.h>
+#include <asf/pose_graph.h>
+#include <asf/registry.h>
+#include <tclap/CmdLine.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+
+namespace asf::app {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+}  // namespace
+
+int cmdOptimize(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Optimizes a 2D pose graph in g2o format (VERTEX_SE2, EDGE_SE2, FIX; without VERTEX "
+      "lines the initial guess composes the odometry chain i -> i+1) with a back-end plugin. "
+      "Prints chi2 (sum over edges of e^T Omega e, the g2o convention) before and after, "
+      "iterations and the time of optimize(); --marginals also times the recovery of every "
+      "node's marginal covariance.",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::UnlabeledValueArg<std::string> file("file", "The g2o file", true, "", "FILE.g2o", cmd);
+  TCLAP::ValueArg<std::string> backend("b", "backend", "Back-end plugin name", false,
+                                       "sparse_lm", "NAME", cmd);
+  TCLAP::SwitchArg marginals("m", "marginals", "Also compute (and time) all node marginals",
+                             cmd);
+  TCLAP::SwitchArg json("j", "json",
+                        "Print one JSON object: nodes, edges, initial_chi2, final_chi2, "
+                        "iterations, time_s, marginals_time_s (null without --marginals), ...",
+                        cmd);
+  TCLAP::ValueArg<std::string> output("o", "output", "Write the optimized graph (g2o)", false,
+                                      "", "OUT.g2o", cmd);
+  TCLAP::MultiArg<std::string> set(
+      "s", "set", "Back-end key: key=value or <backend>.key=value (repeatable)", false,
+      "KEY=VALUE", cmd);
+  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+
+  Registry reg;
+  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+  for (const auto& d : path.getValue()) reg.scanDirectory(d);
+  const auto info = reg.find(backend.getValue(), PluginKind::Backend);
+  const std::string name = info->name();
+
+  // The back-end's keys, validated like an INI section ([name] key = value).
+  IniConfig ini = IniConfig::fromText("", "--set");
+  for (const auto& s : set.getValue()) {
+    const auto eq = s.find('=');
+    const auto dot = s.find('.');
+    if (eq == std::string::npos)
+      throw ConfigError("--set " + s + ": expected key=value");
+    const bool has_section = dot != std::string::npos && dot < eq;
+    if (has_section && lower(s.substr(0, dot)) != lower(name))
+      throw ConfigError("--set " + s + ": the back-end is '" + name + "', not '" +
+                        s.substr(0, dot) + "'");
+    ini.applyOverride(has_section ? s : name + "." + s);
+  }
+  const Params params = ini.resolve(name, info->descriptor->keys, info->descriptor->num_keys);
+  auto be = Registry::create<Backend>(info);
+  // Plugin log lines go to stderr, so stdout stays one JSON object with --json.
+  be->logging_enable_console_output = false;
+  be->logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
+                             std::string_view logger, const mrpt::Clock::time_point&) {
+    std::cerr << "[" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
+  });
+  be->setLoggerName(name);
+  be->configure(params, PluginContext{});
+
+  PoseGraph g = readG2o(file.getValue());
+  const double chi0 = g.chi2();
+  auto t0 = std::chrono::steady_clock::now();
+  const OptimizeReport r = be->optimize(g);
+  const double t_opt = secondsSince(t0);
+  const double chi1 = g.chi2();
+  double t_marg = -1;
+  if (marginals.getValue()) {
+    t0 = std::chrono::steady_clock::now();
+    const Marginals m = be->marginals(g);
+    t_marg = secondsSince(t0);
+    if (m.node.size() != g.size())
+      throw Error(name + ": marginals() returned " + std::to_string(m.node.size()) +
+                  " blocks for " + std::to_string(g.size()) + " nodes");
+  }
+  if (!output.getValue().empty()) writeG2o(g, output.getValue());
+
+  if (json.getValue()) {
+    nlohmann::json j = {{"file", file.getValue()},
+                        {"backend", name},
+                        {"nodes", g.size()},
+                        {"edges", g.edges.size()},
+                        {"fixed", g.fixed.size()},
+                        {"initial_chi2", chi0},
+                        {"final_chi2", chi1},
+                        {"iterations", r.iterations},
+                        {"converged", r.converged},
+                        {"time_s", t_opt},
+                        {"marginals_time_s", nullptr},
+                        {"message", r.message}};
+    if (t_marg >= 0) j["marginals_time_s"] = t_marg;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << std::setprecision(10) << file.getValue() << ": " << g.size() << " nodes, "
+              << g.edges.size() << " edges";
+    if (!g.fixed.empty()) std::cout << ", " << g.fixed.size() << " fixed";
+    std::cout << "\n" << name << ": chi2 " << chi0 << " -> " << chi1 << " in " << r.iterations
+              << " iterations, " << std::setprecision(4) << t_opt << " s ("
+              << (r.converged ? "converged" : "not converged") << ": " << r.message << ")\n";
+    if (t_marg >= 0)
+      std::cout << "marginals: all " << g.size() << " node covariances in " << t_marg << " s\n";
+    if (!output.getValue().empty()) std::cout << "wrote " << output.getValue() << "\n";
+  }
+  return kOk;
+}
+
+}  // namespace asf::app

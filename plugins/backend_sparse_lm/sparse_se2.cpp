@@ -1,0 +1,944 @@
+// Core of the sparse_lm back-end: see sparse_se2.h and README.md.
+#include "sparse_se2.h"
+
+#include <asf/errors.h>
+#include <asf/se2_edge.h>
+#include <cholmod.h>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <memory>
+#include <queue>
+#include <sstream>
+
+// libgomp's per-thread "max active levels" ICV, bound only if the OpenMP runtime is loaded
+// (it comes with Debian's CHOLMOD); weak, so a CHOLMOD without OpenMP needs nothing.
+extern "C" {
+int omp_get_max_active_levels() __attribute__((weak));
+void omp_set_max_active_levels(int) __attribute__((weak));
+}
+
+namespace asf_sparse_lm {
+
+using asf::NodeId;
+using Poses = std::vector<Eigen::Vector3d>;
+
+double robustCost(Kernel k, double delta, double s) {
+  const double d2 = delta * delta;
+  switch (k) {
+    case Kernel::None: return s;
+    case Kernel::Huber: return s <= d2 ? s : 2 * delta * std::sqrt(s) - d2;
+    case Kernel::Cauchy: return d2 * std::log1p(s / d2);
+  }
+  return s;
+}
+
+double robustWeight(Kernel k, double delta, double s) {
+  const double d2 = delta * delta;
+  switch (k) {
+    case Kernel::None: return 1;
+    case Kernel::Huber: return s <= d2 ? 1 : delta / std::sqrt(s);
+    case Kernel::Cauchy: return 1 / (1 + s / d2);
+  }
+  return 1;
+}
+
+namespace {
+
+/// The graph's edges in the form the inner loops want (no CPose2D arithmetic there).
+struct Problem {
+  struct Edge {
+    int from, to;
+    Eigen::Vector3d z;
+    Eigen::Matrix3d W;
+  };
+  std::vector<Edge> edges;
+
+  explicit Problem(const asf::PoseGraph& g) {
+    edges.reserve(g.edges.size());
+    for (const auto& e : g.edges)
+      edges.push_back({static_cast<int>(e.from), static_cast<int>(e.to),
+                       {e.mean.x(), e.mean.y(), e.mean.phi()}, e.information});
+  }
+};
+
+Poses posesOf(const asf::PoseGraph& g) {
+  Poses x(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i)
+    x[i] = {g.nodes[i].pose.x(), g.nodes[i].pose.y(), g.nodes[i].pose.phi()};
+  return x;
+}
+
+double cost(const Problem& P, const Poses& x, const Options& o) {
+  double c = 0;
+  for (const auto& e : P.edges) {
+    const Eigen::Vector3d r = asf::se2::edgeError(x[e.from], x[e.to], e.z);
+    c += robustCost(o.kernel, o.robust_delta, r.dot(e.W * r));
+  }
+  return c;
+}
+
+/// Block and scalar structure of the normal matrix H: its upper triangle in compressed
+/// columns, 3x3 blocks, one block column per free node (not node 0, not fixed).
+struct Structure {
+  std::vector<int> free;  ///< node -> free index, -1 for node 0 and fixed nodes
+  int nfree = 0;
+  /// (column j, row i) with i <= j, sorted by column then row: the diagonal block ends
+  /// each column.
+  std::vector<std::pair<int, int>> blocks;
+  std::vector<int> col_begin;  ///< nfree + 1 offsets into blocks
+  std::vector<int> Ap, Ai;     ///< scalar CSC pattern (upper triangle, rows sorted)
+  std::vector<int> off;        ///< per edge: its off-diagonal block (index into blocks) or -1
+
+  int dim() const { return 3 * nfree; }
+  bool sameAs(const Structure& o) const { return free == o.free && blocks == o.blocks; }
+  /// True if this structure is o plus new free nodes (appended) and new blocks.
+  bool grewFrom(const Structure& o) const {
+    if (free.size() < o.free.size() || nfree < o.nfree) return false;
+    if (!std::equal(o.free.begin(), o.free.end(), free.begin())) return false;
+    return std::includes(blocks.begin(), blocks.end(), o.blocks.begin(), o.blocks.end());
+  }
+  /// Position in the value array of entry (3i + r, 3j + c) of the k-th block of column j.
+  int pos(int j, int k, int r, int c) const { return Ap[3 * j + c] + 3 * k + r; }
+  int diagBlock(int j) const { return col_begin[j + 1] - 1 - col_begin[j]; }
+
+  static Structure of(const asf::PoseGraph& g) {
+    Structure S;
+    const std::size_t n = g.size();
+    std::vector<char> held(n, 0);
+    if (n) held[0] = 1;
+    for (NodeId f : g.fixed) held[f] = 1;
+    S.free.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!held[i]) S.free[i] = S.nfree++;
+    S.blocks.reserve(S.nfree + g.edges.size());
+    for (int j = 0; j < S.nfree; ++j) S.blocks.emplace_back(j, j);
+    for (const auto& e : g.edges) {
+      const int a = S.free[e.from], b = S.free[e.to];
+      if (a >= 0 && b >= 0 && a != b) S.blocks.emplace_back(std::max(a, b), std::min(a, b));
+    }
+    std::sort(S.blocks.begin(), S.blocks.end());
+    S.blocks.erase(std::unique(S.blocks.begin(), S.blocks.end()), S.blocks.end());
+    S.col_begin.assign(S.nfree + 1, 0);
+    for (const auto& bk : S.blocks) ++S.col_begin[bk.first + 1];
+    for (int j = 0; j < S.nfree; ++j) S.col_begin[j + 1] += S.col_begin[j];
+
+    S.Ap.assign(S.dim() + 1, 0);
+    for (int j = 0; j < S.nfree; ++j) {
+      const int m = S.col_begin[j + 1] - S.col_begin[j];
+      for (int c = 0; c < 3; ++c) S.Ap[3 * j + c + 1] = S.Ap[3 * j + c] + 3 * (m - 1) + c + 1;
+    }
+    S.Ai.resize(S.Ap.back());
+    for (int j = 0; j < S.nfree; ++j)
+      for (int c = 0; c < 3; ++c) {
+        int p = S.Ap[3 * j + c];
+        for (int k = S.col_begin[j]; k + 1 < S.col_begin[j + 1]; ++k)
+          for (int r = 0; r < 3; ++r) S.Ai[p++] = 3 * S.blocks[k].second + r;
+        for (int r = 0; r <= c; ++r) S.Ai[p++] = 3 * j + r;
+      }
+
+    S.off.assign(g.edges.size(), -1);
+    for (std::size_t k = 0; k < g.edges.size(); ++k) {
+      const int a = S.free[g.edges[k].from], b = S.free[g.edges[k].to];
+      if (a < 0 || b < 0 || a == b) continue;
+      const std::pair<int, int> key(std::max(a, b), std::min(a, b));
+      const auto first = S.blocks.begin() + S.col_begin[key.first];
+      const auto last = S.blocks.begin() + S.col_begin[key.first + 1];
+      S.off[k] = static_cast<int>(std::lower_bound(first, last, key) - S.blocks.begin());
+    }
+    return S;
+  }
+};
+
+/// A LAGO-style initial guess (orientations as in Carlone et al., "A fast and accurate
+/// approximation for planar pose graph optimization", IJRR 2014): orientations by linear
+/// least squares on the relative rotations, each unwrapped against a spanning tree (which
+/// fixes the 2 pi winding of every cycle); positions composed down the same tree with those
+/// orientations (the first Gauss-Newton step then solves them: with the orientations right
+/// the problem is nearly linear in positions). It lets the iteration start in the basin of
+/// the best minimum on all the shared benchmarks (README.md). Nodes not linked to node 0 or a
+/// fixed node keep their pose. Returns false if the orientation system could not be solved.
+bool lagoGuess(const Problem& P, const Structure& S, Poses& x) {
+  const int n = static_cast<int>(x.size());
+  struct Arc {
+    int edge, other;
+    bool forward;  // traversed from -> to
+  };
+  std::vector<std::vector<Arc>> adj(n);
+  std::vector<double> var_th(P.edges.size());
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const auto& e = P.edges[k];
+    if (e.from == e.to) continue;
+    adj[e.from].push_back({static_cast<int>(k), e.to, true});
+    adj[e.to].push_back({static_cast<int>(k), e.from, false});
+    // marginal variance of the measured rotation
+    var_th[k] = std::max(e.W.inverse()(2, 2), 1e-12);
+  }
+  // Spanning tree of least accumulated rotation variance from the held nodes (Dijkstra).
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity()), th(n, 0.0);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
+  for (int i = 0; i < n; ++i)
+    if (S.free[i] < 0) {
+      dist[i] = 0;
+      th[i] = x[i].z();
+      q.emplace(0.0, i);
+    }
+  std::vector<char> done(n, 0);
+  std::vector<int> pop_order;
+  std::vector<Arc> parent(n, Arc{-1, -1, true});
+  while (!q.empty()) {
+    const auto [d, v] = q.top();
+    q.pop();
+    if (done[v]) continue;
+    done[v] = 1;
+    pop_order.push_back(v);
+    for (const Arc& a : adj[v]) {
+      const double nd = d + var_th[a.edge];
+      if (nd < dist[a.other]) {
+        dist[a.other] = nd;
+        parent[a.other] = Arc{a.edge, v, a.forward};
+        const double dz = P.edges[a.edge].z.z();
+        th[a.other] = th[v] + (a.forward ? dz : -dz);
+        q.emplace(nd, a.other);
+      }
+    }
+  }
+  std::vector<int> idx(n, -1);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (S.free[i] >= 0 && done[i]) idx[i] = m++;
+  if (m == 0) return false;
+
+  // Orientations: min sum w (th_j - th_i - (dz + 2 pi k))^2, k from the tree's unwrapping.
+  using Triplet = Eigen::Triplet<double>;
+  std::vector<Triplet> T;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const auto& e = P.edges[k];
+    if (e.from == e.to || !done[e.from] || !done[e.to]) continue;
+    const double wrap = std::round((th[e.to] - th[e.from] - e.z.z()) / (2 * M_PI));
+    const double delta = e.z.z() + 2 * M_PI * wrap;
+    const double w = 1 / var_th[k];
+    const int a = idx[e.from], b = idx[e.to];
+    // residual th_b - th_a - delta; held ends are constants
+    double c = delta;
+    if (a < 0) c += th[e.from];
+    if (b < 0) c -= th[e.to];
+    if (b >= 0) {
+      T.emplace_back(b, b, w);
+      rhs[b] += w * c;
+    }
+    if (a >= 0) {
+      T.emplace_back(a, a, w);
+      rhs[a] -= w * c;
+    }
+    if (a >= 0 && b >= 0) {
+      T.emplace_back(a, b, -w);
+      T.emplace_back(b, a, -w);
+    }
+  }
+  Eigen::SparseMatrix<double> A(m, m);
+  A.setFromTriplets(T.begin(), T.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+  if (ldlt.info() != Eigen::Success) return false;
+  const Eigen::VectorXd sol_th = ldlt.solve(rhs);
+  if (ldlt.info() != Eigen::Success || !sol_th.allFinite()) return false;
+  for (int i = 0; i < n; ++i)
+    if (idx[i] >= 0) th[i] = sol_th[idx[i]];
+  // Positions: compose the measurements down the same tree with those orientations.
+  for (int v : pop_order) {
+    if (idx[v] < 0) continue;
+    const Arc& pa = parent[v];
+    const Eigen::Vector2d& tz = P.edges[pa.edge].z.head<2>();
+    const int u = pa.other;
+    if (pa.forward)  // u -> v: t_v = t_u + R(th_u) t_z
+      x[v].head<2>() = x[u].head<2>() + Eigen::Rotation2Dd(th[u]) * tz;
+    else  // v -> u: t_v = t_u - R(th_v) t_z
+      x[v].head<2>() = x[u].head<2>() - Eigen::Rotation2Dd(th[v]) * tz;
+    x[v].z() = asf::se2::wrapAngle(th[v]);
+  }
+  return true;
+}
+
+cholmod_sparse viewSparse(const Structure& S, const double* x) {
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<std::size_t>(S.dim());
+  A.nzmax = S.Ai.size();
+  A.p = const_cast<int*>(S.Ap.data());
+  A.i = const_cast<int*>(S.Ai.data());
+  A.x = const_cast<double*>(x);
+  A.stype = 1;  // upper triangle stored
+  A.itype = CHOLMOD_INT;
+  A.xtype = x ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  return A;
+}
+
+cholmod_dense viewDense(double* x, std::size_t nrow, std::size_t ncol) {
+  cholmod_dense B{};
+  B.nrow = nrow;
+  B.ncol = ncol;
+  B.nzmax = nrow * ncol;
+  B.d = nrow;
+  B.x = x;
+  B.xtype = CHOLMOD_REAL;
+  B.dtype = CHOLMOD_DOUBLE;
+  return B;
+}
+
+/// While alive, OpenMP parallel regions started by this thread run with one thread. SuiteSparse
+/// 5 (Debian bookworm) parallelizes small loops of CHOLMOD's supernodal factorization with a
+/// team fixed at compile time (4 threads): on a 2-core machine the wake-ups cost more than
+/// the loops (city10000: optimize 0.45 s -> 0.24 s, marginals 0.13 s -> 0.08 s, measured).
+/// The ICV is per thread (libgomp >= 11), so other threads keep their setting.
+class SerialOpenMp {
+ public:
+  explicit SerialOpenMp(bool serialize)
+      : on_(serialize && omp_get_max_active_levels && omp_set_max_active_levels) {
+    if (!on_) return;
+    saved_ = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+  }
+  ~SerialOpenMp() {
+    if (on_) omp_set_max_active_levels(saved_);
+  }
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  bool on_;
+  int saved_ = 0;
+};
+
+/// Adds the lifetime of the object to a seconds counter.
+class Timer {
+ public:
+  explicit Timer(double& acc) : acc_(acc), t0_(std::chrono::steady_clock::now()) {}
+  ~Timer() {
+    acc_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+ private:
+  double& acc_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << std::setprecision(8) << v;
+  return os.str();
+}
+
+}  // namespace
+
+struct SparseSe2::Impl {
+  cholmod_common cm;
+  cholmod_factor* L = nullptr;
+  Structure S;  ///< the structure L was analysed for (valid if L)
+  double fill_at_fresh = 0;
+  Counters counters;
+  std::string last_symbolic = "none";
+  std::size_t last_cross_solved = 0;
+
+  std::vector<double> H;   ///< values of H in S's pattern (undamped)
+  std::vector<double> Ax;  ///< values handed to CHOLMOD (H plus damping)
+  std::vector<double> b;   ///< J^T W e
+  std::vector<int> diag;   ///< position of each diagonal entry in H
+
+  Impl() {
+    cholmod_start(&cm);
+    cm.print = 0;
+    cm.error_handler = nullptr;
+    cm.supernodal = CHOLMOD_SUPERNODAL;
+  }
+  ~Impl() {
+    if (L) cholmod_free_factor(&L, &cm);
+    cholmod_finish(&cm);
+  }
+
+  [[noreturn]] void cholmodFailed(const char* what) const {
+    throw asf::Error(std::string("sparse_lm: CHOLMOD ") + what + " failed (status " +
+                     std::to_string(cm.status) + ")");
+  }
+
+  /// Makes L a symbolic factor of S: kept if S is unchanged, else analysed with the previous
+  /// order extended (growth) or a fresh block AMD order.
+  void prepare(Structure S_new, const Options& o) {
+    const Timer timer(counters.t_analysis);
+    if (L && S_new.sameAs(S)) {
+      ++counters.reused;
+      last_symbolic = "reused";
+      S = std::move(S_new);  // same pattern; edge slots may differ (edges added in place)
+      return;
+    }
+    const bool grew = L && S_new.grewFrom(S);
+    std::vector<int> order;  // free indices in elimination order
+    if (grew) {
+      std::vector<char> seen(S_new.nfree, 0);
+      const int* perm = static_cast<const int*>(L->Perm);
+      for (std::size_t k = 0; k < L->n; ++k) {
+        const int blk = perm[k] / 3;
+        if (!seen[blk]) {
+          seen[blk] = 1;
+          order.push_back(blk);
+        }
+      }
+      for (int j = S.nfree; j < S_new.nfree; ++j) order.push_back(j);
+    }
+    cholmod_factor* Lnew = analyze(S_new, order);
+    double fill = cm.lnz / static_cast<double>(S_new.Ai.size());
+    if (grew && fill > o.reorder_fill_ratio * fill_at_fresh) {
+      cholmod_free_factor(&Lnew, &cm);
+      Lnew = analyze(S_new, {});
+      fill = cm.lnz / static_cast<double>(S_new.Ai.size());
+      ++counters.fresh_orderings;
+      last_symbolic = "fresh ordering (extended one had too much fill)";
+      fill_at_fresh = fill;
+    } else if (grew) {
+      ++counters.extended_orderings;
+      last_symbolic = "extended ordering";
+    } else {
+      ++counters.fresh_orderings;
+      last_symbolic = "fresh ordering";
+      fill_at_fresh = fill;
+    }
+    if (L) cholmod_free_factor(&L, &cm);
+    L = Lnew;
+    S = std::move(S_new);
+    diag.resize(S.dim());
+    for (int k = 0; k < S.dim(); ++k) diag[k] = S.Ap[k + 1] - 1;  // last entry of a column
+  }
+
+  /// Symbolic analysis of S with the given block order (empty: block AMD). Ordering the
+  /// 3x3 blocks rather than scalars keeps each pose's three columns together and works on
+  /// a graph 3 times smaller.
+  cholmod_factor* analyze(const Structure& s, std::vector<int> order) {
+    const int nb = s.nfree;
+    if (order.empty()) {
+      std::vector<int> Bp(s.col_begin), Bi(s.blocks.size());
+      for (std::size_t k = 0; k < s.blocks.size(); ++k) Bi[k] = s.blocks[k].second;
+      cholmod_sparse B{};
+      B.nrow = B.ncol = static_cast<std::size_t>(nb);
+      B.nzmax = Bi.size();
+      B.p = Bp.data();
+      B.i = Bi.data();
+      B.stype = 1;
+      B.itype = CHOLMOD_INT;
+      B.xtype = CHOLMOD_PATTERN;
+      B.dtype = CHOLMOD_DOUBLE;
+      B.sorted = 1;
+      B.packed = 1;
+      order.resize(nb);
+      if (!cholmod_amd(&B, nullptr, 0, order.data(), &cm)) cholmodFailed("AMD ordering");
+    }
+    std::vector<int> perm(3 * nb);
+    for (int k = 0; k < nb; ++k)
+      for (int c = 0; c < 3; ++c) perm[3 * k + c] = 3 * order[k] + c;
+    cm.nmethods = 1;
+    cm.method[0].ordering = CHOLMOD_GIVEN;
+    cm.postorder = 1;
+    cholmod_sparse A = viewSparse(s, nullptr);
+    cholmod_factor* F = cholmod_analyze_p(&A, perm.data(), nullptr, 0, &cm);
+    if (!F) cholmodFailed("symbolic analysis");
+    return F;
+  }
+
+  /// H and b at x (kernel weights applied); returns the cost at x.
+  double linearize(const Problem& P, const Poses& x, const Options& o) {
+    const Timer timer(counters.t_linearize);
+    H.assign(S.Ai.size(), 0.0);
+    b.assign(S.dim(), 0.0);
+    double F = 0;
+    auto addDiag = [&](int j, const Eigen::Matrix3d& M) {
+      const int k = S.diagBlock(j);
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r <= c; ++r) H[S.pos(j, k, r, c)] += M(r, c);
+    };
+    for (std::size_t k = 0; k < P.edges.size(); ++k) {
+      const auto& e = P.edges[k];
+      const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
+      const double s = lin.e.dot(e.W * lin.e);
+      F += robustCost(o.kernel, o.robust_delta, s);
+      const Eigen::Matrix3d W = robustWeight(o.kernel, o.robust_delta, s) * e.W;
+      const int a = S.free[e.from], c = S.free[e.to];
+      if (a >= 0 && a == c) {  // self-loop: both Jacobians act on one pose
+        const Eigen::Matrix3d J = lin.Ji + lin.Jj;
+        addDiag(a, J.transpose() * W * J);
+        Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += J.transpose() * W * lin.e;
+        continue;
+      }
+      const Eigen::Matrix3d WJj = W * lin.Jj;
+      if (a >= 0) {
+        const Eigen::Matrix3d JiTW = lin.Ji.transpose() * W;
+        addDiag(a, JiTW * lin.Ji);
+        Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += JiTW * lin.e;
+        if (c >= 0) {
+          const Eigen::Matrix3d M = lin.Ji.transpose() * WJj;  // rows of a, columns of c
+          const int blk = S.off[k];
+          const int j = std::max(a, c), kk = blk - S.col_begin[j];
+          for (int cc = 0; cc < 3; ++cc)
+            for (int r = 0; r < 3; ++r) H[S.pos(j, kk, r, cc)] += a < c ? M(r, cc) : M(cc, r);
+        }
+      }
+      if (c >= 0) {
+        addDiag(c, lin.Jj.transpose() * WJj);
+        Eigen::Map<Eigen::Vector3d>(&b[3 * c]) += lin.Jj.transpose() * W * lin.e;
+      }
+    }
+    return F;
+  }
+
+  bool factorize(const std::vector<double>& values) {
+    const Timer timer(counters.t_factorize);
+    cholmod_sparse A = viewSparse(S, values.data());
+    const int ok = cholmod_factorize(&A, L, &cm);
+    ++counters.factorizations;
+    if (cm.status < 0 || (!ok && cm.status != CHOLMOD_NOT_POSDEF)) cholmodFailed("factorization");
+    return cm.status == CHOLMOD_OK && L->minor == L->n;
+  }
+
+  /// Solves H X = B for a dense column-major B with ncol columns.
+  std::vector<double> solve(std::vector<double> B, std::size_t ncol) {
+    const Timer timer(counters.t_solve);
+    const std::size_t n = static_cast<std::size_t>(S.dim());
+    cholmod_dense Bd = viewDense(B.data(), n, ncol);
+    cholmod_dense* X = cholmod_solve(CHOLMOD_A, L, &Bd, &cm);
+    if (!X) cholmodFailed("solve");
+    const double* xv = static_cast<const double*>(X->x);
+    std::copy(xv, xv + n * ncol, B.begin());
+    cholmod_free_dense(&X, &cm);
+    return B;
+  }
+
+  asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
+  asf::Marginals marginals(const asf::PoseGraph& g,
+                           const std::vector<std::pair<NodeId, NodeId>>& cross,
+                           const Options& o);
+};
+
+namespace {
+
+void validate(const asf::PoseGraph& g) {
+  for (const auto& e : g.edges)
+    if (e.from >= g.size() || e.to >= g.size())
+      throw asf::Error("sparse_lm: edge " + std::to_string(e.from) + " -> " +
+                       std::to_string(e.to) + " names a node that does not exist");
+  for (NodeId f : g.fixed)
+    if (f >= g.size())
+      throw asf::Error("sparse_lm: fixed node " + std::to_string(f) + " does not exist");
+}
+
+/// Every node must be linked by edges to node 0 or to a fixed node.
+void requireConnected(const asf::PoseGraph& g, const Structure& S) {
+  const std::size_t n = g.size();
+  std::vector<std::vector<NodeId>> adj(n);
+  for (const auto& e : g.edges) {
+    adj[e.from].push_back(e.to);
+    adj[e.to].push_back(e.from);
+  }
+  std::vector<char> seen(n, 0);
+  std::vector<NodeId> stack;
+  for (std::size_t i = 0; i < n; ++i)
+    if (S.free[i] < 0) {
+      seen[i] = 1;
+      stack.push_back(static_cast<NodeId>(i));
+    }
+  while (!stack.empty()) {
+    const NodeId v = stack.back();
+    stack.pop_back();
+    for (NodeId w : adj[v])
+      if (!seen[w]) {
+        seen[w] = 1;
+        stack.push_back(w);
+      }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!seen[i])
+      throw asf::Error("sparse_lm: node " + std::to_string(i) +
+                       " is not connected to node 0 (nor to a fixed node): its covariance is "
+                       "undefined");
+}
+
+}  // namespace
+
+asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
+  validate(g);
+  const SerialOpenMp serial(!o.cholmod_openmp);
+  asf::OptimizeReport r;
+  const Problem P(g);
+  Poses x = posesOf(g);
+  double F = cost(P, x, o);
+  if (!std::isfinite(F))
+    throw asf::Error("sparse_lm: the initial chi2 is not finite (non-finite pose or edge?)");
+  r.initial_chi2 = r.final_chi2 = F;
+  r.converged = true;
+  if (g.size() < 2 || g.edges.empty()) {
+    r.message = "nothing to optimize";
+    return r;
+  }
+  Structure S_new = Structure::of(g);
+  if (S_new.nfree == 0) {
+    r.message = "nothing to optimize (every node is fixed)";
+    return r;
+  }
+  if (!(F > 0)) {
+    r.message = "chi2 is zero";
+    return r;
+  }
+  std::string start = "from the graph's poses";
+  if (o.lago_init) {
+    const Timer timer(counters.t_init);
+    Poses guess = x;
+    if (lagoGuess(P, S_new, guess)) {
+      const double F_guess = cost(P, guess, o);
+      if (F_guess < F) {
+        x.swap(guess);
+        start = "from the LAGO guess (chi2 " + fmt(F_guess) + ")";
+        F = F_guess;
+      } else {
+        start = "from the graph's poses (LAGO guess chi2 " + fmt(F_guess) + " not lower)";
+      }
+    }
+  }
+  prepare(std::move(S_new), o);
+  const int n = S.dim();
+  const bool lm = o.method == Method::LevenbergMarquardt;
+  auto log = [&](const std::string& line) {
+    if (o.log) o.log(line);
+  };
+
+  r.converged = false;
+  r.message = "reached max_iterations";
+  double lambda = lm ? o.lambda_init : 0.0, nu = 2;
+  int steps = 0, accepted = 0;
+  std::vector<double> D(n), rhs(n);
+  Poses x_new = x;
+  bool stop = false;
+  while (!stop && r.iterations < o.max_iterations) {
+    // One iteration = one linearization; LM may try several dampings on it.
+    F = linearize(P, x, o);
+    ++r.iterations;
+    double dmax = 0;
+    for (int k = 0; k < n; ++k) dmax = std::max(dmax, H[diag[k]]);
+    // Marquardt scaling; the floor keeps a direction without information damped.
+    for (int k = 0; k < n; ++k)
+      D[k] = std::max(H[diag[k]], 1e-9 * std::max(dmax, 1.0));
+    double xmax = 0;
+    for (const auto& p : x) xmax = std::max(xmax, p.cwiseAbs().maxCoeff());
+    for (;;) {
+      Ax = H;
+      for (int k = 0; k < n; ++k) Ax[diag[k]] += lambda * D[k];
+      ++steps;
+      if (!factorize(Ax)) {
+        // Not positive definite: H is singular (part of the graph not anchored to node 0)
+        // or rounding at a tiny lambda. Damp more and retry.
+        lambda = lambda > 0 ? lambda * nu : 1e-9;
+        nu *= 2;
+        if (o.verbosity >= 2)
+          log("sparse_lm: iteration " + std::to_string(r.iterations) +
+              ": matrix not positive definite, lambda -> " + fmt(lambda));
+        if (lambda > 1e16) {
+          r.message = "the normal matrix is not positive definite at any damping";
+          stop = true;
+          break;
+        }
+        continue;
+      }
+      for (int k = 0; k < n; ++k) rhs[k] = -b[k];
+      const std::vector<double> h = solve(rhs, 1);
+      double pred = 0, hmax = 0;
+      for (int k = 0; k < n; ++k) {
+        pred += -b[k] * h[k] + lambda * D[k] * h[k] * h[k];
+        hmax = std::max(hmax, std::abs(h[k]));
+      }
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const int f = S.free[i];
+        if (f < 0) continue;
+        x_new[i] = x[i] + Eigen::Vector3d(h[3 * f], h[3 * f + 1], h[3 * f + 2]);
+        x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
+      }
+      double F_new;
+      {
+        const Timer timer(counters.t_cost);
+        F_new = cost(P, x_new, o);
+      }
+      const double rho = (F - F_new) / pred;
+      const bool ok = std::isfinite(F_new) && F_new < F;
+      // A step at the resolution of the doubles cannot improve anything.
+      const bool tiny = hmax <= 1e-12 * (1 + xmax);
+      if (o.verbosity >= 2)
+        log("sparse_lm: iteration " + std::to_string(r.iterations) + ": chi2 " + fmt(F_new) +
+            (ok ? " accepted" : " rejected") + ", lambda " + fmt(lambda) + ", gain ratio " +
+            fmt(rho) + ", max|dx| " + fmt(hmax));
+      if (ok) {
+        const double rel = (F - F_new) / F;
+        x.swap(x_new);
+        x_new = x;
+        F = F_new;
+        ++accepted;
+        if (lm) {
+          lambda *= std::max(1.0 / 3, 1 - std::pow(2 * rho - 1, 3));
+          nu = 2;
+        }
+        if (rel < o.tolerance || tiny || !(F > 0)) {
+          r.converged = true;
+          r.message = !(F > 0) ? "chi2 is zero"
+                      : tiny   ? "step below numerical resolution"
+                               : "relative chi2 decrease below tolerance";
+          stop = true;
+        }
+        break;
+      }
+      if (tiny) {
+        r.converged = true;
+        r.message = "step below numerical resolution";
+        stop = true;
+        break;
+      }
+      if (!lm) {
+        // Gauss-Newton has no fallback: keep the best estimate and stop.
+        r.message = "Gauss-Newton step does not lower chi2";
+        stop = true;
+        break;
+      }
+      lambda = lambda > 0 ? lambda * nu : 1e-9;
+      nu *= 2;
+      // lambda is relative to diag(H): beyond this the step is below rounding anyway.
+      if (lambda > 1e16) {
+        r.converged = true;
+        r.message = "no step lowers chi2 further (lambda " + fmt(lambda) + ")";
+        stop = true;
+        break;
+      }
+    }
+  }
+  if (F < r.initial_chi2) {
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (S.free[i] >= 0) g.nodes[i].pose = mrpt::poses::CPose2D(x[i].x(), x[i].y(), x[i].z());
+    ++g.revision;
+  }
+  r.final_chi2 = F;
+  r.message += "; " + std::to_string(steps) + " factorizations, " + std::to_string(accepted) +
+               " steps accepted; started " + start + "; symbolic: " + last_symbolic + " (fresh " +
+               std::to_string(counters.fresh_orderings) + ", extended " +
+               std::to_string(counters.extended_orderings) + ", reused " +
+               std::to_string(counters.reused) + ")";
+  if (o.verbosity >= 1)
+    log("sparse_lm: chi2 " + fmt(r.initial_chi2) + " -> " + fmt(r.final_chi2) + " in " +
+        std::to_string(r.iterations) + " iterations (" + r.message + ")");
+  return r;
+}
+
+namespace {
+
+/// The sparse inverse subset of a supernodal LL^T factor: Sigma = (L L^T)^-1 on the pattern
+/// of L, stored in L's own layout (one dense rows-by-columns block per supernode).
+///
+/// For a supernode with columns J and remaining rows R (L_JJ lower triangular, L_RJ below),
+/// L^T Sigma = L^-1 (upper part zero, diagonal block L_JJ^-1) gives, with U = L_RJ L_JJ^-1,
+///   Sigma_RJ = -Sigma_RR U,   Sigma_JJ = (L_JJ L_JJ^T)^-1 - U^T Sigma_RJ.
+/// Sigma_RR lies in later supernodes and inside the pattern: the rows R of a supernode are a
+/// clique of L's graph (the numeric factorization scatters L_RJ L_RJ^T there), so the
+/// recursion, run from the last supernode to the first, never leaves the pattern.
+class SparseInverse {
+ public:
+  explicit SparseInverse(const cholmod_factor* L) : L_(L) {
+    if (!L->is_super || L->xtype != CHOLMOD_REAL)
+      throw asf::Error("sparse_lm: internal error: expected a real supernodal factor");
+    n_ = static_cast<int>(L->n);
+    ns_ = static_cast<int>(L->nsuper);
+    super_ = static_cast<const int*>(L->super);
+    pi_ = static_cast<const int*>(L->pi);
+    px_ = static_cast<const int*>(L->px);
+    s_ = static_cast<const int*>(L->s);
+    const int* perm = static_cast<const int*>(L->Perm);
+    inv_perm_.resize(n_);
+    for (int k = 0; k < n_; ++k) inv_perm_[perm[k]] = k;
+    col2super_.resize(n_);
+    for (int t = 0; t < ns_; ++t) {
+      for (int c = super_[t]; c < super_[t + 1]; ++c) col2super_[c] = t;
+      for (int p = pi_[t] + 1; p < pi_[t + 1]; ++p)
+        if (s_[p] <= s_[p - 1])
+          throw asf::Error("sparse_lm: internal error: unsorted supernode rows");
+    }
+    compute();
+  }
+
+  /// Sigma(a, b) for scalar indices of the original (unpermuted) matrix, or nullptr if the
+  /// entry is outside the pattern of L.
+  const double* entry(int a, int b) const {
+    const int p = inv_perm_[a], q = inv_perm_[b];
+    const int row = std::max(p, q), col = std::min(p, q);
+    const int t = col2super_[col];
+    const int nrows = pi_[t + 1] - pi_[t], ct = col - super_[t];
+    const int* rows = s_ + pi_[t];
+    const int* it = std::lower_bound(rows + ct, rows + nrows, row);
+    if (it == rows + nrows || *it != row) return nullptr;
+    return &x_[px_[t] + static_cast<std::size_t>(ct) * nrows + (it - rows)];
+  }
+
+  /// The 3x3 block of scalar rows 3i.., columns 3j..; false if outside the pattern.
+  bool block(int i, int j, Eigen::Matrix3d& out) const {
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) {
+        const double* v = entry(3 * i + r, 3 * j + c);
+        if (!v) return false;
+        out(r, c) = *v;
+      }
+    return true;
+  }
+
+ private:
+  void compute() {
+    const double* Lx = static_cast<const double*>(L_->x);
+    x_.assign(L_->xsize, 0.0);
+    for (int t = ns_ - 1; t >= 0; --t) {
+      const int nc = super_[t + 1] - super_[t];
+      const int nrows = pi_[t + 1] - pi_[t];
+      const int nr = nrows - nc;
+      const Eigen::Map<const Eigen::MatrixXd> Lt(Lx + px_[t], nrows, nc);
+      const Eigen::MatrixXd Linv = Lt.topRows(nc).triangularView<Eigen::Lower>().solve(
+          Eigen::MatrixXd::Identity(nc, nc));
+      Eigen::Map<Eigen::MatrixXd> St(x_.data() + px_[t], nrows, nc);
+      if (nr == 0) {
+        St = Linv.transpose() * Linv;
+        continue;
+      }
+      const Eigen::MatrixXd U = Lt.bottomRows(nr) * Linv;
+      const int* R = s_ + pi_[t] + nc;
+      Eigen::MatrixXd Srr(nr, nr);
+      for (int q = 0; q < nr; ++q) {
+        const int col = R[q];
+        const int u = col2super_[col];
+        const int nrows_u = pi_[u + 1] - pi_[u], cu = col - super_[u];
+        const int* rows_u = s_ + pi_[u];
+        const double* vals = x_.data() + px_[u] + static_cast<std::size_t>(cu) * nrows_u;
+        int pos = cu;  // rows_u[cu] == col
+        Srr(q, q) = vals[pos];
+        for (int p = q + 1; p < nr; ++p) {
+          while (pos < nrows_u && rows_u[pos] < R[p]) ++pos;
+          if (pos == nrows_u || rows_u[pos] != R[p])
+            throw asf::Error("sparse_lm: internal error: supernode rows are not a clique");
+          Srr(p, q) = Srr(q, p) = vals[pos];
+        }
+      }
+      St.bottomRows(nr).noalias() = -Srr * U;
+      St.topRows(nc) = Linv.transpose() * Linv;
+      St.topRows(nc).noalias() -= U.transpose() * St.bottomRows(nr);
+    }
+  }
+
+  const cholmod_factor* L_;
+  int n_ = 0, ns_ = 0;
+  const int *super_, *pi_, *px_, *s_;
+  std::vector<int> inv_perm_, col2super_;
+  std::vector<double> x_;
+};
+
+}  // namespace
+
+asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
+                                          const std::vector<std::pair<NodeId, NodeId>>& cross,
+                                          const Options& o) {
+  validate(g);
+  const SerialOpenMp serial(!o.cholmod_openmp);
+  last_cross_solved = 0;
+  asf::Marginals m;
+  m.graph_revision = g.revision;
+  const std::size_t n = g.size();
+  for (const auto& [i, j] : cross)
+    if (i >= n || j >= n)
+      throw asf::Error("sparse_lm: cross-covariance requested for (" + std::to_string(i) +
+                       ", " + std::to_string(j) + ") but the graph has " + std::to_string(n) +
+                       " nodes");
+  if (n == 0) return m;
+  Structure S_new = Structure::of(g);
+  requireConnected(g, S_new);
+  m.node.assign(n, Eigen::Matrix3d::Zero());
+  for (const auto& ij : cross) m.cross[ij] = Eigen::Matrix3d::Zero();
+  if (S_new.nfree == 0) return m;
+
+  prepare(std::move(S_new), o);
+  const Problem P(g);
+  linearize(P, posesOf(g), o);
+  if (!factorize(H))
+    throw asf::Error("sparse_lm: the information matrix is not positive definite (degenerate "
+                     "edge information?); no covariance defined");
+  std::unique_ptr<SparseInverse> inverse;
+  {
+    const Timer timer(counters.t_inverse);
+    inverse = std::make_unique<SparseInverse>(L);
+  }
+  const SparseInverse& Sigma = *inverse;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int f = S.free[i];
+    if (f < 0) continue;
+    Eigen::Matrix3d B;
+    if (!Sigma.block(f, f, B))
+      throw asf::Error("sparse_lm: internal error: diagonal block outside the factor");
+    m.node[i] = 0.5 * (B + B.transpose());
+  }
+
+  // Cross blocks: from the sparse inverse when inside L's pattern (always the case for the
+  // two ends of an edge), otherwise from columns of H^-1 solved with the factor.
+  std::map<int, std::vector<std::pair<NodeId, NodeId>>> by_column;  // free col -> requests
+  for (const auto& ij : cross) {
+    const int fi = S.free[ij.first], fj = S.free[ij.second];
+    if (fi < 0 || fj < 0) continue;  // a held node has no variance
+    Eigen::Matrix3d B;
+    if (Sigma.block(fi, fj, B))
+      m.cross[ij] = B;
+    else
+      by_column[fj].push_back(ij);
+  }
+  const std::size_t dim = static_cast<std::size_t>(S.dim());
+  constexpr std::size_t kChunk = 16;  // pose columns per solve: 48 right-hand sides
+  for (auto it = by_column.begin(); it != by_column.end();) {
+    std::vector<int> cols;
+    auto stop = it;
+    for (; stop != by_column.end() && cols.size() < kChunk; ++stop) cols.push_back(stop->first);
+    std::vector<double> B(dim * 3 * cols.size(), 0.0);
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      for (int c = 0; c < 3; ++c) B[(3 * k + c) * dim + 3 * cols[k] + c] = 1;
+    const std::vector<double> X = solve(std::move(B), 3 * cols.size());
+    for (std::size_t k = 0; it != stop; ++it, ++k)
+      for (const auto& ij : it->second) {
+        const int fi = S.free[ij.first];
+        Eigen::Matrix3d C;
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r) C(r, c) = X[(3 * k + c) * dim + 3 * fi + r];
+        m.cross[ij] = C;
+        ++last_cross_solved;
+      }
+  }
+  return m;
+}
+
+SparseSe2::SparseSe2() : impl_(std::make_unique<Impl>()) {}
+SparseSe2::~SparseSe2() = default;
+
+asf::OptimizeReport SparseSe2::optimize(asf::PoseGraph& g, const Options& o) {
+  return impl_->optimize(g, o);
+}
+
+asf::Marginals SparseSe2::marginals(const asf::PoseGraph& g,
+                                    const std::vector<std::pair<NodeId, NodeId>>& cross,
+                                    const Options& o) {
+  return impl_->marginals(g, cross, o);
+}
+
+const Counters& SparseSe2::counters() const { return impl_->counters; }
+const std::string& SparseSe2::lastSymbolic() const { return impl_->last_symbolic; }
+std::size_t SparseSe2::lastCrossSolved() const { return impl_->last_cross_solved; }
+std::size_t SparseSe2::factorNonzeros() const { return impl_->L ? impl_->L->xsize : 0; }
+
+}  // namespace asf_sparse_lm

@@ -1,0 +1,233 @@
+#include "scan_matcher.h"
+
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/slam/CICP.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace asf::icp_graph {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+// Normal estimation: neighbours within this radius [m]; a neighbourhood is line-like when its
+// smaller spread is below this fraction of the larger one.
+constexpr double kNormalRadius = 0.3;
+constexpr std::size_t kNormalNeighbours = 8;
+constexpr double kLineRatio = 0.1;
+}  // namespace
+
+Cloud::Cloud() : map_(std::make_unique<mrpt::maps::CSimplePointsMap>()) {}
+Cloud::~Cloud() = default;
+Cloud::Cloud(Cloud&&) noexcept = default;
+Cloud& Cloud::operator=(Cloud&&) noexcept = default;
+
+Cloud Cloud::fromScan(const mrpt::obs::CObservation2DRangeScan& scan) {
+  Cloud c;
+  // Keep every valid return: the default 2 cm thinning would bias the residual statistics.
+  c.map_->insertionOptions.minDistBetweenLaserPoints = 0;
+  c.map_->loadFromRangeScan(scan);
+  const auto& xs = c.map_->getPointsBufferRef_x();
+  const auto& ys = c.map_->getPointsBufferRef_y();
+  c.x_.assign(xs.begin(), xs.end());
+  c.y_.assign(ys.begin(), ys.end());
+  return c;
+}
+
+void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
+  const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  for (std::size_t i = 0; i < other.size(); ++i) {
+    const double x = pose.x() + c * other.x_[i] - s * other.y_[i];
+    const double y = pose.y() + s * other.x_[i] + c * other.y_[i];
+    x_.push_back(static_cast<float>(x));
+    y_.push_back(static_cast<float>(y));
+    map_->insertPoint(static_cast<float>(x), static_cast<float>(y), 0);
+  }
+  normals_ok_ = false;
+}
+
+std::size_t Cloud::size() const { return x_.size(); }
+
+Eigen::Vector2d Cloud::normal(std::size_t i) const {
+  if (!normals_ok_) computeNormals();
+  return normals_[i];
+}
+
+void Cloud::computeNormals() const {
+  normals_.assign(size(), Eigen::Vector2d::Zero());
+  std::vector<float> nx, ny, nd;
+  for (std::size_t i = 0; i < size(); ++i) {
+    map_->kdTreeNClosestPoint2D(x_[i], y_[i], kNormalNeighbours, nx, ny, nd);
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (std::size_t k = 0; k < nx.size(); ++k)
+      if (nd[k] <= kNormalRadius * kNormalRadius) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
+    if (n < 4) continue;
+    mean /= n;
+    Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+    for (std::size_t k = 0; k < nx.size(); ++k)
+      if (nd[k] <= kNormalRadius * kNormalRadius) {
+        const Eigen::Vector2d d = Eigen::Vector2d(nx[k], ny[k]) - mean;
+        S += d * d.transpose();
+      }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(S);
+    const auto ev = es.eigenvalues();  // ascending
+    if (ev(1) <= 0 || ev(0) > kLineRatio * kLineRatio * ev(1)) continue;
+    normals_[i] = es.eigenvectors().col(0).normalized();
+  }
+  normals_ok_ = true;
+}
+
+namespace {
+struct Residuals {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  ///< J^T J
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< J^T r
+  double sum_r2 = 0;
+  std::size_t rows = 0, inliers = 0;
+};
+
+/// Residuals of `cur` placed at `pose` against `ref`: point-to-line against the reference's
+/// local line where it has one (so a corridor leaves the along-wall direction unconstrained),
+/// point-to-point else; only points within `inlier_dist` of the reference count.
+Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& pose,
+                    double inlier_dist) {
+  Residuals out;
+  const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  const double in2 = inlier_dist * inlier_dist;
+  for (std::size_t i = 0; i < cur.size(); ++i) {
+    const double px = cur.xs()[i], py = cur.ys()[i];
+    const Eigen::Vector2d q(pose.x() + c * px - s * py, pose.y() + s * px + c * py);
+    float mx, my, d2;
+    const std::size_t k = ref.map().kdTreeClosestPoint2D(static_cast<float>(q.x()),
+                                                         static_cast<float>(q.y()), mx, my, d2);
+    if (d2 > in2) continue;
+    ++out.inliers;
+    const Eigen::Vector2d dq_dphi(-s * px - c * py, c * px - s * py);
+    const Eigen::Vector2d e = q - Eigen::Vector2d(mx, my);
+    const Eigen::Vector2d n = ref.normal(k);
+    if (n.squaredNorm() > 0) {
+      const Eigen::RowVector3d J(n.x(), n.y(), n.dot(dq_dphi));
+      const double r = n.dot(e);
+      out.H += J.transpose() * J;
+      out.b += J.transpose() * r;
+      out.sum_r2 += r * r;
+      out.rows += 1;
+    } else {
+      Eigen::Matrix<double, 2, 3> J;
+      J << 1, 0, dq_dphi.x(), 0, 1, dq_dphi.y();
+      out.H += J.transpose() * J;
+      out.b += J.transpose() * e;
+      out.sum_r2 += e.squaredNorm();
+      out.rows += 2;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
+                  const IcpOptions& o, std::size_t min_points) {
+  MatchResult r;
+  r.pose = guess;
+  if (ref.size() < min_points || cur.size() < min_points) {
+    r.reason = "too few points (reference " + std::to_string(ref.size()) + ", current " +
+               std::to_string(cur.size()) + ")";
+    return r;
+  }
+  mrpt::slam::CICP icp;
+  icp.options.ICP_algorithm = mrpt::slam::icpLevenbergMarquardt;
+  icp.options.maxIterations = static_cast<unsigned>(o.max_iterations);
+  icp.options.thresholdDist = o.threshold_dist;
+  icp.options.thresholdAng = o.threshold_ang_deg * kDeg;
+  icp.options.ALFA = o.alfa;
+  icp.options.smallestThresholdDist = o.smallest_threshold_dist;
+  icp.options.corresponding_points_decimation = static_cast<std::uint32_t>(o.decimation);
+  icp.options.doRANSAC = false;
+  mrpt::slam::CICP::TReturnInfo info;
+  const auto pdf =
+      icp.AlignPDF(&ref.map(), &cur.map(), mrpt::poses::CPosePDFGaussian(guess), info);
+  r.ran = true;
+  r.pose = pdf->getMeanVal();
+  r.pose.normalizePhi();
+  r.goodness = info.goodness;
+  r.iterations = info.nIterations;
+  if (auto g = std::dynamic_pointer_cast<mrpt::poses::CPosePDFGaussian>(pdf))
+    r.cicp_cov = g->cov.asEigen();
+
+  // CICP minimizes point-to-point distances, which sparse scans of the same wall bias by up to
+  // half the point spacing; a few Gauss-Newton steps on point-to-line residuals (point-to-point
+  // where the reference has no line) remove that. Directions the scene leaves unconstrained
+  // (a corridor's axis) are not moved.
+  Residuals res = residuals(ref, cur, r.pose, o.inlier_dist);
+  for (int it = 0; it < o.refine_iterations && res.rows > 3; ++it) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
+    const Eigen::Vector3d ev = es.eigenvalues();
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      if (ev(k) > 1e-6 * ev(2))
+        step -= es.eigenvectors().col(k) * (es.eigenvectors().col(k).dot(res.b) / ev(k));
+    if (!step.allFinite()) break;
+    mrpt::poses::CPose2D next(r.pose.x() + step.x(), r.pose.y() + step.y(),
+                              r.pose.phi() + step.z());
+    next.normalizePhi();
+    Residuals nres = residuals(ref, cur, next, o.inlier_dist);
+    // Keep the step only if it lowers the mean residual without losing inliers.
+    if (nres.rows < res.rows * 0.95 ||
+        nres.sum_r2 / std::max<std::size_t>(nres.rows, 1) >
+            res.sum_r2 / std::max<std::size_t>(res.rows, 1))
+      break;
+    r.pose = next;
+    res = nres;
+    if (std::hypot(step.x(), step.y()) < 1e-5 && std::abs(step.z()) < 1e-6) break;
+  }
+  r.inlier_ratio = static_cast<double>(res.inliers) / static_cast<double>(cur.size());
+  r.residuals = res.rows;
+  r.rmse = res.rows ? std::sqrt(res.sum_r2 / static_cast<double>(res.rows)) : 0;
+  const double sigma2 =
+      std::max(o.sigma_floor * o.sigma_floor,
+               res.rows > 3 ? res.sum_r2 / static_cast<double>(res.rows - 3) : 0.0);
+  // Degenerate directions (a straight corridor) get a huge variance instead of a NaN.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
+  Eigen::Vector3d inv_ev;
+  for (int k = 0; k < 3; ++k) inv_ev(k) = 1.0 / std::max(es.eigenvalues()(k), 1e-9);
+  r.cov = o.cov_scale * sigma2 * es.eigenvectors() * inv_ev.asDiagonal() *
+          es.eigenvectors().transpose();
+  r.cov = 0.5 * (r.cov + r.cov.transpose());
+  return r;
+}
+
+mrpt::poses::CPose2D composeWithCov(const mrpt::poses::CPose2D& a, const Eigen::Matrix3d& Ca,
+                                    const mrpt::poses::CPose2D& b, const Eigen::Matrix3d& Cb,
+                                    Eigen::Matrix3d& out) {
+  const double c = std::cos(a.phi()), s = std::sin(a.phi());
+  Eigen::Matrix3d Ja = Eigen::Matrix3d::Identity();
+  Ja(0, 2) = -s * b.x() - c * b.y();
+  Ja(1, 2) = c * b.x() - s * b.y();
+  Eigen::Matrix3d Jb = Eigen::Matrix3d::Identity();
+  Jb.topLeftCorner<2, 2>() << c, -s, s, c;
+  out = Ja * Ca * Ja.transpose() + Jb * Cb * Jb.transpose();
+  mrpt::poses::CPose2D p = a + b;
+  p.normalizePhi();
+  return p;
+}
+
+Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d& floor) {
+  // The g2o error's translation is in the frame of from (+) mean: Cov(e) = R^T cov R.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const double c = std::cos(mean.phi()), s = std::sin(mean.phi());
+  R.topLeftCorner<2, 2>() << c, -s, s, c;
+  Eigen::Matrix3d ce = R.transpose() * cov * R;
+  ce = 0.5 * (ce + ce.transpose()) + floor;
+  Eigen::Matrix3d info = ce.inverse();
+  return 0.5 * (info + info.transpose());
+}
+
+Eigen::Vector3d poseDiff(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b) {
+  return Eigen::Vector3d(a.x() - b.x(), a.y() - b.y(), mrpt::math::wrapToPi(a.phi() - b.phi()));
+}
+
+}  // namespace asf::icp_graph

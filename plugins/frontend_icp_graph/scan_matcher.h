@@ -1,0 +1,100 @@
+#pragma once
+/// \file scan_matcher.h
+/// Scan matching for the icp_graph front-end: point clouds from 2D scans, MRPT's CICP
+/// (Levenberg-Marquardt variant) for the alignment, a point-to-line refinement, and our own
+/// residual statistics and point-to-line covariance at the solution (CICP's LM covariance is the inverse of its
+/// damped Gauss-Newton matrix of kernelized squared distances, not a covariance in metres).
+#include <Eigen/Core>
+#include <mrpt/poses/CPose2D.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mrpt::obs {
+class CObservation2DRangeScan;
+}
+namespace mrpt::maps {
+class CSimplePointsMap;
+}
+
+namespace asf::icp_graph {
+
+/// Points of one or more scans in one frame, with a normal per point where the
+/// neighbourhood is line-like (computed lazily, for use as a reference cloud).
+class Cloud {
+ public:
+  Cloud();
+  ~Cloud();
+  Cloud(Cloud&&) noexcept;
+  Cloud& operator=(Cloud&&) noexcept;
+
+  /// The valid returns of `scan`, in the robot frame (the scan's sensorPose applied).
+  static Cloud fromScan(const mrpt::obs::CObservation2DRangeScan& scan);
+  /// Adds `other`'s points moved by `pose` (other's frame expressed in this one).
+  void add(const Cloud& other, const mrpt::poses::CPose2D& pose);
+
+  std::size_t size() const;
+  const mrpt::maps::CSimplePointsMap& map() const { return *map_; }
+  const std::vector<float>& xs() const { return x_; }
+  const std::vector<float>& ys() const { return y_; }
+
+  /// Unit normal of point i, or (0, 0) when its neighbourhood is not line-like.
+  Eigen::Vector2d normal(std::size_t i) const;
+
+ private:
+  void computeNormals() const;
+  std::unique_ptr<mrpt::maps::CSimplePointsMap> map_;
+  std::vector<float> x_, y_;
+  mutable std::vector<Eigen::Vector2d> normals_;
+  mutable bool normals_ok_ = false;
+};
+
+struct IcpOptions {
+  int max_iterations = 80;
+  double threshold_dist = 0.75;        ///< initial correspondence distance [m]
+  double threshold_ang_deg = 0.15;     ///< extra distance per metre of range [deg]
+  double alfa = 0.5;                   ///< threshold shrink factor at convergence
+  double smallest_threshold_dist = 0.05;
+  int decimation = 5;                  ///< CICP corresponding_points_decimation
+  double inlier_dist = 0.1;            ///< residual statistics: a point within this is an inlier
+  double sigma_floor = 0.005;          ///< lower bound of the point noise std [m]
+  double cov_scale = 1.0;              ///< multiplies the point-to-line covariance
+  int refine_iterations = 5;           ///< point-to-line Gauss-Newton steps after CICP
+};
+
+struct MatchResult {
+  bool ran = false;             ///< false: a cloud had too few points (see reason)
+  mrpt::poses::CPose2D pose;    ///< pose of the current cloud's frame in the reference's
+  /// Covariance of `pose` as additive (x, y, phi) in the reference frame: sigma^2 H^-1 of the
+  /// point-to-line (point-to-point where no normal) residuals at the solution, x cov_scale.
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d cicp_cov = Eigen::Matrix3d::Zero();  ///< what CICP returned (for diagnostics)
+  double goodness = 0;          ///< CICP's correspondence ratio at the final threshold
+  unsigned iterations = 0;      ///< CICP outer iterations
+  double inlier_ratio = 0;      ///< fraction of current points within inlier_dist
+  double rmse = 0;              ///< RMS point-to-line residual of the inliers [m]
+  std::size_t residuals = 0;    ///< residual rows used for the covariance
+  std::string reason;
+};
+
+/// Aligns `cur` to `ref` starting from `guess` (cur's frame in ref's). Needs at least
+/// `min_points` points in each cloud (else ran = false).
+MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
+                  const IcpOptions& o, std::size_t min_points = 10);
+
+/// a (+) b with first-order covariance propagation (additive x, y, phi; Ca in the frame a
+/// is expressed in, Cb in a's frame): returns the composed pose, writes its covariance.
+mrpt::poses::CPose2D composeWithCov(const mrpt::poses::CPose2D& a, const Eigen::Matrix3d& Ca,
+                                    const mrpt::poses::CPose2D& b, const Eigen::Matrix3d& Cb,
+                                    Eigen::Matrix3d& out);
+
+/// Information of a pose-graph edge (g2o error convention, see pose_graph.h) from the
+/// covariance `cov` of its mean as additive (x, y, phi) in the frame of `from`, plus `floor`.
+Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d& floor);
+
+/// (a - b) with the angle wrapped.
+Eigen::Vector3d poseDiff(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b);
+
+}  // namespace asf::icp_graph
