@@ -20,25 +20,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = asf_test::HostResult;
 
 /// Runs the host; `merge` folds stderr into the output, else stderr is dropped (JSON).
-Result host(const std::string& args, bool merge = true) {
-  const std::string cmd =
-      ASF_TEST_BINARY_DIR "/bin/asf " + args + (merge ? " 2>&1" : " 2>/dev/null");
-  FILE* p = popen(cmd.c_str(), "r");
-  Result r{-1, {}};
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int st = pclose(p);
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+Result host(const std::string& args, bool merge = true) { return asf_test::runHost(args, merge); }
 
 fs::path tmp(const std::string& name) { return fs::temp_directory_path() / ("asf_opt_" + name); }
 

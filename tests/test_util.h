@@ -29,9 +29,11 @@ struct HostResult {
   std::string out;  ///< stdout and stderr
 };
 
-/// Runs the built host, `asf <args>` (a shell command line), and collects what it printed.
-inline HostResult runHost(const std::string& args) {
-  const std::string cmd = ASF_TEST_BINARY_DIR "/bin/asf " + args + " 2>&1";
+/// Runs the built host, `asf <args>` (a shell command line), and collects what it printed:
+/// stdout and stderr, or stdout only (stderr dropped) with merge_stderr = false.
+inline HostResult runHost(const std::string& args, bool merge_stderr = true) {
+  const std::string cmd =
+      ASF_TEST_BINARY_DIR "/bin/asf " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* p = popen(cmd.c_str(), "r");
   HostResult r{-1, {}};
   if (!p) return r;

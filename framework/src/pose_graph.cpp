@@ -2,6 +2,9 @@
 #include <asf/pose_graph.h>
 #include <mrpt/math/wrap2pi.h>
 
+#include <string>
+#include <vector>
+
 namespace asf {
 
 const char* edgeKindName(EdgeKind k) {
@@ -45,6 +48,38 @@ double PoseGraph::chi2() const {
     s += r.dot(e.information * r);
   }
   return s;
+}
+
+void requireAnchored(const PoseGraph& g, const std::string& who) {
+  const std::size_t n = g.size();
+  if (n == 0) return;
+  std::vector<std::vector<NodeId>> adj(n);
+  for (const auto& e : g.edges) {
+    adj[e.from].push_back(e.to);
+    adj[e.to].push_back(e.from);
+  }
+  std::vector<char> seen(n, 0);
+  std::vector<NodeId> stack{0};
+  seen[0] = 1;
+  for (NodeId f : g.fixed)
+    if (f < n && !seen[f]) {
+      seen[f] = 1;
+      stack.push_back(f);
+    }
+  while (!stack.empty()) {
+    const NodeId v = stack.back();
+    stack.pop_back();
+    for (NodeId w : adj[v])
+      if (!seen[w]) {
+        seen[w] = 1;
+        stack.push_back(w);
+      }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!seen[i])
+      throw Error(who + ": node " + std::to_string(i) +
+                  " is not connected to node 0 (nor to a fixed node): its covariance is "
+                  "undefined");
 }
 
 }  // namespace asf

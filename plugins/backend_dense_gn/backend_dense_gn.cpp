@@ -118,7 +118,7 @@ class DenseGnBackend final : public asf::Backend {
                          " nodes");
     if (n == 0) return m;
     const Layout L = layout(g);
-    requireConnected(g, L);
+    asf::requireAnchored(g, "dense_gn");
     m.node.assign(n, Eigen::Matrix3d::Zero());
     Eigen::MatrixXd S;  // covariance of the free nodes
     if (L.dim > 0) {
@@ -218,37 +218,6 @@ class DenseGnBackend final : public asf::Backend {
         H.block<3, 3>(c, a) += Hac.transpose();
       }
     }
-  }
-
-  /// Every node must be linked by edges to node 0 or to a fixed node.
-  static void requireConnected(const asf::PoseGraph& g, const Layout& L) {
-    const std::size_t n = g.size();
-    std::vector<std::vector<asf::NodeId>> adj(n);
-    for (const auto& e : g.edges) {
-      adj[e.from].push_back(e.to);
-      adj[e.to].push_back(e.from);
-    }
-    std::vector<char> seen(n, 0);
-    std::vector<asf::NodeId> stack;
-    for (std::size_t i = 0; i < n; ++i)
-      if (L.index[i] < 0) {
-        seen[i] = 1;
-        stack.push_back(static_cast<asf::NodeId>(i));
-      }
-    while (!stack.empty()) {
-      const asf::NodeId v = stack.back();
-      stack.pop_back();
-      for (asf::NodeId w : adj[v])
-        if (!seen[w]) {
-          seen[w] = 1;
-          stack.push_back(w);
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-      if (!seen[i])
-        throw asf::Error("dense_gn: node " + std::to_string(i) +
-                         " is not connected to node 0 (nor to a fixed node): its covariance "
-                         "is undefined");
   }
 
   int max_iterations_ = 50;

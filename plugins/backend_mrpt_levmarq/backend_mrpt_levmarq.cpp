@@ -132,7 +132,7 @@ class MrptLevmarqBackend final : public asf::Backend {
         i = dim;
         dim += 3;
       }
-    requireConnected(g, index);
+    asf::requireAnchored(g, "mrpt_levmarq");
     m.node.assign(n, Eigen::Matrix3d::Zero());
     Eigen::MatrixXd S;
     if (dim > 0) {
@@ -177,37 +177,6 @@ class MrptLevmarqBackend final : public asf::Backend {
     for (asf::NodeId f : g.fixed)
       if (f >= g.size())
         throw asf::Error("mrpt_levmarq: fixed node " + std::to_string(f) + " does not exist");
-  }
-
-  /// Every node must be linked by edges to node 0 or to a fixed node.
-  static void requireConnected(const asf::PoseGraph& g, const std::vector<int>& index) {
-    const std::size_t n = g.size();
-    std::vector<std::vector<asf::NodeId>> adj(n);
-    for (const auto& e : g.edges) {
-      adj[e.from].push_back(e.to);
-      adj[e.to].push_back(e.from);
-    }
-    std::vector<char> seen(n, 0);
-    std::vector<asf::NodeId> stack;
-    for (std::size_t i = 0; i < n; ++i)
-      if (index[i] < 0) {
-        seen[i] = 1;
-        stack.push_back(static_cast<asf::NodeId>(i));
-      }
-    while (!stack.empty()) {
-      const asf::NodeId v = stack.back();
-      stack.pop_back();
-      for (asf::NodeId w : adj[v])
-        if (!seen[w]) {
-          seen[w] = 1;
-          stack.push_back(w);
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-      if (!seen[i])
-        throw asf::Error("mrpt_levmarq: node " + std::to_string(i) +
-                         " is not connected to node 0 (nor to a fixed node): its covariance "
-                         "is undefined");
   }
 
   int max_iterations_ = 100;

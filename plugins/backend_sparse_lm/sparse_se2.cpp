@@ -537,37 +537,6 @@ void validate(const asf::PoseGraph& g) {
       throw asf::Error("sparse_lm: fixed node " + std::to_string(f) + " does not exist");
 }
 
-/// Every node must be linked by edges to node 0 or to a fixed node.
-void requireConnected(const asf::PoseGraph& g, const Structure& S) {
-  const std::size_t n = g.size();
-  std::vector<std::vector<NodeId>> adj(n);
-  for (const auto& e : g.edges) {
-    adj[e.from].push_back(e.to);
-    adj[e.to].push_back(e.from);
-  }
-  std::vector<char> seen(n, 0);
-  std::vector<NodeId> stack;
-  for (std::size_t i = 0; i < n; ++i)
-    if (S.free[i] < 0) {
-      seen[i] = 1;
-      stack.push_back(static_cast<NodeId>(i));
-    }
-  while (!stack.empty()) {
-    const NodeId v = stack.back();
-    stack.pop_back();
-    for (NodeId w : adj[v])
-      if (!seen[w]) {
-        seen[w] = 1;
-        stack.push_back(w);
-      }
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    if (!seen[i])
-      throw asf::Error("sparse_lm: node " + std::to_string(i) +
-                       " is not connected to node 0 (nor to a fixed node): its covariance is "
-                       "undefined");
-}
-
 }  // namespace
 
 asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
@@ -862,7 +831,7 @@ asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
                        " nodes");
   if (n == 0) return m;
   Structure S_new = Structure::of(g);
-  requireConnected(g, S_new);
+  asf::requireAnchored(g, "sparse_lm");
   m.node.assign(n, Eigen::Matrix3d::Zero());
   for (const auto& ij : cross) m.cross[ij] = Eigen::Matrix3d::Zero();
   if (S_new.nfree == 0) return m;

@@ -84,4 +84,9 @@ PoseGraph parseG2o(const std::string& text, const std::string& name = "<text>");
 void writeG2o(const PoseGraph& g, const std::string& path);
 std::string formatG2o(const PoseGraph& g);
 
+/// Throws asf::Error ("<who>: node i is not connected to node 0 (nor to a fixed node)...")
+/// when some node has no chain of edges to node 0 or to a fixed node: its pose is not
+/// determined by the graph, so neither is its covariance. Back-ends call it before solving.
+void requireAnchored(const PoseGraph& g, const std::string& who);
+
 }  // namespace asf
