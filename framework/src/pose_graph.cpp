@@ -2,10 +2,15 @@
 #include <asf/pose_graph.h>
 #include <mrpt/math/wrap2pi.h>
 
+#include <Eigen/Dense>
+#include <cmath>
+
 #include <string>
 #include <vector>
 
 namespace asf {
+
+using mrpt::poses::CPose2D;
 
 const char* edgeKindName(EdgeKind k) {
   switch (k) {
@@ -48,6 +53,31 @@ double PoseGraph::chi2() const {
     s += r.dot(e.information * r);
   }
   return s;
+}
+
+CPose2D composeWithCov(const CPose2D& a, const Eigen::Matrix3d& Ca, const CPose2D& b,
+                       const Eigen::Matrix3d& Cb, Eigen::Matrix3d& out) {
+  const double c = std::cos(a.phi()), s = std::sin(a.phi());
+  Eigen::Matrix3d Ja = Eigen::Matrix3d::Identity();  // d(a (+) b)/da
+  Ja(0, 2) = -s * b.x() - c * b.y();
+  Ja(1, 2) = c * b.x() - s * b.y();
+  Eigen::Matrix3d Jb = Eigen::Matrix3d::Identity();  // d(a (+) b)/db
+  Jb.topLeftCorner<2, 2>() << c, -s, s, c;
+  out = Ja * Ca * Ja.transpose() + Jb * Cb * Jb.transpose();
+  CPose2D p = a + b;
+  p.normalizePhi();
+  return p;
+}
+
+Eigen::Matrix3d edgeInformation(const CPose2D& mean, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d& floor) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const double c = std::cos(mean.phi()), s = std::sin(mean.phi());
+  R.topLeftCorner<2, 2>() << c, -s, s, c;
+  Eigen::Matrix3d ce = R.transpose() * cov * R;
+  ce = 0.5 * (ce + ce.transpose()) + floor;
+  const Eigen::Matrix3d info = ce.inverse();
+  return 0.5 * (info + info.transpose());
 }
 
 void requireAnchored(const PoseGraph& g, const std::string& who) {

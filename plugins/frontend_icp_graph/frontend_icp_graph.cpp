@@ -20,8 +20,8 @@
 namespace {
 
 using asf::icp_graph::Cloud;
-using asf::icp_graph::composeWithCov;
-using asf::icp_graph::edgeInformation;
+using asf::composeWithCov;
+using asf::edgeInformation;
 using asf::icp_graph::MatchResult;
 using asf::icp_graph::poseDiff;
 using mrpt::poses::CPose2D;

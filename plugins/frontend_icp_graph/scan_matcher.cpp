@@ -199,33 +199,6 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
   return r;
 }
 
-mrpt::poses::CPose2D composeWithCov(const mrpt::poses::CPose2D& a, const Eigen::Matrix3d& Ca,
-                                    const mrpt::poses::CPose2D& b, const Eigen::Matrix3d& Cb,
-                                    Eigen::Matrix3d& out) {
-  const double c = std::cos(a.phi()), s = std::sin(a.phi());
-  Eigen::Matrix3d Ja = Eigen::Matrix3d::Identity();
-  Ja(0, 2) = -s * b.x() - c * b.y();
-  Ja(1, 2) = c * b.x() - s * b.y();
-  Eigen::Matrix3d Jb = Eigen::Matrix3d::Identity();
-  Jb.topLeftCorner<2, 2>() << c, -s, s, c;
-  out = Ja * Ca * Ja.transpose() + Jb * Cb * Jb.transpose();
-  mrpt::poses::CPose2D p = a + b;
-  p.normalizePhi();
-  return p;
-}
-
-Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::Matrix3d& cov,
-                                const Eigen::Matrix3d& floor) {
-  // The g2o error's translation is in the frame of from (+) mean: Cov(e) = R^T cov R.
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  const double c = std::cos(mean.phi()), s = std::sin(mean.phi());
-  R.topLeftCorner<2, 2>() << c, -s, s, c;
-  Eigen::Matrix3d ce = R.transpose() * cov * R;
-  ce = 0.5 * (ce + ce.transpose()) + floor;
-  Eigen::Matrix3d info = ce.inverse();
-  return 0.5 * (info + info.transpose());
-}
-
 Eigen::Vector3d poseDiff(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b) {
   return Eigen::Vector3d(a.x() - b.x(), a.y() - b.y(), mrpt::math::wrapToPi(a.phi() - b.phi()));
 }

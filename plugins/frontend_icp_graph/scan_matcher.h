@@ -83,17 +83,6 @@ struct MatchResult {
 MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
                   const IcpOptions& o, std::size_t min_points = 10);
 
-/// a (+) b with first-order covariance propagation (additive x, y, phi; Ca in the frame a
-/// is expressed in, Cb in a's frame): returns the composed pose, writes its covariance.
-mrpt::poses::CPose2D composeWithCov(const mrpt::poses::CPose2D& a, const Eigen::Matrix3d& Ca,
-                                    const mrpt::poses::CPose2D& b, const Eigen::Matrix3d& Cb,
-                                    Eigen::Matrix3d& out);
-
-/// Information of a pose-graph edge (g2o error convention, see pose_graph.h) from the
-/// covariance `cov` of its mean as additive (x, y, phi) in the frame of `from`, plus `floor`.
-Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::Matrix3d& cov,
-                                const Eigen::Matrix3d& floor);
-
 /// (a - b) with the angle wrapped.
 Eigen::Vector3d poseDiff(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b);
 

@@ -46,16 +46,8 @@ class OdometryFrontend final : public asf::Frontend {
     asf::PoseEdge e;
     e.from = last_;
     e.mean = acc_;
-    // acc_cov_ is the covariance of the increment in the frame of `from`; the information
-    // weighs the error e = mean^-1 (+) (from^-1 (+) to) (g2o convention), whose translation
-    // is expressed in the frame of the measured `to`: Cov(e) = R^T acc_cov_ R.
-    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    const double c = std::cos(acc_.phi()), s = std::sin(acc_.phi());
-    R.topLeftCorner<2, 2>() << c, -s, s, c;
-    Eigen::Matrix3d cov = R.transpose() * acc_cov_ * R;
-    cov = 0.5 * (cov + cov.transpose()) + floor_;
-    e.information = cov.inverse();
-    e.information = 0.5 * (e.information + e.information.transpose());
+    // acc_cov_ is the covariance of the increment in the frame of `from`.
+    e.information = asf::edgeInformation(acc_, acc_cov_, floor_);
     e.kind = asf::EdgeKind::Odometry;
     mrpt::poses::CPose2D pose = g.nodes[last_].pose + acc_;
     pose.normalizePhi();
@@ -85,18 +77,10 @@ class OdometryFrontend final : public asf::Frontend {
     return id;
   }
 
-  // acc <- acc (+) u, with first-order covariance propagation:
-  // Cov' = J_acc Cov J_acc^T + J_u Cov_u J_u^T.
   void accumulate(const mrpt::poses::CPose2D& u, const Eigen::Matrix3d& cov_u) {
-    const double c = std::cos(acc_.phi()), s = std::sin(acc_.phi());
-    Eigen::Matrix3d Ja = Eigen::Matrix3d::Identity();
-    Ja(0, 2) = -s * u.x() - c * u.y();
-    Ja(1, 2) = c * u.x() - s * u.y();
-    Eigen::Matrix3d Ju = Eigen::Matrix3d::Identity();
-    Ju << c, -s, 0, s, c, 0, 0, 0, 1;
-    acc_cov_ = Ja * acc_cov_ * Ja.transpose() + Ju * cov_u * Ju.transpose();
-    acc_ = acc_ + u;
-    acc_.normalizePhi();
+    Eigen::Matrix3d out;
+    acc_ = asf::composeWithCov(acc_, acc_cov_, u, cov_u, out);
+    acc_cov_ = out;
   }
 
   double kf_dist_ = 0.5, kf_angle_ = 20 * kDeg;

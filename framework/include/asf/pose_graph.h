@@ -84,6 +84,19 @@ PoseGraph parseG2o(const std::string& text, const std::string& name = "<text>");
 void writeG2o(const PoseGraph& g, const std::string& path);
 std::string formatG2o(const PoseGraph& g);
 
+/// a (+) b with first-order covariance propagation (additive x, y, phi; Ca in the frame a is
+/// expressed in, Cb in a's frame): returns the composed pose, writes its covariance to out.
+mrpt::poses::CPose2D composeWithCov(const mrpt::poses::CPose2D& a, const Eigen::Matrix3d& Ca,
+                                    const mrpt::poses::CPose2D& b, const Eigen::Matrix3d& Cb,
+                                    Eigen::Matrix3d& out);
+
+/// Information of an edge with this `mean` (PoseEdge::information, g2o convention) from the
+/// covariance `cov` of the mean as additive (x, y, phi) in the frame of `from`: the error's
+/// translation is in the frame of from (+) mean, so Cov(e) = R^T cov R; `floor` is added to
+/// Cov(e) to keep it invertible.
+Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::Matrix3d& cov,
+                                const Eigen::Matrix3d& floor);
+
 /// Throws asf::Error ("<who>: node i is not connected to node 0 (nor to a fixed node)...")
 /// when some node has no chain of edges to node 0 or to a fixed node: its pose is not
 /// determined by the graph, so neither is its covariance. Back-ends call it before solving.
