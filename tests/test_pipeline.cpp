@@ -2,6 +2,7 @@
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
 #include <asf/pipeline.h>
+#include <asf/trajectory_eval.h>
 #include <gtest/gtest.h>
 
 #include "test_util.h"
@@ -129,6 +130,16 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   EXPECT_EQ(j["plugins"]["policy"], "waypoints");
   const auto g = asf::readG2o((out / "graph.g2o").string());
   EXPECT_EQ(g.nodes.size(), s.nodes);
+  // The ATE covers every keyframe (each has ground truth here); keyframes.txt holds them.
+  EXPECT_EQ(s.ate_poses, s.nodes);
+  EXPECT_GT(s.ate_rmse_m, 0.0);
+  EXPECT_LE(s.ate_rmse_m, s.ate_max_m);
+  EXPECT_LT(s.ate_max_m, 1.0);
+  EXPECT_EQ(j["ate_rmse_m"], s.ate_rmse_m);
+  const auto kf = asf::readTrajectory((out / "keyframes.txt").string());
+  ASSERT_EQ(kf.size(), s.nodes);
+  for (std::size_t i = 0; i < kf.size(); ++i)
+    EXPECT_NEAR(kf[i].pose.x(), g.nodes[i].pose.x(), 1e-5) << "keyframe " << i;
   const auto topo = readJson(out / "topology.json");
   EXPECT_GE(topo["nodes"].size(), 2u) << "regions + the unexplored node";
 

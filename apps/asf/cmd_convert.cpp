@@ -1,5 +1,6 @@
 // Log conversions: Rawseeds <-> rawlog, CARMEN -> rawlog (logic in apps/asf/convert).
 #include <asf/abi.h>
+#include <asf/rawlog_io.h>
 #include <asf_convert/carmen.h>
 #include <asf_convert/rawseeds.h>
 #include <tclap/CmdLine.h>
@@ -89,6 +90,37 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
   std::cout << " in " << std::fixed << std::setprecision(1) << r.wall_time_s << " s\n"
             << std::defaultfloat;
   printStreams(r.streams);
+  return kOk;
+}
+
+int cmdRawlogNormalize(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Rewrites a rawlog (either layout, .gz or not) as asf reads it: action/sensory-frame "
+      "pairs, one per scan of the chosen laser, every odometry action timestamped with its "
+      "scan's time and carrying its Gaussian covariance. MRPT tools such as icp-slam refuse "
+      "logs whose odometry has no timestamp (e.g. graphslam-engine-demos/.../simul.rawlog).",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::UnlabeledValueArg<std::string> in("input", "Input rawlog", true, "", "IN.rawlog", cmd);
+  TCLAP::UnlabeledValueArg<std::string> out("output", "Output rawlog (.gz: compressed)", true, "",
+                                            "OUT.rawlog", cmd);
+  TCLAP::ValueArg<std::string> label("", "laser-label",
+                                     "Scans of this sensorLabel (default: the first laser seen)",
+                                     false, "", "LABEL", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+
+  RawlogReaderOptions o;
+  o.laser_label = label.getValue();
+  RawlogReader reader(in.getValue(), o);
+  RawlogWriter writer(out.getValue());
+  std::size_t scans = 0;
+  while (auto f = reader.next()) {
+    scans += f->scan ? 1 : 0;
+    writer.write(*f);
+  }
+  writer.flush();
+  std::cout << "rawlog-normalize: " << writer.framesWritten() << " frames (" << scans
+            << " scans) written to " << out.getValue() << "\n";
   return kOk;
 }
 

@@ -55,6 +55,9 @@ int cmdRun(int argc, char** argv) {
   if (s.final_pose_error_m >= 0)
     std::cout << ", final pose error " << s.final_pose_error_m << " m (mean "
               << s.mean_pose_error_m << " m)";
+  if (s.ate_rmse_m >= 0)
+    std::cout << ", ATE RMSE " << s.ate_rmse_m << " m (max " << s.ate_max_m << " m, "
+              << s.ate_poses << " keyframes)";
   std::cout << " in " << s.wall_time_s << " s\n";
   std::cout << "asf run: results in " << std::filesystem::absolute(dir).lexically_normal().string()
             << "/ (";

@@ -20,8 +20,12 @@ int cmdPlugins(int argc, char** argv);
 int cmdConfig(int argc, char** argv);
 int cmdConformance(int argc, char** argv);
 int cmdOptimize(int argc, char** argv);
+int cmdOptimal(int argc, char** argv);
+int cmdRoute(int argc, char** argv);
 int cmdRawseeds2Rawlog(int argc, char** argv);
 int cmdRawlog2Rawseeds(int argc, char** argv);
 int cmdCarmen2Rawlog(int argc, char** argv);
+int cmdRawlogNormalize(int argc, char** argv);
+int cmdAte(int argc, char** argv);
 
 }  // namespace asf::app

@@ -24,14 +24,22 @@ const Command kCommands[] = {
     {"config", asf::app::cmdConfig, "Print an INI file resolved, every default filled in"},
     {"conformance", asf::app::cmdConformance,
      "Run the plugin conformance kit on plugin files or names"},
+    {"route", asf::app::cmdRoute,
+     "A route on a graph-list graph: euler, cpp, tsp, tarry, tarry_modified, tremaux, dfs"},
     {"optimize", asf::app::cmdOptimize,
      "Optimize a g2o pose graph with a back-end: chi2, iterations, time (--json)"},
+    {"optimal", asf::app::cmdOptimal,
+     "Certified optimal edge weights of a graph for D, A, E (optimum, gap, uniform efficiency)"},
     {"rawseeds2rawlog", asf::app::cmdRawseeds2Rawlog,
      "Convert Rawseeds CSV streams (.csv/.csv.bz2) to a rawlog + ground truth"},
     {"rawlog2rawseeds", asf::app::cmdRawlog2Rawseeds,
      "Write a rawlog as Rawseeds CSV streams (to test the converter)"},
     {"carmen2rawlog", asf::app::cmdCarmen2Rawlog,
      "Convert a CARMEN log to a rawlog + ground truth (optionally synthetic odometry)"},
+    {"rawlog-normalize", asf::app::cmdRawlogNormalize,
+     "Rewrite a rawlog as timestamped action/sensory-frame pairs (for MRPT's tools)"},
+    {"ate", asf::app::cmdAte,
+     "Absolute trajectory error of a trajectory file vs ground truth (SE(2)-aligned)"},
 };
 
 void usage(std::ostream& os) {

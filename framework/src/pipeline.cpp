@@ -1,5 +1,6 @@
 #include <asf/errors.h>
 #include <asf/pipeline.h>
+#include <asf/trajectory_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -270,7 +271,7 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
 Pipeline::~Pipeline() = default;
 
 std::vector<std::string> Pipeline::outputFiles() {
-  return {"config.ini",  "trajectory.csv", "decisions.csv", "graph.g2o",
+  return {"config.ini",  "trajectory.csv", "decisions.csv", "graph.g2o",    "keyframes.txt",
           "map.png",     "regions.png",    "topology.json", "summary.json"};
 }
 
@@ -423,14 +424,42 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       sum.final_pose_error_m =
           std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y());
     }
+    std::vector<mrpt::poses::CPose2D> kf_est, kf_gt;
+    for (const PoseNode& n : m.graph.nodes)
+      if (n.ground_truth) {
+        kf_est.push_back(n.pose);
+        kf_gt.push_back(*n.ground_truth);
+      }
+    if (kf_est.size() >= 2) {
+      const TrajectoryError te = evaluateMatched(kf_est, kf_gt);
+      sum.ate_rmse_m = te.ate_rmse_m;
+      sum.ate_max_m = te.ate_max_m;
+      sum.ate_poses = te.poses;
+    }
     sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start).count();
     std::string err;
     rec.finish(m.graph, m.map.map(), m.seg, m.topo.graph(), m.path, sum, err);
     if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
   };
 
+  // Keyframes added since the last optimization are optimized once more at the end, so the
+  // outputs (graph, map, ATE) are those of the whole graph, not of an earlier state of it.
+  auto finalOptimization = [&] {
+    if (!m.backend || nodes_since_opt == 0 || m.graph.size() < 2) return;
+    nodes_since_opt = 0;
+    m.backend->optimize(m.graph);
+    if (want_marginals) m.marginals = m.backend->marginals(m.graph);
+    m.marginals.graph_revision = m.graph.revision;
+    if (m.map.update(m.graph) && m.segmenter) {
+      m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
+      m.seg.map_version = m.map.map().version;
+      m.topo.update(m.seg, m.map.map());
+    }
+  };
+
   try {
     body();
+    finalOptimization();
   } catch (const std::exception& e) {
     sum.stop_reason = std::string("error: ") + e.what();
     finish();

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -104,6 +105,15 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     }
   };
   attempt("graph.g2o", [&] { writeG2o(graph, dir_ + "/graph.g2o"); });
+  attempt("keyframes.txt", [&] {
+    // Absolute times, so `asf ate keyframes.txt GT.txt` evaluates them like any trajectory.
+    std::ostringstream os;
+    os << "# final keyframe poses (graph nodes): t x y phi (s, m, m, rad)\n"
+       << std::setprecision(17);
+    for (const PoseNode& n : graph.nodes)
+      os << n.timestamp << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi() << '\n';
+    writeAtomically(dir_ + "/keyframes.txt", os.str());
+  });
   attempt("map.png", [&] {
     if (!map.grid) return;
     MapImage m = renderGrid(*map.grid);
@@ -166,6 +176,9 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["edges"] = summary.edges;
     j["final_pose_error_m"] = summary.final_pose_error_m < 0 ? json(nullptr) : json(summary.final_pose_error_m);
     j["mean_pose_error_m"] = summary.mean_pose_error_m < 0 ? json(nullptr) : json(summary.mean_pose_error_m);
+    j["ate_rmse_m"] = summary.ate_rmse_m < 0 ? json(nullptr) : json(summary.ate_rmse_m);
+    j["ate_max_m"] = summary.ate_max_m < 0 ? json(nullptr) : json(summary.ate_max_m);
+    j["ate_poses"] = summary.ate_poses;
     j["regions"] = summary.regions;
     j["decisions"] = summary.decisions;
     j["finished"] = summary.finished;

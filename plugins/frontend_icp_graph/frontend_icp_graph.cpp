@@ -57,6 +57,9 @@ class IcpGraphFrontend final : public asf::Frontend {
     icp_.sigma_floor = p.getDouble("icp_sigma_floor");
     icp_.cov_scale = p.getDouble("icp_cov_scale");
     icp_.refine_iterations = static_cast<int>(p.getInt("icp_refine_iterations"));
+    icp_.robust = p.getBool("icp_robust");
+    normal_k_ = static_cast<std::size_t>(p.getInt("icp_normal_neighbours"));
+    normal_radius_ = p.getDouble("icp_normal_radius");
     icp_floor_ = diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
     submap_ = static_cast<int>(p.getInt("submap_keyframes"));
     min_points_ = static_cast<std::size_t>(p.getInt("icp_min_points"));
@@ -69,6 +72,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     loop_radius_ = p.getDouble("loop_radius");
     loop_gate_ = p.getDouble("loop_gate_chi2");
     loop_max_cand_ = static_cast<int>(p.getInt("loop_max_candidates"));
+    loop_max_accept_ = static_cast<int>(p.getInt("loop_max_per_keyframe"));
     loop_submap_ = static_cast<int>(p.getInt("loop_submap_half"));
     loop_pert_xy_ = p.getDouble("loop_perturb_xy");
     loop_pert_phi_ = p.getDouble("loop_perturb_phi_deg") * kDeg;
@@ -191,6 +195,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   Cloud submap(const asf::PoseGraph& g, asf::NodeId frame, asf::NodeId first,
                asf::NodeId last) {
     Cloud out;
+    out.setNormalNeighbourhood(normal_k_, normal_radius_);
     const CPose2D inv = CPose2D() - g.nodes[frame].pose;
     for (asf::NodeId k = first; k <= last && k < g.size(); ++k)
       if (auto c = cloudOf(g, k)) out.add(*c, inv + g.nodes[k].pose);
@@ -300,6 +305,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     });
     if (static_cast<int>(cands.size()) > loop_max_cand_) cands.resize(loop_max_cand_);
 
+    int accepted = 0;
     for (const Cand& c : cands) {
       const asf::NodeId i = c.id;
       const asf::NodeId first = i >= static_cast<asf::NodeId>(loop_submap_) ? i - loop_submap_ : 0;
@@ -369,7 +375,8 @@ class IcpGraphFrontend final : public asf::Frontend {
                                    << best->rmse << ", " << agree << "/" << res.size()
                                    << " guesses agree (" << n_loops_ << " accepted, "
                                    << n_loop_rejects_ << " rejected)");
-              return;  // one closure per keyframe
+              if (++accepted >= loop_max_accept_) return;
+              continue;
             }
           }
         }
@@ -390,10 +397,12 @@ class IcpGraphFrontend final : public asf::Frontend {
   Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(), icp_floor_ = Eigen::Matrix3d::Identity();
   asf::icp_graph::IcpOptions icp_;
   int submap_ = 1;
+  std::size_t normal_k_ = 8;
+  double normal_radius_ = 0.3;
   std::size_t min_points_ = 20;
   double min_goodness_ = 0.5, max_sigma_xy_ = 0.1, max_sigma_phi_ = 2 * kDeg, odo_chi2_ = 16;
   bool loop_ = true;
-  int loop_skip_ = 20, loop_max_cand_ = 3, loop_submap_ = 1, loop_min_agree_ = 3;
+  int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1, loop_min_agree_ = 3;
   double loop_radius_ = 3, loop_gate_ = 9.21, loop_pert_xy_ = 0.3, loop_pert_phi_ = 10 * kDeg;
   double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05, loop_chi2_ = 11.34;
   // state
@@ -432,6 +441,14 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("icp_smallest_threshold_dist", "0.05",
                    "CICP smallestThresholdDist: final correspondence distance [m]", 1e-4, 100),
     asf::keyInt("icp_decimation", "5", "CICP corresponding_points_decimation", 1, 1000),
+    asf::keyBool("icp_robust", "false",
+                 "Point-to-line refinement with a Cauchy kernel (IRLS, scale from the median "
+                 "residual): far or mismatched points weigh less"),
+    asf::keyInt("icp_normal_neighbours", "8",
+                "Reference normals: PCA of this many nearest points (more for noisier scans)", 3,
+                1000),
+    asf::keyDouble("icp_normal_radius", "0.3",
+                   "Reference normals: only neighbours within this distance [m]", 1e-3, 100),
     asf::keyInt("icp_refine_iterations", "5",
                 "Point-to-line Gauss-Newton steps after CICP (0: CICP's point-to-point result)",
                 0, 100),
@@ -475,6 +492,9 @@ const asf::KeySpec kKeys[] = {
                    "a Mahalanobis distance^2 below this (2 dof; 9.21 = 99%)",
                    0, 1e9),
     asf::keyInt("loop_max_candidates", "3", "Candidates verified per keyframe (nearest first)",
+                1, 1000),
+    asf::keyInt("loop_max_per_keyframe", "1",
+                "Loop edges accepted per keyframe at most (candidates are verified nearest first)",
                 1, 1000),
     asf::keyInt("loop_submap_half", "1",
                 "Loop reference: the candidate's scan plus this many keyframes each side", 0,

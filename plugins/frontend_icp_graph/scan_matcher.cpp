@@ -15,8 +15,6 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 // Normal estimation: neighbours within this radius [m]; a neighbourhood is line-like when its
 // smaller spread is below this fraction of the larger one.
-constexpr double kNormalRadius = 0.3;
-constexpr std::size_t kNormalNeighbours = 8;
 constexpr double kLineRatio = 0.1;
 }  // namespace
 
@@ -60,16 +58,16 @@ void Cloud::computeNormals() const {
   normals_.assign(size(), Eigen::Vector2d::Zero());
   std::vector<float> nx, ny, nd;
   for (std::size_t i = 0; i < size(); ++i) {
-    map_->kdTreeNClosestPoint2D(x_[i], y_[i], kNormalNeighbours, nx, ny, nd);
+    map_->kdTreeNClosestPoint2D(x_[i], y_[i], normal_k_, nx, ny, nd);
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     int n = 0;
     for (std::size_t k = 0; k < nx.size(); ++k)
-      if (nd[k] <= kNormalRadius * kNormalRadius) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
+      if (nd[k] <= normal_radius_ * normal_radius_) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
     if (n < 4) continue;
     mean /= n;
     Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
     for (std::size_t k = 0; k < nx.size(); ++k)
-      if (nd[k] <= kNormalRadius * kNormalRadius) {
+      if (nd[k] <= normal_radius_ * normal_radius_) {
         const Eigen::Vector2d d = Eigen::Vector2d(nx[k], ny[k]) - mean;
         S += d * d.transpose();
       }
@@ -85,15 +83,19 @@ namespace {
 struct Residuals {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  ///< J^T J
   Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< J^T r
-  double sum_r2 = 0;
+  double sum_r2 = 0;     ///< the cost (robust when a kernel is used)
+  double sum_plain = 0;  ///< plain sum of squared residuals
   std::size_t rows = 0, inliers = 0;
 };
 
 /// Residuals of `cur` placed at `pose` against `ref`: point-to-line against the reference's
 /// local line where it has one (so a corridor leaves the along-wall direction unconstrained),
-/// point-to-point else; only points within `inlier_dist` of the reference count.
+/// point-to-point else; only points within `inlier_dist` of the reference count. With
+/// kernel_c > 0 each row is weighted by the Cauchy kernel w = 1 / (1 + (r/c)^2) (IRLS) and
+/// sum_r2 holds the robust cost sum c^2 log(1 + (r/c)^2) instead of sum r^2.
 Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& pose,
-                    double inlier_dist) {
+                    double inlier_dist, double kernel_c = 0,
+                    std::vector<double>* abs_res = nullptr) {
   Residuals out;
   const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
   const double in2 = inlier_dist * inlier_dist;
@@ -108,20 +110,35 @@ Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose
     const Eigen::Vector2d dq_dphi(-s * px - c * py, c * px - s * py);
     const Eigen::Vector2d e = q - Eigen::Vector2d(mx, my);
     const Eigen::Vector2d n = ref.normal(k);
+    // Cauchy weight and cost of a squared residual (plain least squares without a kernel).
+    auto robust = [&](double r2, double& w) {
+      if (kernel_c <= 0) {
+        w = 1;
+        return r2;
+      }
+      const double u = r2 / (kernel_c * kernel_c);
+      w = 1 / (1 + u);
+      return kernel_c * kernel_c * std::log1p(u);
+    };
+    double w = 1;
     if (n.squaredNorm() > 0) {
       const Eigen::RowVector3d J(n.x(), n.y(), n.dot(dq_dphi));
       const double r = n.dot(e);
-      out.H += J.transpose() * J;
-      out.b += J.transpose() * r;
-      out.sum_r2 += r * r;
+      out.sum_r2 += robust(r * r, w);
+      out.sum_plain += r * r;
+      out.H += w * J.transpose() * J;
+      out.b += w * J.transpose() * r;
       out.rows += 1;
+      if (abs_res) abs_res->push_back(std::abs(r));
     } else {
       Eigen::Matrix<double, 2, 3> J;
       J << 1, 0, dq_dphi.x(), 0, 1, dq_dphi.y();
-      out.H += J.transpose() * J;
-      out.b += J.transpose() * e;
-      out.sum_r2 += e.squaredNorm();
+      out.sum_r2 += robust(e.squaredNorm(), w);
+      out.sum_plain += e.squaredNorm();
+      out.H += w * J.transpose() * J;
+      out.b += w * J.transpose() * e;
       out.rows += 2;
+      if (abs_res) abs_res->push_back(e.norm() / std::sqrt(2.0));
     }
   }
   return out;
@@ -161,7 +178,18 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
   // half the point spacing; a few Gauss-Newton steps on point-to-line residuals (point-to-point
   // where the reference has no line) remove that. Directions the scene leaves unconstrained
   // (a corridor's axis) are not moved.
-  Residuals res = residuals(ref, cur, r.pose, o.inlier_dist);
+  // Robust scale: the Cauchy kernel's c from the median absolute residual at CICP's solution
+  // (1.4826 MAD = sigma for Gaussian noise; c = 2.385 sigma is the kernel's 95% efficiency).
+  double kc = 0;
+  if (o.robust) {
+    std::vector<double> a;
+    residuals(ref, cur, r.pose, o.inlier_dist, 0, &a);
+    if (a.size() > 3) {
+      std::nth_element(a.begin(), a.begin() + a.size() / 2, a.end());
+      kc = 2.385 * std::max(o.sigma_floor, 1.4826 * a[a.size() / 2]);
+    }
+  }
+  Residuals res = residuals(ref, cur, r.pose, o.inlier_dist, kc);
   for (int it = 0; it < o.refine_iterations && res.rows > 3; ++it) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
     const Eigen::Vector3d ev = es.eigenvalues();
@@ -173,7 +201,7 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
     mrpt::poses::CPose2D next(r.pose.x() + step.x(), r.pose.y() + step.y(),
                               r.pose.phi() + step.z());
     next.normalizePhi();
-    Residuals nres = residuals(ref, cur, next, o.inlier_dist);
+    Residuals nres = residuals(ref, cur, next, o.inlier_dist, kc);
     // Keep the step only if it lowers the mean residual without losing inliers.
     if (nres.rows < res.rows * 0.95 ||
         nres.sum_r2 / std::max<std::size_t>(nres.rows, 1) >
@@ -185,10 +213,10 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
   }
   r.inlier_ratio = static_cast<double>(res.inliers) / static_cast<double>(cur.size());
   r.residuals = res.rows;
-  r.rmse = res.rows ? std::sqrt(res.sum_r2 / static_cast<double>(res.rows)) : 0;
+  r.rmse = res.rows ? std::sqrt(res.sum_plain / static_cast<double>(res.rows)) : 0;
   const double sigma2 =
       std::max(o.sigma_floor * o.sigma_floor,
-               res.rows > 3 ? res.sum_r2 / static_cast<double>(res.rows - 3) : 0.0);
+               res.rows > 3 ? res.sum_plain / static_cast<double>(res.rows - 3) : 0.0);
   // Degenerate directions (a straight corridor) get a huge variance instead of a NaN.
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
   Eigen::Vector3d inv_ev;

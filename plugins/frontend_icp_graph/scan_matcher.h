@@ -41,6 +41,12 @@ class Cloud {
 
   /// Unit normal of point i, or (0, 0) when its neighbourhood is not line-like.
   Eigen::Vector2d normal(std::size_t i) const;
+  /// Normals from a PCA of the k nearest points within `radius` (noisier scans need more).
+  void setNormalNeighbourhood(std::size_t k, double radius) {
+    normal_k_ = k;
+    normal_radius_ = radius;
+    normals_ok_ = false;
+  }
 
  private:
   void computeNormals() const;
@@ -48,6 +54,8 @@ class Cloud {
   std::vector<float> x_, y_;
   mutable std::vector<Eigen::Vector2d> normals_;
   mutable bool normals_ok_ = false;
+  std::size_t normal_k_ = 8;
+  double normal_radius_ = 0.3;
 };
 
 struct IcpOptions {
@@ -61,6 +69,7 @@ struct IcpOptions {
   double sigma_floor = 0.005;          ///< lower bound of the point noise std [m]
   double cov_scale = 1.0;              ///< multiplies the point-to-line covariance
   int refine_iterations = 5;           ///< point-to-line Gauss-Newton steps after CICP
+  bool robust = false;                 ///< Cauchy-weighted refinement (IRLS), scale from MAD
 };
 
 struct MatchResult {

@@ -1,0 +1,43 @@
+#pragma once
+/// \file multigraph.h
+/// Undirected weighted multigraph: the common input of the graph analysis (information of
+/// walks, optimal edge weights) and of the route algorithms (Euler, Chinese postman, TSP,
+/// Tarry). Parallel edges and self-loops are allowed; nodes are 0-based here (files are
+/// 1-based, see readGraphList).
+#include <string>
+#include <vector>
+
+namespace asf::graph {
+
+struct Edge {
+  int u = 0, v = 0;
+  double length = 1;  ///< traversal cost (metres, or 1 for unweighted graphs)
+};
+
+struct Multigraph {
+  int n = 0;
+  std::vector<Edge> edges;
+
+  int m() const { return static_cast<int>(edges.size()); }
+  /// Every node reachable from node 0 (a graph without nodes is not connected).
+  bool connected() const;
+  /// Degree of each node (a self-loop counts twice).
+  std::vector<int> degrees() const;
+  /// Edge indices incident to each node (a self-loop listed once).
+  std::vector<std::vector<int>> incidence() const;
+};
+
+/// One graph of a graph-list file, with its 1-based line number.
+struct ListedGraph {
+  int line = 0;
+  Multigraph graph;
+};
+
+/// Reads a graph-list file: one graph per line, `n m u1-v1 u2-v2 ...` with 1-based node ids
+/// (unit lengths). Blank lines and lines starting with '#' are skipped. Throws InputError naming
+/// file:line for a malformed line (bad count, id out of range, m not matching the edge list).
+std::vector<ListedGraph> readGraphList(const std::string& path);
+/// Parses one graph-list line; `where` prefixes error messages (e.g. "file.txt:3").
+Multigraph parseGraphLine(const std::string& line, const std::string& where);
+
+}  // namespace asf::graph

@@ -1,0 +1,927 @@
+// Information of walks on graphs and certified optimal edge weights (thesis chapter 5).
+//
+// Numerics. Everything works on the n x n matrices of the graph: a matrix X restricted to the
+// complement of the all-ones vector 1 is represented by X + J/n (J = 11^T), which is invertible
+// when X is on 1-perp, and whose inverse is X^+ + J/n. For a_j = e_u - e_v (orthogonal to 1)
+// the quadratic forms a_j^T X a_l are then four look-ups, so the gradients and Hessians of the
+// design problems cost O(m n + m^2) once X is known, instead of O(m n^2) with a reduced basis.
+#include <asf/errors.h>
+#include <asf/graph_information.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <unordered_set>
+
+namespace asf::graph {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void checkWeights(const Multigraph& g, const VectorXd& x, const char* what) {
+  if (x.size() != g.m())
+    throw InputError(std::string(what) + ": " + std::to_string(x.size()) +
+                     " weights for a graph of " + std::to_string(g.m()) + " edges");
+  for (int j = 0; j < x.size(); ++j)
+    if (!(x[j] >= 0) || !std::isfinite(x[j]))
+      throw InputError(std::string(what) + ": weight of edge " + std::to_string(j) +
+                       " is negative or not finite");
+}
+
+bool supportConnected(const Multigraph& g, const VectorXd& x) {
+  if (g.n < 2) return false;
+  Multigraph s;
+  s.n = g.n;
+  for (int j = 0; j < g.m(); ++j)
+    if (x[j] > 0 && g.edges[j].u != g.edges[j].v) s.edges.push_back(g.edges[j]);
+  return s.connected();
+}
+
+// The design vectors of an E problem: graph edges in the full n-space (lookups, 1-perp
+// padding) or dense rows of A in R^k.
+struct Design {
+  bool graph = true;
+  int N = 0;  // matrix size
+  int m = 0;
+  std::vector<int> u, v;  // graph mode
+  MatrixXd A;             // dense mode (m x N)
+
+  int k() const { return graph ? N - 1 : N; }
+  // Pi: identity on the space of the problem (I - J/N for graphs).
+  MatrixXd pi() const {
+    MatrixXd P = MatrixXd::Identity(N, N);
+    if (graph) P.array() -= 1.0 / N;
+    return P;
+  }
+  // Added to a matrix living on 1-perp to make it invertible (J/N), or nothing.
+  void pad(MatrixXd& X, double s = 1.0) const {
+    if (graph) X.array() += s / N;
+  }
+  // Rows a_j^T X (m x cols(X)).
+  MatrixXd rows(const MatrixXd& X) const {
+    if (!graph) return A * X;
+    MatrixXd W(m, X.cols());
+    for (int j = 0; j < m; ++j) W.row(j) = X.row(u[j]) - X.row(v[j]);
+    return W;
+  }
+  // R = [a_j^T X a_l] (X symmetric).
+  MatrixXd quad(const MatrixXd& X) const {
+    const MatrixXd W = rows(X);
+    if (!graph) return W * A.transpose();
+    MatrixXd R(m, m);
+    for (int l = 0; l < m; ++l) R.col(l) = W.col(u[l]) - W.col(v[l]);
+    return R;
+  }
+  // a_j^T X a_j; X need not be symmetric (the symmetric part counts).
+  VectorXd diagQuad(const MatrixXd& X) const {
+    VectorXd d(m);
+    if (!graph) {
+      d = (A * X).cwiseProduct(A).rowwise().sum();
+      return d;
+    }
+    for (int j = 0; j < m; ++j)
+      d[j] = X(u[j], u[j]) + X(v[j], v[j]) - X(u[j], v[j]) - X(v[j], u[j]);
+    return d;
+  }
+  // sum_j w_j a_j a_j^T.
+  MatrixXd sumOuter(const VectorXd& w) const {
+    if (!graph) return A.transpose() * w.asDiagonal() * A;
+    MatrixXd L = MatrixXd::Zero(N, N);
+    for (int j = 0; j < m; ++j) {
+      L(u[j], u[j]) += w[j];
+      L(v[j], v[j]) += w[j];
+      L(u[j], v[j]) -= w[j];
+      L(v[j], u[j]) -= w[j];
+    }
+    return L;
+  }
+  // Eigenvalues of X on the problem space (graph: 1-perp), ascending; X symmetric, X 1 = 0.
+  VectorXd spectrum(const MatrixXd& X) const {
+    if (!graph) return Eigen::SelfAdjointEigenSolver<MatrixXd>(X, Eigen::EigenvaluesOnly).eigenvalues();
+    // Shift the 1 direction above every other eigenvalue (Gershgorin) and drop it.
+    const double s = 2.0 * X.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300;
+    MatrixXd Y = X;
+    pad(Y, s);
+    const VectorXd e = Eigen::SelfAdjointEigenSolver<MatrixXd>(Y, Eigen::EigenvaluesOnly).eigenvalues();
+    return e.head(N - 1);
+  }
+};
+
+Design graphDesign(const Multigraph& g, std::vector<int>& kept) {
+  Design d;
+  d.graph = true;
+  d.N = g.n;
+  kept.clear();
+  for (int j = 0; j < g.m(); ++j) {
+    if (g.edges[j].u == g.edges[j].v) continue;
+    kept.push_back(j);
+    d.u.push_back(g.edges[j].u);
+    d.v.push_back(g.edges[j].v);
+  }
+  d.m = static_cast<int>(kept.size());
+  return d;
+}
+
+// Largest step alpha with X + alpha dX still positive definite (X = R R^T given by its
+// Cholesky factor): 1 / max(0, -lambda_min(R^-1 dX R^-T)), lambda_min estimated by Lanczos
+// with full reorthogonalization (O(n^2) per iteration instead of a dense eigensolver). A Ritz
+// value is >= lambda_min, so the estimate can be long: callers verify the step by Cholesky.
+double maxStepPD(const Eigen::LLT<MatrixXd>& X, const MatrixXd& dX) {
+  const int n = static_cast<int>(dX.rows());
+  const int kmax = std::min(n, 40);
+  MatrixXd V(n, kmax + 1);
+  VectorXd al(kmax), be(kmax + 1);
+  VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = std::sin(1.0 + 0.7 * i);  // deterministic start
+  V.col(0) = v.normalized();
+  double prev = kInf, ritz = 0;
+  int k = 0;
+  VectorXd w(n);
+  for (; k < kmax; ++k) {
+    w = X.matrixU().solve(V.col(k));
+    w = dX * w;
+    X.matrixL().solveInPlace(w);
+    al[k] = V.col(k).dot(w);
+    w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
+    w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
+    be[k + 1] = w.norm();
+    MatrixXd T = MatrixXd::Zero(k + 1, k + 1);
+    for (int i = 0; i <= k; ++i) {
+      T(i, i) = al[i];
+      if (i > 0) T(i, i - 1) = T(i - 1, i) = be[i];
+    }
+    ritz = Eigen::SelfAdjointEigenSolver<MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues()[0];
+    const double scale = al.head(k + 1).cwiseAbs().maxCoeff() + 1e-300;
+    if (be[k + 1] <= 1e-12 * scale) break;
+    if (k >= 4 && std::abs(ritz - prev) <= 1e-4 * std::abs(ritz)) break;
+    prev = ritz;
+    V.col(k + 1) = w / be[k + 1];
+  }
+  return ritz < 0 ? -1.0 / ritz : kInf;
+}
+
+bool isPD(const Design& D, const MatrixXd& X) {
+  MatrixXd Y = X;
+  D.pad(Y);
+  return Eigen::LLT<MatrixXd>(Y).info() == Eigen::Success;
+}
+
+// ---- E: primal-dual interior point method on
+//   max t  s.t.  S = sum_j x_j a_j a_j^T - t Pi >= 0,  sum x = 1,  x >= 0
+// dual:  min nu  s.t.  <a_j a_j^T, Z> + z_j = nu,  tr Z = 1,  Z >= 0,  z >= 0.
+// HKM search direction, Mehrotra predictor-corrector, separate primal and dual step lengths.
+// The start is primal and dual feasible, so the linear constraints stay satisfied and the
+// gap is <Z, S> + x^T z = nu - t.
+struct EResult {
+  VectorXd x;
+  MatrixXd W;  // dual matrix, trace 1 on the problem space, PSD
+  double value = 0, bound = 0;
+  int iterations = 0;
+};
+
+// The certificate of a dual Z, made rigorous: W = Z shifted to PSD on the problem space,
+// bound = max_j a_j^T W a_j / tr W; value = lambda_min at x clipped to the simplex.
+void certifyE(const Design& D, const VectorXd& xin, const MatrixXd& Z, EResult& r) {
+  r.x = xin.cwiseMax(0.0);
+  r.x /= r.x.sum();
+  r.value = std::max(0.0, D.spectrum(D.sumOuter(r.x))[0]);
+  MatrixXd W = 0.5 * (Z + Z.transpose());
+  const double zmin = D.spectrum(W)[0];
+  if (zmin < 0) W -= zmin * D.pi();
+  const double tr = W.trace();
+  r.W = W / tr;
+  r.bound = D.diagQuad(r.W).maxCoeff();
+}
+
+EResult solveE(const Design& D, double tol, int max_iter) {
+  const int m = D.m, N = D.N, k = D.k();
+  const MatrixXd Pi = D.pi();
+  VectorXd x = VectorXd::Constant(m, 1.0 / m);
+  const double lmin0 = D.spectrum(D.sumOuter(x))[0];
+  if (!(lmin0 > 0)) throw Error("E-optimal design: the design vectors do not span the space");
+  double t = 0.5 * lmin0;
+  MatrixXd Z = Pi / k;
+  VectorXd za = D.diagQuad(Z);
+  double nu = za.maxCoeff() + lmin0;  // dual feasible, z of the order of the gap
+  VectorXd z = (nu - za.array()).matrix();
+
+  EResult best;
+  best.bound = kInf;
+  auto consider = [&](const VectorXd& xc, const MatrixXd& Zc, int it) {
+    EResult r;
+    certifyE(D, xc, Zc, r);
+    r.iterations = it;
+    // Keep the best certificate and the best primal separately, then pair them.
+    if (best.bound == kInf || r.bound < best.bound) {
+      best.bound = r.bound;
+      best.W = r.W;
+    }
+    if (best.x.size() == 0 || r.value > best.value) {
+      best.value = r.value;
+      best.x = r.x;
+    }
+    best.iterations = it;
+    return (best.bound - best.value) <= tol * best.bound;
+  };
+
+  for (int it = 1; it <= max_iter; ++it) {
+    MatrixXd S = D.sumOuter(x) - t * Pi;
+    MatrixXd Sp = S;
+    D.pad(Sp);
+    Eigen::LLT<MatrixXd> cS(Sp);
+    if (cS.info() != Eigen::Success) break;  // lost interiority (numerical end)
+    MatrixXd Sinv = cS.solve(MatrixXd::Identity(N, N));
+    D.pad(Sinv, -1.0);
+    const double mu = ((Z.cwiseProduct(S)).sum() + x.dot(z)) / (k + m);
+    if (nu - t <= 0.2 * tol * std::abs(nu) || mu <= 0) {
+      if (consider(x, Z, it)) return best;
+      if (mu <= 0) break;
+    }
+    const MatrixXd ZSinv = Z * Sinv;
+    const MatrixXd Rz = D.quad(Z), Rs = D.quad(Sinv);
+    const VectorXd c = D.diagQuad(ZSinv);
+    const double tau = ZSinv.trace();
+    const VectorXd sinv = Rs.diagonal();
+    const double trSinv = Sinv.trace();
+    MatrixXd H(m + 1, m + 1);
+    H.topLeftCorner(m, m) = Rz.cwiseProduct(Rs);
+    H.topLeftCorner(m, m).diagonal() += z.cwiseQuotient(x);
+    H.block(0, m, m, 1) = -c;
+    H.block(m, 0, 1, m) = -c.transpose();
+    H(m, m) = tau;
+    Eigen::LLT<MatrixXd> cH(H);
+    if (cH.info() != Eigen::Success) break;
+    VectorXd e = VectorXd::Zero(m + 1);
+    e.head(m).setOnes();
+    const VectorXd He = cH.solve(e);
+    const double eHe = e.dot(He);
+    const double re = 1.0 - x.sum();
+
+    struct Dir {
+      VectorXd dx, dz;
+      double dt = 0, dnu = 0;
+      MatrixXd dS, dZ;
+    };
+    auto direction = [&](double sigma_mu, const Dir* aff) {
+      VectorXd rhs(m + 1);
+      rhs.head(m) = sigma_mu * (sinv + x.cwiseInverse()) - VectorXd::Constant(m, nu);
+      rhs[m] = 1.0 - sigma_mu * trSinv;
+      MatrixXd G;
+      if (aff) {
+        G = aff->dZ * aff->dS * Sinv;
+        rhs.head(m) -= D.diagQuad(G) + aff->dz.cwiseProduct(aff->dx).cwiseQuotient(x);
+        rhs[m] += G.trace();
+      }
+      const VectorXd Hr = cH.solve(rhs);
+      Dir d;
+      d.dnu = (e.dot(Hr) - re) / eHe;
+      const VectorXd sol = Hr - d.dnu * He;
+      d.dx = sol.head(m);
+      d.dt = sol[m];
+      d.dS = D.sumOuter(d.dx) - d.dt * Pi;
+      MatrixXd T = Z * d.dS * Sinv;
+      if (aff) T += G;
+      d.dZ = sigma_mu * Sinv - Z - 0.5 * (T + T.transpose());
+      d.dz = (sigma_mu * x.cwiseInverse() - z - z.cwiseProduct(d.dx).cwiseQuotient(x));
+      if (aff) d.dz -= aff->dz.cwiseProduct(aff->dx).cwiseQuotient(x);
+      return d;
+    };
+    MatrixXd Zp = Z;
+    D.pad(Zp);
+    const Eigen::LLT<MatrixXd> cZ(Zp);
+    auto steps = [&](const Dir& d, double& ap, double& ad) {
+      ap = ad = kInf;
+      for (int j = 0; j < m; ++j) {
+        if (d.dx[j] < 0) ap = std::min(ap, -x[j] / d.dx[j]);
+        if (d.dz[j] < 0) ad = std::min(ad, -z[j] / d.dz[j]);
+      }
+      ap = std::min(ap, maxStepPD(cS, d.dS));
+      ad = std::min(ad, cZ.info() == Eigen::Success ? maxStepPD(cZ, d.dZ) : 0.0);
+    };
+    const Dir aff = direction(0.0, nullptr);
+    double ap, ad;
+    steps(aff, ap, ad);
+    ap = std::min(1.0, ap);
+    ad = std::min(1.0, ad);
+    const MatrixXd Sa = S + ap * aff.dS, Za = Z + ad * aff.dZ;
+    const double mu_aff =
+        ((Za.cwiseProduct(Sa)).sum() + (x + ap * aff.dx).dot(z + ad * aff.dz)) / (k + m);
+    const double sigma = std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0);
+    const Dir d = direction(sigma * mu, &aff);
+    steps(d, ap, ad);
+    ap = std::min(1.0, 0.98 * ap);
+    ad = std::min(1.0, 0.98 * ad);
+    for (int back = 0; back < 30 && !isPD(D, S + ap * d.dS); ++back) ap *= 0.8;
+    for (int back = 0; back < 30 && !isPD(D, Z + ad * d.dZ); ++back) ad *= 0.8;
+    x += ap * d.dx;
+    t += ap * d.dt;
+    Z += ad * d.dZ;
+    Z = 0.5 * (Z + Z.transpose()).eval();
+    z += ad * d.dz;
+    nu += ad * d.dnu;
+    best.iterations = it;
+  }
+  consider(x, Z, best.iterations);
+  return best;
+}
+
+// ---- Smooth criteria (finite p < 1): F_p(x) = tr(M^p)/p, log det M for p = 0, concave.
+struct SmoothEval {
+  bool ok = false;
+  double F = -kInf;  // objective (for line searches)
+  double phi = 0;    // ||L||_p
+  VectorXd g;        // gradient a_j^T M^(p-1) a_j
+  MatrixXd H;        // Hessian (negative semidefinite)
+};
+
+SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivatives,
+                      bool gradient_only = false) {
+  SmoothEval r;
+  derivatives = derivatives || gradient_only;
+  const int N = D.N, k = D.k(), m = D.m;
+  MatrixXd L = D.sumOuter(x);
+  if (p == 0.0 || p == -1.0) {
+    MatrixXd Lp = L;
+    D.pad(Lp);
+    Eigen::LLT<MatrixXd> c(Lp);
+    if (c.info() != Eigen::Success) return r;
+    const double logdet = 2.0 * c.matrixLLT().diagonal().array().log().sum();
+    if (p == 0.0 && !derivatives) {
+      r.ok = std::isfinite(logdet);
+      r.F = logdet;
+      r.phi = std::exp(logdet / k);
+      return r;
+    }
+    MatrixXd P = c.solve(MatrixXd::Identity(N, N));
+    D.pad(P, -1.0);  // P = M^+ on 1-perp
+    if (p == 0.0) {
+      r.F = logdet;
+      r.phi = std::exp(logdet / k);
+      if (gradient_only) {
+        r.g = D.diagQuad(P);
+      } else if (derivatives) {
+        const MatrixXd R = D.quad(P);
+        r.g = R.diagonal();
+        r.H = -R.cwiseProduct(R);
+      }
+    } else {
+      const double tr = P.trace();
+      if (!(tr > 0)) return r;
+      r.F = -tr;
+      r.phi = k / tr;
+      if (gradient_only) {
+        r.g = D.diagQuad(P * P);
+      } else if (derivatives) {
+        const MatrixXd R = D.quad(P), R2 = D.quad(P * P);
+        r.g = R2.diagonal();
+        r.H = -2.0 * R.cwiseProduct(R2);
+      }
+    }
+    r.ok = std::isfinite(r.F);
+    return r;
+  }
+  // General p: spectral decomposition on the problem space.
+  MatrixXd Y = L;
+  double s = 0;
+  if (D.graph) {
+    s = 2.0 * L.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300;
+    D.pad(Y, s);
+  }
+  Eigen::SelfAdjointEigenSolver<MatrixXd> es(Y, derivatives ? Eigen::ComputeEigenvectors
+                                                            : Eigen::EigenvaluesOnly);
+  const VectorXd mu = es.eigenvalues().head(k);
+  if (!(mu[0] > 0)) return r;
+  // Scaled sums so that tiny/huge mu^p do not over/underflow in phi.
+  const double ref = p < 0 ? mu[0] : mu[k - 1];
+  const double mean = (mu / ref).array().pow(p).mean();
+  r.phi = ref * std::pow(mean, 1.0 / p);
+  r.F = mu.array().pow(p).sum() / p;
+  r.ok = std::isfinite(r.F) && std::isfinite(r.phi);
+  if (!derivatives || !r.ok) return r;
+  const MatrixXd V = es.eigenvectors().leftCols(k);
+  const MatrixXd B = D.rows(V);  // B(j, i) = a_j . v_i
+  const VectorXd f1 = mu.array().pow(p - 1);
+  r.g = B.cwiseAbs2() * f1;
+  if (gradient_only) return r;
+  // Daleckii-Krein: H_jl = sum_ii' G_ii' B_ji B_ji' B_li B_li'.
+  MatrixXd G(k, k);
+  for (int i = 0; i < k; ++i)
+    for (int i2 = 0; i2 < k; ++i2) {
+      const double a = mu[i], b = mu[i2];
+      G(i, i2) = std::abs(a - b) > 1e-9 * std::max(a, b) ? (f1[i] - f1[i2]) / (a - b)
+                                                         : (p - 1) * std::pow(0.5 * (a + b), p - 2);
+    }
+  r.H = MatrixXd::Zero(m, m);
+  MatrixXd C(m, k);
+  for (int i = 0; i < k; ++i) {
+    C = B.col(i).asDiagonal() * B;
+    r.H.noalias() += (C * G.row(i).transpose().asDiagonal()) * C.transpose();
+  }
+  return r;
+}
+
+struct SmoothResult {
+  VectorXd x;
+  double value = 0, bound = 0;
+  int iterations = 0;
+};
+
+SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
+  const int m = D.m;
+  VectorXd x = VectorXd::Constant(m, 1.0 / m);
+  SmoothResult out;
+  // Warm start: multiplicative updates x_j <- x_j (g_j / x^T g)^(1/(1-p)) (Silvey-Titterington-
+  // Torsney; monotone for D) are cheap (no Hessian) and remove most of the initial error.
+  for (int w = 0; w < 3; ++w) {
+    SmoothEval e0 = evalSmooth(D, x, p, false, true);
+    if (!e0.ok) break;
+    const double lam = x.dot(e0.g);
+    VectorXd xt = x.cwiseProduct((e0.g / lam).array().pow(1.0 / (1.0 - p)).matrix());
+    xt /= xt.sum();
+    x = xt;
+  }
+  SmoothEval ev = evalSmooth(D, x, p, true);
+  if (!ev.ok) throw Error("optimal design: the uniform weights have no information");
+  for (int it = 0;; ++it) {
+    const double lam = x.dot(ev.g);
+    const double ratio = ev.g.maxCoeff() / lam;  // bound / value
+    out.x = x;
+    out.value = ev.phi;
+    out.bound = ev.phi * ratio;
+    out.iterations = it;
+    if (ratio - 1.0 <= tol * ratio || it >= max_iter) break;
+    // Free set: positive weights, and zero weights whose gradient beats the multiplier.
+    std::vector<int> F;
+    for (int j = 0; j < m; ++j)
+      if (x[j] > 0 || ev.g[j] > lam) F.push_back(j);
+    VectorXd d = VectorXd::Zero(m);
+    for (int pass = 0; pass < 4; ++pass) {
+      const int f = static_cast<int>(F.size());
+      MatrixXd K(f, f);
+      VectorXd gF(f);
+      for (int a = 0; a < f; ++a) {
+        gF[a] = ev.g[F[a]];
+        for (int b = 0; b < f; ++b) K(a, b) = -ev.H(F[a], F[b]);
+      }
+      const double reg = 1e-13 * K.diagonal().mean();
+      K.diagonal().array() += reg;
+      Eigen::LLT<MatrixXd> c(K);
+      if (c.info() != Eigen::Success) {
+        K.diagonal().array() += 1e-8 * K.diagonal().mean();
+        c.compute(K);
+      }
+      const VectorXd Kg = c.solve(gF), K1 = c.solve(VectorXd::Ones(f));
+      const double l = Kg.sum() / K1.sum();
+      const VectorXd dF = Kg - l * K1;
+      d.setZero();
+      std::vector<int> keep;
+      for (int a = 0; a < f; ++a) {
+        d[F[a]] = dF[a];
+        if (!(x[F[a]] <= 0 && dF[a] < 0)) keep.push_back(F[a]);
+      }
+      if (keep.size() == F.size()) break;
+      F.swap(keep);  // zero weights that would go negative stay at zero
+      d.setZero();
+    }
+    const double slope = ev.g.dot(d);
+    if (!(slope > 0)) break;  // no ascent left at machine precision
+    // Projection arc (Bertsekas): x(a) = P_simplex-ish(x + a d) by clipping at zero, so
+    // several weights can reach zero in one step; Armijo test along the arc.
+    double a = 1.0;
+    bool accepted = false;
+    for (int ls = 0; ls < 60 && !accepted; ++ls, a *= 0.5) {
+      VectorXd xt = (x + a * d).cwiseMax(0.0);
+      xt /= xt.sum();
+      const SmoothEval trial = evalSmooth(D, xt, p, false);
+      if (!trial.ok) continue;
+      const double pred = ev.g.dot(xt - x);
+      // Round-off dominates the Armijo test once steps are tiny: accept a non-decrease.
+      if (trial.F >= ev.F + 1e-4 * pred || (a < 1e-10 && trial.F >= ev.F)) {
+        x = xt;
+        accepted = true;
+      }
+    }
+    if (!accepted) break;
+    ev = evalSmooth(D, x, p, true);
+    if (!ev.ok) break;
+  }
+  return out;
+}
+
+}  // namespace
+
+double parseCriterion(const std::string& text) {
+  std::string t;
+  for (char ch : text)
+    if (!std::isspace(static_cast<unsigned char>(ch))) t += ch;
+  std::string up = t;
+  for (auto& ch : up) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (up == "T") return kCriterionT;
+  if (up == "D") return kCriterionD;
+  if (up == "A") return kCriterionA;
+  if (up == "E" || up == "-INF") return kCriterionE;
+  if (up.rfind("P=", 0) == 0) t = t.substr(2);
+  std::size_t pos = 0;
+  double p = 0;
+  try {
+    p = std::stod(t, &pos);
+  } catch (const std::exception&) {
+    pos = std::string::npos;
+  }
+  if (pos != t.size() || std::isnan(p) || p > 1)
+    throw InputError("criterion '" + text + "': expected T, D, A, E or a number p <= 1");
+  return p;
+}
+
+std::string criterionName(double p) {
+  if (p == kCriterionT) return "T";
+  if (p == kCriterionD) return "D";
+  if (p == kCriterionA) return "A";
+  if (p == kCriterionE) return "E";
+  std::ostringstream os;
+  os << "p=" << p;
+  return os.str();
+}
+
+MatrixXd laplacian(const Multigraph& g, const VectorXd& x) {
+  checkWeights(g, x, "laplacian");
+  MatrixXd L = MatrixXd::Zero(g.n, g.n);
+  for (int j = 0; j < g.m(); ++j) {
+    const auto& e = g.edges[j];
+    if (e.u == e.v) continue;
+    L(e.u, e.u) += x[j];
+    L(e.v, e.v) += x[j];
+    L(e.u, e.v) -= x[j];
+    L(e.v, e.u) -= x[j];
+  }
+  return L;
+}
+
+VectorXd reducedSpectrum(const Multigraph& g, const VectorXd& x) {
+  if (g.n < 2) return VectorXd();
+  Design D;
+  D.graph = true;
+  D.N = g.n;
+  return D.spectrum(laplacian(g, x));
+}
+
+double powerMean(const VectorXd& mu, double p) {
+  const int k = static_cast<int>(mu.size());
+  if (k == 0) return 0;
+  if (p == 1.0) return mu.mean();
+  const double lo = mu.minCoeff();
+  if (p <= 0 && !(lo > 0)) return 0;
+  if (p == kCriterionE) return lo;
+  if (p == 0) return std::exp(mu.array().log().mean());
+  const double ref = p < 0 ? lo : mu.maxCoeff();
+  if (!(ref > 0)) return 0;
+  return ref * std::pow((mu / ref).array().pow(p).mean(), 1.0 / p);
+}
+
+Information information(const Multigraph& g, const VectorXd& x, double p) {
+  checkWeights(g, x, "information");
+  if (std::isnan(p) || p > 1) throw InputError("information: criterion p must be <= 1");
+  Information r;
+  r.total = x.sum();
+  r.connected = supportConnected(g, x);
+  if (!r.connected) return r;
+  r.value = std::max(0.0, powerMean(reducedSpectrum(g, x), p));
+  r.rate = r.total > 0 ? r.value / r.total : 0;
+  return r;
+}
+
+VectorXd walkEdgeCounts(const Multigraph& g, const std::vector<int>& seq) {
+  VectorXd c = VectorXd::Zero(g.m());
+  int at = -1;  // unknown until the first two edges fix the direction
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    const int j = seq[i];
+    if (j < 0 || j >= g.m())
+      throw InputError("walk: edge index " + std::to_string(j) + " at position " +
+                       std::to_string(i) + " is not an edge (m = " + std::to_string(g.m()) + ")");
+    const auto& e = g.edges[j];
+    if (i == 0) {
+      // Start at the end not shared with the next edge (either, if both or none are).
+      at = e.v;
+      if (seq.size() > 1 && seq[1] >= 0 && seq[1] < g.m()) {
+        const auto& f = g.edges[seq[1]];
+        if ((e.u == f.u || e.u == f.v) && !(e.v == f.u || e.v == f.v)) at = e.u;
+      }
+    } else {
+      if (e.u == at) {
+        at = e.v;
+      } else if (e.v == at) {
+        at = e.u;
+      } else {
+        throw InputError("walk: edge " + std::to_string(j) + " at position " + std::to_string(i) +
+                         " does not start at node " + std::to_string(at + 1) +
+                         " where the walk is");
+      }
+    }
+    c[j] += 1;
+  }
+  return c;
+}
+
+Information walkInformation(const Multigraph& g, const std::vector<int>& seq, double p) {
+  return information(g, walkEdgeCounts(g, seq), p);
+}
+
+double efficiency(const Multigraph& g, const VectorXd& counts, double p, double optimum) {
+  if (!(optimum > 0)) return 0;
+  return information(g, counts, p).rate / optimum;
+}
+
+OptimalDesign optimalDesign(const Multigraph& g, double p, const DesignOptions& opt) {
+  if (std::isnan(p) || p > 1) throw InputError("optimal design: criterion p must be <= 1");
+  const auto t0 = std::chrono::steady_clock::now();
+  OptimalDesign r;
+  r.p = p;
+  std::vector<int> kept;
+  const Design D = graphDesign(g, kept);
+  r.weights = VectorXd::Zero(g.m());
+  for (int j : kept) r.weights[j] = 1.0 / kept.size();
+  r.connected = !kept.empty() && g.connected();
+  if (!r.connected) {
+    r.converged = true;
+    r.time_ms = msSince(t0);
+    return r;
+  }
+  const bool isE = p == kCriterionE;
+  const double tol = opt.tolerance > 0 ? opt.tolerance : (isE ? 5e-6 : 5e-7);
+  const int k = g.n - 1;
+  if (p == 1.0) {
+    r.value = r.upper_bound = 2.0 / k;
+  } else if (isE) {
+    const EResult e = solveE(D, tol, opt.max_iterations);
+    for (std::size_t a = 0; a < kept.size(); ++a) r.weights[kept[a]] = e.x[a];
+    r.value = e.value;
+    r.upper_bound = e.bound;
+    r.dual = e.W;
+    r.iterations = e.iterations;
+  } else {
+    const SmoothResult s = solveSmooth(D, p, tol, opt.max_iterations);
+    for (std::size_t a = 0; a < kept.size(); ++a) r.weights[kept[a]] = s.x[a];
+    r.value = s.value;
+    r.upper_bound = s.bound;
+    r.iterations = s.iterations;
+  }
+  r.upper_bound = std::max(r.upper_bound, r.value);
+  r.gap = r.upper_bound - r.value;
+  r.relative_gap = r.upper_bound > 0 ? r.gap / r.upper_bound : 0;
+  r.converged = r.relative_gap <= tol;
+  r.time_ms = msSince(t0);
+  return r;
+}
+
+OptimalDesign optimalDesignE(const MatrixXd& A, const DesignOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (A.rows() < 1 || A.cols() < 1) throw InputError("optimalDesignE: empty design matrix");
+  Design D;
+  D.graph = false;
+  D.N = static_cast<int>(A.cols());
+  D.m = static_cast<int>(A.rows());
+  D.A = A;
+  const double tol = opt.tolerance > 0 ? opt.tolerance : 5e-6;
+  OptimalDesign r;
+  r.p = kCriterionE;
+  r.connected = true;
+  const EResult e = solveE(D, tol, opt.max_iterations);
+  r.weights = e.x;
+  r.value = e.value;
+  r.upper_bound = std::max(e.bound, e.value);
+  r.dual = e.W;
+  r.iterations = e.iterations;
+  r.gap = r.upper_bound - r.value;
+  r.relative_gap = r.upper_bound > 0 ? r.gap / r.upper_bound : 0;
+  r.converged = r.relative_gap <= tol;
+  r.time_ms = msSince(t0);
+  return r;
+}
+
+double dualBoundE(const Multigraph& g, const MatrixXd& W) {
+  if (W.rows() != g.n || W.cols() != g.n)
+    throw InputError("dualBoundE: W must be " + std::to_string(g.n) + " x " + std::to_string(g.n));
+  std::vector<int> kept;
+  const Design D = graphDesign(g, kept);
+  if (D.m == 0) return 0;
+  const MatrixXd Pi = D.pi();
+  const MatrixXd Wp = Pi * (0.5 * (W + W.transpose())) * Pi;
+  const double tr = Wp.trace();
+  if (!(tr > 0)) throw InputError("dualBoundE: W has no positive trace on 1-perp");
+  return D.diagQuad(Wp).maxCoeff() / tr;
+}
+
+double certificateBound(const Multigraph& g, const VectorXd& x, double p, double cluster_tol) {
+  checkWeights(g, x, "certificateBound");
+  if (std::isnan(p) || p > 1) throw InputError("certificateBound: criterion p must be <= 1");
+  if (!supportConnected(g, x)) return 0;
+  std::vector<int> kept;
+  const Design D = graphDesign(g, kept);
+  VectorXd y(D.m);
+  for (int a = 0; a < D.m; ++a) y[a] = x[kept[a]];
+  y /= y.sum();
+  const int k = g.n - 1;
+  if (p == 1.0) return 2.0 / k;
+  if (p != kCriterionE) {
+    const SmoothEval ev = evalSmooth(D, y, p, true);
+    if (!ev.ok) return 0;
+    return ev.phi * ev.g.maxCoeff() / y.dot(ev.g);
+  }
+  const MatrixXd L = D.sumOuter(y);
+  MatrixXd Y = L;
+  D.pad(Y, 2.0 * L.cwiseAbs().rowwise().sum().maxCoeff() + 1e-300);
+  Eigen::SelfAdjointEigenSolver<MatrixXd> es(Y);
+  const VectorXd mu = es.eigenvalues().head(k);
+  int r = 1;
+  while (r < k && mu[r] <= mu[0] * (1 + cluster_tol) + 1e-14 * mu[k - 1]) ++r;
+  const MatrixXd B = D.rows(es.eigenvectors().leftCols(r));  // b_j = V_r^T a_j
+  if (r == 1) return B.col(0).cwiseAbs2().maxCoeff();
+  DesignOptions o;
+  o.tolerance = 1e-9;
+  return optimalDesignE(B, o).upper_bound;
+}
+
+// ---- Exhaustive search -------------------------------------------------------------------
+
+ExhaustiveResult exhaustiveSearch(const Multigraph& g, const ExhaustiveOptions& o) {
+  const int m = g.m();
+  if (g.n < 1 || g.n > 250) throw InputError("exhaustive search: needs 1..250 nodes");
+  if (o.max_d < 1 || o.max_d > 250) throw InputError("exhaustive search: max_d must be 1..250");
+  if (o.start < -1 || o.start >= g.n)
+    throw InputError("exhaustive search: start node " + std::to_string(o.start + 1) +
+                     " is not a node");
+  for (double p : o.criteria)
+    if (std::isnan(p) || p > 1) throw InputError("exhaustive search: criterion p must be <= 1");
+  ExhaustiveResult r;
+  r.criteria = o.criteria;
+  const int nc = static_cast<int>(o.criteria.size());
+  r.information = MatrixXd::Zero(o.max_d, nc);
+  r.rate = MatrixXd::Zero(o.max_d, nc);
+  r.best.assign(o.max_d, std::vector<VectorXd>(nc, VectorXd::Zero(m)));
+
+  auto evaluate = [&](int di, const std::unordered_set<std::string>& counts) {
+    for (const std::string& key : counts) {
+      VectorXd x(m);
+      for (int j = 0; j < m; ++j) x[j] = static_cast<unsigned char>(key[j]);
+      if (!supportConnected(g, x)) continue;
+      const VectorXd mu = reducedSpectrum(g, x);
+      for (int c = 0; c < nc; ++c) {
+        const double v = std::max(0.0, powerMean(mu, o.criteria[c]));
+        if (v > r.information(di, c)) {
+          r.information(di, c) = v;
+          r.best[di][c] = x;
+        }
+      }
+    }
+    const int d = di + 1;
+    r.rate.row(di) = r.information.row(di) / d;
+    r.d.push_back(d);
+    r.candidates.push_back(counts.size());
+  };
+
+  if (o.kind == TraversalKind::Multiset) {
+    // Compositions of d into m parts, by extending those of d-1 with one more edge.
+    std::unordered_set<std::string> layer{std::string(m, '\0')};
+    for (int d = 1; d <= o.max_d; ++d) {
+      std::unordered_set<std::string> next;
+      for (const std::string& s : layer)
+        for (int j = 0; j < m; ++j) {
+          std::string t = s;
+          ++t[j];
+          next.insert(std::move(t));
+          if (next.size() > o.max_states)
+            throw Error("exhaustive search: more than " + std::to_string(o.max_states) +
+                        " multisets at d = " + std::to_string(d));
+        }
+      layer.swap(next);
+      evaluate(d - 1, layer);
+    }
+    return r;
+  }
+  // Walks: state = [start, end, counts...]; the start only matters for closed walks.
+  const bool closed = o.kind == TraversalKind::ClosedWalk;
+  const auto inc = g.incidence();
+  std::unordered_set<std::string> layer;
+  for (int s = 0; s < g.n; ++s) {
+    if (o.start >= 0 && s != o.start) continue;
+    std::string st(2 + m, '\0');
+    st[0] = static_cast<char>(closed ? s : 0);
+    st[1] = static_cast<char>(s);
+    layer.insert(st);
+  }
+  for (int d = 1; d <= o.max_d; ++d) {
+    std::unordered_set<std::string> next;
+    for (const std::string& s : layer) {
+      const int at = static_cast<unsigned char>(s[1]);
+      for (int j : inc[at]) {
+        std::string t = s;
+        t[1] = static_cast<char>(g.edges[j].u == at ? g.edges[j].v : g.edges[j].u);
+        ++t[2 + j];
+        next.insert(std::move(t));
+      }
+      if (next.size() > o.max_states)
+        throw Error("exhaustive search: more than " + std::to_string(o.max_states) +
+                    " walk states at d = " + std::to_string(d));
+    }
+    layer.swap(next);
+    std::unordered_set<std::string> counts;
+    for (const std::string& s : layer) {
+      if (closed && s[0] != s[1]) continue;
+      counts.insert(s.substr(2));
+    }
+    evaluate(d - 1, counts);
+  }
+  return r;
+}
+
+void writeExhaustiveSvg(const ExhaustiveResult& r, const std::string& path,
+                        const std::string& title, const std::vector<double>& optimum) {
+  static const char* kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd",
+                                  "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
+  const double W = 900, Hh = 380, pw = 380, ph = 260, top = 60, gapx = 70;
+  const int nd = static_cast<int>(r.d.size()), nc = static_cast<int>(r.criteria.size());
+  auto esc = [](const std::string& s) {
+    std::string o;
+    for (char ch : s) {
+      if (ch == '<') o += "&lt;";
+      else if (ch == '>') o += "&gt;";
+      else if (ch == '&') o += "&amp;";
+      else o += ch;
+    }
+    return o;
+  };
+  std::ostringstream os;
+  os << std::setprecision(5);
+  os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << Hh
+     << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
+        "fill=\"white\"/>\n<text x=\""
+     << W / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << esc(title)
+     << "</text>\n";
+  for (int panel = 0; panel < 2; ++panel) {
+    const MatrixXd& Y = panel == 0 ? r.information : r.rate;
+    double ymax = Y.size() ? Y.maxCoeff() : 1;
+    if (panel == 1)
+      for (double v : optimum) ymax = std::max(ymax, v);
+    if (!(ymax > 0)) ymax = 1;
+    ymax *= 1.05;
+    const double x0 = gapx + panel * (pw + gapx), y0 = top + ph;
+    const double dmax = nd ? r.d.back() : 1;
+    auto X = [&](double d) { return x0 + pw * d / dmax; };
+    auto Yp = [&](double v) { return y0 - ph * v / ymax; };
+    os << "<rect x=\"" << x0 << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
+       << "\" fill=\"none\" stroke=\"black\"/>\n";
+    os << "<text x=\"" << x0 + pw / 2 << "\" y=\"" << top - 8 << "\" text-anchor=\"middle\">"
+       << (panel == 0 ? "best information ||L(x)||_p" : "best information rate ||L(x)||_p / d")
+       << "</text>\n<text x=\"" << x0 + pw / 2 << "\" y=\"" << y0 + 34
+       << "\" text-anchor=\"middle\">traversals d</text>\n";
+    for (int tk = 0; tk <= 4; ++tk) {
+      const double v = ymax * tk / 4;
+      os << "<line x1=\"" << x0 - 4 << "\" x2=\"" << x0 << "\" y1=\"" << Yp(v) << "\" y2=\""
+         << Yp(v) << "\" stroke=\"black\"/><text x=\"" << x0 - 6 << "\" y=\"" << Yp(v) + 4
+         << "\" text-anchor=\"end\">" << v << "</text>\n";
+    }
+    const int step = std::max(1, nd / 12);
+    for (int i = 0; i < nd; i += step)
+      os << "<text x=\"" << X(r.d[i]) << "\" y=\"" << y0 + 16 << "\" text-anchor=\"middle\">"
+         << r.d[i] << "</text>\n";
+    for (int c = 0; c < nc; ++c) {
+      const char* col = kColors[c % 8];
+      os << "<polyline fill=\"none\" stroke=\"" << col << "\" stroke-width=\"2\" points=\"";
+      for (int i = 0; i < nd; ++i) os << X(r.d[i]) << "," << Yp(Y(i, c)) << " ";
+      os << "\"/>\n";
+      for (int i = 0; i < nd; ++i)
+        os << "<circle cx=\"" << X(r.d[i]) << "\" cy=\"" << Yp(Y(i, c)) << "\" r=\"2.5\" fill=\""
+           << col << "\"/>\n";
+      if (panel == 1 && c < static_cast<int>(optimum.size()))
+        os << "<line x1=\"" << x0 << "\" x2=\"" << x0 + pw << "\" y1=\"" << Yp(optimum[c])
+           << "\" y2=\"" << Yp(optimum[c]) << "\" stroke=\"" << col
+           << "\" stroke-dasharray=\"6,4\"/>\n";
+      if (panel == 0)
+        os << "<text x=\"" << x0 + 10 << "\" y=\"" << top + 18 + 16 * c << "\" fill=\"" << col
+           << "\">" << esc(criterionName(r.criteria[c])) << "</text>\n";
+    }
+  }
+  if (!optimum.empty())
+    os << "<text x=\"" << W - 20 << "\" y=\"" << Hh - 12
+       << "\" text-anchor=\"end\">dashed: relaxed optimum (max over the simplex)</text>\n";
+  os << "</svg>\n";
+  std::ofstream f(path);
+  if (!f) throw Error(path + ": cannot write SVG");
+  f << os.str();
+  if (!f) throw Error(path + ": write failed");
+}
+
+}  // namespace asf::graph
