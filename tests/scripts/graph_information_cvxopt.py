@@ -5,8 +5,8 @@ Usage: graph_information_cvxopt.py "n m u1-v1 u2-v2 ..."   (a graph-list line, 1
 Prints one JSON object {"D": value, "A": value, "E": value} with the thesis' normalised
 information functions (power means over the n-1 non-zero Laplacian eigenvalues).
 
-D and A use cvxopt.solvers.cp (log det and trace of the inverse of the reduced Laplacian
-Q^T L(x) Q, Q an orthonormal basis of 1-perp); E is the SDP
+D uses cvxopt.solvers.cp on log det of the reduced Laplacian Q^T L(x) Q (Q an orthonormal
+basis of 1-perp); A is the SDP min tr(Y) s.t. [[Q^T L(x) Q, I], [I, Y]] >= 0; E is the SDP
 max t s.t. Q^T L(x) Q - t I >= 0, sum x = 1, x >= 0 with cvxopt.solvers.sdp.
 Used by tests/test_graph_information.cpp (needs Debian's python3-cvxopt; no numpy).
 """
@@ -152,6 +152,40 @@ def smooth(B, k, p):
     return k / sum(P[i, i] for i in range(k))
 
 
+def aoptimal(B, k):
+    """min tr(Y) s.t. [[M(x), I], [I, Y]] >= 0, sum x = 1, x >= 0 (cvxopt's cp stalls on
+    some graphs for tr(M^-1) directly)."""
+    m = len(B)
+    pairs = [(r, c) for c in range(k) for r in range(c, k)]
+    nv = m + len(pairs)
+    K = 2 * k
+    cvec = matrix([0.0] * m + [1.0 if r == c else 0.0 for (r, c) in pairs])
+    Gl = spmatrix(-1.0, range(m), range(m), (m, nv))
+    hl = matrix(0.0, (m, 1))
+    cols = []
+    for bj in B:
+        col = [0.0] * (K * K)
+        for cc in range(k):
+            for r in range(k):
+                col[cc * K + r] = -bj[r] * bj[cc]
+        cols.append(col)
+    for (r, c) in pairs:
+        col = [0.0] * (K * K)
+        col[(k + c) * K + (k + r)] = -1.0
+        col[(k + r) * K + (k + c)] = -1.0
+        cols.append(col)
+    hs = matrix(0.0, (K, K))
+    for i in range(k):
+        hs[k + i, i] = hs[i, k + i] = 1.0
+    A = matrix([1.0] * m + [0.0] * len(pairs), (1, nv))
+    sol = solve(lambda: solvers.sdp(cvec, Gl=Gl, hl=hl, Gs=[matrix(cols)], hs=[hs], A=A,
+                                    b=matrix(1.0)))
+    w = [max(0.0, sol["x"][j]) for j in range(m)]
+    s = sum(w)
+    P, _ = inverse(moment(B, [wi / s for wi in w], k))
+    return k / sum(P[i, i] for i in range(k))
+
+
 def eoptimal(B, k):
     m = len(B)
     nv = m + 1  # x_1..x_m, t
@@ -180,7 +214,7 @@ def main():
     n, edges = parse(sys.argv[1])
     B, k = design(n, edges)
     e_value, e_primal, e_dual, status = eoptimal(B, k)
-    out = {"D": smooth(B, k, 0), "A": smooth(B, k, -1), "E": e_value,
+    out = {"D": smooth(B, k, 0), "A": aoptimal(B, k), "E": e_value,
            "E_sdp_primal": e_primal, "E_sdp_dual": e_dual, "E_status": status}
     print(json.dumps(out))
 
