@@ -358,6 +358,8 @@ TEST(GraphInformation, CrossCheckCvxopt) {
       const OptimalDesign o = optimalDesign(g, p);
       const double cvx = j[name].get<double>();
       EXPECT_NEAR(o.value, cvx, tol * cvx);
+      std::printf("cvxopt cross-check n=%d m=%d %s: asf %.10g (gap %.2g) cvxopt %.10g rel.diff %.2g\n",
+                  g.n, g.m(), name, o.value, o.relative_gap, cvx, std::abs(o.value - cvx) / cvx);
       // cvxopt's x is feasible, so its value can not exceed our certified bound.
       EXPECT_LE(cvx, o.upper_bound * (1 + 1e-9));
     }

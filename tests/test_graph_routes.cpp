@@ -465,7 +465,10 @@ TEST(GraphRoutes, TspHeuristicBetweenBoundAndExact) {
     EXPECT_TRUE(visitsAllNodes(g, h.walk));
     EXPECT_GE(h.walk.length, exact.walk.length - 1e-9);
     EXPECT_LE(h.lower_bound, exact.walk.length + 1e-9);
-    EXPECT_GT(h.lower_bound, 0);
+    // The raw (uncapped) bound must hold too, and be useful.
+    const double raw = heldKarpLowerBound(floyd(g), h.walk.length);
+    EXPECT_LE(raw, exact.walk.length + 1e-9);
+    EXPECT_GE(raw, 0.8 * exact.walk.length);
     worst = std::max(worst, h.walk.length / exact.walk.length);
   }
   EXPECT_LT(worst, 1.25);  // 2-opt + Or-opt on <= 12 nodes is rarely far off
@@ -479,6 +482,7 @@ TEST(GraphRoutes, TspOnGridIsNearOptimalWithTightBound) {
   expectValid(g, r.walk);
   EXPECT_TRUE(visitsAllNodes(g, r.walk));
   EXPECT_LE(r.lower_bound, 64 + 1e-9);
+  EXPECT_LE(heldKarpLowerBound(floyd(g), r.walk.length), 64 + 1e-9);
   EXPECT_GE(r.lower_bound, 60);
   EXPECT_LE(r.walk.length, 70);
   Multigraph two = pathGraph(4);

@@ -240,6 +240,33 @@ namespace {
 const auto inputErrorOf = asf_test::errorOf<asf::InputError>;
 }
 
+// A SLAM run optimizes once more at its end: with optimize_every beyond the run's length the
+// back-end runs only then, and the graph written (with its loop closures) is at a minimum that
+// `asf optimize` cannot lower. Uses MRPT's SENA log (Debian package mrpt-common).
+TEST(Optimize, SlamRunEndsWithTheGraphOptimized) {
+  const std::string sena =
+      "/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog";
+  if (!fs::exists(sena)) GTEST_SKIP() << "needs " << sena << " (Debian package mrpt-common)";
+  const fs::path out = tmp("slam_sena");
+  fs::remove_all(out);
+  const auto run = host(std::string("run ") + ASF_TEST_SOURCE_DIR +
+                        "/configs/slam_sena.ini --set pipeline.optimize_every=1000000 "
+                        "--set pipeline.progress_interval=0 -o " + out.string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::ifstream sf(out / "summary.json");
+  const auto sum = nlohmann::json::parse(sf);
+  const auto g = asf::readG2o((out / "graph.g2o").string());
+  ASSERT_GT(g.size(), 50u);
+  ASSERT_GT(g.edges.size(), g.size()) << "loop closures (edges beyond the chain) expected";
+  const auto opt = host("optimize " + (out / "graph.g2o").string() + " --json", false);
+  ASSERT_EQ(opt.code, 0) << opt.out;
+  const auto j = nlohmann::json::parse(opt.out);
+  const double written = j["initial_chi2"].get<double>();
+  EXPECT_NEAR(written, sum["final_chi2"].get<double>(), 1e-3 * written + 1e-6);
+  EXPECT_GT(j["final_chi2"].get<double>(), 0.999 * written)
+      << "the run's graph was not optimized at its end";
+}
+
 TEST(G2oFormat, FixLinesAreCheckedAndKept) {
   const auto g = asf::parseG2o("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
                                "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"

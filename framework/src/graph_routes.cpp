@@ -325,7 +325,10 @@ class WeightedBlossom {
         queuePush(x);
       }
     if (queue_.empty()) return false;
-    for (;;) {
+    // Each dual adjustment labels a blossom, makes one, expands one or augments: O(k) per
+    // stage. The guard turns a bug into an error instead of a hang.
+    for (long rounds = 0;; ++rounds) {
+      if (rounds > 8L * size_ + 64) throw std::logic_error("blossom: stage does not terminate");
       while (!queue_.empty()) {
         const int u = queue_.front();
         queue_.pop_front();
@@ -855,12 +858,18 @@ void improveTour(const Matrix& d, std::vector<int>& t) {
   }
 }
 
-/// Held-Karp lower bound: max over node penalties of the minimum 1-tree (node `special` with
-/// its two cheapest edges, a spanning tree on the rest), by subgradient ascent. Valid for
-/// every penalty vector, so the result is a bound whatever the iterations do.
-double oneTreeBound(const Matrix& d, double upper, int iterations) {
+}  // namespace
+
+// Max over node penalties of the minimum 1-tree (node `special` with its two cheapest edges,
+// a spanning tree on the rest), by subgradient ascent. Every penalty vector gives a valid
+// bound, so the result is one whatever the iterations do.
+double heldKarpLowerBound(const std::vector<std::vector<double>>& d, double upper,
+                          int iterations) {
   const int n = static_cast<int>(d.size());
-  if (n < 3) return upper;
+  for (const auto& row : d)
+    if (static_cast<int>(row.size()) != n) throw InputError("tsp bound: matrix not square");
+  if (n < 2) return 0;
+  if (n == 2) return d[0][1] + d[1][0];
   const int special = 0;
   std::vector<double> pi(n, 0);
   std::vector<char> use(n, 1);
@@ -900,10 +909,8 @@ double oneTreeBound(const Matrix& d, double upper, int iterations) {
     if (!(t > 1e-15 * std::max(1.0, upper)) || lambda < 1e-6) break;
     for (int v = 0; v < n; ++v) pi[v] += t * (deg[v] - 2);
   }
-  return std::min(best, upper);
+  return best;
 }
-
-}  // namespace
 
 TspResult travelingSalesman(const Multigraph& g, int start, const TspOptions& options) {
   checkGraph(g);
@@ -945,8 +952,10 @@ TspResult travelingSalesman(const Multigraph& g, int start, const TspOptions& op
     const int a = r.order[i], b = r.order[(i + 1) % r.order.size()];
     for (int e : sp[a].walkTo(g, b).edges) step(g, r.walk, e);
   }
+  // The bound can exceed the tour by rounding when the best 1-tree is that tour.
   r.lower_bound = r.exact ? r.walk.length
-                          : oneTreeBound(d, r.walk.length, options.bound_iterations);
+                          : std::min(r.walk.length, heldKarpLowerBound(d, r.walk.length,
+                                                                       options.bound_iterations));
   return r;
 }
 

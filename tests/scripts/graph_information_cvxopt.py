@@ -110,7 +110,8 @@ def quad(B, X):
             for j in range(len(B))]
 
 
-def smooth(B, k, p):
+def doptimal(B, k):
+    """max log det(Q^T L(x) Q) over the simplex with cvxopt.solvers.cp."""
     m = len(B)
     G = spmatrix(-1.0, range(m), range(m))
     h = matrix(0.0, (m, 1))
@@ -126,30 +127,16 @@ def smooth(B, k, p):
         if inv is None:
             return None
         P, logdet = inv
-        if p == 0:
-            f = -logdet
-            R = quad(B, P)
-            Df = matrix([-R[j][j] for j in range(m)], (1, m))
-            if z is None:
-                return f, Df
-            H = matrix([[z[0] * R[j][l] ** 2 for j in range(m)] for l in range(m)])
-            return f, Df, H
-        f = sum(P[i, i] for i in range(k))
-        P2 = P * P
-        R, R2 = quad(B, P), quad(B, P2)
-        Df = matrix([-R2[j][j] for j in range(m)], (1, m))
+        R = quad(B, P)
+        Df = matrix([-R[j][j] for j in range(m)], (1, m))
         if z is None:
-            return f, Df
-        H = matrix([[2 * z[0] * R[j][l] * R2[j][l] for j in range(m)] for l in range(m)])
-        return f, Df, H
+            return -logdet, Df
+        H = matrix([[z[0] * R[j][l] ** 2 for j in range(m)] for l in range(m)])
+        return -logdet, Df, H
 
     sol = solve(lambda: solvers.cp(F, G=G, h=h, A=A, b=b))
-    x = sol["x"]
-    inv = inverse(moment(B, x, k))
-    P, logdet = inv
-    if p == 0:
-        return math.exp(logdet / k)
-    return k / sum(P[i, i] for i in range(k))
+    _, logdet = inverse(moment(B, sol["x"], k))
+    return math.exp(logdet / k)
 
 
 def aoptimal(B, k):
@@ -214,7 +201,7 @@ def main():
     n, edges = parse(sys.argv[1])
     B, k = design(n, edges)
     e_value, e_primal, e_dual, status = eoptimal(B, k)
-    out = {"D": smooth(B, k, 0), "A": aoptimal(B, k), "E": e_value,
+    out = {"D": doptimal(B, k), "A": aoptimal(B, k), "E": e_value,
            "E_sdp_primal": e_primal, "E_sdp_dual": e_dual, "E_status": status}
     print(json.dumps(out))
 

@@ -89,8 +89,11 @@ struct DesignOptions {
 };
 
 /// Maximizes ||L(x)||_p over the simplex for any p <= 1 (p = -inf: E). Smooth criteria:
-/// active-set Newton method on F_p(x) = tr(L^p)/p (log det for p = 0) with the exact Hessian,
-/// certified by the gradient bound above (Pukelsheim's equivalence theorem). E: primal-dual
+/// three multiplicative steps, then Newton steps on F_p(x) = tr(L^p)/p (log det for p = 0) with
+/// the exact Hessian (closed form for D and A, Daleckii-Krein for other p: O(m^2 n^2), meant for
+/// small graphs) over the free edges, along the projection arc (negative weights clipped to
+/// zero) with an Armijo search; certified by the gradient bound above (Pukelsheim's general
+/// equivalence theorem, a Hoelder inequality between ||.||_p and its polar). E: primal-dual
 /// interior point method (HKM direction, Mehrotra predictor-corrector) on the SDP
 /// max t s.t. L(x) >= t (I - 11^T/n), sum x = 1, x >= 0, whose dual gives W.
 /// p = 1 is constant on the simplex (2/(n-1)): uniform weights are returned.

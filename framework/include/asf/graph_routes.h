@@ -125,6 +125,13 @@ struct TspResult {
   std::string method;  ///< "held-karp", "trivial" or "christofides+2opt+oropt"
 };
 
+/// Held-Karp (1-tree, subgradient ascent) lower bound on the shortest Hamiltonian cycle of the
+/// complete graph with symmetric distances `dist` (n >= 3; n = 2: the cycle there and back).
+/// `upper` (any tour's length) only sets the step sizes; the value is a valid bound whatever it
+/// is, and is not capped by it.
+double heldKarpLowerBound(const std::vector<std::vector<double>>& dist, double upper,
+                          int iterations = 300);
+
 /// The graph must be connected (Error otherwise). Distances are shortest paths (the metric
 /// closure), so the walk may pass through nodes more than once. Above exact_max_nodes: the
 /// best of a nearest-neighbour tour and a Christofides tour, each improved by 2-opt and Or-opt,
