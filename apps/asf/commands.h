@@ -22,6 +22,8 @@ int cmdConformance(int argc, char** argv);
 int cmdOptimize(int argc, char** argv);
 int cmdOptimal(int argc, char** argv);
 int cmdRoute(int argc, char** argv);
+int cmdOptimalEval(int argc, char** argv);
+int cmdGraphGen(int argc, char** argv);
 int cmdRawseeds2Rawlog(int argc, char** argv);
 int cmdRawlog2Rawseeds(int argc, char** argv);
 int cmdCarmen2Rawlog(int argc, char** argv);
