@@ -115,7 +115,7 @@ int cmdOptimalEval(int argc, char** argv) {
       "Print one JSON object: graphs [{index (line), n, m, connected, optimum {D,A,E}, gap "
       "{D,A,E} (relative), weights {D,A,E}, efficiency {uniform,cpp,tsp,tarry}{D,A,E}, "
       "time_ms}], summary {graphs, connected, efficiency {route {criterion {mean, std}}}, "
-      "time_ms}",
+      "time_ms, optimum_time_ms (the optimal-design solves alone)}",
       cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
@@ -127,6 +127,7 @@ int cmdOptimalEval(int argc, char** argv) {
   json graphs = json::array();
   std::map<std::string, std::map<std::string, std::vector<double>>> eff;  // route, criterion
   std::size_t connected = 0;
+  double optimum_ms = 0;  // the D/A/E solves alone (the speed goal), routes aside
   const bool text = !json_out.getValue();
   if (text)
     std::cout << std::left << std::setw(6) << "line" << std::setw(5) << "n" << std::setw(5) << "m"
@@ -154,6 +155,7 @@ int cmdOptimalEval(int argc, char** argv) {
     std::ostringstream row;
     for (std::size_t c = 0; c < ps.size(); ++c) {
       const graph::OptimalDesign d = graph::optimalDesign(g, ps[c]);
+      optimum_ms += d.time_ms;
       jg["optimum"][names[c]] = d.value;
       jg["gap"][names[c]] = d.relative_gap;
       jg["weights"][names[c]] = std::vector<double>(d.weights.data(), d.weights.data() + d.weights.size());
@@ -186,6 +188,7 @@ int cmdOptimalEval(int argc, char** argv) {
     }
   summary["time_ms"] =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  summary["optimum_time_ms"] = optimum_ms;
   if (!plot.getValue().empty()) writeEfficiencySvg(plot.getValue(), graphs, names);
   if (json_out.getValue()) {
     std::cout << json{{"file", file.getValue()}, {"graphs", graphs}, {"summary", summary}}.dump(1)
@@ -201,7 +204,7 @@ int cmdOptimalEval(int argc, char** argv) {
       std::cout << "\n";
     }
     std::cout << std::setprecision(3) << "time " << summary["time_ms"].get<double>() / 1000
-              << " s\n";
+              << " s (D/A/E optima " << optimum_ms / 1000 << " s, the rest routes and I/O)\n";
   }
   return kOk;
 }

@@ -113,17 +113,28 @@ PostmanResult chinesePostman(const Multigraph& g, int start = 0, int end = -1,
 // TSP on a graph: shortest closed walk from `start` visiting every node
 
 struct TspOptions {
-  int exact_max_nodes = 16;  ///< Held-Karp up to this many nodes (O(2^n n^2)), heuristic above
+  int exact_max_nodes = 16;  ///< Held-Karp up to this many nodes (O(2^n n^2), at most 20)
   int bound_iterations = 300;  ///< subgradient steps of the Held-Karp (1-tree) lower bound
+  int kicks = 100;             ///< iterated local search: double-bridge kicks (n >= 8)
+  bool certify = true;         ///< a heuristic tour meeting the lower bound counts as exact
+  std::uint32_t seed = 0;      ///< for the kicks
 };
 
 struct TspResult {
   Walk walk;               ///< the tour expanded to edges of the graph (closed at start)
   std::vector<int> order;  ///< tour on the metric closure: order[0] == start, each node once
   double lower_bound = 0;  ///< == walk.length when exact
-  bool exact = false;
-  std::string method;  ///< "held-karp", "trivial" or "christofides+2opt+oropt"
+  bool exact = false;      ///< optimal: Held-Karp, or a tour that meets the lower bound
+  std::string method;
 };
+
+/// The graph must be connected (Error otherwise). Distances are shortest paths (the metric
+/// closure), so the walk may pass through nodes more than once. For n >= 3: the better of a
+/// nearest-neighbour and a Christofides tour, each improved by 2-opt and Or-opt, then
+/// iterated (double-bridge kicks) until it meets the Held-Karp bound or the kicks run out;
+/// if it meets the bound it is optimal (with `certify`), otherwise Held-Karp runs when
+/// n <= exact_max_nodes, and above that the heuristic tour is returned with the bound.
+TspResult travelingSalesman(const Multigraph& g, int start = 0, const TspOptions& options = {});
 
 /// Held-Karp (1-tree, subgradient ascent) lower bound on the shortest Hamiltonian cycle of the
 /// complete graph with symmetric distances `dist` (n >= 3; n = 2: the cycle there and back).
@@ -131,12 +142,6 @@ struct TspResult {
 /// is, and is not capped by it.
 double heldKarpLowerBound(const std::vector<std::vector<double>>& dist, double upper,
                           int iterations = 300);
-
-/// The graph must be connected (Error otherwise). Distances are shortest paths (the metric
-/// closure), so the walk may pass through nodes more than once. Above exact_max_nodes: the
-/// best of a nearest-neighbour tour and a Christofides tour, each improved by 2-opt and Or-opt,
-/// with the Held-Karp 1-tree bound (subgradient ascent) as lower_bound.
-TspResult travelingSalesman(const Multigraph& g, int start = 0, const TspOptions& options = {});
 
 // ---------------------------------------------------------------------------------------------
 // On-line explorers simulated on a known graph. The explorer knows the edges incident to the
