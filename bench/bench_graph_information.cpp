@@ -4,6 +4,7 @@
 // certified relative gap and the iterations of the last run.
 //
 //   build/bench/bench_graph_information [--benchmark_filter=E]
+#include <asf/graph_families.h>
 #include <asf/graph_information.h>
 #include <benchmark/benchmark.h>
 
@@ -12,30 +13,10 @@
 
 namespace {
 
-asf::graph::Multigraph randomConnected(int n, int m, unsigned seed) {
-  std::mt19937 r(seed);
-  asf::graph::Multigraph g;
-  g.n = n;
-  std::set<std::pair<int, int>> s;
-  for (int i = 1; i < n; ++i) {
-    const int j = std::uniform_int_distribution<int>(0, i - 1)(r);
-    g.edges.push_back({j, i, 1});
-    s.insert({j, i});
-  }
-  std::uniform_int_distribution<int> node(0, n - 1);
-  while (g.m() < m) {
-    int a = node(r), b = node(r);
-    if (a == b) continue;
-    if (a > b) std::swap(a, b);
-    if (!s.insert({a, b}).second) continue;
-    g.edges.push_back({a, b, 1});
-  }
-  return g;
-}
 
 // state.range(0) = seed; the criterion is bound per registration.
 void optimal(benchmark::State& state, double p) {
-  const auto g = randomConnected(100, 297, static_cast<unsigned>(state.range(0)));
+  const auto g = asf::graph::randomConnectedGraph(100, 297, static_cast<unsigned>(state.range(0)));
   asf::graph::OptimalDesign r;
   for (auto _ : state) {
     r = asf::graph::optimalDesign(g, p);
@@ -47,7 +28,7 @@ void optimal(benchmark::State& state, double p) {
 }
 
 void information(benchmark::State& state) {
-  const auto g = randomConnected(100, 297, 1);
+  const auto g = asf::graph::randomConnectedGraph(100, 297, 1);
   const Eigen::VectorXd x = Eigen::VectorXd::Ones(g.m());
   for (auto _ : state) benchmark::DoNotOptimize(asf::graph::information(g, x, 0.0).value);
 }

@@ -2,6 +2,7 @@
 // closed forms, eigen identities, brute force, the E trap on symmetric trees, the cvxopt
 // cross-check, the exhaustive search of walks and `asf optimal`.
 #include <asf/errors.h>
+#include <asf/graph_families.h>
 #include <asf/graph_information.h>
 #include <gtest/gtest.h>
 
@@ -55,26 +56,6 @@ Multigraph starOfStars(int k, int l) {
 }
 
 // Random spanning tree plus distinct extra edges: connected simple graph (seeded).
-Multigraph randomConnected(int n, int m, unsigned seed) {
-  std::mt19937 r(seed);
-  Multigraph g;
-  g.n = n;
-  std::set<std::pair<int, int>> s;
-  for (int i = 1; i < n; ++i) {
-    const int j = std::uniform_int_distribution<int>(0, i - 1)(r);
-    g.edges.push_back({j, i, 1});
-    s.insert({j, i});
-  }
-  std::uniform_int_distribution<int> node(0, n - 1);
-  while (g.m() < m) {
-    int a = node(r), b = node(r);
-    if (a == b) continue;
-    if (a > b) std::swap(a, b);
-    if (!s.insert({a, b}).second) continue;
-    g.edges.push_back({a, b, 1});
-  }
-  return g;
-}
 
 std::string graphLine(const Multigraph& g) {
   std::string s = std::to_string(g.n) + " " + std::to_string(g.m());
@@ -117,7 +98,7 @@ TEST(GraphInformation, LaplacianEigenIdentities) {
   // K4 has 16 spanning trees: prod mu = n * t(G) = 64, D = 64^(1/3) = 4.
   EXPECT_NEAR(information(k4, ones, kCriterionD).value, 4.0, 1e-12);
 
-  const Multigraph g = randomConnected(12, 25, 3);
+  const Multigraph g = asf::graph::randomConnectedGraph(12, 25, 3);
   std::mt19937 r(5);
   VectorXd x(g.m());
   for (int j = 0; j < g.m(); ++j) x[j] = std::uniform_real_distribution<double>(0.1, 2)(r);
@@ -302,7 +283,7 @@ TEST(GraphInformation, ETrapSymmetricTreeIsNotCertifiedAtUniform) {
 
 TEST(GraphInformation, CertifiedGapsOnRandomGraphs) {
   for (auto [n, m, seed] : {std::tuple{40, 120, 11u}, std::tuple{100, 297, 1u}}) {
-    const Multigraph g = randomConnected(n, m, seed);
+    const Multigraph g = asf::graph::randomConnectedGraph(n, m, seed);
     double prev = 0;
     for (double p : {kE, -1.0, 0.0}) {  // optima increase with p
       SCOPED_TRACE("n=" + std::to_string(n) + " " + criterionName(p));
@@ -324,7 +305,7 @@ TEST(GraphInformation, CertifiedGapsOnRandomGraphs) {
     }
   }
   // General p on a small graph.
-  const Multigraph g = randomConnected(15, 30, 4);
+  const Multigraph g = asf::graph::randomConnectedGraph(15, 30, 4);
   for (double p : {0.5, -2.0}) {
     const OptimalDesign o = optimalDesign(g, p);
     EXPECT_TRUE(o.converged) << criterionName(p);
@@ -341,8 +322,9 @@ TEST(GraphInformation, CrossCheckCvxopt) {
     GTEST_SKIP() << "/usr/bin/python3 with cvxopt (Debian python3-cvxopt) is not available";
   const std::string script =
       std::string(ASF_TEST_SOURCE_DIR) + "/tests/scripts/graph_information_cvxopt.py";
-  std::vector<Multigraph> graphs{randomConnected(8, 12, 21), randomConnected(10, 18, 22),
-                                 randomConnected(12, 20, 23), starOfStars(3, 2)};
+  using asf::graph::randomConnectedGraph;
+  std::vector<Multigraph> graphs{randomConnectedGraph(8, 12, 21), randomConnectedGraph(10, 18, 22),
+                                 randomConnectedGraph(12, 20, 23), starOfStars(3, 2)};
   for (const Multigraph& g : graphs) {
     const std::string cmd = "/usr/bin/python3 " + script + " '" + graphLine(g) + "'";
     FILE* f = popen(cmd.c_str(), "r");

@@ -2,6 +2,7 @@
 // and the asf route command. Oracles are brute force (edge duplications, permutations,
 // pairings) on small instances and closed forms.
 #include <asf/errors.h>
+#include <asf/graph_families.h>
 #include <asf/graph_routes.h>
 #include <asf/multigraph.h>
 #include <gtest/gtest.h>
@@ -78,16 +79,6 @@ Multigraph completeGraph(int n) {
   return g;
 }
 
-Multigraph gridGraph(int w, int h) {
-  Multigraph g;
-  g.n = w * h;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (x + 1 < w) g.edges.push_back({y * w + x, y * w + x + 1, 1});
-      if (y + 1 < h) g.edges.push_back({y * w + x, (y + 1) * w + x, 1});
-    }
-  return g;
-}
 
 /// Per edge: traversals from u to v and from v to u (a self-loop counts in `forward`).
 std::vector<std::array<int, 2>> directedCounts(const Multigraph& g, const Walk& w) {
@@ -404,7 +395,7 @@ TEST(GraphRoutes, PostmanMatchesBruteForceOnSmallGraphs) {
 
 TEST(GraphRoutes, PostmanOnLargeGraphsDpAndBlossomAgree) {
   // Grids have many odd border nodes: 5x6 has 14, which the DP still handles.
-  const Multigraph g = gridGraph(5, 6);
+  const Multigraph g = asf::graph::gridGraph(6, 5);
   const auto dp = chinesePostman(g, 0, -1, MatchingMethod::BitmaskDP);
   const auto bl = chinesePostman(g, 0, -1, MatchingMethod::Blossom);
   EXPECT_EQ(dp.odd_vertices.size(), 14u);
@@ -492,7 +483,7 @@ TEST(GraphRoutes, TspHeuristicBetweenBoundAndExact) {
 
 TEST(GraphRoutes, TspOnGridIsNearOptimalWithTightBound) {
   // An even grid has a Hamiltonian cycle: the optimum is n, and the 1-tree bound is n too.
-  const Multigraph g = gridGraph(8, 8);
+  const Multigraph g = asf::graph::gridGraph(8, 8);
   const auto r = travelingSalesman(g, 5);
   EXPECT_EQ(r.exact, r.walk.length <= 64 + 1e-9);  // certified exactly when it found n
   expectValid(g, r.walk);
@@ -697,7 +688,7 @@ TEST(GraphRoutes, DfsWalksASpanningTreeTwice) {
 }
 
 TEST(GraphRoutes, ExplorersAreDeterministicPerSeed) {
-  const Multigraph g = gridGraph(4, 4);
+  const Multigraph g = asf::graph::gridGraph(4, 4);
   using Fn = std::function<Walk(unsigned)>;
   const std::vector<Fn> fns = {
       [&](unsigned s) { return tarry(g, 0, TarryOptions{}, s).walk; },

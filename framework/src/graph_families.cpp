@@ -28,6 +28,29 @@ Multigraph gridGraph(int rows, int cols) {
   return g;
 }
 
+Multigraph randomConnectedGraph(int n, int m, std::uint32_t seed) {
+  if (n < 1 || m < n - 1 || static_cast<long>(m) > static_cast<long>(n) * (n - 1) / 2)
+    throw Error("randomConnectedGraph: needs n >= 1 and n-1 <= m <= n(n-1)/2");
+  std::mt19937 r(seed);
+  Multigraph g;
+  g.n = n;
+  std::set<std::pair<int, int>> s;
+  for (int i = 1; i < n; ++i) {
+    const int j = std::uniform_int_distribution<int>(0, i - 1)(r);
+    g.edges.push_back({j, i, 1});
+    s.insert({j, i});
+  }
+  std::uniform_int_distribution<int> node(0, n - 1);
+  while (g.m() < m) {
+    int a = node(r), b = node(r);
+    if (a == b) continue;
+    if (a > b) std::swap(a, b);
+    if (!s.insert({a, b}).second) continue;
+    g.edges.push_back({a, b, 1});
+  }
+  return g;
+}
+
 Multigraph randomTree(int n, std::uint64_t seed) {
   if (n < 1) throw Error("randomTree: n must be >= 1");
   Multigraph g;

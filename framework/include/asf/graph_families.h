@@ -12,6 +12,9 @@ namespace asf::graph {
 
 /// rows x cols 4-connected grid (rows, cols >= 1).
 Multigraph gridGraph(int rows, int cols);
+/// Simple connected graph with n nodes and m >= n-1 edges (m <= n(n-1)/2): node i > 0 joins
+/// a uniformly drawn earlier node, then distinct random pairs are added.
+Multigraph randomConnectedGraph(int n, int m, std::uint32_t seed);
 /// Uniformly random labelled tree on n >= 1 nodes (random Pruefer sequence).
 Multigraph randomTree(int n, std::uint64_t seed);
 /// Watts-Strogatz small world: a ring where each node joins its k/2 nearest on each side
