@@ -9,6 +9,7 @@ PKGS=(
   libeigen3-dev libopencv-dev liboctomap-dev libsuitesparse-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
   libbz2-dev zlib1g-dev
+  python3-cvxopt  # tests: independent solver the optimal-design cross-check compares with
 )
 
 missing=()
