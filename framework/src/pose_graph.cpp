@@ -1,5 +1,6 @@
 #include <asf/errors.h>
 #include <asf/pose_graph.h>
+#include <asf/se2_edge.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Dense>
@@ -110,6 +111,36 @@ void requireAnchored(const PoseGraph& g, const std::string& who) {
       throw Error(who + ": node " + std::to_string(i) +
                   " is not connected to node 0 (nor to a fixed node): its covariance is "
                   "undefined");
+}
+
+Eigen::MatrixXd denseInformation(const PoseGraph& g, std::vector<int>& index) {
+  index.assign(g.size(), -1);
+  std::vector<char> held(g.size(), 0);
+  if (!g.empty()) held[0] = 1;
+  for (NodeId f : g.fixed)
+    if (f < g.size()) held[f] = 1;
+  int dim = 0;
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (!held[i]) {
+      index[i] = dim;
+      dim += 3;
+    }
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
+  for (const PoseEdge& e : g.edges) {
+    const auto& a = g.nodes[e.from].pose;
+    const auto& b = g.nodes[e.to].pose;
+    const auto L = se2::linearizeEdge({a.x(), a.y(), a.phi()}, {b.x(), b.y(), b.phi()},
+                                      {e.mean.x(), e.mean.y(), e.mean.phi()});
+    const int i = index[e.from], j = index[e.to];
+    const Eigen::Matrix3d& W = e.information;
+    if (i >= 0) H.block<3, 3>(i, i) += L.Ji.transpose() * W * L.Ji;
+    if (j >= 0) H.block<3, 3>(j, j) += L.Jj.transpose() * W * L.Jj;
+    if (i >= 0 && j >= 0) {
+      H.block<3, 3>(i, j) += L.Ji.transpose() * W * L.Jj;
+      H.block<3, 3>(j, i) += L.Jj.transpose() * W * L.Ji;
+    }
+  }
+  return H;
 }
 
 }  // namespace asf

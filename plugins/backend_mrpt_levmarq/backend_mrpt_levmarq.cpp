@@ -4,7 +4,6 @@
 // information matrix, so it is limited to small graphs.
 #include <asf/backend.h>
 #include <asf/errors.h>
-#include <asf/se2_edge.h>
 #include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/graphslam/levmarq.h>
 
@@ -122,35 +121,14 @@ class MrptLevmarqBackend final : public asf::Backend {
                        "marginals_max_nodes = " + std::to_string(marginals_max_nodes_) +
                        " nodes (the graph has " + std::to_string(n) +
                        "); use the sparse_lm back-end for marginals of large graphs");
-    // Variables: every node except node 0 and the fixed ones.
-    std::vector<int> index(n, 0);
-    index[0] = -1;
-    for (asf::NodeId f : g.fixed) index[f] = -1;
-    int dim = 0;
-    for (auto& i : index)
-      if (i == 0) {
-        i = dim;
-        dim += 3;
-      }
     asf::requireAnchored(g, "mrpt_levmarq");
+    // Variables: every node except node 0 and the fixed ones.
+    std::vector<int> index;
+    const Eigen::MatrixXd H = asf::denseInformation(g, index);
+    const int dim = static_cast<int>(H.rows());
     m.node.assign(n, Eigen::Matrix3d::Zero());
     Eigen::MatrixXd S;
     if (dim > 0) {
-      Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
-      for (const auto& e : g.edges) {
-        const auto& a = g.nodes[e.from].pose;
-        const auto& b = g.nodes[e.to].pose;
-        const auto L = asf::se2::linearizeEdge({a.x(), a.y(), a.phi()}, {b.x(), b.y(), b.phi()},
-                                               {e.mean.x(), e.mean.y(), e.mean.phi()});
-        const int i = index[e.from], j = index[e.to];
-        const Eigen::Matrix3d& W = e.information;
-        if (i >= 0) H.block<3, 3>(i, i) += L.Ji.transpose() * W * L.Ji;
-        if (j >= 0) H.block<3, 3>(j, j) += L.Jj.transpose() * W * L.Jj;
-        if (i >= 0 && j >= 0) {
-          H.block<3, 3>(i, j) += L.Ji.transpose() * W * L.Jj;
-          H.block<3, 3>(j, i) += L.Jj.transpose() * W * L.Ji;
-        }
-      }
       Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
       const double dmax = ldlt.vectorD().cwiseAbs().maxCoeff();
       if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-14 * dmax))

@@ -102,4 +102,10 @@ Eigen::Matrix3d edgeInformation(const mrpt::poses::CPose2D& mean, const Eigen::M
 /// determined by the graph, so neither is its covariance. Back-ends call it before solving.
 void requireAnchored(const PoseGraph& g, const std::string& who);
 
+/// Dense Gauss-Newton information matrix H = sum over edges of J^T Omega J at the current
+/// estimate (analytic SE(2) Jacobians), over the free nodes: every node except node 0 (the
+/// gauge) and g.fixed. `index` receives each node's first row in H (-1 for held nodes).
+/// O((3n)^2) memory: for small graphs, baselines and test oracles.
+Eigen::MatrixXd denseInformation(const PoseGraph& g, std::vector<int>& index);
+
 }  // namespace asf

@@ -104,36 +104,6 @@ void perturbPoses(asf::PoseGraph& g, double sigma, std::mt19937_64& rng) {
                               g.nodes[i].pose.phi() + 0.5 * sigma * n01(rng));
 }
 
-/// Dense H = sum J^T Omega J over the nodes that are neither node 0 nor fixed, with the
-/// analytic Jacobians (their own test is JacobiansMatchNumericDifferentiation).
-Eigen::MatrixXd denseInformation(const asf::PoseGraph& g, std::vector<int>& index) {
-  index.assign(g.size(), -1);
-  std::vector<char> held(g.size(), 0);
-  held[0] = 1;
-  for (auto f : g.fixed) held[f] = 1;
-  int dim = 0;
-  for (std::size_t i = 0; i < g.size(); ++i)
-    if (!held[i]) {
-      index[i] = dim;
-      dim += 3;
-    }
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(dim, dim);
-  for (const auto& e : g.edges) {
-    const auto& a = g.nodes[e.from].pose;
-    const auto& b = g.nodes[e.to].pose;
-    const auto L = asf::se2::linearizeEdge({a.x(), a.y(), a.phi()}, {b.x(), b.y(), b.phi()},
-                                           {e.mean.x(), e.mean.y(), e.mean.phi()});
-    const int i = index[e.from], j = index[e.to];
-    const Eigen::Matrix3d& W = e.information;
-    if (i >= 0) H.block<3, 3>(i, i) += L.Ji.transpose() * W * L.Ji;
-    if (j >= 0) H.block<3, 3>(j, j) += L.Jj.transpose() * W * L.Jj;
-    if (i >= 0 && j >= 0) {
-      H.block<3, 3>(i, j) += L.Ji.transpose() * W * L.Jj;
-      H.block<3, 3>(j, i) += L.Jj.transpose() * W * L.Ji;
-    }
-  }
-  return H;
-}
 
 double relDiff(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return (a - b).norm() / std::max(b.norm(), 1e-300);
