@@ -29,5 +29,7 @@ int cmdRawlog2Rawseeds(int argc, char** argv);
 int cmdCarmen2Rawlog(int argc, char** argv);
 int cmdRawlogNormalize(int argc, char** argv);
 int cmdAte(int argc, char** argv);
+int cmdSegment(int argc, char** argv);
+int cmdSegmentEval(int argc, char** argv);
 
 }  // namespace asf::app

@@ -44,6 +44,10 @@ const Command kCommands[] = {
      "Rewrite a rawlog as timestamped action/sensory-frame pairs (for MRPT's tools)"},
     {"ate", asf::app::cmdAte,
      "Absolute trajectory error of a trajectory file vs ground truth (SE(2)-aligned)"},
+    {"segment", asf::app::cmdSegment,
+     "Segment one map image into regions: 16-bit label PNG, topological graph, overlay"},
+    {"segment-eval", asf::app::cmdSegmentEval,
+     "Score a segmenter on the room segmentation benchmark (precision, recall, MCC, time)"},
 };
 
 void usage(std::ostream& os) {

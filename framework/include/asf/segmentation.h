@@ -37,4 +37,18 @@ struct Segmentation {
   const Region* find(RegionId id) const;
 };
 
+/// Turns a label image with provisional labels (any values > 0, 0 = no region) into a
+/// Segmentation, the common last step of raster segmenters:
+/// - regions smaller than `min_area` [m^2] are dropped (their cells become 0);
+/// - ids are reused from `previous` (may be null) by largest overlap, greedily, each id at
+///   most once; the others get fresh ids above `*max_issued` and every id of `previous`, and
+///   `*max_issued` is updated (so an id is never reissued by the same segmenter);
+/// - area, centroid and boundary (outer counter-clockwise, holes clockwise, through the
+///   centres of the border cells) are computed per region; regions are sorted by id.
+/// `labels` must have width * height entries; cells of one provisional label need not be
+/// connected (a region's outer boundary is then that of its largest piece).
+Segmentation regionsFromLabels(LabelImage labels, const Segmentation* previous,
+                               RegionId* max_issued, std::uint64_t map_version,
+                               double min_area = 0);
+
 }  // namespace asf

@@ -1,0 +1,1 @@
+#include <asf/segmentation_eval.h>

@@ -1,0 +1,2 @@
+#include <asf/segmentation_eval.h>
+#include <gtest/gtest.h>
