@@ -62,6 +62,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     normal_radius_ = p.getDouble("icp_normal_radius");
     icp_floor_ = diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
     submap_ = static_cast<int>(p.getInt("submap_keyframes"));
+    submap_radius_ = p.getDouble("submap_radius");
+    submap_nearby_ = static_cast<int>(p.getInt("submap_nearby_keyframes"));
     min_points_ = static_cast<std::size_t>(p.getInt("icp_min_points"));
     min_goodness_ = p.getDouble("icp_min_goodness");
     max_sigma_xy_ = p.getDouble("icp_max_sigma_xy");
@@ -123,7 +125,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     if (f.scan) {
       cur = std::make_shared<const Cloud>(Cloud::fromScan(*f.scan));
       const asf::NodeId span = static_cast<asf::NodeId>(submap_) - 1;
-      const Cloud ref = submap(g, last_, last_ >= span ? last_ - span : 0, last_);
+      Cloud ref = submap(g, last_, last_ >= span ? last_ - span : 0, last_);
+      if (submap_radius_ > 0) addNearbyKeyframes(g, last_ >= span ? last_ - span : 0, ref);
       const MatchResult m = asf::icp_graph::match(ref, *cur, acc_, icp_, min_points_);
       std::string why;
       if (sequentialGate(m, why)) {
@@ -148,6 +151,10 @@ class IcpGraphFrontend final : public asf::Frontend {
     acc_ = CPose2D();
     acc_cov_.setZero();
 
+    if (submap_radius_ > 0 && cur) {
+      const asf::NodeId span = static_cast<asf::NodeId>(submap_) - 1;
+      revisitEdge(g, e.to, prev >= span ? prev - span : 0);
+    }
     if (loop_ && cur) {
       std::optional<Eigen::Matrix3d> Cj;
       if (marg_ok) {
@@ -200,6 +207,66 @@ class IcpGraphFrontend final : public asf::Frontend {
     for (asf::NodeId k = first; k <= last && k < g.size(); ++k)
       if (auto c = cloudOf(g, k)) out.add(*c, inv + g.nodes[k].pose);
     return out;
+  }
+
+  /// Adds to `ref` (frame of last_) the scans of the old keyframes (before `first`) near the
+  /// predicted pose: the sequential match then sees the mapped surroundings, not only the
+  /// last scans. Old and recent scans may disagree by uncorrected drift, which biases this
+  /// match; revisitEdge() gives the optimizer the direct constraint to the old keyframes.
+  void addNearbyKeyframes(const asf::PoseGraph& g, asf::NodeId first, Cloud& ref) {
+    CPose2D pred = g.nodes[last_].pose + acc_;
+    std::vector<std::pair<double, asf::NodeId>> near;
+    for (asf::NodeId k = 0; k < first && k < g.size(); ++k) {
+      const double d = std::hypot(g.nodes[k].pose.x() - pred.x(), g.nodes[k].pose.y() - pred.y());
+      if (d <= submap_radius_) near.emplace_back(d, k);
+    }
+    std::sort(near.begin(), near.end());
+    if (near.size() > static_cast<std::size_t>(submap_nearby_)) near.resize(submap_nearby_);
+    const CPose2D inv = CPose2D() - g.nodes[last_].pose;
+    for (const auto& [d, k] : near)
+      if (auto c = cloudOf(g, k)) ref.add(*c, inv + g.nodes[k].pose);
+  }
+
+  /// Revisit edge: the new keyframe j matched against the old keyframes (before `first`, the
+  /// start of the sequential submap) near it, in the frame of the nearest one, k. Added as an
+  /// edge k -> j when the alignment is good and agrees with the chain estimate, so a revisited
+  /// place is tied to its first visit at every keyframe, not only at verified loop closures.
+  void revisitEdge(asf::PoseGraph& g, asf::NodeId j, asf::NodeId first) {
+    const CPose2D& xj = g.nodes[j].pose;
+    std::vector<std::pair<double, asf::NodeId>> near;
+    for (asf::NodeId k = 0; k < first && k < j; ++k) {
+      if (!g.nodes[k].scan) continue;
+      const double d = std::hypot(g.nodes[k].pose.x() - xj.x(), g.nodes[k].pose.y() - xj.y());
+      if (d <= submap_radius_) near.emplace_back(d, k);
+    }
+    if (near.empty()) return;
+    std::sort(near.begin(), near.end());
+    if (near.size() > static_cast<std::size_t>(submap_nearby_)) near.resize(submap_nearby_);
+    const asf::NodeId k = near.front().second;
+    Cloud ref;
+    ref.setNormalNeighbourhood(normal_k_, normal_radius_);
+    const CPose2D inv = CPose2D() - g.nodes[k].pose;
+    for (const auto& [d, n] : near)
+      if (auto c = cloudOf(g, n)) ref.add(*c, inv + g.nodes[n].pose);
+    const CPose2D est = inv + xj;
+    const MatchResult m = asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_);
+    if (!m.ran || m.goodness < loop_min_goodness_ || m.inlier_ratio < loop_min_inliers_ ||
+        m.rmse > loop_max_rmse_ || !sigmasOk(m.cov))
+      return;
+    const auto Crel = chainCov(g, k, j);
+    if (!Crel) return;
+    const Eigen::Vector3d d = poseDiff(m.pose, est);
+    const double chi2 = d.dot((*Crel + m.cov + icp_floor_).ldlt().solve(d));
+    if (!(chi2 <= loop_chi2_)) return;
+    asf::PoseEdge e;
+    e.from = k;
+    e.to = j;
+    e.mean = m.pose;
+    e.kind = asf::EdgeKind::ScanMatch;
+    e.information = edgeInformation(m.pose, m.cov + icp_floor_, Eigen::Matrix3d::Zero());
+    g.addEdge(e);
+    ++g.revision;
+    ++n_revisits_;
   }
 
   bool sequentialGate(const MatchResult& m, std::string& why) const {
@@ -396,7 +463,8 @@ class IcpGraphFrontend final : public asf::Frontend {
   double kf_dist_ = 0.5, kf_angle_ = 20 * kDeg;
   Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(), icp_floor_ = Eigen::Matrix3d::Identity();
   asf::icp_graph::IcpOptions icp_;
-  int submap_ = 1;
+  int submap_ = 1, submap_nearby_ = 5;
+  double submap_radius_ = 0;
   std::size_t normal_k_ = 8;
   double normal_radius_ = 0.3;
   std::size_t min_points_ = 20;
@@ -412,7 +480,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   Eigen::Matrix3d acc_cov_ = Eigen::Matrix3d::Zero();
   std::vector<std::shared_ptr<const Cloud>> clouds_;  ///< per node, robot frame
   std::vector<long> seq_edge_;  ///< per node: index of the edge from its predecessor, or -1
-  long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0;
+  long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0, n_revisits_ = 0;
 };
 
 const asf::KeySpec kKeys[] = {
@@ -429,6 +497,13 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("submap_keyframes", "3",
                 "ICP reference: the scans of this many last keyframes, placed by the estimate",
                 1, 100),
+    asf::keyDouble("submap_radius", "0",
+                   "Old keyframes within this distance of a new one join its ICP reference, "
+                   "and an ICP edge from the nearest one is added when it passes the loop "
+                   "gates on one guess (0: off) [m]",
+                   0, 1e6),
+    asf::keyInt("submap_nearby_keyframes", "5",
+                "At most this many of those old keyframes, nearest first", 1, 1000),
     asf::keyInt("icp_max_iterations", "80",
                 "CICP maxIterations; an alignment that uses them all is rejected", 1, 10000),
     asf::keyDouble("icp_threshold_dist", "0.75",

@@ -50,33 +50,39 @@ void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
 std::size_t Cloud::size() const { return x_.size(); }
 
 Eigen::Vector2d Cloud::normal(std::size_t i) const {
-  if (!normals_ok_) computeNormals();
+  // Per point on first use: a match only asks for the normals of the reference points
+  // nearest to the current scan, a small part of a multi-keyframe submap.
+  if (!normals_ok_) {
+    normals_.assign(size(), Eigen::Vector2d::Zero());
+    normal_done_.assign(size(), 0);
+    normals_ok_ = true;
+  }
+  if (!normal_done_[i]) {
+    normals_[i] = computeNormal(i);
+    normal_done_[i] = 1;
+  }
   return normals_[i];
 }
 
-void Cloud::computeNormals() const {
-  normals_.assign(size(), Eigen::Vector2d::Zero());
+Eigen::Vector2d Cloud::computeNormal(std::size_t i) const {
   std::vector<float> nx, ny, nd;
-  for (std::size_t i = 0; i < size(); ++i) {
-    map_->kdTreeNClosestPoint2D(x_[i], y_[i], normal_k_, nx, ny, nd);
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    int n = 0;
-    for (std::size_t k = 0; k < nx.size(); ++k)
-      if (nd[k] <= normal_radius_ * normal_radius_) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
-    if (n < 4) continue;
-    mean /= n;
-    Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
-    for (std::size_t k = 0; k < nx.size(); ++k)
-      if (nd[k] <= normal_radius_ * normal_radius_) {
-        const Eigen::Vector2d d = Eigen::Vector2d(nx[k], ny[k]) - mean;
-        S += d * d.transpose();
-      }
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(S);
-    const auto ev = es.eigenvalues();  // ascending
-    if (ev(1) <= 0 || ev(0) > kLineRatio * kLineRatio * ev(1)) continue;
-    normals_[i] = es.eigenvectors().col(0).normalized();
-  }
-  normals_ok_ = true;
+  map_->kdTreeNClosestPoint2D(x_[i], y_[i], normal_k_, nx, ny, nd);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  int n = 0;
+  for (std::size_t k = 0; k < nx.size(); ++k)
+    if (nd[k] <= normal_radius_ * normal_radius_) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
+  if (n < 4) return Eigen::Vector2d::Zero();
+  mean /= n;
+  Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
+  for (std::size_t k = 0; k < nx.size(); ++k)
+    if (nd[k] <= normal_radius_ * normal_radius_) {
+      const Eigen::Vector2d d = Eigen::Vector2d(nx[k], ny[k]) - mean;
+      S += d * d.transpose();
+    }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(S);
+  const auto ev = es.eigenvalues();  // ascending
+  if (ev(1) <= 0 || ev(0) > kLineRatio * kLineRatio * ev(1)) return Eigen::Vector2d::Zero();
+  return es.eigenvectors().col(0).normalized();
 }
 
 namespace {

@@ -21,7 +21,7 @@ class CSimplePointsMap;
 namespace asf::icp_graph {
 
 /// Points of one or more scans in one frame, with a normal per point where the
-/// neighbourhood is line-like (computed lazily, for use as a reference cloud).
+/// neighbourhood is line-like (computed per point on first use, for a reference cloud).
 class Cloud {
  public:
   Cloud();
@@ -49,10 +49,11 @@ class Cloud {
   }
 
  private:
-  void computeNormals() const;
+  Eigen::Vector2d computeNormal(std::size_t i) const;
   std::unique_ptr<mrpt::maps::CSimplePointsMap> map_;
   std::vector<float> x_, y_;
   mutable std::vector<Eigen::Vector2d> normals_;
+  mutable std::vector<char> normal_done_;
   mutable bool normals_ok_ = false;
   std::size_t normal_k_ = 8;
   double normal_radius_ = 0.3;

@@ -356,4 +356,30 @@ TEST(IcpGraphFrontend, LoopClosureInARingCorridorCorrectsTheDrift) {
   EXPECT_LT(ew, 0.5 * en);
 }
 
+TEST(IcpGraphFrontend, OldKeyframesNearbyCutTheDriftOfAReturnTrip) {
+  // Up the ring's left corridor and back along it (closures on, optimized after every node).
+  // With submap_radius each returning keyframe is matched against the outbound scans of the
+  // same place and tied to them by an edge, so the return trip keeps the outbound estimate
+  // instead of integrating new drift between closures.
+  const KV sim = {{"map_image", ringWorld()}, {"resolution", "0.05"}, {"start_x", "1.4"},
+                  {"start_y", "2"}, {"start_phi_deg", "90"}, {"laser_fov_deg", "270"},
+                  {"laser_rays", "271"}, {"laser_max_range", "6"}, {"odo_a1", "0.05"},
+                  {"odo_a3", "4"}, {"odo_a4", "0.2"}};
+  const auto frames = simulate(sim, {{1.4, 12.5}, {1.4, 2}}, 11);
+  auto recent = icpGraph();
+  auto nearby = icpGraph({{"submap_radius", "2"}, {"submap_nearby_keyframes", "8"}});
+  auto be1 = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
+  auto be2 = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
+  const auto gr = run(*recent, frames, be1.instance.get());
+  const auto gn = run(*nearby, frames, be2.instance.get());
+  const double er = nodeError(gr, gr.size() - 1), en = nodeError(gn, gn.size() - 1);
+  std::cout << gn.size() << " nodes, " << countKind(gn, asf::EdgeKind::ScanMatch) << " vs "
+            << countKind(gr, asf::EdgeKind::ScanMatch) << " ICP edges; final pose error " << en
+            << " m with old keyframes nearby, " << er << " m with the last keyframes only; mean "
+            << meanNodeError(gn) << " vs " << meanNodeError(gr) << "\n";
+  EXPECT_GT(countKind(gn, asf::EdgeKind::ScanMatch), countKind(gr, asf::EdgeKind::ScanMatch));
+  EXPECT_LT(en, 0.5 * er);
+  EXPECT_LT(meanNodeError(gn), 0.5 * meanNodeError(gr));
+}
+
 }  // namespace
