@@ -6,6 +6,7 @@
 // several initial guesses and a chi^2 test against the current estimate.
 #include <asf/errors.h>
 #include <asf/frontend.h>
+#include <asf/keyframe_tracker.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -44,8 +45,7 @@ Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
 class IcpGraphFrontend final : public asf::Frontend {
  public:
   void configure(const asf::Params& p, const asf::PluginContext&) override {
-    kf_dist_ = p.getDouble("keyframe_distance");
-    kf_angle_ = p.getDouble("keyframe_angle_deg") * kDeg;
+    kf_.setThresholds(p.getDouble("keyframe_distance"), p.getDouble("keyframe_angle_deg") * kDeg);
     odo_floor_ = diag3(p.getDouble("min_sigma_xy"), p.getDouble("min_sigma_phi"));
     icp_.max_iterations = static_cast<int>(p.getInt("icp_max_iterations"));
     icp_.threshold_dist = p.getDouble("icp_threshold_dist");
@@ -89,47 +89,43 @@ class IcpGraphFrontend final : public asf::Frontend {
 
   bool process(const asf::SensorFrame& f, asf::PoseGraph& g,
                const asf::Marginals& marginals) override {
-    if (!started_) {
-      started_ = true;
-      acc_ = CPose2D();
-      acc_cov_.setZero();
-      if (g.empty()) {
-        addNode(g, CPose2D(), f);
+    switch (kf_.begin(f, g)) {
+      case asf::KeyframeTracker::Begin::AddedRoot:
+        nodeAdded(g, 0, f);
         return true;
-      }
-      last_ = static_cast<asf::NodeId>(g.size() - 1);
-      MRPT_LOG_WARN_STREAM("graph not empty on the first frame: continuing from node " << last_);
-      return false;
+      case asf::KeyframeTracker::Begin::Continued:
+        MRPT_LOG_WARN_STREAM("graph not empty on the first frame: continuing from node "
+                             << kf_.last());
+        return false;
+      case asf::KeyframeTracker::Begin::NotFirst: break;
     }
-    if (last_ >= g.size())
-      throw asf::Error("icp_graph front-end: graph has " + std::to_string(g.size()) +
-                       " nodes but the last keyframe was node " + std::to_string(last_) +
-                       " (was the graph replaced?)");
-    accumulate(f.odometry, f.odometry_cov);
-    const double dist = std::hypot(acc_.x(), acc_.y()), ang = std::abs(acc_.phi());
-    if (dist <= kf_dist_ && ang <= kf_angle_) return false;
+    if (!kf_.due()) return false;
     // Past the threshold on a frame without a scan: wait for one (a scan-less keyframe gets no
     // ICP), unless the robot has gone twice the threshold.
-    if (!f.scan && dist <= 2 * kf_dist_ && ang <= 2 * kf_angle_) return false;
+    if (!f.scan && !kf_.due(2)) return false;
+    const CPose2D acc = kf_.increment();
+    const Eigen::Matrix3d acc_cov = kf_.incrementCov();
+    const asf::NodeId last = kf_.last();
 
     // The back-end's marginals describe this graph only if nothing changed since.
     const bool marg_ok = marginals.valid() && marginals.graph_revision == g.revision &&
                          marginals.node.size() == g.size();
 
     asf::PoseEdge e;
-    e.from = last_;
-    e.mean = acc_;
+    e.from = last;
+    e.mean = acc;
     e.kind = asf::EdgeKind::Odometry;
-    Eigen::Matrix3d cov = acc_cov_ + odo_floor_;  // additive, frame of `from`
+    Eigen::Matrix3d cov = acc_cov + odo_floor_;  // additive, frame of `from`
     std::shared_ptr<const Cloud> cur;
     if (f.scan) {
       cur = std::make_shared<const Cloud>(Cloud::fromScan(*f.scan));
       const asf::NodeId span = static_cast<asf::NodeId>(submap_) - 1;
-      Cloud ref = submap(g, last_, last_ >= span ? last_ - span : 0, last_);
-      if (submap_radius_ > 0) addNearbyKeyframes(g, last_ >= span ? last_ - span : 0, ref);
-      const MatchResult m = asf::icp_graph::match(ref, *cur, acc_, icp_, min_points_);
+      Cloud ref = submap(g, last, last >= span ? last - span : 0, last);
+      if (submap_radius_ > 0)
+        addNearbyKeyframes(g, last, g.nodes[last].pose + acc, last >= span ? last - span : 0, ref);
+      const MatchResult m = asf::icp_graph::match(ref, *cur, acc, icp_, min_points_);
       std::string why;
-      if (sequentialGate(m, why)) {
+      if (sequentialGate(m, acc, acc_cov, why)) {
         e.mean = m.pose;
         cov = m.cov + icp_floor_;
         e.kind = asf::EdgeKind::ScanMatch;
@@ -141,15 +137,14 @@ class IcpGraphFrontend final : public asf::Frontend {
     }
     // `cov` already holds the floor of its kind.
     e.information = edgeInformation(e.mean, cov, Eigen::Matrix3d::Zero());
-    CPose2D pose = g.nodes[last_].pose + e.mean;
+    CPose2D pose = g.nodes[last].pose + e.mean;
     pose.normalizePhi();
-    const asf::NodeId prev = last_;
-    e.to = addNode(g, pose, f);
+    const asf::NodeId prev = last;
+    e.to = kf_.addKeyframe(g, pose, f);
+    nodeAdded(g, e.to, f);
     clouds_[e.to] = cur;
     seq_edge_[e.to] = static_cast<long>(g.edges.size());
     g.addEdge(e);
-    acc_ = CPose2D();
-    acc_cov_.setZero();
 
     if (submap_radius_ > 0 && cur) {
       const asf::NodeId span = static_cast<asf::NodeId>(submap_) - 1;
@@ -168,25 +163,14 @@ class IcpGraphFrontend final : public asf::Frontend {
     return true;
   }
 
-  CPose2D currentPose(const asf::PoseGraph& g) const override {
-    if (g.empty()) return acc_;
-    const asf::NodeId base = last_ < g.size() ? last_ : static_cast<asf::NodeId>(g.size() - 1);
-    CPose2D p = g.nodes[base].pose + acc_;
-    p.normalizePhi();
-    return p;
-  }
+  CPose2D currentPose(const asf::PoseGraph& g) const override { return kf_.currentPose(g); }
 
  private:
-  asf::NodeId addNode(asf::PoseGraph& g, const CPose2D& pose, const asf::SensorFrame& f) {
-    const asf::NodeId id = g.addNode(pose, f.timestamp);
-    g.nodes[id].scan = f.scan;
-    g.nodes[id].ground_truth = f.ground_truth;
-    ++g.revision;
-    last_ = id;
+  /// Per-node state for a keyframe the tracker just added.
+  void nodeAdded(const asf::PoseGraph& g, asf::NodeId id, const asf::SensorFrame& f) {
     clouds_.resize(g.size());
     seq_edge_.resize(g.size(), -1);
     if (id == 0 && f.scan) clouds_[0] = std::make_shared<const Cloud>(Cloud::fromScan(*f.scan));
-    return id;
   }
 
   /// The node's scan as a cloud in its robot frame (built on first use for nodes this
@@ -209,12 +193,12 @@ class IcpGraphFrontend final : public asf::Frontend {
     return out;
   }
 
-  /// Adds to `ref` (frame of last_) the scans of the old keyframes (before `first`) near the
+  /// Adds to `ref` (frame of `last`) the scans of the old keyframes (before `first`) near the
   /// predicted pose: the sequential match then sees the mapped surroundings, not only the
   /// last scans. Old and recent scans may disagree by uncorrected drift, which biases this
   /// match; revisitEdge() gives the optimizer the direct constraint to the old keyframes.
-  void addNearbyKeyframes(const asf::PoseGraph& g, asf::NodeId first, Cloud& ref) {
-    CPose2D pred = g.nodes[last_].pose + acc_;
+  void addNearbyKeyframes(const asf::PoseGraph& g, asf::NodeId last, const CPose2D& pred,
+                          asf::NodeId first, Cloud& ref) {
     std::vector<std::pair<double, asf::NodeId>> near;
     for (asf::NodeId k = 0; k < first && k < g.size(); ++k) {
       const double d = std::hypot(g.nodes[k].pose.x() - pred.x(), g.nodes[k].pose.y() - pred.y());
@@ -222,7 +206,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     }
     std::sort(near.begin(), near.end());
     if (near.size() > static_cast<std::size_t>(submap_nearby_)) near.resize(submap_nearby_);
-    const CPose2D inv = CPose2D() - g.nodes[last_].pose;
+    const CPose2D inv = CPose2D() - g.nodes[last].pose;
     for (const auto& [d, k] : near)
       if (auto c = cloudOf(g, k)) ref.add(*c, inv + g.nodes[k].pose);
   }
@@ -269,7 +253,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     ++n_revisits_;
   }
 
-  bool sequentialGate(const MatchResult& m, std::string& why) const {
+  bool sequentialGate(const MatchResult& m, const CPose2D& acc, const Eigen::Matrix3d& acc_cov,
+                      std::string& why) const {
     std::ostringstream os;
     if (!m.ran) why = m.reason;
     else if (static_cast<int>(m.iterations) >= icp_.max_iterations)
@@ -280,8 +265,8 @@ class IcpGraphFrontend final : public asf::Frontend {
       os << "ill-conditioned alignment (sigmas " << std::sqrt(m.cov(0, 0)) << ", "
          << std::sqrt(m.cov(1, 1)) << ", " << std::sqrt(m.cov(2, 2)) << ")";
     else {
-      const Eigen::Vector3d d = poseDiff(m.pose, acc_);
-      const Eigen::Matrix3d C = acc_cov_ + odo_floor_ + m.cov + icp_floor_;
+      const Eigen::Vector3d d = poseDiff(m.pose, acc);
+      const Eigen::Matrix3d C = acc_cov + odo_floor_ + m.cov + icp_floor_;
       const double chi2 = d.dot(C.ldlt().solve(d));
       if (!(chi2 <= odo_chi2_)) os << "disagrees with odometry: chi2 " << chi2;
     }
@@ -453,14 +438,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     }
   }
 
-  void accumulate(const CPose2D& u, const Eigen::Matrix3d& cov_u) {
-    Eigen::Matrix3d out;
-    acc_ = composeWithCov(acc_, acc_cov_, u, cov_u, out);
-    acc_cov_ = out;
-  }
 
   // configuration
-  double kf_dist_ = 0.5, kf_angle_ = 20 * kDeg;
   Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(), icp_floor_ = Eigen::Matrix3d::Identity();
   asf::icp_graph::IcpOptions icp_;
   int submap_ = 1, submap_nearby_ = 5;
@@ -474,10 +453,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   double loop_radius_ = 3, loop_gate_ = 9.21, loop_pert_xy_ = 0.3, loop_pert_phi_ = 10 * kDeg;
   double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05, loop_chi2_ = 11.34;
   // state
-  bool started_ = false;
-  asf::NodeId last_ = 0;
-  CPose2D acc_;
-  Eigen::Matrix3d acc_cov_ = Eigen::Matrix3d::Zero();
+  asf::KeyframeTracker kf_{"icp_graph front-end"};
   std::vector<std::shared_ptr<const Cloud>> clouds_;  ///< per node, robot frame
   std::vector<long> seq_edge_;  ///< per node: index of the edge from its predecessor, or -1
   long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0, n_revisits_ = 0;
