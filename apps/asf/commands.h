@@ -31,5 +31,6 @@ int cmdRawlogNormalize(int argc, char** argv);
 int cmdAte(int argc, char** argv);
 int cmdSegment(int argc, char** argv);
 int cmdSegmentEval(int argc, char** argv);
+int cmdPlan(int argc, char** argv);
 
 }  // namespace asf::app

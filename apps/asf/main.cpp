@@ -48,6 +48,8 @@ const Command kCommands[] = {
      "Segment one map image into regions: 16-bit label PNG, topological graph, overlay"},
     {"segment-eval", asf::app::cmdSegmentEval,
      "Score a segmenter on the room segmentation benchmark (precision, recall, MCC, time)"},
+    {"plan", asf::app::cmdPlan,
+     "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
 };
 
 void usage(std::ostream& os) {

@@ -1,0 +1,3 @@
+#pragma once
+/// \file expected_uncertainty.h
+/// (being written)

@@ -1,0 +1,1 @@
+#include <asf/expected_uncertainty.h>

@@ -1,0 +1,2 @@
+#include <asf/expected_uncertainty.h>
+#include <gtest/gtest.h>
