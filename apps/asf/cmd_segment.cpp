@@ -1,15 +1,532 @@
-// asf segment / asf segment-eval (being written).
+// asf segment: one map image through a segmenter plugin (label PNG, topological graph,
+// overlay). asf segment-eval: a segmenter scored on the room segmentation benchmark as
+// ../shared/docs/roomseg-eval.md describes (the figures of docs/BENCHMARKS.md).
+#include <asf/abi.h>
+#include <asf/config.h>
+#include <asf/errors.h>
+#include <asf/registry.h>
+#include <asf/segmentation_eval.h>
+#include <asf/segmenter.h>
+#include <asf/topo_builder.h>
+#include <tclap/CmdLine.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
 #include "commands.h"
 
-#include <iostream>
-
 namespace asf::app {
-int cmdSegment(int, char**) {
-  std::cerr << "asf segment: not built yet\n";
-  return kError;
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
 }
-int cmdSegmentEval(int, char**) {
-  std::cerr << "asf segment-eval: not built yet\n";
-  return kError;
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+/// A segmenter plugin with its validated keys, and the [topology] keys; creates a fresh,
+/// configured instance per map (segmenters keep id state between calls).
+struct SegmenterSetup {
+  std::shared_ptr<const PluginInfo> info;
+  Params params, topology;
+
+  PluginHandle<Segmenter> create() const {
+    auto s = Registry::create<Segmenter>(info);
+    // Plugin log lines go to stderr: stdout stays the report.
+    s->logging_enable_console_output = false;
+    s->logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
+                              std::string_view logger, const mrpt::Clock::time_point&) {
+      std::cerr << "[" << logger << "] " << msg;
+      if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
+    });
+    s->setLoggerName(info->name());
+    s->configure(params, PluginContext{});
+    return s;
+  }
+};
+
+const char* kSetHelp =
+    "Segmenter key: key=value or <segmenter>.key=value; topological graph key: "
+    "topology.key=value (min_border_width, min_frontier_width, unknown_band). Repeatable";
+
+SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::string>& sets,
+                              const std::vector<std::string>& plugin_paths, bool with_topology) {
+  Registry reg;
+  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+  for (const auto& d : plugin_paths) reg.scanDirectory(d);
+  SegmenterSetup s;
+  s.info = reg.find(name, PluginKind::Segmenter);
+  const std::string plugin = s.info->name();
+  IniConfig ini = IniConfig::fromText("", "--set");
+  for (const auto& a : sets) {
+    const auto eq = a.find('='), dot = a.find('.');
+    if (eq == std::string::npos) throw ConfigError("--set " + a + ": expected key=value");
+    const bool has_section = dot != std::string::npos && dot < eq;
+    const std::string section = has_section ? lower(a.substr(0, dot)) : "";
+    if (has_section && section == "topology" && !with_topology)
+      throw ConfigError("--set " + a + ": no topological graph here (asf segment has one)");
+    if (has_section && section != "topology" && section != lower(plugin))
+      throw ConfigError("--set " + a + ": the segmenter is '" + plugin + "', not '" +
+                        a.substr(0, dot) + "'" +
+                        (with_topology ? " (topology.key=value for the graph)" : ""));
+    ini.applyOverride(has_section ? a : plugin + "." + a);
+  }
+  s.params = ini.resolve(plugin, s.info->descriptor->keys, s.info->descriptor->num_keys);
+  std::size_t n = 0;
+  const KeySpec* topo_keys = TopoBuilder::keys(n);
+  s.topology = ini.resolve("topology", topo_keys, n);
+  return s;
+}
+
+/// The segmentation as an image raster; checks the segmenter's contract on the size.
+LabelRaster rasterOf(const Segmentation& seg, const GrayImage& image, const std::string& who) {
+  LabelRaster r = toRaster(seg.labels);
+  if (r.labels.empty() && seg.regions.empty()) {  // no region at all: an empty image
+    r.width = image.width;
+    r.height = image.height;
+    r.labels.assign(static_cast<std::size_t>(image.width) * image.height, 0);
+  }
+  if (r.width != image.width || r.height != image.height)
+    throw Error(who + ": the segmenter returned a " + std::to_string(r.width) + " x " +
+                std::to_string(r.height) + " label image for a " + std::to_string(image.width) +
+                " x " + std::to_string(image.height) + " map");
+  return r;
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f) throw Error(path + ": cannot write");
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+int cmdSegment(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Segments one map image into regions with a segmenter plugin. The map is read as the "
+      "room segmentation benchmark does: 8-bit grayscale, pixel >= --free-threshold is free, "
+      "anything else occupied, origin (0, 0), image row 0 at the top (max y). Writes a 16-bit "
+      "single-channel label PNG (0 = no region, else the region id; same size and "
+      "orientation as the input), optionally the topological graph (JSON as asf run's "
+      "topology.json) and an overlay image (regions, ids, graph edges).",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::UnlabeledValueArg<std::string> map_arg("map", "Map image", true, "", "MAP.png", cmd);
+  TCLAP::ValueArg<double> res("r", "resolution", "Metres per pixel", false, 0.05, "M", cmd);
+  TCLAP::ValueArg<std::string> segmenter("g", "segmenter", "Segmenter plugin name", true, "",
+                                         "NAME", cmd);
+  TCLAP::ValueArg<std::string> out("o", "output", "Label image to write (16-bit PNG)", true, "",
+                                   "LABELS.png", cmd);
+  TCLAP::ValueArg<std::string> graph("", "graph", "Write the topological graph (JSON)", false,
+                                     "", "OUT.json", cmd);
+  TCLAP::ValueArg<std::string> overlay("", "overlay", "Write an overlay image (PNG)", false, "",
+                                       "OUT.png", cmd);
+  TCLAP::ValueArg<int> threshold("t", "free-threshold", "Pixels >= this are free", false,
+                                 kBenchmarkFreeThreshold, "0-255", cmd);
+  TCLAP::MultiArg<std::string> set("s", "set", kSetHelp, false, "KEY=VALUE", cmd);
+  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+  if (!(res.getValue() > 0)) throw ConfigError("--resolution must be > 0");
+
+  const SegmenterSetup setup =
+      setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), true);
+  const GrayImage image = readGrayImage(map_arg.getValue());
+  const GridMap map = gridFromImage(image, res.getValue(), threshold.getValue());
+  auto seg = setup.create();
+  const auto t0 = std::chrono::steady_clock::now();
+  const Segmentation s = seg->segment(map, nullptr);
+  const double ms = msSince(t0);
+  writeLabelImage(out.getValue(), rasterOf(s, image, map_arg.getValue()));
+
+  TopoBuilder topo;
+  topo.configure(setup.topology);
+  topo.update(s, map);
+  if (!graph.getValue().empty()) writeTextAtomically(graph.getValue(), topologyJson(topo.graph()));
+  if (!overlay.getValue().empty())
+    writeSegmentationOverlay(overlay.getValue(), map, s, &topo.graph());
+
+  std::size_t frontier = 0;
+  for (const auto& e : topo.graph().edges) frontier += e.frontier();
+  std::cout << map_arg.getValue() << ": " << image.width << " x " << image.height << " px, "
+            << s.regions.size() << " regions, " << topo.graph().edges.size() - frontier
+            << " edges, " << frontier << " frontier edges; " << setup.info->name() << " in "
+            << std::fixed << std::setprecision(1) << ms << " ms\nwrote " << out.getValue();
+  if (!graph.getValue().empty()) std::cout << ", " << graph.getValue();
+  if (!overlay.getValue().empty()) std::cout << ", " << overlay.getValue();
+  std::cout << "\n";
+  return kOk;
+}
+
+namespace {
+
+struct MapResult {
+  std::string name, variant;
+  SegmentationScore score;
+  double time_ms = 0;
+  bool incremental = false;
+  IncrementalResult inc;  // update_ms and final_score when `incremental`
+};
+
+json scoreJson(const SegmentationScore& s) {
+  return {{"precision", s.precision},
+          {"recall", s.recall},
+          {"precision_pooled", s.precision_pooled},
+          {"recall_pooled", s.recall_pooled},
+          {"mcc", s.mcc},
+          {"segments", s.segments},
+          {"rooms", s.rooms}};
+}
+
+json incrementalJson(const IncrementalResult& r) {
+  json j = scoreJson(r.final_score);
+  j["updates"] = r.update_ms.size();
+  j["median_ms"] = percentile(r.update_ms, 50);
+  j["p95_ms"] = percentile(r.update_ms, 95);
+  j["max_ms"] = percentile(r.update_ms, 100);
+  j["mean_ms"] = meanStd(r.update_ms).mean;
+  j["coverage"] = r.coverage;
+  j["path_length_m"] = r.path_length_m;
+  return j;
+}
+
+/// Means and population stds of one variant's maps (and of their incremental runs).
+json summaryJson(const std::vector<MapResult>& all, const std::string& variant) {
+  std::map<std::string, std::vector<double>> v, inc;
+  std::vector<double> updates;
+  for (const auto& m : all) {
+    if (m.variant != variant) continue;
+    v["precision"].push_back(m.score.precision);
+    v["recall"].push_back(m.score.recall);
+    v["precision_pooled"].push_back(m.score.precision_pooled);
+    v["recall_pooled"].push_back(m.score.recall_pooled);
+    v["mcc"].push_back(m.score.mcc);
+    v["segments"].push_back(m.score.segments);
+    v["time_ms"].push_back(m.time_ms);
+    if (!m.incremental) continue;
+    inc["precision"].push_back(m.inc.final_score.precision);
+    inc["recall"].push_back(m.inc.final_score.recall);
+    inc["precision_pooled"].push_back(m.inc.final_score.precision_pooled);
+    inc["recall_pooled"].push_back(m.inc.final_score.recall_pooled);
+    inc["mcc"].push_back(m.inc.final_score.mcc);
+    inc["coverage"].push_back(m.inc.coverage);
+    updates.insert(updates.end(), m.inc.update_ms.begin(), m.inc.update_ms.end());
+  }
+  json j;
+  j["maps"] = v["precision"].size();
+  for (const auto& [k, vals] : v) {
+    const MeanStd ms = meanStd(vals);
+    j[k + "_mean"] = ms.mean;
+    j[k + "_std"] = ms.std;
+  }
+  if (!inc.empty()) {
+    json i;
+    i["maps"] = inc["precision"].size();
+    // Update times pooled over every update of every map.
+    i["updates"] = updates.size();
+    i["median_ms"] = percentile(updates, 50);
+    i["p95_ms"] = percentile(updates, 95);
+    i["max_ms"] = percentile(updates, 100);
+    i["mean_ms"] = meanStd(updates).mean;
+    for (const auto& [k, vals] : inc) {
+      const MeanStd ms = meanStd(vals);
+      i[k + "_mean"] = ms.mean;
+      i[k + "_std"] = ms.std;
+    }
+    j["incremental"] = i;
+  }
+  return j;
+}
+
+json reportJson(const std::vector<MapResult>& all, const std::string& segmenter,
+                const SegmenterSetup& setup, const std::string& error) {
+  json j;
+  j["segmenter"] = segmenter;
+  json params = json::object();
+  for (const auto& [k, v] : setup.params.values()) params[k] = v.text;
+  j["params"] = params;
+  j["maps"] = json::array();
+  for (const auto& m : all) {
+    json e = scoreJson(m.score);
+    e["name"] = m.name;
+    e["variant"] = m.variant;
+    e["time_ms"] = m.time_ms;
+    if (m.incremental) e["incremental"] = incrementalJson(m.inc);
+    j["maps"].push_back(e);
+  }
+  json summary;
+  for (const char* v : {"plain", "furnished"})
+    if (std::any_of(all.begin(), all.end(), [&](const MapResult& m) { return m.variant == v; }))
+      summary[v] = summaryJson(all, v);
+  j["summary"] = summary;
+  j["complete"] = error.empty();
+  if (!error.empty()) j["error"] = error;
+  return j;
+}
+
+std::string fmt(double v, int digits = 3) {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(digits) << v;
+  return os.str();
+}
+
+void printReport(const std::vector<MapResult>& all) {
+  std::cout << std::left << std::setw(20) << "map" << std::setw(11) << "variant" << std::right
+            << std::setw(7) << "prec" << std::setw(7) << "rec" << std::setw(8) << "prec_p"
+            << std::setw(8) << "rec_p" << std::setw(7) << "mcc" << std::setw(6) << "segs"
+            << std::setw(6) << "rooms" << std::setw(10) << "time_ms" << "\n";
+  for (const auto& m : all) {
+    std::cout << std::left << std::setw(20) << m.name << std::setw(11) << m.variant
+              << std::right << std::setw(7) << fmt(m.score.precision) << std::setw(7)
+              << fmt(m.score.recall) << std::setw(8) << fmt(m.score.precision_pooled)
+              << std::setw(8) << fmt(m.score.recall_pooled) << std::setw(7) << fmt(m.score.mcc)
+              << std::setw(6) << m.score.segments << std::setw(6) << m.score.rooms
+              << std::setw(10) << fmt(m.time_ms, 1) << "\n";
+    if (m.incremental)
+      std::cout << "  incremental: " << m.inc.update_ms.size() << " updates, median "
+                << fmt(percentile(m.inc.update_ms, 50), 1) << " ms, p95 "
+                << fmt(percentile(m.inc.update_ms, 95), 1) << " ms, max "
+                << fmt(percentile(m.inc.update_ms, 100), 1) << " ms; final precision "
+                << fmt(m.inc.final_score.precision) << ", recall "
+                << fmt(m.inc.final_score.recall) << ", coverage " << fmt(m.inc.coverage)
+                << "\n";
+  }
+  for (const char* v : {"plain", "furnished"}) {
+    const json s = summaryJson(all, v);
+    if (s["maps"].get<std::size_t>() == 0) continue;
+    auto pm = [&](const std::string& k, int digits = 3) {
+      return fmt(s[k + "_mean"].get<double>(), digits) + " +- " +
+             fmt(s[k + "_std"].get<double>(), digits);
+    };
+    std::cout << "summary " << v << " (" << s["maps"] << " maps): precision " << pm("precision")
+              << ", recall " << pm("recall") << ", precision_pooled " << pm("precision_pooled")
+              << ", recall_pooled " << pm("recall_pooled") << ", mcc " << pm("mcc")
+              << ", segments " << pm("segments", 1) << ", time_ms " << pm("time_ms", 1) << "\n";
+    if (s.contains("incremental")) {
+      const json& i = s["incremental"];
+      auto ipm = [&](const std::string& k) {
+        return fmt(i[k + "_mean"].get<double>()) + " +- " + fmt(i[k + "_std"].get<double>());
+      };
+      std::cout << "summary " << v << " incremental (" << i["maps"] << " maps, " << i["updates"]
+                << " updates): median " << fmt(i["median_ms"].get<double>(), 1) << " ms, p95 "
+                << fmt(i["p95_ms"].get<double>(), 1) << " ms, max "
+                << fmt(i["max_ms"].get<double>(), 1) << " ms; final precision "
+                << ipm("precision") << ", recall " << ipm("recall") << ", coverage "
+                << ipm("coverage") << "\n";
+    }
+  }
+}
+
+}  // namespace
+
+int cmdSegmentEval(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Scores a segmenter on the room segmentation benchmark (Bormann et al., ICRA 2016) "
+      "exactly as ../shared/docs/roomseg-eval.md describes: for every PLAIN/<name>.png, the "
+      "ground truth GT/<name>_gt_segmentation.png (rooms: pixels > 250, 8-connected, more than "
+      "100 px) and, with --furnished, FURNISHED/<name>_furnitures.png scored against the same "
+      "rooms. Per map: precision (mean over segments of > 100 px of the best overlap / segment "
+      "size), recall (mean over rooms of the best overlap / room size), their pooled variants "
+      "(sum of best overlaps / sum of sizes), the Matthews correlation of 'same region' over "
+      "pixel pairs (pixels in a counted room or segment; unlabelled ones are singletons), "
+      "segment count and segment() time; then mean +- population std per variant. A fresh "
+      "segmenter instance segments each map. --incremental also explores every plain map "
+      "with a simulated 360-degree laser (perfect localization, nearest frontier first) and "
+      "times the segmenter after every map update, passing it the previous segmentation.",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::ValueArg<std::string> plain("", "plain", "Folder of the plain maps (<name>.png)", true,
+                                     "", "DIR", cmd);
+  TCLAP::ValueArg<std::string> gt("", "gt",
+                                  "Folder of the ground truth (<name>_gt_segmentation.png)", true,
+                                  "", "DIR", cmd);
+  TCLAP::ValueArg<std::string> furnished("", "furnished",
+                                         "Folder of the furnished maps (<name>_furnitures.png)",
+                                         false, "", "DIR", cmd);
+  TCLAP::ValueArg<double> res("r", "resolution", "Metres per pixel", false, 0.05, "M", cmd);
+  TCLAP::ValueArg<std::string> segmenter("g", "segmenter", "Segmenter plugin name", true, "",
+                                         "NAME", cmd);
+  TCLAP::MultiArg<std::string> set("s", "set",
+                                   "Segmenter key: key=value or <segmenter>.key=value "
+                                   "(repeatable)",
+                                   false, "KEY=VALUE", cmd);
+  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd);
+  TCLAP::MultiArg<std::string> only("m", "map", "Score only this map name (repeatable)", false,
+                                    "NAME", cmd);
+  TCLAP::ValueArg<std::string> json_out("j", "json",
+                                        "Write the JSON report here: segmenter, params, maps "
+                                        "[{name, variant, precision, recall, precision_pooled, "
+                                        "recall_pooled, mcc, segments, rooms, time_ms, "
+                                        "incremental}], summary {plain, furnished: <key>_mean, "
+                                        "<key>_std, incremental}, complete, error. Rewritten "
+                                        "after every map: an error or interruption keeps what "
+                                        "was done",
+                                        false, "", "OUT.json", cmd);
+  TCLAP::ValueArg<std::string> images("i", "images",
+                                      "Write overlays <name>_<variant>.png (regions, ids, "
+                                      "ground-truth room outlines in dark red) and 16-bit label "
+                                      "images <name>_<variant>_labels.png into this folder",
+                                      false, "", "DIR", cmd);
+  TCLAP::SwitchArg incremental("", "incremental",
+                               "Also time incremental segmentation on a simulated exploration "
+                               "of every plain map",
+                               cmd);
+  TCLAP::ValueArg<double> range("", "sensor-range", "Simulated laser range (m)", false, 5.0, "M",
+                                cmd);
+  TCLAP::ValueArg<double> spacing("", "scan-spacing", "Travel between simulated scans (m)",
+                                  false, 0.5, "M", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+  if (!(res.getValue() > 0)) throw ConfigError("--resolution must be > 0");
+
+  const SegmenterSetup setup =
+      setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), false);
+  const std::string name = setup.info->name();
+
+  std::error_code ec;
+  if (!fs::is_directory(plain.getValue(), ec))
+    throw InputError(plain.getValue() + ": no such folder (--plain)");
+  if (!fs::is_directory(gt.getValue(), ec))
+    throw InputError(gt.getValue() + ": no such folder (--gt)");
+  if (!furnished.getValue().empty() && !fs::is_directory(furnished.getValue(), ec))
+    throw InputError(furnished.getValue() + ": no such folder (--furnished)");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(plain.getValue()))
+    if (e.is_regular_file() && lower(e.path().extension().string()) == ".png")
+      names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  if (!only.getValue().empty()) {
+    for (const auto& m : only.getValue())
+      if (std::find(names.begin(), names.end(), m) == names.end())
+        throw InputError(plain.getValue() + ": no map " + m + ".png (--map)");
+    names = only.getValue();
+  }
+  if (names.empty()) throw InputError(plain.getValue() + ": no .png maps");
+  if (!images.getValue().empty()) fs::create_directories(images.getValue());
+
+  ExplorationOptions explore;
+  explore.sensor_range = range.getValue();
+  explore.scan_spacing = spacing.getValue();
+
+  std::vector<MapResult> results;
+  std::string error, current;  // current: the map and variant being scored, for errors
+  auto save = [&] {
+    if (!json_out.getValue().empty())
+      writeTextAtomically(json_out.getValue(),
+                          reportJson(results, name, setup, error).dump(2) + "\n");
+  };
+  auto imagePath = [&](const std::string& map, const std::string& what) {
+    return (fs::path(images.getValue()) / (map + "_" + what + ".png")).string();
+  };
+
+  try {
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const std::string& n = names[k];
+      const std::string prefix =
+          "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + n;
+      const std::string gt_file = (fs::path(gt.getValue()) / (n + "_gt_segmentation.png")).string();
+      current = n + " (ground truth)";
+      const LabelRaster rooms = groundTruthRooms(readGrayImage(gt_file));
+      if (std::none_of(rooms.labels.begin(), rooms.labels.end(),
+                       [](std::int32_t l) { return l > 0; }))
+        throw InputError(gt_file + ": no ground-truth room (no 8-connected component of pixels "
+                                   "> 250 with more than 100 pixels)");
+
+      auto scoreVariant = [&](const std::string& variant, const std::string& file) {
+        current = n + " (" + variant + ")";
+        const GrayImage image = readGrayImage(file);
+        if (image.width != rooms.width || image.height != rooms.height)
+          throw InputError(file + ": " + std::to_string(image.width) + " x " +
+                           std::to_string(image.height) + " px, but " + gt_file + " is " +
+                           std::to_string(rooms.width) + " x " + std::to_string(rooms.height));
+        const GridMap map = gridFromImage(image, res.getValue());
+        auto seg = setup.create();
+        const auto t0 = std::chrono::steady_clock::now();
+        const Segmentation s = seg->segment(map, nullptr);
+        MapResult r;
+        r.time_ms = msSince(t0);
+        r.name = n;
+        r.variant = variant;
+        const LabelRaster labels = rasterOf(s, image, file);
+        r.score = scoreSegmentation(labels, rooms);
+        if (!images.getValue().empty()) {
+          writeSegmentationOverlay(imagePath(n, variant), map, s, nullptr, &rooms);
+          writeLabelImage(imagePath(n, variant + "_labels"), labels);
+        }
+        std::cerr << prefix << " " << variant << ": " << r.score.segments << " segments / "
+                  << r.score.rooms << " rooms, precision " << fmt(r.score.precision)
+                  << ", recall " << fmt(r.score.recall) << ", mcc " << fmt(r.score.mcc) << " ("
+                  << fmt(r.time_ms, 1) << " ms)\n";
+        if (variant == "plain" && incremental.getValue()) {
+          auto inc_seg = setup.create();
+          auto last_report = std::chrono::steady_clock::now();
+          r.inc = evaluateIncremental(
+              *inc_seg, image, rooms, res.getValue(), explore,
+              [&](std::size_t updates, double coverage) {
+                if (msSince(last_report) < 5000) return;  // a line every 5 s of work
+                last_report = std::chrono::steady_clock::now();
+                std::cerr << prefix << " incremental: " << updates << " updates, "
+                          << fmt(100 * coverage, 0) << "% explored\n";
+              });
+          r.incremental = true;
+          if (!images.getValue().empty())
+            writeSegmentationOverlay(imagePath(n, "incremental"), r.inc.final_map,
+                                     r.inc.final_segmentation, nullptr, &rooms);
+          std::cerr << prefix << " incremental: " << r.inc.update_ms.size()
+                    << " updates, median " << fmt(percentile(r.inc.update_ms, 50), 1)
+                    << " ms, p95 " << fmt(percentile(r.inc.update_ms, 95), 1)
+                    << " ms; final precision " << fmt(r.inc.final_score.precision)
+                    << ", recall " << fmt(r.inc.final_score.recall) << ", "
+                    << fmt(100 * r.inc.coverage, 1) << "% explored\n";
+          r.inc.final_map = GridMap();  // the report needs the numbers only
+          r.inc.final_segmentation = Segmentation();
+        }
+        results.push_back(std::move(r));
+        save();
+      };
+      scoreVariant("plain", (fs::path(plain.getValue()) / (n + ".png")).string());
+      if (!furnished.getValue().empty())
+        scoreVariant("furnished",
+                     (fs::path(furnished.getValue()) / (n + "_furnitures.png")).string());
+    }
+  } catch (const std::exception& e) {
+    // Keep what was scored: the report and the JSON cover the maps done before the error.
+    error = (current.empty() ? "" : current + ": ") + e.what();
+  }
+  printReport(results);
+  try {
+    save();
+  } catch (const std::exception& e) {
+    std::cerr << "asf segment-eval: error: " << e.what() << "\n";
+    return kError;
+  }
+  if (!json_out.getValue().empty()) std::cout << "wrote " << json_out.getValue() << "\n";
+  if (!error.empty()) {
+    std::cerr << "asf segment-eval: error: " << error << " (" << results.size()
+              << " map scores kept above" << (json_out.getValue().empty() ? "" : " and in the JSON")
+              << ")\n";
+    return kError;
+  }
+  return kOk;
+}
+
 }  // namespace asf::app

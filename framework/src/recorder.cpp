@@ -1,5 +1,7 @@
 #include "recorder.h"
 
+#include <asf/segmentation_eval.h>
+
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <filesystem>
@@ -9,6 +11,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "region_render.h"
 
 namespace asf {
 
@@ -27,35 +31,8 @@ void writeAtomically(const std::string& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-cv::Vec3b regionColour(RegionId id) {
-  // Distinct, deterministic colours from the id (golden-ratio hue walk).
-  const double h = std::fmod(id * 0.618033988749895, 1.0) * 180.0;
-  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(h, 140, 230)), bgr;
-  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
-  return bgr.at<cv::Vec3b>(0, 0);
-}
-
-/// Grid as a BGR image, y up, and a map-point -> pixel function.
-struct MapImage {
-  cv::Mat img;
-  double x0 = 0, y0 = 0, res = 1;
-  cv::Point px(double x, double y) const {
-    return {static_cast<int>((x - x0) / res), img.rows - 1 - static_cast<int>((y - y0) / res)};
-  }
-};
-
-MapImage renderGrid(const mrpt::maps::COccupancyGridMap2D& g) {
-  MapImage m;
-  m.x0 = g.getXMin(), m.y0 = g.getYMin(), m.res = g.getResolution();
-  const int w = static_cast<int>(g.getSizeX()), h = static_cast<int>(g.getSizeY());
-  m.img = cv::Mat(h, w, CV_8UC3);
-  for (int cy = 0; cy < h; ++cy)
-    for (int cx = 0; cx < w; ++cx) {
-      const auto v = static_cast<unsigned char>(255.0 * g.getCell(cx, cy));  // p(free)
-      m.img.at<cv::Vec3b>(h - 1 - cy, cx) = {v, v, v};
-    }
-  return m;
-}
+using render::MapImage;
+using render::renderGrid;
 
 }  // namespace
 
@@ -118,30 +95,10 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     if (!map.grid) return;
     MapImage m = renderGrid(*map.grid);
     if (!seg.labels.labels.empty()) {
-      cv::Mat regions = m.img.clone();
-      for (int cy = 0; cy < seg.labels.height; ++cy)
-        for (int cx = 0; cx < seg.labels.width; ++cx) {
-          const RegionId r = seg.labels.at(cx, cy);
-          if (r <= 0) continue;
-          const auto p = m.px(seg.labels.origin_x + (cx + 0.5) * seg.labels.resolution,
-                              seg.labels.origin_y + (cy + 0.5) * seg.labels.resolution);
-          if (p.x >= 0 && p.y >= 0 && p.x < regions.cols && p.y < regions.rows)
-            regions.at<cv::Vec3b>(p) = regionColour(r);
-        }
-      for (const auto& e : topo.edges) {
-        const TopoNode* a = topo.node(e.a);
-        const cv::Point mid = m.px(e.midpoint.x, e.midpoint.y);
-        if (e.frontier()) {
-          cv::circle(regions, mid, 3, {0, 0, 255}, -1);
-          if (a) cv::line(regions, m.px(a->centroid.x, a->centroid.y), mid, {0, 0, 200}, 1);
-        } else if (const TopoNode* b = topo.node(e.b); a && b) {
-          cv::line(regions, m.px(a->centroid.x, a->centroid.y), mid, {40, 40, 40}, 1);
-          cv::line(regions, mid, m.px(b->centroid.x, b->centroid.y), {40, 40, 40}, 1);
-        }
-      }
-      for (const auto& n : topo.nodes)
-        if (n.region > 0) cv::circle(regions, m.px(n.centroid.x, n.centroid.y), 4, {0, 0, 0}, -1);
-      if (!cv::imwrite(dir_ + "/regions.png", regions)) throw Error("cannot write");
+      MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
+      render::drawRegions(regions, seg.labels);
+      render::drawTopology(regions, topo);
+      if (!cv::imwrite(dir_ + "/regions.png", regions.img)) throw Error("cannot write");
     }
     for (std::size_t i = 1; i < path.size(); ++i)
       cv::line(m.img, m.px(path[i - 1].x(), path[i - 1].y()), m.px(path[i].x(), path[i].y()),
@@ -149,24 +106,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     for (const auto& n : graph.nodes) cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
     if (!cv::imwrite(dir_ + "/map.png", m.img)) throw Error("cannot write");
   });
-  attempt("topology.json", [&] {
-    json j;
-    j["current"] = topo.current;
-    j["nodes"] = json::array();
-    for (const auto& n : topo.nodes)
-      j["nodes"].push_back({{"region", n.region}, {"centroid", {n.centroid.x, n.centroid.y}},
-                            {"area_m2", n.area}, {"visited", n.visited},
-                            {"entrance_edge", n.entrance_edge}});
-    j["edges"] = json::array();
-    for (const auto& e : topo.edges) {
-      json t = json::array();
-      for (const auto& tr : e.traversals) t.push_back({{"forward", tr.forward}, {"time_s", tr.time}});
-      j["edges"].push_back({{"a", e.a}, {"b", e.b}, {"frontier", e.frontier()},
-                            {"midpoint", {e.midpoint.x, e.midpoint.y}}, {"width_m", e.width},
-                            {"traversals", t}});
-    }
-    writeAtomically(dir_ + "/topology.json", j.dump(2) + "\n");
-  });
+  attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;
     j["plugins"] = slots_;

@@ -1,1 +1,649 @@
+#include <asf/errors.h>
 #include <asf/segmentation_eval.h>
+#include <asf/segmenter.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <unordered_map>
+
+#include "region_render.h"
+
+namespace asf {
+
+namespace fs = std::filesystem;
+using Grid = mrpt::maps::COccupancyGridMap2D;
+
+// ---------------------------------------------------------------- drawing (shared) --------
+
+namespace render {
+
+cv::Vec3b regionColour(RegionId id) {
+  // Distinct, deterministic colours from the id (golden-ratio hue walk).
+  const double h = std::fmod(id * 0.618033988749895, 1.0) * 180.0;
+  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(h, 140, 230)), bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  return bgr.at<cv::Vec3b>(0, 0);
+}
+
+MapImage renderGrid(const Grid& g) {
+  MapImage m;
+  m.x0 = g.getXMin(), m.y0 = g.getYMin(), m.res = g.getResolution();
+  const int w = static_cast<int>(g.getSizeX()), h = static_cast<int>(g.getSizeY());
+  m.img = cv::Mat(h, w, CV_8UC3);
+  for (int cy = 0; cy < h; ++cy)
+    for (int cx = 0; cx < w; ++cx) {
+      const auto v = static_cast<unsigned char>(255.0 * g.getCell(cx, cy));  // p(free)
+      m.img.at<cv::Vec3b>(h - 1 - cy, cx) = {v, v, v};
+    }
+  return m;
+}
+
+void drawRegions(MapImage& m, const LabelImage& labels) {
+  std::map<RegionId, cv::Vec3b> colours;  // one HSV conversion per region, not per cell
+  for (int cy = 0; cy < labels.height; ++cy)
+    for (int cx = 0; cx < labels.width; ++cx) {
+      const RegionId r = labels.at(cx, cy);
+      if (r <= 0) continue;
+      const auto p = m.px(labels.origin_x + (cx + 0.5) * labels.resolution,
+                          labels.origin_y + (cy + 0.5) * labels.resolution);
+      if (p.x < 0 || p.y < 0 || p.x >= m.img.cols || p.y >= m.img.rows) continue;
+      auto it = colours.find(r);
+      if (it == colours.end()) it = colours.emplace(r, regionColour(r)).first;
+      m.img.at<cv::Vec3b>(p) = it->second;
+    }
+}
+
+void drawTopology(MapImage& m, const TopoGraph& topo) {
+  for (const auto& e : topo.edges) {
+    const TopoNode* a = topo.node(e.a);
+    const cv::Point mid = m.px(e.midpoint.x, e.midpoint.y);
+    if (e.frontier()) {
+      cv::circle(m.img, mid, 3, {0, 0, 255}, -1);
+      if (a) cv::line(m.img, m.px(a->centroid.x, a->centroid.y), mid, {0, 0, 200}, 1);
+    } else if (const TopoNode* b = topo.node(e.b); a && b) {
+      cv::line(m.img, m.px(a->centroid.x, a->centroid.y), mid, {40, 40, 40}, 1);
+      cv::line(m.img, mid, m.px(b->centroid.x, b->centroid.y), {40, 40, 40}, 1);
+    }
+  }
+  for (const auto& n : topo.nodes)
+    if (n.region > 0) cv::circle(m.img, m.px(n.centroid.x, n.centroid.y), 4, {0, 0, 0}, -1);
+}
+
+void drawRegionIds(MapImage& m, const Segmentation& seg) {
+  for (const auto& r : seg.regions) {
+    const std::string text = std::to_string(r.id);
+    cv::Point p = m.px(r.centroid.x, r.centroid.y) + cv::Point(5, -5);
+    // White halo under black text: readable on any region colour.
+    cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {255, 255, 255}, 3, cv::LINE_AA);
+    cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 1, cv::LINE_AA);
+  }
+}
+
+}  // namespace render
+
+// ---------------------------------------------------------------- image files -------------
+
+namespace {
+
+cv::Mat readImage(const std::string& path, int flags) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  cv::Mat m = cv::imread(path, flags);
+  if (m.empty()) throw InputError(path + ": cannot be read as an image (malformed or unsupported)");
+  return m;
+}
+
+void writeImage(const std::string& path, const cv::Mat& m) {
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, m);
+  } catch (const cv::Exception& e) {
+    throw Error(path + ": cannot write (" + e.what() + ")");
+  }
+  if (!ok) throw Error(path + ": cannot write");
+}
+
+}  // namespace
+
+GrayImage readGrayImage(const std::string& path) {
+  const cv::Mat m = readImage(path, cv::IMREAD_GRAYSCALE);
+  GrayImage g;
+  g.width = m.cols;
+  g.height = m.rows;
+  g.pixels.resize(static_cast<std::size_t>(m.cols) * m.rows);
+  for (int r = 0; r < m.rows; ++r)
+    std::copy(m.ptr<std::uint8_t>(r), m.ptr<std::uint8_t>(r) + m.cols,
+              g.pixels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
+  return g;
+}
+
+void writeGrayImage(const std::string& path, const GrayImage& image) {
+  if (image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
+    throw Error(path + ": image size does not match its pixels");
+  cv::Mat m(image.height, image.width, CV_8U, const_cast<std::uint8_t*>(image.pixels.data()));
+  writeImage(path, m);
+}
+
+LabelRaster readLabelImage(const std::string& path) {
+  const cv::Mat m = readImage(path, cv::IMREAD_UNCHANGED);
+  if (m.channels() != 1 || (m.depth() != CV_16U && m.depth() != CV_8U))
+    throw InputError(path + ": not a single-channel 8- or 16-bit label image");
+  cv::Mat m32;
+  m.convertTo(m32, CV_32S);
+  LabelRaster L;
+  L.width = m.cols;
+  L.height = m.rows;
+  L.labels.resize(static_cast<std::size_t>(m.cols) * m.rows);
+  for (int r = 0; r < m.rows; ++r)
+    std::copy(m32.ptr<std::int32_t>(r), m32.ptr<std::int32_t>(r) + m.cols,
+              L.labels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
+  return L;
+}
+
+void writeLabelImage(const std::string& path, const LabelRaster& labels) {
+  if (labels.labels.size() != static_cast<std::size_t>(labels.width) * labels.height)
+    throw Error(path + ": label image size does not match its labels");
+  cv::Mat m(labels.height, labels.width, CV_16U);
+  for (int r = 0; r < labels.height; ++r)
+    for (int c = 0; c < labels.width; ++c) {
+      const std::int32_t v = labels.at(c, r);
+      if (v < 0 || v > 65535)
+        throw Error(path + ": label " + std::to_string(v) +
+                    " does not fit a 16-bit label image (0..65535)");
+      m.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(v);
+    }
+  writeImage(path, m);
+}
+
+// ---------------------------------------------------------------- benchmark reading -------
+
+GridMap gridFromImage(const GrayImage& image, double resolution, int free_threshold,
+                      double origin_x, double origin_y) {
+  if (image.width <= 0 || image.height <= 0) throw Error("gridFromImage: empty image");
+  if (!(resolution > 0)) throw Error("gridFromImage: resolution must be > 0");
+  const int W = image.width, H = image.height;
+  auto g = std::make_shared<Grid>(static_cast<float>(origin_x),
+                                  static_cast<float>(origin_x + W * resolution),
+                                  static_cast<float>(origin_y),
+                                  static_cast<float>(origin_y + H * resolution),
+                                  static_cast<float>(resolution));
+  if (static_cast<int>(g->getSizeX()) != W || static_cast<int>(g->getSizeY()) != H)
+    throw Error("gridFromImage: MRPT made a " + std::to_string(g->getSizeX()) + " x " +
+                std::to_string(g->getSizeY()) + " grid for a " + std::to_string(W) + " x " +
+                std::to_string(H) + " image");
+  g->fill(0.0f);
+  for (int row = 0; row < H; ++row)
+    for (int col = 0; col < W; ++col)
+      if (image.at(col, row) >= free_threshold) g->setCell(col, H - 1 - row, 1.0f);
+  GridMap m;
+  m.grid = std::move(g);
+  m.version = 1;
+  m.changed.extend(origin_x, origin_y);
+  m.changed.extend(origin_x + W * resolution, origin_y + H * resolution);
+  m.rebuilt = true;
+  return m;
+}
+
+GrayImage imageFromGrid(const GridMap& map) {
+  GrayImage g;
+  if (!map.grid) return g;
+  const Grid& grid = *map.grid;
+  g.width = static_cast<int>(grid.getSizeX());
+  g.height = static_cast<int>(grid.getSizeY());
+  g.pixels.resize(static_cast<std::size_t>(g.width) * g.height);
+  for (int cy = 0; cy < g.height; ++cy)
+    for (int cx = 0; cx < g.width; ++cx)
+      g.pixels[static_cast<std::size_t>(g.height - 1 - cy) * g.width + cx] =
+          static_cast<std::uint8_t>(std::lround(255.0 * grid.getCell(cx, cy)));
+  return g;
+}
+
+LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels) {
+  cv::Mat mask(gt.height, gt.width, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < gt.height; ++r)
+    for (int c = 0; c < gt.width; ++c)
+      if (gt.at(c, r) > 250) mask.at<std::uint8_t>(r, c) = 1;
+  cv::Mat comp, stats, centroids;
+  cv::connectedComponentsWithStats(mask, comp, stats, centroids, 8, CV_32S);
+  // Renumber 1..N by first pixel in row-major order (OpenCV's order is its own business).
+  std::unordered_map<int, std::int32_t> id_of;
+  LabelRaster L;
+  L.width = gt.width;
+  L.height = gt.height;
+  L.labels.assign(static_cast<std::size_t>(gt.width) * gt.height, 0);
+  for (int r = 0; r < gt.height; ++r)
+    for (int c = 0; c < gt.width; ++c) {
+      const int k = comp.at<int>(r, c);
+      if (k == 0 || stats.at<int>(k, cv::CC_STAT_AREA) <= min_pixels) continue;
+      auto it = id_of.find(k);
+      if (it == id_of.end())
+        it = id_of.emplace(k, static_cast<std::int32_t>(id_of.size() + 1)).first;
+      L.labels[static_cast<std::size_t>(r) * gt.width + c] = it->second;
+    }
+  return L;
+}
+
+LabelRaster toRaster(const LabelImage& labels) {
+  LabelRaster R;
+  R.width = labels.width;
+  R.height = labels.height;
+  R.labels.resize(labels.labels.size());
+  for (int cy = 0; cy < labels.height; ++cy)
+    for (int cx = 0; cx < labels.width; ++cx)
+      R.labels[static_cast<std::size_t>(labels.height - 1 - cy) * labels.width + cx] =
+          labels.at(cx, cy);
+  return R;
+}
+
+LabelImage fromRaster(const LabelRaster& raster, double resolution, double origin_x,
+                      double origin_y) {
+  LabelImage L;
+  L.width = raster.width;
+  L.height = raster.height;
+  L.resolution = resolution;
+  L.origin_x = origin_x;
+  L.origin_y = origin_y;
+  L.labels.resize(raster.labels.size());
+  for (int row = 0; row < raster.height; ++row)
+    for (int col = 0; col < raster.width; ++col)
+      L.labels[static_cast<std::size_t>(raster.height - 1 - row) * raster.width + col] =
+          raster.at(col, row);
+  return L;
+}
+
+// ---------------------------------------------------------------- scoring -----------------
+
+SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const LabelRaster& rooms,
+                                    int min_pixels) {
+  if (segmentation.width != rooms.width || segmentation.height != rooms.height ||
+      segmentation.labels.size() != rooms.labels.size())
+    throw Error("scoreSegmentation: the segmentation is " + std::to_string(segmentation.width) +
+                " x " + std::to_string(segmentation.height) + ", the ground truth " +
+                std::to_string(rooms.width) + " x " + std::to_string(rooms.height));
+  std::map<std::int32_t, long> seg_size, room_size;  // sorted: reports by increasing label
+  for (std::size_t i = 0; i < rooms.labels.size(); ++i) {
+    if (segmentation.labels[i] > 0) ++seg_size[segmentation.labels[i]];
+    if (rooms.labels[i] > 0) ++room_size[rooms.labels[i]];
+  }
+  // Dense indices of the counted segments and rooms (-1: not counted).
+  std::unordered_map<std::int32_t, int> seg_index, room_index;
+  std::vector<long> seg_n, room_n;
+  for (const auto& [l, n] : seg_size)
+    if (n > min_pixels) seg_index[l] = static_cast<int>(seg_n.size()), seg_n.push_back(n);
+  for (const auto& [l, n] : room_size)
+    if (n > min_pixels) room_index[l] = static_cast<int>(room_n.size()), room_n.push_back(n);
+  const std::size_t S = seg_n.size(), R = room_n.size();
+
+  auto indexOf = [](const std::unordered_map<std::int32_t, int>& m, std::int32_t l) {
+    if (l <= 0) return -1;
+    auto it = m.find(l);
+    return it == m.end() ? -1 : it->second;
+  };
+  std::unordered_map<std::uint64_t, long> overlap;  // (s << 32 | r) -> pixels
+  long universe = 0;
+  for (std::size_t i = 0; i < rooms.labels.size(); ++i) {
+    const int s = indexOf(seg_index, segmentation.labels[i]);
+    const int r = indexOf(room_index, rooms.labels[i]);
+    if (s >= 0 || r >= 0) ++universe;
+    if (s >= 0 && r >= 0)
+      ++overlap[(static_cast<std::uint64_t>(s) << 32) | static_cast<std::uint32_t>(r)];
+  }
+  std::vector<long> best_s(S, 0), best_r(R, 0);
+  auto pairs = [](long double n) { return n * (n - 1) / 2; };
+  long double tp = 0;
+  for (const auto& [k, n] : overlap) {
+    const auto s = static_cast<std::size_t>(k >> 32), r = static_cast<std::size_t>(k & 0xffffffffu);
+    best_s[s] = std::max(best_s[s], n);
+    best_r[r] = std::max(best_r[r], n);
+    tp += pairs(n);
+  }
+
+  SegmentationScore sc;
+  sc.segments = static_cast<int>(S);
+  sc.rooms = static_cast<int>(R);
+  long sum_best_s = 0, sum_s = 0, sum_best_r = 0, sum_r = 0;
+  long double same_seg = 0, same_room = 0;
+  for (std::size_t s = 0; s < S; ++s) {
+    sc.segment_precision.push_back(static_cast<double>(best_s[s]) / seg_n[s]);
+    sum_best_s += best_s[s], sum_s += seg_n[s];
+    same_seg += pairs(seg_n[s]);
+  }
+  for (std::size_t r = 0; r < R; ++r) {
+    sc.room_recall.push_back(static_cast<double>(best_r[r]) / room_n[r]);
+    sum_best_r += best_r[r], sum_r += room_n[r];
+    same_room += pairs(room_n[r]);
+  }
+  sc.precision = meanStd(sc.segment_precision).mean;
+  sc.recall = meanStd(sc.room_recall).mean;
+  sc.precision_pooled = sum_s > 0 ? static_cast<double>(sum_best_s) / sum_s : 0;
+  sc.recall_pooled = sum_r > 0 ? static_cast<double>(sum_best_r) / sum_r : 0;
+
+  const long double all = pairs(universe);
+  const long double fp = same_seg - tp, fn = same_room - tp, tn = all - same_seg - same_room + tp;
+  const long double den = (tp + fp) * (tp + fn) * (tn + fp) * (tn + fn);
+  if (den > 0)
+    sc.mcc = static_cast<double>((tp * tn - fp * fn) / std::sqrt(den));
+  else
+    sc.mcc = (fp == 0 && fn == 0 && universe > 0) ? 1.0 : 0.0;
+  return sc;
+}
+
+MeanStd meanStd(const std::vector<double>& values) {
+  MeanStd m;
+  if (values.empty()) return m;
+  for (double v : values) m.mean += v;
+  m.mean /= static_cast<double>(values.size());
+  double ss = 0;
+  for (double v : values) ss += (v - m.mean) * (v - m.mean);
+  m.std = std::sqrt(ss / static_cast<double>(values.size()));
+  return m;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const double rank = std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * values.size());
+  const auto i = static_cast<std::size_t>(std::max(1.0, rank)) - 1;
+  return values[std::min(i, values.size() - 1)];
+}
+
+// ---------------------------------------------------------------- overlay, JSON -----------
+
+void writeSegmentationOverlay(const std::string& path, const GridMap& map,
+                              const Segmentation& seg, const TopoGraph* topo,
+                              const LabelRaster* rooms) {
+  if (!map.grid) throw Error(path + ": no map to draw");
+  render::MapImage m = render::renderGrid(*map.grid);
+  render::drawRegions(m, seg.labels);
+  if (rooms && rooms->width == m.img.cols && rooms->height == m.img.rows) {
+    // Ground-truth room outlines: room pixels with a 4-neighbour outside the room.
+    for (int r = 0; r < rooms->height; ++r)
+      for (int c = 0; c < rooms->width; ++c) {
+        const std::int32_t l = rooms->at(c, r);
+        if (l <= 0) continue;
+        const bool border = c == 0 || r == 0 || c == rooms->width - 1 ||
+                            r == rooms->height - 1 || rooms->at(c - 1, r) != l ||
+                            rooms->at(c + 1, r) != l || rooms->at(c, r - 1) != l ||
+                            rooms->at(c, r + 1) != l;
+        if (border) m.img.at<cv::Vec3b>(r, c) = {0, 0, 150};
+      }
+  }
+  if (topo) render::drawTopology(m, *topo);
+  render::drawRegionIds(m, seg);
+  writeImage(path, m.img);
+}
+
+std::string topologyJson(const TopoGraph& topo) {
+  using nlohmann::json;
+  json j;
+  j["current"] = topo.current;
+  j["nodes"] = json::array();
+  for (const auto& n : topo.nodes)
+    j["nodes"].push_back({{"region", n.region}, {"centroid", {n.centroid.x, n.centroid.y}},
+                          {"area_m2", n.area}, {"visited", n.visited},
+                          {"entrance_edge", n.entrance_edge}});
+  j["edges"] = json::array();
+  for (const auto& e : topo.edges) {
+    json t = json::array();
+    for (const auto& tr : e.traversals) t.push_back({{"forward", tr.forward}, {"time_s", tr.time}});
+    j["edges"].push_back({{"a", e.a}, {"b", e.b}, {"frontier", e.frontier()},
+                          {"midpoint", {e.midpoint.x, e.midpoint.y}}, {"width_m", e.width},
+                          {"traversals", t}});
+  }
+  return j.dump(2) + "\n";
+}
+
+// ---------------------------------------------------------------- exploration -------------
+
+struct ExplorationSimulator::State {
+  ExplorationOptions opt;
+  int W = 0, H = 0;
+  double res = 0;
+  std::vector<std::uint8_t> truth_free;   // image orientation, 1 = free
+  std::vector<std::int8_t> known;         // -1 unknown, 0 free, 1 occupied
+  std::vector<std::uint8_t> in_component; // the start's free component
+  std::size_t component_size = 0, component_revealed = 0;
+  int robot = 0;                           // pixel index
+  double path_m = 0;
+  std::size_t scans = 0;
+  bool started = false;
+  std::shared_ptr<Grid> grid;
+  GridMap map;
+  std::vector<int> parent;  // BFS scratch (-2 = not visited)
+  std::vector<int> queue;
+  std::vector<int> plan;    // remaining path to the current goal (goal last)
+
+  int col(int i) const { return i % W; }
+  int row(int i) const { return i / W; }
+
+  // Reveals by ray casting (exact grid traversal: no ray slips between two wall pixels that
+  // touch at a corner) and the robot's 8-neighbourhood (so the cell reached is no frontier).
+  std::vector<int> scan() {
+    std::vector<int> revealed;
+    auto reveal = [&](int i) {
+      if (known[i] != -1) return;
+      known[i] = truth_free[i] ? 0 : 1;
+      if (truth_free[i] && in_component[i]) ++component_revealed;
+      revealed.push_back(i);
+    };
+    const int rc = col(robot), rr = row(robot);
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int c = rc + dc, r = rr + dr;
+        if (c >= 0 && r >= 0 && c < W && r < H) reveal(r * W + c);
+      }
+    const double range = opt.sensor_range / res;  // in cells
+    const double px = rc + 0.5, py = rr + 0.5;
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < opt.rays; ++k) {
+      const double a = 2.0 * M_PI * k / opt.rays;
+      const double dx = std::cos(a), dy = std::sin(a);
+      int c = rc, r = rr;
+      const int sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+      const double tdx = std::abs(dx) > 1e-12 ? 1.0 / std::abs(dx) : kInf;
+      const double tdy = std::abs(dy) > 1e-12 ? 1.0 / std::abs(dy) : kInf;
+      double tx = std::abs(dx) > 1e-12 ? (dx > 0 ? c + 1 - px : px - c) * tdx : kInf;
+      double ty = std::abs(dy) > 1e-12 ? (dy > 0 ? r + 1 - py : py - r) * tdy : kInf;
+      while (true) {
+        const int i = r * W + c;
+        reveal(i);
+        if (!truth_free[i]) break;
+        const double t = std::min(tx, ty);
+        if (t > range) break;
+        if (tx < ty) c += sx, tx += tdx;
+        else r += sy, ty += tdy;
+        if (c < 0 || r < 0 || c >= W || r >= H) break;
+      }
+    }
+    return revealed;
+  }
+
+  bool frontier(int i) const {
+    const int c = col(i), r = row(i);
+    return (c > 0 && known[i - 1] == -1) || (c < W - 1 && known[i + 1] == -1) ||
+           (r > 0 && known[i - W] == -1) || (r < H - 1 && known[i + W] == -1);
+  }
+
+  // BFS over revealed free cells from the robot to the nearest frontier; its path (robot
+  // excluded, goal last), or empty when none is reachable.
+  std::vector<int> pathToNearestFrontier() {
+    std::fill(parent.begin(), parent.end(), -2);
+    queue.clear();
+    queue.push_back(robot);
+    parent[robot] = -1;
+    static const int kDc[8] = {1, 0, -1, 0, 1, -1, -1, 1};
+    static const int kDr[8] = {0, 1, 0, -1, 1, 1, -1, -1};
+    auto knownFree = [&](int c, int r) {
+      return c >= 0 && r >= 0 && c < W && r < H && known[r * W + c] == 0;
+    };
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int i = queue[head];
+      if (frontier(i)) {
+        std::vector<int> path;
+        for (int j = i; j != robot; j = parent[j]) path.push_back(j);
+        std::reverse(path.begin(), path.end());
+        return path;
+      }
+      const int c = col(i), r = row(i);
+      for (int k = 0; k < 8; ++k) {
+        const int nc = c + kDc[k], nr = r + kDr[k];
+        if (!knownFree(nc, nr)) continue;
+        if (k >= 4 && !(knownFree(nc, r) && knownFree(c, nr))) continue;  // no corner cutting
+        const int j = nr * W + nc;
+        if (parent[j] != -2) continue;
+        parent[j] = i;
+        queue.push_back(j);
+      }
+    }
+    return {};
+  }
+
+  void publish(const std::vector<int>& revealed) {
+    auto g = grid ? std::make_shared<Grid>(*grid) : nullptr;  // published grids never change
+    if (!g) {
+      g = std::make_shared<Grid>(0.f, static_cast<float>(W * res), 0.f,
+                                 static_cast<float>(H * res), static_cast<float>(res));
+      g->fill(0.5f);
+    }
+    Box2 changed;
+    for (int i : revealed) {
+      const int c = col(i), cy = H - 1 - row(i);
+      g->setCell(c, cy, known[i] == 0 ? 1.0f : 0.0f);
+      changed.extend(c * res, cy * res);
+      changed.extend((c + 1) * res, (cy + 1) * res);
+    }
+    grid = g;
+    map.grid = g;
+    ++map.version;
+    map.changed = changed;
+    map.rebuilt = false;
+  }
+};
+
+ExplorationSimulator::ExplorationSimulator(const GrayImage& image, double resolution,
+                                           const ExplorationOptions& options,
+                                           int free_threshold)
+    : s_(std::make_unique<State>()) {
+  State& s = *s_;
+  s.opt = options;
+  s.W = image.width;
+  s.H = image.height;
+  s.res = resolution;
+  if (!(resolution > 0)) throw Error("ExplorationSimulator: resolution must be > 0");
+  if (s.opt.rays < 1) throw Error("ExplorationSimulator: rays must be >= 1");
+  const std::size_t N = static_cast<std::size_t>(s.W) * s.H;
+  s.truth_free.assign(N, 0);
+  cv::Mat free(s.H, s.W, CV_8U, cv::Scalar(0));
+  for (int r = 0; r < s.H; ++r)
+    for (int c = 0; c < s.W; ++c)
+      if (image.at(c, r) >= free_threshold) {
+        s.truth_free[static_cast<std::size_t>(r) * s.W + c] = 1;
+        free.at<std::uint8_t>(r, c) = 255;
+      }
+  cv::Mat comp, stats, centroids, dist;
+  const int n = cv::connectedComponentsWithStats(free, comp, stats, centroids, 4, CV_32S);
+  if (n < 2) throw Error("ExplorationSimulator: the map has no free pixel");
+  int largest = 1;
+  for (int k = 2; k < n; ++k)
+    if (stats.at<int>(k, cv::CC_STAT_AREA) > stats.at<int>(largest, cv::CC_STAT_AREA)) largest = k;
+  cv::distanceTransform(free, dist, cv::DIST_L2, 5);
+  s.in_component.assign(N, 0);
+  float best = -1;
+  for (int r = 0; r < s.H; ++r)
+    for (int c = 0; c < s.W; ++c) {
+      if (comp.at<int>(r, c) != largest) continue;
+      s.in_component[static_cast<std::size_t>(r) * s.W + c] = 1;
+      ++s.component_size;
+      if (dist.at<float>(r, c) > best) best = dist.at<float>(r, c), s.robot = r * s.W + c;
+    }
+  s.known.assign(N, -1);
+  s.parent.assign(N, -2);
+}
+
+ExplorationSimulator::~ExplorationSimulator() = default;
+
+bool ExplorationSimulator::step() {
+  State& s = *s_;
+  const int hops_per_scan = std::max(1, static_cast<int>(std::lround(s.opt.scan_spacing / s.res)));
+  while (s.scans < s.opt.max_scans) {
+    if (s.started) {
+      // Replan only when the goal stopped being a frontier: known cells never change, so
+      // the rest of the plan stays free, and BFS over the whole map is the costly part.
+      if (s.plan.empty() || !s.frontier(s.plan.back())) s.plan = s.pathToNearestFrontier();
+      if (s.plan.empty()) return false;
+      const int hops = std::min<int>(hops_per_scan, static_cast<int>(s.plan.size()));
+      int prev = s.robot;
+      for (int h = 0; h < hops; ++h) {
+        const int next = s.plan[h];
+        const bool diagonal = s.col(next) != s.col(prev) && s.row(next) != s.row(prev);
+        s.path_m += (diagonal ? M_SQRT2 : 1.0) * s.res;
+        prev = next;
+      }
+      s.plan.erase(s.plan.begin(), s.plan.begin() + hops);
+      s.robot = prev;
+    }
+    s.started = true;
+    ++s.scans;
+    const std::vector<int> revealed = s.scan();
+    if (revealed.empty()) continue;  // nothing new: no map update, keep going
+    s.publish(revealed);
+    return true;
+  }
+  return false;
+}
+
+const GridMap& ExplorationSimulator::map() const { return s_->map; }
+Point2 ExplorationSimulator::robot() const {
+  const State& s = *s_;
+  return {(s.col(s.robot) + 0.5) * s.res, (s.H - 1 - s.row(s.robot) + 0.5) * s.res};
+}
+double ExplorationSimulator::pathLength() const { return s_->path_m; }
+std::size_t ExplorationSimulator::scans() const { return s_->scans; }
+double ExplorationSimulator::coverage() const {
+  return s_->component_size ? static_cast<double>(s_->component_revealed) / s_->component_size : 0;
+}
+
+IncrementalResult evaluateIncremental(Segmenter& segmenter, const GrayImage& image,
+                                      const LabelRaster& rooms, double resolution,
+                                      const ExplorationOptions& options,
+                                      const std::function<void(std::size_t, double)>& progress) {
+  ExplorationSimulator sim(image, resolution, options);
+  IncrementalResult out;
+  bool have_previous = false;
+  while (sim.step()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Segmentation s =
+        segmenter.segment(sim.map(), have_previous ? &out.final_segmentation : nullptr);
+    out.update_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    out.final_segmentation = std::move(s);
+    have_previous = true;
+    if (progress) progress(out.update_ms.size(), sim.coverage());
+  }
+  out.final_map = sim.map();
+  out.coverage = sim.coverage();
+  out.path_length_m = sim.pathLength();
+  LabelRaster labels = toRaster(out.final_segmentation.labels);
+  if (labels.labels.empty()) {  // no update at all, or a segmenter that labelled nothing
+    labels.width = rooms.width;
+    labels.height = rooms.height;
+    labels.labels.assign(rooms.labels.size(), 0);
+  }
+  if (labels.width != image.width || labels.height != image.height)
+    throw Error("the segmenter returned a " + std::to_string(labels.width) + " x " +
+                std::to_string(labels.height) + " label image for a " +
+                std::to_string(image.width) + " x " + std::to_string(image.height) + " map");
+  out.final_score = scoreSegmentation(labels, rooms);
+  return out;
+}
+
+}  // namespace asf

@@ -1,3 +1,185 @@
 #pragma once
 /// \file segmentation_eval.h
-/// Scoring of a room segmentation against ground truth (being written).
+/// Room segmentation benchmark (docs: ../shared/docs/roomseg-eval.md): reading the map and
+/// ground-truth images as the benchmark does, scoring a label image against the ground-truth
+/// rooms (precision, recall, pooled variants, Matthews correlation), and a simulated
+/// exploration that reveals a map step by step for timing incremental segmenters.
+///
+/// Orientation: images (GrayImage, LabelRaster, PNG files) have row 0 at the top; grids
+/// (GridMap, LabelImage) have cy = 0 at the bottom (y up). Row r is cy = height - 1 - r.
+#include <asf/grid_map.h>
+#include <asf/segmentation.h>
+#include <asf/topo_graph.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace asf {
+
+class Segmenter;
+
+/// 8-bit grayscale image, row-major, row 0 = top.
+struct GrayImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> pixels;
+  std::uint8_t at(int col, int row) const {
+    return pixels[static_cast<std::size_t>(row) * width + col];
+  }
+};
+
+/// Label image in image orientation (row 0 = top), 0 = no region.
+struct LabelRaster {
+  int width = 0, height = 0;
+  std::vector<std::int32_t> labels;
+  std::int32_t at(int col, int row) const {
+    return labels[static_cast<std::size_t>(row) * width + col];
+  }
+};
+
+/// Reads any PNG/image as 8-bit grayscale (alpha dropped). Throws InputError naming the file
+/// when it is missing or cannot be decoded.
+GrayImage readGrayImage(const std::string& path);
+/// Writes an 8-bit grayscale PNG. Throws Error naming the file.
+void writeGrayImage(const std::string& path, const GrayImage& image);
+/// Reads a label PNG (16-bit or 8-bit, single channel, values are labels). Throws InputError.
+LabelRaster readLabelImage(const std::string& path);
+/// Writes a 16-bit single-channel PNG; throws Error when a label is < 0 or > 65535.
+void writeLabelImage(const std::string& path, const LabelRaster& labels);
+
+/// The benchmark's free-space threshold: pixel >= 250 is free, anything else occupied.
+constexpr int kBenchmarkFreeThreshold = 250;
+/// Ground-truth rooms and scored segments must have more than this many pixels.
+constexpr int kBenchmarkMinRegionPixels = 100;
+
+/// The map as a GridMap: free pixels (>= free_threshold) p(free) = 1, the rest 0; cell
+/// (cx, cy) = pixel (cx, height-1-cy), origin (0, 0) unless given. version = 1, changed = the
+/// whole map, rebuilt = true (a map seen for the first time).
+GridMap gridFromImage(const GrayImage& image, double resolution,
+                      int free_threshold = kBenchmarkFreeThreshold, double origin_x = 0,
+                      double origin_y = 0);
+
+/// The grid as an image (row 0 = top): pixel = round(255 * p(free)), so free 255, occupied 0,
+/// unknown 128. Empty for a map without grid.
+GrayImage imageFromGrid(const GridMap& map);
+
+/// Ground-truth rooms: pixels > 250, 8-connected components with more than `min_pixels`
+/// pixels, numbered 1..N in row-major order of their first pixel.
+LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels = kBenchmarkMinRegionPixels);
+
+/// Grid labels (cy up) <-> image raster (row 0 top).
+LabelRaster toRaster(const LabelImage& labels);
+LabelImage fromRaster(const LabelRaster& raster, double resolution, double origin_x = 0,
+                      double origin_y = 0);
+
+/// Score of a segmentation against ground-truth rooms (roomseg-eval.md):
+/// - only segments (labels > 0) with more than `min_pixels` pixels count;
+/// - O[s][r] = pixels in segment s and room r; precision(s) = max_r O[s][r] / |s|,
+///   recall(r) = max_s O[s][r] / |r|; no one-to-one assignment;
+/// - precision / recall: means over segments / rooms; *_pooled: sum of best overlaps over sum
+///   of sizes. Without any segment, precision = precision_pooled = 0.
+/// - mcc: Matthews correlation of "same region" over unordered pixel pairs. The pixels are
+///   U = those in a counted room or a counted segment; a pixel of U outside every counted
+///   segment (or room) is a region of its own on that side. Pair counts: TP = pairs in the
+///   same segment and the same room, FP = same segment but different rooms, FN = same room
+///   but different segments, TN = the rest; mcc = (TP TN - FP FN) / sqrt((TP+FP)(TP+FN)
+///   (TN+FP)(TN+FN)), and 0 when a factor is 0 (1 if FP = FN = 0 then).
+struct SegmentationScore {
+  double precision = 0, recall = 0;
+  double precision_pooled = 0, recall_pooled = 0;
+  double mcc = 0;
+  int segments = 0;  ///< counted segments
+  int rooms = 0;     ///< ground-truth rooms (labels > 0 of `rooms` with > min_pixels)
+  std::vector<double> segment_precision;  ///< per counted segment, by increasing label
+  std::vector<double> room_recall;        ///< per counted room, by increasing label
+};
+/// `segmentation` and `rooms` must have the same size (else Error). Rooms are labels > 0 of
+/// `rooms` (groundTruthRooms' output, or any label image), filtered by `min_pixels` too.
+SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const LabelRaster& rooms,
+                                    int min_pixels = kBenchmarkMinRegionPixels);
+
+/// Mean and population standard deviation (divides by n); 0, 0 for no values.
+struct MeanStd {
+  double mean = 0, std = 0;
+};
+MeanStd meanStd(const std::vector<double>& values);
+/// Nearest-rank percentile (p in [0, 100]) of unsorted values; 0 for none.
+double percentile(std::vector<double> values, double p);
+
+/// Writes a PNG of the map with the regions coloured, their ids at their centroids, the
+/// topological graph's edges (if `topo`) and the outlines of ground-truth rooms (if `rooms`,
+/// image orientation, same size as the map).
+void writeSegmentationOverlay(const std::string& path, const GridMap& map,
+                              const Segmentation& seg, const TopoGraph* topo,
+                              const LabelRaster* rooms = nullptr);
+
+/// The topological graph as JSON text (the shape of `asf run`'s topology.json): current,
+/// nodes [{region, centroid [x, y], area_m2, visited, entrance_edge}], edges [{a, b, frontier,
+/// midpoint [x, y], width_m, traversals [{forward, time_s}]}]; b = -1 is the unexplored node.
+std::string topologyJson(const TopoGraph& topo);
+
+/// Simulated exploration of a known map with perfect localization: a point robot with a
+/// 360-degree range sensor goes to the nearest frontier (a revealed free cell with an unknown
+/// 4-neighbour; BFS over the free cells revealed so far, 8-connected without cutting corners),
+/// choosing a new one when it reached its goal or the goal stopped being a frontier, and
+/// scans every `scan_spacing` of travel (counted in BFS steps of one cell) by ray casting on
+/// the true map. Deterministic.
+struct ExplorationOptions {
+  double sensor_range = 5.0;  ///< m
+  double scan_spacing = 0.5;  ///< m of travel between scans
+  int rays = 720;             ///< per scan, evenly spaced over 360 degrees
+  std::size_t max_scans = 200000;  ///< safety stop
+};
+
+class ExplorationSimulator {
+ public:
+  /// `image` is the true map (free = pixel >= free_threshold). The start is the free pixel
+  /// farthest from any obstacle (first in row-major order on ties) in the largest
+  /// 4-connected free component: rays and the robot cannot pass between two obstacle pixels
+  /// that touch at a corner, so free pixels linked only diagonally stay unknown. Throws Error
+  /// when the map has no free pixel.
+  ExplorationSimulator(const GrayImage& image, double resolution,
+                       const ExplorationOptions& options = {},
+                       int free_threshold = kBenchmarkFreeThreshold);
+  ~ExplorationSimulator();
+  ExplorationSimulator(const ExplorationSimulator&) = delete;
+  ExplorationSimulator& operator=(const ExplorationSimulator&) = delete;
+
+  /// The first call scans at the start; later calls move towards the nearest frontier and
+  /// scan. Returns false (map unchanged) when no reachable frontier is left or max_scans is
+  /// reached. Every scan that returns true publishes a new GridMap: unknown cells 0.5,
+  /// revealed ones 1 (free) / 0 (occupied), version + 1, `changed` = box of the cells revealed
+  /// by this scan, rebuilt = false.
+  bool step();
+  const GridMap& map() const;
+  Point2 robot() const;          ///< map frame, centre of the robot's cell
+  double pathLength() const;     ///< m travelled so far
+  std::size_t scans() const;
+  /// Revealed free pixels / free pixels of the start's 4-connected free component.
+  double coverage() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+/// Per-update timing and final score of an incremental run (evaluateIncremental).
+struct IncrementalResult {
+  std::vector<double> update_ms;  ///< segment() time per scan
+  SegmentationScore final_score;  ///< of the last segmentation against the rooms
+  Segmentation final_segmentation;
+  GridMap final_map;
+  double coverage = 0, path_length_m = 0;
+};
+
+/// Runs ExplorationSimulator on `image` and calls `segmenter.segment(map, previous)` after
+/// every scan; scores the last segmentation against `rooms`. `progress` (may be empty) is
+/// called after every update with the number of updates and the coverage.
+IncrementalResult evaluateIncremental(
+    Segmenter& segmenter, const GrayImage& image, const LabelRaster& rooms, double resolution,
+    const ExplorationOptions& options = {},
+    const std::function<void(std::size_t, double)>& progress = {});
+
+}  // namespace asf

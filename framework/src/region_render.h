@@ -1,0 +1,36 @@
+#pragma once
+// Drawing of grids, regions and topological graphs (private to the framework): shared by the
+// run recorder (map.png, regions.png) and asf segment / segment-eval overlays.
+#include <asf/segmentation.h>
+#include <asf/topo_graph.h>
+
+#include <opencv2/core.hpp>
+
+namespace mrpt::maps {
+class COccupancyGridMap2D;
+}
+
+namespace asf::render {
+
+/// Distinct, deterministic colour of a region id (BGR).
+cv::Vec3b regionColour(RegionId id);
+
+/// Grid as a BGR image, y up, and a map-point -> pixel function.
+struct MapImage {
+  cv::Mat img;
+  double x0 = 0, y0 = 0, res = 1;
+  cv::Point px(double x, double y) const {
+    return {static_cast<int>((x - x0) / res), img.rows - 1 - static_cast<int>((y - y0) / res)};
+  }
+};
+
+/// Grey levels = p(free).
+MapImage renderGrid(const mrpt::maps::COccupancyGridMap2D& g);
+/// Paints every labelled cell in its region's colour.
+void drawRegions(MapImage& m, const LabelImage& labels);
+/// Edges through their border midpoints (frontier edges red), region centroids as dots.
+void drawTopology(MapImage& m, const TopoGraph& topo);
+/// Region ids as text at the centroids.
+void drawRegionIds(MapImage& m, const Segmentation& seg);
+
+}  // namespace asf::render
