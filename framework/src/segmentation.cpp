@@ -88,29 +88,45 @@ Segmentation regionsFromLabels(LabelImage L, const Segmentation* previous, Regio
   out.map_version = map_version;
   const double cell_area = L.resolution * L.resolution;
 
+  // Labels come in long runs along rows: remember the last look-up instead of hashing every
+  // cell (this function runs on every incremental map update).
   std::unordered_map<RegionId, std::size_t> index;
   std::vector<Provisional> prov;
-  for (int cy = 0; cy < L.height; ++cy)
+  RegionId run_label = 0;
+  std::size_t run_index = 0;
+  for (int cy = 0; cy < L.height; ++cy) {
+    const RegionId* row = L.labels.data() + static_cast<std::size_t>(cy) * L.width;
     for (int cx = 0; cx < L.width; ++cx) {
-      const RegionId l = L.at(cx, cy);
+      const RegionId l = row[cx];
       if (l <= 0) continue;
-      auto [it, fresh] = index.emplace(l, prov.size());
-      if (fresh) {
-        Provisional p;
-        p.label = l;
-        p.min_x = p.max_x = cx;
-        p.min_y = p.max_y = cy;
-        prov.push_back(p);
+      if (l != run_label || prov.empty()) {
+        auto [it, fresh] = index.emplace(l, prov.size());
+        if (fresh) {
+          Provisional p;
+          p.label = l;
+          p.min_x = p.max_x = cx;
+          p.min_y = p.max_y = cy;
+          prov.push_back(p);
+        }
+        run_label = l;
+        run_index = it->second;
       }
-      Provisional& p = prov[it->second];
+      Provisional& p = prov[run_index];
       ++p.cells;
       p.sx += cx;
       p.sy += cy;
-      p.min_x = std::min(p.min_x, cx);
-      p.max_x = std::max(p.max_x, cx);
-      p.min_y = std::min(p.min_y, cy);
-      p.max_y = std::max(p.max_y, cy);
+      if (cx < p.min_x) p.min_x = cx;
+      if (cx > p.max_x) p.max_x = cx;
+      if (cy > p.max_y) p.max_y = cy;  // rows ascend: min_y is the first row seen
     }
+  }
+  auto indexOf = [&](RegionId l) {
+    if (l != run_label) {
+      run_label = l;
+      run_index = index.at(l);
+    }
+    return run_index;
+  };
 
   // Drop small regions.
   std::vector<char> keep(prov.size(), 1);
@@ -119,21 +135,44 @@ Segmentation regionsFromLabels(LabelImage L, const Segmentation* previous, Regio
     if (prov[i].cells * cell_area < min_area) keep[i] = 0, dropped = true;
   if (dropped)
     for (auto& l : L.labels)
-      if (l > 0 && !keep[index.at(l)]) l = 0;
+      if (l > 0 && !keep[indexOf(l)]) l = 0;
 
   // Reuse ids by largest overlap with the previous segmentation.
   RegionId issued = max_issued ? *max_issued : 0;
+  std::vector<std::map<RegionId, long>> overlap;
+  bool same_raster = false;
   if (previous) {
     for (const auto& r : previous->regions) issued = std::max(issued, r.id);
-    std::vector<std::map<RegionId, long>> overlap(prov.size());
+    const LabelImage& P = previous->labels;
+    // Same raster (the usual case): compare cell by cell, no coordinate conversion.
+    same_raster = P.width == L.width && P.height == L.height &&
+                             P.resolution == L.resolution && P.origin_x == L.origin_x &&
+                             P.origin_y == L.origin_y && P.labels.size() == L.labels.size();
+    overlap.assign(prov.size(), {});
+    // Counted per run of equal (new, old) label pairs, not per cell.
+    RegionId pair_new = 0, pair_old = 0;
+    long pair_n = 0;
+    auto flush = [&] {
+      if (pair_n > 0) overlap[indexOf(pair_new)][pair_old] += pair_n;
+      pair_n = 0;
+    };
     for (int cy = 0; cy < L.height; ++cy)
       for (int cx = 0; cx < L.width; ++cx) {
-        const RegionId l = L.at(cx, cy);
+        const std::size_t c = static_cast<std::size_t>(cy) * L.width + cx;
+        const RegionId l = L.labels[c];
         if (l <= 0) continue;
-        const RegionId old = previous->labels.atPoint(L.origin_x + (cx + 0.5) * L.resolution,
-                                                      L.origin_y + (cy + 0.5) * L.resolution);
-        if (old > 0) ++overlap[index.at(l)][old];
+        const RegionId old = same_raster ? P.labels[c]
+                                         : P.atPoint(L.origin_x + (cx + 0.5) * L.resolution,
+                                                     L.origin_y + (cy + 0.5) * L.resolution);
+        if (old <= 0) continue;
+        if (l != pair_new || old != pair_old) {
+          flush();
+          pair_new = l;
+          pair_old = old;
+        }
+        ++pair_n;
       }
+    flush();
     std::vector<std::tuple<long, std::size_t, RegionId>> pairs;  // overlap, region, old id
     for (std::size_t i = 0; i < prov.size(); ++i)
       if (keep[i])
@@ -163,14 +202,22 @@ Segmentation regionsFromLabels(LabelImage L, const Segmentation* previous, Regio
     r.area = static_cast<double>(p.cells) * cell_area;
     r.centroid = {L.origin_x + (p.sx / p.cells + 0.5) * L.resolution,
                   L.origin_y + (p.sy / p.cells + 0.5) * L.resolution};
-    boundary(L, p, r);
+    // A region whose cells are exactly those of the previous region with its id (same
+    // raster, full overlap, same count) keeps its boundary: most regions on an incremental
+    // update, and the per-region contour tracing is the costly part here.
+    const Region* old = same_raster ? previous->find(p.id) : nullptr;
+    if (old && overlap[i].count(p.id) && overlap[i].at(p.id) == p.cells &&
+        std::llround(old->area / cell_area) == p.cells) {
+      r.outer = old->outer;
+      r.holes = old->holes;
+    } else {
+      boundary(L, p, r);
+    }
     out.regions.push_back(std::move(r));
   }
   // Final ids into the image.
-  std::unordered_map<RegionId, RegionId> final_id;
-  for (const auto& p : prov) final_id[p.label] = p.id;
   for (auto& l : L.labels)
-    if (l > 0) l = final_id.at(l);
+    if (l > 0) l = prov[indexOf(l)].id;
   std::sort(out.regions.begin(), out.regions.end(),
             [](const Region& a, const Region& b) { return a.id < b.id; });
   out.labels = std::move(L);

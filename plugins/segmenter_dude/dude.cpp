@@ -1,0 +1,796 @@
+// Dual-Space Decomposition, implemented from the paper's description (Liu, Xi, Lien 2014) and
+// the thesis' outline. One round on a piece:
+//   hull -> pockets and bridges -> concavity through the bridge hierarchy -> pocket minima
+//   (deepest reflex vertex of every pocket, when deeper than tau) -> candidate cuts per
+//   minimum -> greedy selection by resolved concavity / length -> split -> next round.
+// Holes wider than tau are first bridged to the outer ring (shortest visible segment), which
+// turns their far side into a pocket that the rounds then resolve.
+#include "dude.h"
+
+#include <boost/geometry.hpp>
+#include <boost/geometry/geometries/point_xy.hpp>
+#include <boost/geometry/geometries/polygon.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+namespace asf::dude {
+namespace {
+
+namespace bg = boost::geometry;
+using BgPoint = bg::model::d2::point_xy<double>;
+using BgRing = bg::model::ring<BgPoint, /*clockwise=*/false, /*closed=*/false>;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kEps = 1e-9;      // distances [m] below this are "the same point"
+constexpr int kMaxPocketDepth = 48;  // bridge hierarchy depth (deeper: plain distance)
+
+Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
+double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+double norm(Vec2 a) { return std::hypot(a.x, a.y); }
+double orient(Vec2 o, Vec2 a, Vec2 b) { return cross(a - o, b - o); }
+bool same(Vec2 a, Vec2 b) { return norm(a - b) <= kEps; }
+
+/// Distance from p to segment ab; *t receives the parameter of the closest point.
+double distToSegment(Vec2 p, Vec2 a, Vec2 b, double* t) {
+  const Vec2 ab = b - a;
+  const double l2 = dot(ab, ab);
+  double s = l2 > 0 ? dot(p - a, ab) / l2 : 0;
+  s = std::clamp(s, 0.0, 1.0);
+  if (t) *t = s;
+  return norm(p - (a + s * ab));
+}
+
+/// Angle of direction d measured counter-clockwise from direction ref, in [0, 2 pi).
+double ccwAngle(Vec2 ref, Vec2 d) {
+  double a = std::atan2(cross(ref, d), dot(ref, d));
+  if (a < 0) a += 2 * kPi;
+  return a;
+}
+
+/// Interior angle at ring[i] (interior on the left of the ring's direction).
+double interiorAngle(const Ring& r, std::size_t i) {
+  const std::size_t n = r.size();
+  const Vec2 cur = r[i], prev = r[(i + n - 1) % n], next = r[(i + 1) % n];
+  return ccwAngle(next - cur, prev - cur);
+}
+
+/// Strict convex hull (Andrew's monotone chain) of pts; positions into pts, ascending.
+/// Hand-written because the decomposition needs vertex positions, which Boost's convex_hull
+/// (it returns points) does not give.
+std::vector<int> hullPositions(const std::vector<Vec2>& pts) {
+  const int n = static_cast<int>(pts.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return pts[a].x < pts[b].x || (pts[a].x == pts[b].x && pts[a].y < pts[b].y);
+  });
+  if (n < 3) return order;
+  std::vector<int> h(2 * n);
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    while (k >= 2 && orient(pts[h[k - 2]], pts[h[k - 1]], pts[order[i]]) <= 0) --k;
+    h[k++] = order[i];
+  }
+  for (int i = n - 2, lo = k + 1; i >= 0; --i) {
+    while (k >= lo && orient(pts[h[k - 2]], pts[h[k - 1]], pts[order[i]]) <= 0) --k;
+    h[k++] = order[i];
+  }
+  h.resize(std::max(k - 1, 0));
+  std::sort(h.begin(), h.end());
+  h.erase(std::unique(h.begin(), h.end()), h.end());
+  return h;
+}
+
+/// Adds to `hull` (ascending positions) the points lying on the hull edges between
+/// consecutive hull positions (and, when cyclic, between the last and the first).
+std::vector<int> withCollinear(const std::vector<Vec2>& pts, const std::vector<int>& hull,
+                               bool cyclic) {
+  if (hull.size() < 2) return hull;
+  const int n = static_cast<int>(pts.size());
+  std::vector<int> out;
+  out.reserve(hull.size());
+  const std::size_t pairs = cyclic ? hull.size() : hull.size() - 1;
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    out.push_back(hull[k]);
+    if (k >= pairs) continue;
+    const int h0 = hull[k];
+    const int h1 = k + 1 < hull.size() ? hull[k + 1] : hull[0] + n;
+    for (int p = h0 + 1; p < h1; ++p)
+      if (distToSegment(pts[p % n], pts[h0], pts[h1 % n], nullptr) <= kEps) out.push_back(p % n);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+struct Concavity {
+  std::vector<double> value;  ///< per ring vertex
+  std::vector<int> pocket;    ///< innermost pocket of the vertex, -1 on the hull
+  int pockets = 0;
+};
+
+/// Concavity of the vertices strictly inside `chain` (ring positions from one bridge end to
+/// the other), whose bridge ends have concavity ca and cb.
+void analysePocket(const Ring& r, const std::vector<int>& chain, double ca, double cb, int depth,
+                   Concavity& c) {
+  const int node = c.pockets++;
+  const int m = static_cast<int>(chain.size());
+  const Vec2 a = r[chain.front()], b = r[chain.back()];
+  std::vector<Vec2> pts(m);
+  for (int i = 0; i < m; ++i) pts[i] = r[chain[i]];
+  // Concavity of a point seen from this pocket: distance to the bridge plus the concavity
+  // of the bridge where the point projects (interpolated between its ends).
+  auto through = [&](int pos) {
+    double t = 0;
+    const double d = distToSegment(pts[pos], a, b, &t);
+    return d + ca + (cb - ca) * t;
+  };
+  std::vector<int> hull = hullPositions(pts);
+  hull.push_back(0);
+  hull.push_back(m - 1);
+  // Chain points touching the bridge are on the hull too (they split the pocket).
+  for (int p = 1; p + 1 < m; ++p)
+    if (distToSegment(pts[p], a, b, nullptr) <= kEps) hull.push_back(p);
+  std::sort(hull.begin(), hull.end());
+  hull.erase(std::unique(hull.begin(), hull.end()), hull.end());
+  hull = withCollinear(pts, hull, false);
+  auto concAt = [&](int pos) {
+    if (pos == 0) return ca;
+    if (pos == m - 1) return cb;
+    return c.value[chain[pos]];
+  };
+  for (int h : hull)
+    if (h != 0 && h != m - 1) {
+      c.value[chain[h]] = through(h);
+      c.pocket[chain[h]] = node;
+    }
+  for (std::size_t k = 0; k + 1 < hull.size(); ++k) {
+    const int h0 = hull[k], h1 = hull[k + 1];
+    if (h1 - h0 < 2) continue;
+    if (depth >= kMaxPocketDepth) {
+      for (int p = h0 + 1; p < h1; ++p) {
+        c.value[chain[p]] = through(p);
+        c.pocket[chain[p]] = node;
+      }
+      continue;
+    }
+    std::vector<int> sub(chain.begin() + h0, chain.begin() + h1 + 1);
+    analysePocket(r, sub, concAt(h0), concAt(h1), depth + 1, c);
+  }
+}
+
+Concavity analyse(const Ring& r) {
+  const int n = static_cast<int>(r.size());
+  Concavity c;
+  c.value.assign(n, 0.0);
+  c.pocket.assign(n, -1);
+  if (n < 4) return c;
+  const std::vector<int> hull = withCollinear(r, hullPositions(r), true);
+  if (hull.size() < 3) return c;
+  for (std::size_t k = 0; k < hull.size(); ++k) {
+    const int h0 = hull[k];
+    const int h1 = k + 1 < hull.size() ? hull[k + 1] : hull[0] + n;
+    if (h1 - h0 < 2) continue;
+    std::vector<int> chain;
+    chain.reserve(h1 - h0 + 1);
+    for (int p = h0; p <= h1; ++p) chain.push_back(p % n);
+    analysePocket(r, chain, 0.0, 0.0, 1, c);
+  }
+  return c;
+}
+
+/// Where a cut ends: a vertex of the ring, or a point inside an edge.
+struct End {
+  int vertex = -1;  ///< ring position, or -1
+  int edge = -1;    ///< edge (edge, edge+1) when vertex < 0
+  double t = 0;     ///< parameter on the edge
+  Vec2 p;
+};
+
+struct Candidate {
+  int pm = -1;  ///< ring position of the pocket minimum
+  End end;
+  double length = 0, score = 0;
+  int other_pm = -1;  ///< the far end, when it is a minimum this cut also resolves
+};
+
+/// A polygon being decomposed: the outer ring (holes already bridged into it, or kept as
+/// obstacles to visibility).
+struct Work {
+  Ring outer;
+  std::vector<Ring> holes;  ///< holes kept whole (clockwise)
+  int round = 0;
+};
+
+/// True when segment pq touches an edge of `ring` anywhere except at p and q themselves
+/// (both assumed on the boundary). Edges through p or q are fine when they only meet there.
+bool blockedBy(const Ring& ring, Vec2 p, Vec2 q) {
+  const double len = norm(q - p);
+  if (len <= kEps) return true;
+  const double minx = std::min(p.x, q.x) - kEps, maxx = std::max(p.x, q.x) + kEps;
+  const double miny = std::min(p.y, q.y) - kEps, maxy = std::max(p.y, q.y) + kEps;
+  const std::size_t n = ring.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 u = ring[k], v = ring[(k + 1) % n];
+    if (std::max(u.x, v.x) < minx || std::min(u.x, v.x) > maxx || std::max(u.y, v.y) < miny ||
+        std::min(u.y, v.y) > maxy)
+      continue;
+    const double du = orient(p, q, u) / len, dv = orient(p, q, v) / len;
+    // A vertex lying on the open segment pq: grazing a corner counts as blocked.
+    for (const Vec2 w : {u, v}) {
+      const double dw = orient(p, q, w) / len;
+      if (std::abs(dw) <= 1e-7 && !same(w, p) && !same(w, q)) {
+        const double s = dot(w - p, q - p) / (len * len);
+        if (s > 1e-9 && s < 1 - 1e-9) return true;
+      }
+    }
+    if ((du > 1e-7 && dv < -1e-7) || (du < -1e-7 && dv > 1e-7)) {
+      const double el = norm(v - u);
+      if (el <= kEps) continue;
+      const double dp = orient(u, v, p) / el, dq = orient(u, v, q) / el;
+      if ((dp > 1e-7 && dq < -1e-7) || (dp < -1e-7 && dq > 1e-7)) return true;
+    }
+  }
+  return false;
+}
+
+/// Proper crossing (or overlap) of segments ab and cd, sharing end points allowed.
+bool segmentsConflict(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const Ring r{c, d};
+  // blockedBy treats the 2-point ring as edges c->d and d->c: the same segment twice.
+  return blockedBy(r, a, b);
+}
+
+/// Checks that the cut from ring vertex i to `e` runs inside the polygon; fills the angles
+/// it leaves at vertex i (a0: between the next edge and the cut; a1: the rest).
+bool validCut(const Work& w, int i, const End& e, double* a0, double* a1) {
+  const Ring& r = w.outer;
+  const int n = static_cast<int>(r.size());
+  const Vec2 p = r[i], q = e.p;
+  const Vec2 d = q - p;
+  if (norm(d) <= kEps) return false;
+  const Vec2 next = r[(i + 1) % n] - p;
+  const double interior = interiorAngle(r, i);
+  const double rel = ccwAngle(next, d);
+  if (rel <= 1e-6 || rel >= interior - 1e-6) return false;
+  if (a0) *a0 = rel;
+  if (a1) *a1 = interior - rel;
+  if (e.vertex >= 0) {
+    if (e.vertex == i) return false;
+    const double int_j = interiorAngle(r, e.vertex);
+    const double rel_j = ccwAngle(r[(e.vertex + 1) % n] - q, p - q);
+    if (rel_j <= 1e-6 || rel_j >= int_j - 1e-6) return false;
+  } else {
+    const Vec2 u = r[e.edge], v = r[(e.edge + 1) % n];
+    if (cross(v - u, p - q) <= 1e-9 * norm(v - u) * norm(p - q)) return false;  // from the left
+  }
+  if (blockedBy(r, p, q)) return false;
+  for (const Ring& h : w.holes)
+    if (blockedBy(h, p, q)) return false;
+  return true;
+}
+
+/// First boundary point hit by the ray from ring vertex i along direction dir.
+bool castRay(const Ring& r, int i, Vec2 dir, End* hit) {
+  const int n = static_cast<int>(r.size());
+  const Vec2 p = r[i];
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const int k1 = (k + 1) % n;
+    if (k == i || k1 == i) continue;
+    const Vec2 u = r[k], v = r[k1];
+    const Vec2 ev = v - u;
+    const double den = cross(dir, ev);
+    if (std::abs(den) <= 1e-12) continue;
+    const Vec2 w = u - p;
+    const double s = cross(w, ev) / den;  // along the ray
+    const double t = cross(w, dir) / den;  // along the edge
+    if (s <= 1e-9 || t < -1e-9 || t > 1 + 1e-9 || s >= best) continue;
+    best = s;
+    hit->p = p + s * dir;
+    if (t <= 1e-6 || norm(hit->p - u) <= kEps) {
+      hit->vertex = k;
+      hit->p = u;
+    } else if (t >= 1 - 1e-6 || norm(hit->p - v) <= kEps) {
+      hit->vertex = k1;
+      hit->p = v;
+    } else {
+      hit->vertex = -1;
+      hit->edge = k;
+      hit->t = t;
+    }
+  }
+  return std::isfinite(best);
+}
+
+/// Inserts the edge points of `ends` into the ring; returns the ring position of each end.
+std::vector<int> insertEnds(Ring& r, const std::vector<End>& ends,
+                            std::vector<int>* vertex_pos = nullptr) {
+  const int n = static_cast<int>(r.size());
+  std::vector<std::vector<std::pair<double, int>>> on_edge(n);
+  for (int k = 0; k < static_cast<int>(ends.size()); ++k)
+    if (ends[k].vertex < 0) on_edge[ends[k].edge].push_back({ends[k].t, k});
+  std::vector<int> pos(ends.size(), -1);
+  Ring out;
+  out.reserve(n + ends.size());
+  std::vector<int> newpos(n);
+  for (int i = 0; i < n; ++i) {
+    newpos[i] = static_cast<int>(out.size());
+    out.push_back(r[i]);
+    auto& list = on_edge[i];
+    std::stable_sort(list.begin(), list.end());
+    for (const auto& [t, k] : list) {
+      if (same(out.back(), ends[k].p)) {
+        pos[k] = static_cast<int>(out.size()) - 1;
+        continue;
+      }
+      pos[k] = static_cast<int>(out.size());
+      out.push_back(ends[k].p);
+    }
+  }
+  for (int k = 0; k < static_cast<int>(ends.size()); ++k)
+    if (ends[k].vertex >= 0) pos[k] = newpos[ends[k].vertex];
+  if (vertex_pos) *vertex_pos = std::move(newpos);
+  r = std::move(out);
+  return pos;
+}
+
+bool pointInRing(Vec2 p, const Ring& r) {
+  BgRing br;
+  br.reserve(r.size());
+  for (const Vec2& v : r) br.push_back(BgPoint(v.x, v.y));
+  return bg::within(BgPoint(p.x, p.y), br);
+}
+
+double ringDiameter(const Ring& r) {
+  std::vector<Vec2> pts(r.begin(), r.end());
+  const std::vector<int> h = hullPositions(pts);
+  double d = 0;
+  for (std::size_t a = 0; a < h.size(); ++a)
+    for (std::size_t b = a + 1; b < h.size(); ++b) d = std::max(d, norm(r[h[a]] - r[h[b]]));
+  return d;
+}
+
+class Decomposer {
+ public:
+  Decomposer(const Options& o, Result& res) : opt_(o), res_(res) {
+    tau_ = opt_.max_concavity;
+    min_hole_ = opt_.min_hole_extent < 0 ? tau_ : opt_.min_hole_extent;
+  }
+
+  void run(const Shape& shape) {
+    Work w;
+    w.outer = cleanRing(shape.outer, true);
+    if (w.outer.empty()) return;
+    std::vector<Ring> big;
+    for (const Ring& h0 : shape.holes) {
+      Ring h = cleanRing(h0, false);
+      if (h.empty()) continue;
+      if (ringDiameter(h) >= min_hole_)
+        big.push_back(std::move(h));
+      else
+        w.holes.push_back(std::move(h));
+    }
+    // Largest first, so the result does not depend on the input order of equal holes.
+    std::stable_sort(big.begin(), big.end(), [](const Ring& a, const Ring& b) {
+      return std::abs(signedArea(a)) > std::abs(signedArea(b));
+    });
+    bridgeHoles(w, big);
+    std::vector<Work> stack{std::move(w)};
+    while (!stack.empty()) {
+      Work cur = std::move(stack.back());
+      stack.pop_back();
+      if (cur.round >= opt_.max_rounds ||
+          static_cast<int>(res_.pieces.size() + stack.size()) >= opt_.max_pieces) {
+        warn("decomposition limit reached (rounds or pieces); piece kept whole");
+        emit(cur);
+        continue;
+      }
+      std::vector<Work> parts;
+      if (!decomposeOnce(cur, parts)) {
+        emit(cur);
+        continue;
+      }
+      for (auto it = parts.rbegin(); it != parts.rend(); ++it) stack.push_back(std::move(*it));
+    }
+  }
+
+ private:
+  void warn(const std::string& s) { res_.warnings.push_back(s); }
+
+  void emit(const Work& w) {
+    Shape s;
+    s.outer = w.outer;
+    s.holes = w.holes;
+    res_.pieces.push_back(std::move(s));
+  }
+
+  /// Joins each hole to the outer ring (or to holes already joined) with the shortest
+  /// segment that stays inside the polygon; the outer ring then runs around the hole.
+  void bridgeHoles(Work& w, std::vector<Ring>& holes) {
+    while (!holes.empty()) {
+      double best = std::numeric_limits<double>::infinity();
+      int best_h = -1, best_v = -1;
+      End best_e;
+      for (int h = 0; h < static_cast<int>(holes.size()); ++h) {
+        const Ring& hole = holes[h];
+        for (int v = 0; v < static_cast<int>(hole.size()); ++v) {
+          const Vec2 p = hole[v];
+          // A few nearest points of the outer ring, closest first, until one is visible.
+          std::vector<std::pair<double, End>> near;
+          const int n = static_cast<int>(w.outer.size());
+          for (int k = 0; k < n; ++k) {
+            double t = 0;
+            const Vec2 a = w.outer[k], b = w.outer[(k + 1) % n];
+            const double d = distToSegment(p, a, b, &t);
+            if (d >= best) continue;
+            End e;
+            if (t <= 1e-6) { e.vertex = k; e.p = a; }
+            else if (t >= 1 - 1e-6) { e.vertex = (k + 1) % n; e.p = b; }
+            else { e.edge = k; e.t = t; e.p = a + t * (b - a); }
+            near.push_back({d, e});
+          }
+          std::stable_sort(near.begin(), near.end(),
+                           [](const auto& x, const auto& y) { return x.first < y.first; });
+          if (near.size() > 4) near.resize(4);
+          for (const auto& [d, e] : near) {
+            if (d >= best) break;
+            if (holeBridgeValid(w, holes, h, v, e)) {
+              best = d;
+              best_h = h;
+              best_v = v;
+              best_e = e;
+              break;
+            }
+          }
+        }
+      }
+      if (best_h < 0) {
+        warn("a hole could not be joined to the boundary; kept as an obstacle");
+        for (Ring& h : holes) w.holes.push_back(std::move(h));
+        return;
+      }
+      const Ring hole = std::move(holes[best_h]);
+      holes.erase(holes.begin() + best_h);
+      const std::vector<int> pos = insertEnds(w.outer, {best_e});
+      const int j = pos[0];
+      Ring merged;
+      merged.reserve(w.outer.size() + hole.size() + 2);
+      for (int k = 0; k <= j; ++k) merged.push_back(w.outer[k]);
+      const int m = static_cast<int>(hole.size());
+      for (int k = 0; k <= m; ++k) merged.push_back(hole[(best_v + k) % m]);
+      for (int k = j; k < static_cast<int>(w.outer.size()); ++k) merged.push_back(w.outer[k]);
+      res_.cuts.push_back({hole[best_v], w.outer[j]});
+      w.outer = std::move(merged);
+    }
+  }
+
+  bool holeBridgeValid(const Work& w, const std::vector<Ring>& holes, int h, int v,
+                       const End& e) const {
+    const Ring& hole = holes[h];
+    const Vec2 p = hole[v], q = e.p;
+    const Vec2 d = q - p;
+    if (norm(d) <= kEps) return false;
+    // At the hole vertex: the bridge leaves into the free side (left of the clockwise hole).
+    const int m = static_cast<int>(hole.size());
+    const double interior = interiorAngle(hole, v);
+    const double rel = ccwAngle(hole[(v + 1) % m] - p, d);
+    if (rel <= 1e-6 || rel >= interior - 1e-6) return false;
+    const Ring& r = w.outer;
+    const int n = static_cast<int>(r.size());
+    if (e.vertex >= 0) {
+      const double int_j = interiorAngle(r, e.vertex);
+      const double rel_j = ccwAngle(r[(e.vertex + 1) % n] - q, p - q);
+      if (rel_j <= 1e-6 || rel_j >= int_j - 1e-6) return false;
+    } else {
+      const Vec2 u = r[e.edge], vv = r[(e.edge + 1) % n];
+      if (cross(vv - u, p - q) <= 1e-9 * norm(vv - u) * norm(p - q)) return false;
+    }
+    if (blockedBy(r, p, q)) return false;
+    for (const Ring& o : holes)
+      if (blockedBy(o, p, q)) return false;
+    for (const Ring& o : w.holes)
+      if (blockedBy(o, p, q)) return false;
+    return true;
+  }
+
+  /// One round: false when the piece is final (no pocket minimum, or none can be cut).
+  bool decomposeOnce(Work& w, std::vector<Work>& parts) {
+    Ring& r = w.outer;
+    const int n = static_cast<int>(r.size());
+    if (n < 4) return false;
+    const Concavity c = analyse(r);
+    std::vector<char> reflex(n, 0);
+    for (int i = 0; i < n; ++i) reflex[i] = interiorAngle(r, i) > kPi + 1e-6;
+    // Pocket minima: the deepest reflex vertex of every pocket of the hierarchy.
+    std::vector<int> deepest(c.pockets, -1);
+    for (int i = 0; i < n; ++i) {
+      if (!reflex[i] || c.pocket[i] < 0 || c.value[i] <= tau_) continue;
+      int& d = deepest[c.pocket[i]];
+      if (d < 0 || c.value[i] > c.value[d]) d = i;
+    }
+    std::vector<int> pms;
+    for (int d : deepest)
+      if (d >= 0) pms.push_back(d);
+    if (pms.empty()) return false;
+    std::sort(pms.begin(), pms.end());
+
+    std::vector<int> reflex_list;
+    for (int i = 0; i < n; ++i)
+      if (reflex[i]) reflex_list.push_back(i);
+
+    std::vector<Candidate> cands;
+    for (int pm : pms) addCandidates(w, c, reflex, reflex_list, pm, cands);
+    if (cands.empty()) {
+      std::ostringstream s;
+      s << "no valid cut for " << pms.size() << " pocket minima (max concavity "
+        << c.value[pms.front()] << "); piece kept whole";
+      warn(s.str());
+      return false;
+    }
+    std::stable_sort(cands.begin(), cands.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+
+    // Greedy: best score first, each minimum once, no crossing cuts.
+    std::vector<char> resolved(n, 0);
+    std::vector<Candidate> chosen;
+    for (const Candidate& cd : cands) {
+      if (resolved[cd.pm]) continue;
+      const Vec2 a = r[cd.pm], b = cd.end.p;
+      bool conflict = false;
+      for (const Candidate& o : chosen) {
+        const Vec2 oa = r[o.pm], ob = o.end.p;
+        if ((same(a, oa) && same(b, ob)) || (same(a, ob) && same(b, oa)) ||
+            segmentsConflict(a, b, oa, ob)) {
+          conflict = true;
+          break;
+        }
+      }
+      if (conflict) continue;
+      chosen.push_back(cd);
+      resolved[cd.pm] = 1;
+      if (cd.other_pm >= 0) resolved[cd.other_pm] = 1;
+      for (int pm : pms)
+        if (norm(r[pm] - a) <= opt_.resolve_radius || norm(r[pm] - b) <= opt_.resolve_radius)
+          resolved[pm] = 1;
+    }
+
+    // Apply: insert edge end points, then split the ring along each cut in turn.
+    std::vector<End> ends;
+    for (const Candidate& cd : chosen) ends.push_back(cd.end);
+    Ring ring = r;
+    std::vector<int> vertex_pos;
+    const std::vector<int> endpos = insertEnds(ring, ends, &vertex_pos);
+    std::vector<int> pmpos;
+    for (const Candidate& cd : chosen) pmpos.push_back(vertex_pos[cd.pm]);
+
+    std::vector<std::vector<int>> pieces(1);
+    pieces[0].resize(ring.size());
+    std::iota(pieces[0].begin(), pieces[0].end(), 0);
+    int applied = 0;
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      const int pa = pmpos[k], pb = endpos[k];
+      if (pa == pb) continue;
+      bool done = false;
+      for (std::size_t pi = 0; pi < pieces.size() && !done; ++pi) {
+        auto& pc = pieces[pi];
+        auto ia = std::find(pc.begin(), pc.end(), pa);
+        auto ib = std::find(pc.begin(), pc.end(), pb);
+        if (ia == pc.end() || ib == pc.end()) continue;
+        std::size_t a = ia - pc.begin(), b = ib - pc.begin();
+        if (a > b) std::swap(a, b);
+        if (b - a < 2 || a + pc.size() - b < 2) break;  // along an edge: nothing to split
+        std::vector<int> A(pc.begin() + a, pc.begin() + b + 1);
+        std::vector<int> B(pc.begin() + b, pc.end());
+        B.insert(B.end(), pc.begin(), pc.begin() + a + 1);
+        pc = std::move(A);
+        pieces.push_back(std::move(B));
+        done = true;
+      }
+      if (done) {
+        ++applied;
+        res_.cuts.push_back({r[chosen[k].pm], chosen[k].end.p});
+      }
+    }
+    if (applied == 0) return failSplit("cuts could not be applied");
+
+    const double parent_area = signedArea(r);
+    double total = 0;
+    std::vector<Work> out;
+    for (const auto& pc : pieces) {
+      Ring pr;
+      pr.reserve(pc.size());
+      for (int p : pc) pr.push_back(ring[p]);
+      const double a = signedArea(pr);
+      if (a <= 0) return failSplit("a cut produced an inverted piece");
+      Work piece;
+      piece.outer = cleanRing(pr, true);
+      piece.round = w.round + 1;
+      total += a;
+      if (!piece.outer.empty()) out.push_back(std::move(piece));
+    }
+    if (std::abs(total - parent_area) > 1e-6 * std::max(1.0, parent_area))
+      return failSplit("pieces do not add up to the polygon (self-intersecting boundary?)");
+    // Holes kept whole go to the piece that contains them.
+    for (Ring& h : w.holes) {
+      bool placed = false;
+      for (Work& p : out)
+        if (pointInRing(h.front(), p.outer)) {
+          p.holes.push_back(h);
+          placed = true;
+          break;
+        }
+      if (!placed && !out.empty()) out.front().holes.push_back(h);
+    }
+    for (Work& p : out) parts.push_back(std::move(p));
+    return true;
+  }
+
+  bool failSplit(const std::string& why) {
+    warn(why + "; piece kept whole");
+    return false;
+  }
+
+  void addCandidates(const Work& w, const Concavity& c, const std::vector<char>& reflex,
+                     const std::vector<int>& reflex_list, int pm, std::vector<Candidate>& out) {
+    const Ring& r = w.outer;
+    const int n = static_cast<int>(r.size());
+    const Vec2 p = r[pm];
+    const double limit = kPi + opt_.angle_tolerance;
+    auto consider = [&](const End& e) {
+      double a0 = 0, a1 = 0;
+      if (!validCut(w, pm, e, &a0, &a1)) return;
+      if (a0 > limit || a1 > limit) return;  // does not resolve the minimum
+      Candidate cd;
+      cd.pm = pm;
+      cd.end = e;
+      cd.length = norm(e.p - p);
+      double gain = c.value[pm];
+      if (e.vertex >= 0 && reflex[e.vertex] && c.value[e.vertex] > tau_) {
+        // The far end is a minimum too: count it when the cut also resolves it there.
+        const double int_j = interiorAngle(r, e.vertex);
+        const double rel_j = ccwAngle(r[(e.vertex + 1) % n] - e.p, p - e.p);
+        if (rel_j <= limit && int_j - rel_j <= limit) {
+          gain += c.value[e.vertex];
+          cd.other_pm = e.vertex;
+        }
+      }
+      cd.score = gain / std::max(cd.length, 1e-6);
+      out.push_back(cd);
+    };
+    // 1) Reflex vertices nearby (doorway to doorway), the nearest few.
+    std::vector<std::pair<double, int>> near;
+    for (int j : reflex_list)
+      if (j != pm) near.push_back({norm(r[j] - p), j});
+    const std::size_t kNearReflex = 12;
+    if (near.size() > kNearReflex) {
+      std::nth_element(near.begin(), near.begin() + kNearReflex, near.end());
+      near.resize(kNearReflex);
+    }
+    std::sort(near.begin(), near.end());
+    for (const auto& [d, j] : near) {
+      End e;
+      e.vertex = j;
+      e.p = r[j];
+      consider(e);
+    }
+    // 2) Extensions of the two edges meeting at the minimum (walls continued).
+    const Vec2 prev = r[(pm + n - 1) % n], next = r[(pm + 1) % n];
+    for (const Vec2 dir : {p - prev, p - next}) {
+      const double l = norm(dir);
+      if (l <= kEps) continue;
+      End e;
+      if (castRay(r, pm, (1.0 / l) * dir, &e)) consider(e);
+    }
+    // 3) The nearest points of the boundary (shortest way across).
+    std::vector<std::pair<double, End>> closest;
+    for (int k = 0; k < n; ++k) {
+      const int k1 = (k + 1) % n;
+      if (k == pm || k1 == pm) continue;
+      double t = 0;
+      const Vec2 a = r[k], b = r[k1];
+      const double d = distToSegment(p, a, b, &t);
+      End e;
+      if (t <= 1e-6) { e.vertex = k; e.p = a; }
+      else if (t >= 1 - 1e-6) { e.vertex = k1; e.p = b; }
+      else { e.edge = k; e.t = t; e.p = a + t * (b - a); }
+      closest.push_back({d, e});
+    }
+    const std::size_t kNearEdges = 4;
+    if (closest.size() > kNearEdges) {
+      std::nth_element(closest.begin(), closest.begin() + kNearEdges, closest.end(),
+                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      closest.resize(kNearEdges);
+    }
+    std::stable_sort(closest.begin(), closest.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [d, e] : closest) consider(e);
+  }
+
+  const Options& opt_;
+  Result& res_;
+  double tau_ = 2.5, min_hole_ = 2.5;
+};
+
+}  // namespace
+
+double signedArea(const Ring& r) {
+  double a = 0;
+  const std::size_t n = r.size();
+  for (std::size_t i = 0; i < n; ++i) a += cross(r[i], r[(i + 1) % n]);
+  return a / 2;
+}
+
+Ring cleanRing(const Ring& in, bool ccw, double eps) {
+  Ring r;
+  r.reserve(in.size());
+  for (const Vec2& p : in) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    if (!r.empty() && norm(p - r.back()) <= eps) continue;
+    r.push_back(p);
+  }
+  while (r.size() > 1 && norm(r.front() - r.back()) <= eps) r.pop_back();
+  // Collinear vertices and spikes (the boundary turning back on itself) carry no area.
+  auto degenerate = [&](Vec2 a, Vec2 b, Vec2 c) {
+    const double l1 = norm(b - a), l2 = norm(c - b);
+    if (l1 <= eps || l2 <= eps) return true;
+    return std::abs(orient(a, b, c)) <= 1e-9 * l1 * l2;
+  };
+  bool changed = true;
+  while (changed && r.size() >= 3) {
+    changed = false;
+    Ring s;
+    s.reserve(r.size());
+    for (const Vec2& p : r) {
+      while (s.size() >= 2 && degenerate(s[s.size() - 2], s.back(), p)) {
+        s.pop_back();
+        changed = true;
+      }
+      s.push_back(p);
+    }
+    // Close the loop: the joint between the last and first vertices.
+    while (s.size() >= 3 && degenerate(s[s.size() - 2], s.back(), s.front())) {
+      s.pop_back();
+      changed = true;
+    }
+    while (s.size() >= 3 && degenerate(s.back(), s.front(), s[1])) {
+      s.erase(s.begin());
+      changed = true;
+    }
+    r = std::move(s);
+  }
+  if (r.size() < 3) return {};
+  const double a = signedArea(r);
+  if (std::abs(a) <= eps * eps) return {};
+  if ((a > 0) != ccw) std::reverse(r.begin(), r.end());
+  return r;
+}
+
+std::vector<double> concavities(const Ring& ccw_ring) { return analyse(ccw_ring).value; }
+
+double maxReflexConcavity(const Ring& r) {
+  const Concavity c = analyse(r);
+  double m = 0;
+  for (std::size_t i = 0; i < r.size(); ++i)
+    if (interiorAngle(r, i) > kPi + 1e-6) m = std::max(m, c.value[i]);
+  return m;
+}
+
+Result decompose(const Shape& shape, const Options& options) {
+  Result res;
+  Options o = options;
+  if (!(o.max_concavity > 0)) o.max_concavity = 2.5;
+  Decomposer d(o, res);
+  d.run(shape);
+  return res;
+}
+
+}  // namespace asf::dude

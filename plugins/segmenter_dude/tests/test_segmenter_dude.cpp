@@ -1,0 +1,344 @@
+// Tests of the dude segmenter plugin on occupancy grids (MRPT) and, when ../shared is there,
+// on one map of the room segmentation benchmark.
+#include <asf/errors.h>
+#include <asf/registry.h>
+#include <asf/segmenter.h>
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+
+namespace {
+
+using Grid = mrpt::maps::COccupancyGridMap2D;
+// MRPT cell values are p(free): 1 = certainly empty, 0 = certainly occupied.
+constexpr float kFree = 0.95f, kWall = 0.05f;
+constexpr float kRes = 0.05f;
+
+std::shared_ptr<const asf::PluginInfo> info() {
+  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_dude.so");
+  return i;
+}
+
+asf::PluginHandle<asf::Segmenter> make(const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::Registry::create<asf::Segmenter>(info());
+  h->configure(asf::Params::fromSpecs("dude", info()->descriptor->keys,
+                                      info()->descriptor->num_keys, kv),
+               asf::PluginContext{});
+  return h;
+}
+
+/// w x h metres at 5 cm, all unknown.
+std::shared_ptr<Grid> unknownGrid(float w, float h) {
+  auto g = std::make_shared<Grid>(0.f, w, 0.f, h, kRes);
+  g->fill(0.5f);
+  return g;
+}
+
+/// Sets the cells of the box [x0,x1) x [y0,y1) (metres).
+void setBox(Grid& g, double x0, double y0, double x1, double y1, float p) {
+  const int cx0 = g.x2idx(x0 + 1e-6), cy0 = g.y2idx(y0 + 1e-6);
+  const int cx1 = g.x2idx(x1 - 1e-6), cy1 = g.y2idx(y1 - 1e-6);
+  for (int cy = std::max(cy0, 0); cy <= cy1 && cy < static_cast<int>(g.getSizeY()); ++cy)
+    for (int cx = std::max(cx0, 0); cx <= cx1 && cx < static_cast<int>(g.getSizeX()); ++cx)
+      g.setCell(cx, cy, p);
+}
+
+asf::GridMap mapOf(std::shared_ptr<const Grid> g, std::uint64_t version = 1, bool rebuilt = false) {
+  asf::GridMap m;
+  m.grid = std::move(g);
+  m.version = version;
+  m.rebuilt = rebuilt;
+  return m;
+}
+
+bool isFree(const Grid& g, int cx, int cy) { return 1.0 - g.getCell(cx, cy) < 0.4; }
+
+/// The contract, plus: every free cell of a component larger than min_component_area has a
+/// label (the plugin promises it).
+void checkConsistency(const asf::Segmentation& s, const Grid& g) {
+  ASSERT_EQ(s.labels.width, static_cast<int>(g.getSizeX()));
+  ASSERT_EQ(s.labels.height, static_cast<int>(g.getSizeY()));
+  EXPECT_DOUBLE_EQ(s.labels.resolution, g.getResolution());
+  EXPECT_DOUBLE_EQ(s.labels.origin_x, g.getXMin());
+  EXPECT_DOUBLE_EQ(s.labels.origin_y, g.getYMin());
+  std::map<asf::RegionId, int> count;
+  for (int cy = 0; cy < s.labels.height; ++cy)
+    for (int cx = 0; cx < s.labels.width; ++cx) {
+      const asf::RegionId id = s.labels.at(cx, cy);
+      EXPECT_GE(id, 0);
+      if (id > 0) {
+        ++count[id];
+        EXPECT_TRUE(isFree(g, cx, cy)) << cx << "," << cy;
+      }
+    }
+  std::set<asf::RegionId> ids;
+  const double cell = g.getResolution() * g.getResolution();
+  for (const auto& r : s.regions) {
+    EXPECT_GT(r.id, 0);
+    EXPECT_TRUE(ids.insert(r.id).second) << "duplicate id " << r.id;
+    ASSERT_TRUE(count.count(r.id)) << "region " << r.id << " has no cells";
+    EXPECT_NEAR(r.area, count[r.id] * cell, 1e-6 * r.area);  // float resolution
+    EXPECT_GE(r.outer.size(), 3u);
+  }
+  EXPECT_EQ(ids.size(), count.size());
+}
+
+int unlabelledFreeCells(const asf::Segmentation& s, const Grid& g) {
+  int n = 0;
+  for (int cy = 0; cy < s.labels.height; ++cy)
+    for (int cx = 0; cx < s.labels.width; ++cx)
+      if (isFree(g, cx, cy) && s.labels.at(cx, cy) == 0) ++n;
+  return n;
+}
+
+/// A walled room [x0,x1) x [y0,y1) (free inside, 0.1 m walls outside it).
+void room(Grid& g, double x0, double y0, double x1, double y1) {
+  setBox(g, x0 - 0.1, y0 - 0.1, x1 + 0.1, y1 + 0.1, kWall);
+  setBox(g, x0, y0, x1, y1, kFree);
+}
+
+TEST(SegmenterDude, BadConfigurationNamesTheKey) {
+  try {
+    make({{"free_threshold", "0.7"}, {"occupied_threshold", "0.5"}});
+    FAIL() << "expected a ConfigError";
+  } catch (const asf::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("occupied_threshold"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(make({{"max_concavity", "0"}}), asf::ConfigError);
+}
+
+TEST(SegmenterDude, EmptyMapGivesNoRegions) {
+  auto seg = make();
+  EXPECT_TRUE(seg->segment(asf::GridMap{}, nullptr).regions.empty());
+  auto g = unknownGrid(4, 3);
+  const auto s = seg->segment(mapOf(g), nullptr);
+  EXPECT_TRUE(s.regions.empty());
+  checkConsistency(s, *g);
+  auto walls = unknownGrid(4, 3);
+  walls->fill(kWall);
+  EXPECT_TRUE(seg->segment(mapOf(walls, 2), nullptr).regions.empty());
+}
+
+TEST(SegmenterDude, ConvexRoomIsOneRegion) {
+  auto seg = make();
+  auto g = unknownGrid(8, 6);
+  room(*g, 1, 1, 7, 5);
+  const auto s = seg->segment(mapOf(g, 3), nullptr);
+  EXPECT_EQ(s.map_version, 3u);
+  ASSERT_EQ(s.regions.size(), 1u);
+  EXPECT_NEAR(s.regions[0].area, 24, 1e-6);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+}
+
+TEST(SegmenterDude, LShapedCorridorGivesTwoRegions) {
+  auto seg = make();
+  auto g = unknownGrid(12, 12);
+  g->fill(kWall);
+  setBox(*g, 1, 1, 11, 3, kFree);   // horizontal arm, 2 m wide
+  setBox(*g, 1, 1, 3, 11, kFree);   // vertical arm
+  const auto s = seg->segment(mapOf(g), nullptr);
+  ASSERT_EQ(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  // The far ends of both arms are in different regions.
+  EXPECT_NE(s.labels.atPoint(10.5, 2), s.labels.atPoint(2, 10.5));
+}
+
+TEST(SegmenterDude, RoomWithALargeObstacleIsSplitAroundIt) {
+  auto seg = make();
+  auto g = unknownGrid(22, 22);
+  room(*g, 1, 1, 21, 21);
+  setBox(*g, 7, 7, 15, 15, kWall);  // an 8 m block in the middle: a hole wider than tau
+  const auto s = seg->segment(mapOf(g), nullptr);
+  EXPECT_GE(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  for (const auto& r : s.regions)  // no region reaches into the block
+    EXPECT_FALSE(r.centroid.x > 7.5 && r.centroid.x < 14.5 && r.centroid.y > 7.5 &&
+                 r.centroid.y < 14.5);
+}
+
+TEST(SegmenterDude, SmallPillarDoesNotSplitARoom) {
+  auto seg = make();
+  auto g = unknownGrid(10, 8);
+  room(*g, 1, 1, 9, 7);
+  setBox(*g, 4.5, 3.5, 5.5, 4.5, kWall);
+  const auto s = seg->segment(mapOf(g), nullptr);
+  ASSERT_EQ(s.regions.size(), 1u);
+  EXPECT_FALSE(s.regions[0].holes.empty());
+  checkConsistency(s, *g);
+}
+
+/// Two 5 x 5 rooms side by side, 0.1 m wall between them with a 1 m door 1 m from a
+/// corner (the wall beside the door is 3 m deep: more than max_concavity).
+std::shared_ptr<Grid> twoRoomsWithDoor() {
+  auto g = unknownGrid(13, 8);
+  room(*g, 1, 1, 6, 6);
+  room(*g, 6.1, 1, 11.1, 6);
+  setBox(*g, 6, 2, 6.1, 3, kFree);  // the door
+  return g;
+}
+
+TEST(SegmenterDude, RoomsJoinedByADoorAreTwoRegions) {
+  auto seg = make();
+  auto g = twoRoomsWithDoor();
+  const auto s = seg->segment(mapOf(g), nullptr);
+  ASSERT_EQ(s.regions.size(), 2u);
+  EXPECT_NE(s.labels.atPoint(3, 3), s.labels.atPoint(9, 3));
+  for (const auto& r : s.regions) EXPECT_NEAR(r.area, 25, 0.3);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+}
+
+TEST(SegmenterDude, OnePixelCorridorsAndSpecksAreLabelled) {
+  auto seg = make({{"gap_closing", "0"}});
+  auto g = unknownGrid(14, 12);
+  room(*g, 1, 1, 5, 10);
+  room(*g, 9, 1, 13, 10);
+  setBox(*g, 5, 3, 9, 3.05, kFree);  // one cell wide, 4 m long
+  setBox(*g, 2, 2, 2.05, 2.05, kWall);  // a one-cell speck in a room
+  const auto s = seg->segment(mapOf(g), nullptr);
+  EXPECT_GE(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  // Diagonal one-cell chain (8-connected only).
+  auto d = unknownGrid(6, 6);
+  for (int k = 0; k < 60; ++k) d->setCell(20 + k % 40, 20 + k % 40, kFree);
+  const auto sd = seg->segment(mapOf(d, 2), nullptr);
+  checkConsistency(sd, *d);
+}
+
+TEST(SegmenterDude, IncrementalOnAFixedMapEqualsBatch) {
+  auto batch = make({{"incremental", "false"}});
+  auto inc = make({{"incremental", "true"}});
+  auto g = twoRoomsWithDoor();
+  setBox(*g, 2, 2, 3, 3, kWall);
+  const auto b = batch->segment(mapOf(g, 1), nullptr);
+  const auto i1 = inc->segment(mapOf(g, 1), nullptr);
+  const auto i2 = inc->segment(mapOf(g, 2), &i1);
+  const auto i3 = inc->segment(mapOf(g, 3), &i2);
+  EXPECT_EQ(b.labels.labels, i1.labels.labels);
+  EXPECT_EQ(b.labels.labels, i2.labels.labels);
+  EXPECT_EQ(b.labels.labels, i3.labels.labels);
+  ASSERT_EQ(b.regions.size(), i3.regions.size());
+  for (std::size_t k = 0; k < b.regions.size(); ++k) EXPECT_EQ(b.regions[k].id, i3.regions[k].id);
+}
+
+TEST(SegmenterDude, RegionIdsPersistAcrossUnrelatedUpdates) {
+  auto seg = make();
+  auto g = unknownGrid(30, 10);
+  room(*g, 1, 1, 7, 7);    // room A, far from where the map grows
+  room(*g, 12, 1, 18, 7);  // room B
+  const auto s1 = seg->segment(mapOf(g, 1), nullptr);
+  ASSERT_EQ(s1.regions.size(), 2u);
+  const asf::RegionId a = s1.labels.atPoint(4, 4), b = s1.labels.atPoint(15, 4);
+  ASSERT_GT(a, 0);
+  ASSERT_GT(b, 0);
+
+  // Exploration continues east of B: a corridor from B and a separate new room C.
+  auto g2 = std::make_shared<Grid>(*g);
+  setBox(*g2, 18, 3, 18.1, 5, kFree);  // open B's east wall
+  setBox(*g2, 18.1, 2.9, 24, 5.1, kWall);
+  setBox(*g2, 18.1, 3, 24, 5, kFree);  // corridor
+  room(*g2, 25, 1, 29, 8);             // C: touches no region
+  asf::GridMap m2 = mapOf(g2, 2);
+  m2.changed.extend(18, 1);
+  m2.changed.extend(29, 8);
+  const auto s2 = seg->segment(m2, &s1);
+  checkConsistency(s2, *g2);
+  EXPECT_EQ(unlabelledFreeCells(s2, *g2), 0);
+  EXPECT_EQ(s2.labels.atPoint(4, 4), a);
+  const asf::Region* ra1 = s1.find(a);
+  const asf::Region* ra2 = s2.find(a);
+  ASSERT_TRUE(ra1 && ra2);
+  EXPECT_DOUBLE_EQ(ra1->area, ra2->area);
+  EXPECT_DOUBLE_EQ(ra1->centroid.x, ra2->centroid.x);
+  // B was touched: still there (largest overlap keeps its id), and C is a new region.
+  EXPECT_EQ(s2.labels.atPoint(15, 4), b);
+  const asf::RegionId c = s2.labels.atPoint(27, 4);
+  EXPECT_GT(c, 0);
+  EXPECT_NE(c, a);
+  EXPECT_NE(c, b);
+
+  // A loop closure (rebuilt) re-segments everything and still reuses ids by overlap.
+  const auto s3 = seg->segment(mapOf(g2, 3, /*rebuilt=*/true), &s2);
+  EXPECT_EQ(s3.labels.labels, s2.labels.labels);
+  EXPECT_EQ(s3.labels.atPoint(4, 4), a);
+}
+
+TEST(SegmenterDude, IncrementalFollowsAGrowingGrid) {
+  auto seg = make();
+  auto g = std::make_shared<Grid>(0.f, 10.f, 0.f, 8.f, kRes);
+  g->fill(0.5f);
+  room(*g, 1, 1, 6, 6);
+  const auto s1 = seg->segment(mapOf(g, 1), nullptr);
+  ASSERT_EQ(s1.regions.size(), 1u);
+  auto g2 = std::make_shared<Grid>(*g);
+  g2->resizeGrid(-5.f, 20.f, 0.f, 8.f, 0.5f, false);
+  room(*g2, 12, 1, 18, 6);
+  const auto s2 = seg->segment(mapOf(g2, 2), &s1);
+  checkConsistency(s2, *g2);
+  EXPECT_EQ(s2.regions.size(), 2u);
+  EXPECT_EQ(s2.labels.atPoint(3, 3), s1.labels.atPoint(3, 3));
+}
+
+// ---- the benchmark (skipped without ../shared) ------------------------------------------
+
+TEST(SegmenterDude, OfficeMapOfTheBenchmarkIsSegmentedIntoRooms) {
+  const std::string dir = ASF_TEST_SHARED_DIR "/datasets/roomseg";
+  if (!std::filesystem::exists(dir + "/plain/office_a.png"))
+    GTEST_SKIP() << "benchmark maps not found in " << dir << " (../shared absent)";
+  const cv::Mat img = cv::imread(dir + "/plain/office_a.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat gt = cv::imread(dir + "/gt/office_a_gt_segmentation.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(img.empty());
+  ASSERT_EQ(img.size(), gt.size());
+  auto g = std::make_shared<Grid>(0.f, img.cols * 0.05f, 0.f, img.rows * 0.05f, 0.05f);
+  for (int r = 0; r < img.rows; ++r)
+    for (int c = 0; c < img.cols; ++c) g->setCell(c, r, img.at<uchar>(r, c) >= 250 ? 1.f : 0.f);
+  auto seg = make({{"incremental", "false"}});
+  const auto s = seg->segment(mapOf(g), nullptr);
+  checkConsistency(s, *g);
+  // Scoring as in roomseg-eval.md: GT rooms = 8-connected components of GT > 250.
+  cv::Mat rooms;
+  const int n_rooms = cv::connectedComponents(gt > 250, rooms, 8, CV_32S);
+  std::map<int, int> room_size, seg_size;
+  std::map<std::pair<int, int>, int> overlap;
+  for (int r = 0; r < img.rows; ++r)
+    for (int c = 0; c < img.cols; ++c) {
+      const int gr = rooms.at<int>(r, c), sl = s.labels.at(c, r);
+      if (gr > 0) ++room_size[gr];
+      if (sl > 0) ++seg_size[sl];
+      if (gr > 0 && sl > 0) ++overlap[{sl, gr}];
+    }
+  std::map<int, int> best_s, best_r;
+  for (const auto& [k, n] : overlap) {
+    best_s[k.first] = std::max(best_s[k.first], n);
+    best_r[k.second] = std::max(best_r[k.second], n);
+  }
+  double prec = 0, rec = 0;
+  int ns = 0, nr = 0;
+  for (const auto& [l, n] : seg_size)
+    if (n > 100) prec += static_cast<double>(best_s[l]) / n, ++ns;
+  for (const auto& [l, n] : room_size)
+    if (n > 100) rec += static_cast<double>(best_r[l]) / n, ++nr;
+  ASSERT_GT(ns, 0);
+  ASSERT_GT(nr, 0);
+  prec /= ns;
+  rec /= nr;
+  RecordProperty("precision", std::to_string(prec));
+  RecordProperty("recall", std::to_string(rec));
+  EXPECT_GT(n_rooms, 10);
+  // Loose bounds: this guards against a broken pipeline, the benchmark measures quality.
+  EXPECT_GT(prec, 0.85);
+  EXPECT_GT(rec, 0.7);
+}
+
+}  // namespace
