@@ -1,2 +1,455 @@
+// Expected uncertainty of a path (Algorithm 1 against the 2^m enumeration), the Gaussian
+// window integral (against Monte Carlo and exact products), the reduced-graph path search
+// (against brute-force enumeration) and `asf plan` end to end.
+#include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
 #include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <set>
+
+#include "test_util.h"
+
+namespace {
+
+using asf::NodeId;
+using Eigen::Matrix3d;
+using mrpt::poses::CPose2D;
+namespace eu = asf::eu;
+
+Matrix3d randomSpd(std::mt19937_64& rng, double scale) {
+  std::normal_distribution<double> n(0, 1);
+  Matrix3d A;
+  for (int i = 0; i < 9; ++i) A(i / 3, i % 3) = n(rng);
+  return scale * (A * A.transpose() + 0.1 * Matrix3d::Identity());
+}
+
+/// A chain graph 0..m with random poses and edge informations, and marginals taken from one
+/// random joint covariance (so node and cross blocks are consistent).
+struct RandomChain {
+  asf::PoseGraph g;
+  asf::Marginals m;
+  std::vector<NodeId> path;
+};
+
+RandomChain randomChain(std::mt19937_64& rng, int steps) {
+  RandomChain c;
+  std::uniform_real_distribution<double> u(-1, 1);
+  CPose2D p(0, 0, 0);
+  for (int i = 0; i <= steps; ++i) {
+    c.g.addNode(p);
+    c.path.push_back(static_cast<NodeId>(i));
+    p = p + CPose2D(0.5 + 0.3 * u(rng), 0.3 * u(rng), 0.5 * u(rng));
+  }
+  for (int i = 0; i < steps; ++i) {
+    asf::PoseEdge e;
+    // Random direction so both the forward and the inverted edge covariance are exercised.
+    const bool fwd = rng() % 2;
+    e.from = fwd ? i : i + 1;
+    e.to = fwd ? i + 1 : i;
+    e.mean = c.g.nodes[e.to].pose - c.g.nodes[e.from].pose;
+    e.information = randomSpd(rng, 0.01).inverse();
+    c.g.addEdge(e);
+  }
+  const int n = 3 * (steps + 1);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n) * 0.1;
+  const Eigen::MatrixXd J = A * A.transpose() + 0.001 * Eigen::MatrixXd::Identity(n, n);
+  c.m.node.resize(steps + 1);
+  for (int i = 0; i <= steps; ++i) {
+    c.m.node[i] = J.block<3, 3>(3 * i, 3 * i);
+    for (int j = i + 1; j <= steps; ++j)
+      c.m.cross[{static_cast<NodeId>(i), static_cast<NodeId>(j)}] = J.block<3, 3>(3 * i, 3 * j);
+  }
+  return c;
+}
+
+void expectNear(const Matrix3d& a, const Matrix3d& b, double rel, const std::string& what) {
+  const double scale = std::max(1.0, b.cwiseAbs().maxCoeff());
+  EXPECT_LE((a - b).cwiseAbs().maxCoeff(), rel * scale) << what << "\n" << a << "\nvs\n" << b;
+}
+
+// ---------------------------------------------------------------------------------------
+// Algorithm 1
+
+TEST(ExpectedUncertainty, MergeEqualsBruteForceOnRandomPaths) {
+  std::mt19937_64 rng(20240611);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int m = 1 + trial % 10;
+    const RandomChain c = randomChain(rng, m);
+    const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+    // A probability that depends on the hypothesis (k), the step (t) and the covariance.
+    std::vector<double> base(m + 1);
+    for (auto& b : base) b = std::uniform_real_distribution<double>(0, 1)(rng);
+    const eu::RelocProbFn synthetic = [&](const eu::RelocQuery& q) {
+      return base[q.t] * std::exp(-0.3 * q.robot_cov.trace() * (1 + q.k % 3)) *
+             (0.5 + 0.5 * std::tanh(q.chain(0, 2)));
+    };
+    expectNear(eu::expectedCovariance(path, synthetic).mean,
+               eu::expectedCovarianceBruteForce(path, synthetic), 1e-10,
+               "synthetic p, m = " + std::to_string(m));
+    // The real relocalization probability (window integral with cross-covariances).
+    eu::RelocalizationOptions o;
+    o.half_x = o.half_y = 0.2;
+    o.p_recognition = 0.9;
+    const eu::RelocProbFn real = eu::relocalizationProbability(path, o);
+    const eu::ExpectedCovariance merged = eu::expectedCovariance(path, real);
+    expectNear(merged.mean, eu::expectedCovarianceBruteForce(path, real), 1e-10,
+               "window p, m = " + std::to_string(m));
+    double total = 0;
+    for (double p : merged.prob) total += p;
+    EXPECT_NEAR(total, 1, 1e-12);
+    EXPECT_EQ(merged.evaluations, static_cast<std::size_t>(m * (m + 1) / 2));
+  }
+}
+
+TEST(ExpectedUncertainty, CertainRelocalizationGivesTheGoalMarginal) {
+  std::mt19937_64 rng(7);
+  const RandomChain c = randomChain(rng, 8);
+  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+  const auto r = eu::expectedCovariance(path, [](const eu::RelocQuery&) { return 1.0; });
+  expectNear(r.mean, c.m.node.back(), 1e-14, "p = 1");
+  EXPECT_DOUBLE_EQ(r.prob.back(), 1.0);
+}
+
+TEST(ExpectedUncertainty, NoRelocalizationIsPureOdometry) {
+  std::mt19937_64 rng(8);
+  const RandomChain c = randomChain(rng, 9);
+  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+  // Independent propagation: composeWithCov along the edges, each edge's covariance
+  // brought to the traversal direction by sampling-free algebra below.
+  Matrix3d C = c.m.node[0];
+  CPose2D x = c.g.nodes[0].pose;
+  for (std::size_t t = 1; t < c.path.size(); ++t) {
+    const asf::PoseEdge& e = c.g.edges[t - 1];
+    // Covariance of the edge's mean in its from-frame: R Cov(e) R^T.
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    R.topLeftCorner<2, 2>() << std::cos(e.mean.phi()), -std::sin(e.mean.phi()),
+        std::sin(e.mean.phi()), std::cos(e.mean.phi());
+    Matrix3d O = R * e.information.inverse() * R.transpose();
+    CPose2D d = e.mean;
+    if (e.from != t - 1) {  // traversed backwards: O of the inverse motion, numerically
+      const CPose2D inv = CPose2D() - e.mean;
+      Matrix3d J;
+      const double h = 1e-6;
+      for (int k = 0; k < 3; ++k) {
+        double v[3] = {e.mean.x(), e.mean.y(), e.mean.phi()};
+        v[k] += h;
+        const CPose2D ip = CPose2D() - CPose2D(v[0], v[1], v[2]);
+        v[k] -= 2 * h;
+        const CPose2D im = CPose2D() - CPose2D(v[0], v[1], v[2]);
+        J.col(k) << (ip.x() - im.x()) / (2 * h), (ip.y() - im.y()) / (2 * h),
+            mrpt::math::wrapToPi(ip.phi() - im.phi()) / (2 * h);
+      }
+      O = J * O * J.transpose();
+      d = inv;
+    }
+    x = asf::composeWithCov(x, C, d, O, C);
+  }
+  const auto r = eu::expectedCovariance(path, [](const eu::RelocQuery&) { return 0.0; });
+  expectNear(r.mean, C, 1e-6, "p = 0");
+  EXPECT_DOUBLE_EQ(r.prob[0], 1.0);
+}
+
+TEST(ExpectedUncertainty, PruningDropsOnlyNegligibleMass) {
+  std::mt19937_64 rng(9);
+  const RandomChain c = randomChain(rng, 60);
+  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+  const eu::RelocProbFn p = [](const eu::RelocQuery& q) { return 0.3 + 0.4 * (q.t % 2); };
+  const auto exact = eu::expectedCovariance(path, p);
+  const auto pruned = eu::expectedCovariance(path, p, 1e-12);
+  EXPECT_LT(pruned.evaluations, exact.evaluations);
+  EXPECT_GT(pruned.pruned_mass, 0);
+  EXPECT_LT(pruned.pruned_mass, 1e-9);
+  expectNear(pruned.mean, exact.mean, 1e-8, "pruned");
+}
+
+TEST(ExpectedUncertainty, PathModelRejectsNonAdjacentNodes) {
+  std::mt19937_64 rng(10);
+  const RandomChain c = randomChain(rng, 3);
+  const std::string msg = asf_test::errorOf<asf::Error>(
+      [&] { eu::makePathModel(c.g, &c.m, {0, 2}); });
+  EXPECT_TRUE(asf_test::has(msg, "share no edge")) << msg;
+}
+
+// ---------------------------------------------------------------------------------------
+// Gaussian window
+
+double monteCarlo(const Eigen::Vector3d& mu, const Matrix3d& cov, const Eigen::Vector3d& lo,
+                  const Eigen::Vector3d& hi, int n, std::uint64_t seed, double& se) {
+  // Eigen decomposition instead of Cholesky so a singular covariance works too.
+  Eigen::SelfAdjointEigenSolver<Matrix3d> es(cov);
+  const Matrix3d A =
+      es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd(0, 1);
+  int inside = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = mu + A * Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+    inside += (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+  }
+  const double p = static_cast<double>(inside) / n;
+  se = std::sqrt(std::max(p * (1 - p), 1.0 / n) / n);
+  return p;
+}
+
+TEST(GaussianWindow, MatchesMonteCarloOnCorrelatedCovariances) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 12; ++trial) {
+    Matrix3d cov = randomSpd(rng, 0.05);
+    if (trial == 11) {  // rank-deficient: x and y perfectly correlated
+      cov << 0.04, 0.04, 0.01, 0.04, 0.04, 0.01, 0.01, 0.01, 0.02;
+    }
+    const Eigen::Vector3d mu(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
+    const Eigen::Vector3d half(0.3, 0.3, 0.5236);
+    const eu::BoxProbability q =
+        eu::gaussianBoxProbability(mu, cov, -half, half, 512, 8, 1000 + trial);
+    double se;
+    const double mc = monteCarlo(mu, cov, -half, half, 400000, trial, se);
+    EXPECT_NEAR(q.value, mc, 4 * se + 4 * q.error + 1e-4)
+        << "trial " << trial << " se " << se << " qmc error " << q.error;
+    EXPECT_LT(q.error, 5e-3);
+  }
+}
+
+TEST(GaussianWindow, DiagonalCovarianceIsTheProductOfMarginals) {
+  const Eigen::Vector3d sd(0.2, 0.35, 0.4), mu(0.05, -0.1, 0.2), half(0.3, 0.3, 0.5236);
+  double product = 1;
+  for (int i = 0; i < 3; ++i)
+    product *= 0.5 * (std::erfc(-(half(i) - mu(i)) / sd(i) / std::sqrt(2.0)) -
+                      std::erfc(-(-half(i) - mu(i)) / sd(i) / std::sqrt(2.0)));
+  const Matrix3d cov = sd.cwiseAbs2().asDiagonal();
+  const eu::BoxProbability q = eu::gaussianBoxProbability(mu, cov, -half, half);
+  EXPECT_NEAR(q.value, product, 1e-12);
+  // And a correlated covariance with the same marginals gives a different mass.
+  Matrix3d corr = cov;
+  corr(0, 1) = corr(1, 0) = 0.9 * sd(0) * sd(1);
+  const eu::BoxProbability qc = eu::gaussianBoxProbability(mu, corr, -half, half);
+  EXPECT_GT(std::abs(qc.value - product), 0.01);
+}
+
+TEST(GaussianWindow, DeterministicForASeedAndValidatesInput) {
+  Matrix3d cov;
+  cov << 0.1, 0.05, 0.01, 0.05, 0.2, 0.02, 0.01, 0.02, 0.3;
+  const Eigen::Vector3d z = Eigen::Vector3d::Zero(), h(0.3, 0.3, 0.5);
+  EXPECT_EQ(eu::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value,
+            eu::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value);
+  EXPECT_DOUBLE_EQ(eu::gaussianBoxProbability(z, Matrix3d::Zero(), -h, h).value, 1.0);
+  Matrix3d bad = cov;
+  bad(0, 0) = -1;
+  EXPECT_THROW(eu::gaussianBoxProbability(z, bad, -h, h), asf::Error);
+}
+
+// ---------------------------------------------------------------------------------------
+// Reduced graph and path search
+
+asf::PoseGraph graphOf(int n, const std::vector<std::pair<int, int>>& edges) {
+  asf::PoseGraph g;
+  for (int i = 0; i < n; ++i) g.addNode(CPose2D(std::cos(i), std::sin(i), 0));
+  for (auto [a, b] : edges) {
+    asf::PoseEdge e;
+    e.from = a;
+    e.to = b;
+    e.mean = g.nodes[b].pose - g.nodes[a].pose;
+    g.addEdge(e);
+  }
+  return g;
+}
+
+std::set<std::vector<NodeId>> bruteForcePaths(const asf::PoseGraph& g, NodeId s, NodeId t) {
+  std::set<std::vector<NodeId>> out;
+  std::vector<NodeId> cur{s};
+  std::vector<char> on(g.size(), 0);
+  std::function<void(NodeId)> dfs = [&](NodeId v) {
+    if (v == t) {
+      out.insert(cur);
+      return;
+    }
+    on[v] = 1;
+    for (NodeId w = 0; w < g.size(); ++w) {
+      if (on[w]) continue;
+      bool joined = false;
+      for (const auto& e : g.edges)
+        joined |= (e.from == v && e.to == w) || (e.from == w && e.to == v);
+      if (!joined) continue;
+      cur.push_back(w);
+      dfs(w);
+      cur.pop_back();
+    }
+    on[v] = 0;
+  };
+  dfs(s);
+  return out;
+}
+
+void expectSamePaths(const asf::PoseGraph& g, NodeId s, NodeId t, const std::string& what) {
+  const auto r = eu::allSimplePaths(g, s, t);
+  EXPECT_FALSE(r.capped);
+  const std::set<std::vector<NodeId>> got(r.paths.begin(), r.paths.end());
+  EXPECT_EQ(got.size(), r.paths.size()) << what << ": a path was produced twice";
+  EXPECT_EQ(got, bruteForcePaths(g, s, t)) << what << " " << s << " -> " << t;
+}
+
+TEST(PathSearch, ReducedGraphPreservesAllSimplePathsOnHandMadeGraphs) {
+  // A loop of two chains with parallel (aliased) loop closures, plus a dangling chain.
+  const auto loop = graphOf(10, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {4, 5}, {5, 0}, {2, 5},
+                                 {2, 5}, {5, 2}, {3, 6}, {6, 7}, {7, 8}, {8, 9}});
+  // A ladder: consecutive loop closures between two corridors.
+  const auto ladder = graphOf(10, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {7, 8},
+                                   {8, 9}, {0, 5}, {1, 6}, {2, 7}, {3, 8}, {4, 9}, {1, 6}});
+  // Two kept nodes joined by three distinct chains, and a self-loop.
+  const auto theta = graphOf(8, {{0, 1}, {1, 2}, {2, 7}, {0, 3}, {3, 7}, {0, 4}, {4, 5},
+                                 {5, 6}, {6, 7}, {4, 4}});
+  for (const auto* g : {&loop, &ladder, &theta})
+    for (NodeId s = 0; s < g->size(); ++s)
+      for (NodeId t = 0; t < g->size(); ++t) expectSamePaths(*g, s, t, "hand-made");
+  const auto red = eu::reduceGraph(theta, 0, 7);
+  EXPECT_EQ(red.kept, (std::vector<NodeId>{0, 7}));
+  EXPECT_EQ(red.edges.size(), 3u);
+  const auto red_loop = eu::reduceGraph(loop, 0, 1);
+  EXPECT_LT(red_loop.kept.size(), loop.size());
+}
+
+TEST(PathSearch, ReducedGraphPreservesAllSimplePathsOnRandomGraphs) {
+  std::mt19937_64 rng(77);
+  for (int trial = 0; trial < 150; ++trial) {
+    const int n = 3 + static_cast<int>(rng() % 8);
+    std::vector<std::pair<int, int>> edges;
+    for (int i = 1; i < n; ++i) edges.emplace_back(i - 1, i);  // a trajectory...
+    const int extra = static_cast<int>(rng() % 4);
+    for (int k = 0; k < extra; ++k)  // ...with a few loop closures
+      edges.emplace_back(static_cast<int>(rng() % n), static_cast<int>(rng() % n));
+    const auto g = graphOf(n, edges);
+    expectSamePaths(g, static_cast<NodeId>(rng() % n), static_cast<NodeId>(rng() % n),
+                    "trial " + std::to_string(trial));
+  }
+}
+
+TEST(PathSearch, CapIsReported) {
+  const auto ladder = graphOf(10, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {7, 8},
+                                   {8, 9}, {0, 5}, {1, 6}, {2, 7}, {3, 8}, {4, 9}});
+  eu::PathSearchOptions o;
+  o.max_paths = 3;
+  const auto r = eu::allSimplePaths(ladder, 0, 9, o);
+  EXPECT_TRUE(r.capped);
+  EXPECT_EQ(r.paths.size(), 3u);
+  EXPECT_THROW(eu::allSimplePaths(ladder, 0, 99), asf::Error);
+}
+
+// ---------------------------------------------------------------------------------------
+// Criteria and recognition probabilities
+
+TEST(Criteria, BaselinesFollowTheirDefinitions) {
+  std::mt19937_64 rng(12);
+  const RandomChain c = randomChain(rng, 4);
+  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+  eu::CriterionOptions o;
+  double dopt = 0, dist = 0, work = 0;
+  auto U = [&](int t, const Matrix3d& O) {
+    return (O.inverse() + c.m.node[t].inverse()).inverse().determinant();
+  };
+  double prev = U(0, path.motion_cov[1]);
+  for (int t = 0; t <= 4; ++t) {
+    dopt += c.m.node[t].determinant();
+    if (t == 0) continue;
+    dist += (c.g.nodes[t].pose - c.g.nodes[t - 1].pose).norm();
+    const double u = U(t, path.motion_cov[t]);
+    work += std::max(0.0, u - prev);
+    prev = u;
+  }
+  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::SumDopt, path, o).cost, dopt, 1e-15);
+  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::Distance, path, o).cost, dist, 1e-12);
+  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::MechanicalWork, path, o).cost, work,
+              1e-9 * std::max(work, 1e-12));
+  const auto e = eu::evaluatePath(eu::Criterion::ExpectedUncertainty, path, o);
+  EXPECT_NEAR(e.cost, e.expected.determinant(), 1e-18);
+  EXPECT_EQ(e.label, "det(E[C])");
+  EXPECT_EQ(e.missing_cross, 0u);
+}
+
+TEST(Criteria, RecognitionFileErrorsNameTheLine) {
+  const auto dir = std::filesystem::temp_directory_path() / "asf_test_eu";
+  std::filesystem::create_directories(dir);
+  const std::string good = (dir / "good.txt").string(), bad = (dir / "bad.txt").string();
+  std::ofstream(good) << "# node p\n0 0.5\n\n3 1  # comment\n";
+  std::ofstream(bad) << "0 0.5\n1 x\n";
+  const auto m = eu::readRecognitionProbabilities(good);
+  EXPECT_EQ(m.size(), 2u);
+  EXPECT_DOUBLE_EQ(m.at(3), 1.0);
+  std::string msg = asf_test::errorOf<asf::InputError>(
+      [&] { eu::readRecognitionProbabilities(bad); });
+  EXPECT_TRUE(asf_test::has(msg, bad + ":2")) << msg;
+  std::ofstream(bad) << "0 0.5\n1 1.5\n";
+  msg = asf_test::errorOf<asf::InputError>([&] { eu::readRecognitionProbabilities(bad); });
+  EXPECT_TRUE(asf_test::has(msg, ":2") && asf_test::has(msg, "outside")) << msg;
+}
+
+// ---------------------------------------------------------------------------------------
+// asf plan
+
+/// A loop: the short side 0-1-2-3 has weak edges (wheel odometry in a featureless zone),
+/// the long side 0-4-5-6-7-8-9-3 strong ones.
+std::string writeLoop() {
+  const auto dir = std::filesystem::temp_directory_path() / "asf_test_eu";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "loop.g2o").string();
+  const double xy[10][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {0, 1},
+                            {0, 2}, {1, 2}, {2, 2}, {3, 2}, {3, 1}};
+  std::ofstream f(path);
+  for (int i = 0; i < 10; ++i) f << "VERTEX_SE2 " << i << " " << xy[i][0] << " " << xy[i][1] << " 0\n";
+  auto edge = [&](int a, int b, double sd_xy, double sd_phi) {
+    f << "EDGE_SE2 " << a << " " << b << " " << xy[b][0] - xy[a][0] << " " << xy[b][1] - xy[a][1]
+      << " 0 " << 1 / (sd_xy * sd_xy) << " 0 0 " << 1 / (sd_xy * sd_xy) << " 0 "
+      << 1 / (sd_phi * sd_phi) << "\n";
+  };
+  for (auto [a, b] : {std::pair{0, 1}, {1, 2}, {2, 3}}) edge(a, b, 0.5, 0.3);
+  for (auto [a, b] : {std::pair{0, 4}, {4, 5}, {5, 6}, {6, 7}, {7, 8}, {8, 9}, {9, 3}})
+    edge(a, b, 0.01, 0.005);
+  return path;
+}
+
+TEST(AsfPlan, ExpectedUncertaintyAvoidsTheWeakSideShortestTakesIt) {
+  const std::string g2o = writeLoop();
+  const std::vector<int> long_side{0, 4, 5, 6, 7, 8, 9, 3}, short_side{0, 1, 2, 3};
+  const std::string png = (std::filesystem::temp_directory_path() / "asf_test_eu" / "plan.png").string();
+  std::filesystem::remove(png);
+  auto r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 3 --planner "
+                             "expected_uncertainty --json --image " + png, false);
+  ASSERT_EQ(r.code, 0) << r.out;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["path"].get<std::vector<int>>(), long_side) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(png));
+  for (const char* c : {"expected_uncertainty", "mechanical_work", "sum_dopt", "distance"})
+    EXPECT_TRUE(j["costs"].contains(c)) << c << "\n" << r.out;
+  EXPECT_NEAR(j["costs"]["distance"].get<double>(), 7, 1e-6);
+
+  r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 3 --planner shortest --json",
+                        false);
+  ASSERT_EQ(r.code, 0) << r.out;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["path"].get<std::vector<int>>(), short_side) << r.out;
+
+  // Human-readable output and a bad key.
+  r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 3 --planner "
+                        "expected_uncertainty --set scalar=trace");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "0 4 5 6 7 8 9 3")) << r.out;
+  r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 3 --planner "
+                        "expected_uncertainty --set no_such_key=1");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "no_such_key")) << r.out;
+  r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 42");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "42")) << r.out;
+}
+
+}  // namespace

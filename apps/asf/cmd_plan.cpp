@@ -1,11 +1,251 @@
-// asf plan (being written).
+// asf plan: one planner on one g2o pose graph (thesis chapter 3). The graph is taken as
+// optimized; the back-end only recovers the marginals (and the cross-covariances the
+// relocalization probability needs), then the chosen path is scored under every criterion.
+#include <asf/backend.h>
+#include <asf/config.h>
+#include <asf/errors.h>
+#include <asf/expected_uncertainty.h>
+#include <asf/planner.h>
+#include <asf/pose_graph.h>
+#include <asf/registry.h>
+#include <tclap/CmdLine.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <set>
+
 #include "commands.h"
 
-#include <iostream>
-
 namespace asf::app {
-int cmdPlan(int, char**) {
-  std::cerr << "asf plan: not built yet\n";
-  return kError;
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+/// Plugin log lines go to stderr, so stdout stays one JSON object with --json.
+void logToStderr(Plugin& p, const std::string& name) {
+  p.logging_enable_console_output = false;
+  p.logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
+                           std::string_view logger, const mrpt::Clock::time_point&) {
+    std::cerr << "[" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
+  });
+  p.setLoggerName(name);
+}
+
+Params paramsFor(const PluginInfo& info, const std::vector<std::string>& sets) {
+  const std::string name = info.name();
+  IniConfig ini = IniConfig::fromText("", "--set");
+  for (const auto& s : sets) {
+    const auto eq = s.find('=');
+    const auto dot = s.find('.');
+    if (eq == std::string::npos) throw ConfigError("--set " + s + ": expected key=value");
+    const bool has_section = dot != std::string::npos && dot < eq;
+    if (has_section && lower(s.substr(0, dot)) != lower(name))
+      throw ConfigError("--set " + s + ": the planner is '" + name + "', not '" +
+                        s.substr(0, dot) + "'");
+    ini.applyOverride(has_section ? s : name + "." + s);
+  }
+  return ini.resolve(name, info.descriptor->keys, info.descriptor->num_keys);
+}
+
+std::string joinPath(const std::vector<NodeId>& p) {
+  std::string s;
+  for (std::size_t i = 0; i < p.size(); ++i) s += (i ? " " : "") + std::to_string(p[i]);
+  return s;
+}
+
+}  // namespace
+
+int cmdPlan(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Plans a path between two nodes of a 2D pose graph (g2o; taken as already optimized) "
+      "with a planner plugin: expected_uncertainty (thesis ch. 3), mechanical_work, sum_dopt, "
+      "shortest. The back-end recovers the node marginals and the cross-covariances between "
+      "nodes of the candidate paths. Prints the path and its cost under every criterion "
+      "(expected_uncertainty, mechanical_work, sum_dopt, distance); --image draws it.",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::ValueArg<std::string> graph("g", "graph", "The pose graph (g2o)", true, "", "FILE.g2o",
+                                     cmd);
+  TCLAP::ValueArg<unsigned> start("", "start", "Start node id", true, 0, "ID", cmd);
+  TCLAP::ValueArg<unsigned> goal("", "goal", "Goal node id", true, 0, "ID", cmd);
+  TCLAP::ValueArg<std::string> planner("", "planner", "Planner plugin name", false,
+                                       "expected_uncertainty", "NAME", cmd);
+  TCLAP::MultiArg<std::string> set(
+      "s", "set", "Planner key: key=value or <planner>.key=value (repeatable)", false,
+      "KEY=VALUE", cmd);
+  TCLAP::ValueArg<std::string> backend("b", "backend", "Back-end recovering the marginals",
+                                       false, "sparse_lm", "NAME", cmd);
+  TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed handed to the planner", false, 1, "N",
+                                      cmd);
+  TCLAP::ValueArg<std::size_t> max_cross(
+      "", "max-cross",
+      "Request cross-covariances only if the candidate paths need at most this many blocks",
+      false, 2000000, "N", cmd);
+  TCLAP::SwitchArg json("j", "json",
+                        "Print one JSON object: path, cost, criterion, costs (every "
+                        "criterion), expected_covariance, candidates, capped, timings, note",
+                        cmd);
+  TCLAP::ValueArg<std::string> image("", "image", "Draw the graph and the path (PNG)", false, "",
+                                     "OUT.png", cmd);
+  TCLAP::SwitchArg ellipses("", "ellipses", "With --image: 3-sigma marginal ellipses", cmd);
+  TCLAP::ValueArg<std::string> map("", "map", "With --image: background map (row 0 = top, "
+                                   "origin (0, 0))", false, "", "MAP.png", cmd);
+  TCLAP::ValueArg<double> resolution("", "resolution", "Map resolution [m/pixel]", false, 0.05,
+                                     "R", cmd);
+  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+
+  Registry reg;
+  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+  for (const auto& d : path.getValue()) reg.scanDirectory(d);
+  const auto pinfo = reg.find(planner.getValue(), PluginKind::Planner);
+  const auto binfo = reg.find(backend.getValue(), PluginKind::Backend);
+  const Params pparams = paramsFor(*pinfo, set.getValue());
+  const Params bparams =
+      Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys);
+  PluginContext ctx;
+  ctx.seed = seed.getValue();
+  auto pl = Registry::create<Planner>(pinfo);
+  logToStderr(*pl, pinfo->name());
+  pl->configure(pparams, ctx);
+  auto be = Registry::create<Backend>(binfo);
+  logToStderr(*be, binfo->name());
+  be->configure(bparams, PluginContext{});
+
+  const PoseGraph g = readG2o(graph.getValue());
+  const NodeId s = start.getValue(), t = goal.getValue();
+  for (NodeId v : {s, t})
+    if (v >= g.size())
+      throw InputError(graph.getValue() + ": node " + std::to_string(v) +
+                       " does not exist (the graph has " + std::to_string(g.size()) + " nodes)");
+
+  // The candidate paths as the planner sees them (its own search keys when it has them),
+  // to request the cross-covariance blocks its relocalization probability reads.
+  eu::PathSearchOptions search;
+  if (pparams.has("max_paths")) search.max_paths = pparams.getInt("max_paths");
+  if (pparams.has("reduce")) search.reduce = pparams.getBool("reduce");
+  const auto t_search = std::chrono::steady_clock::now();
+  const eu::PathSearchResult candidates = eu::allSimplePaths(g, s, t, search);
+  const double search_s = secondsSince(t_search);
+  std::set<std::pair<NodeId, NodeId>> pairs;
+  bool cross_skipped = false;
+  for (const auto& p : candidates.paths) {
+    for (std::size_t a = 0; a < p.size() && !cross_skipped; ++a)
+      for (std::size_t b = a + 1; b < p.size(); ++b) {
+        pairs.emplace(std::min(p[a], p[b]), std::max(p[a], p[b]));
+        if (pairs.size() > max_cross.getValue()) {
+          cross_skipped = true;
+          break;
+        }
+      }
+    if (cross_skipped) break;
+  }
+  if (cross_skipped) {
+    std::cerr << "asf plan: the candidate paths need more than " << max_cross.getValue()
+              << " cross-covariance blocks (--max-cross); node marginals only\n";
+    pairs.clear();
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  const Marginals marginals =
+      be->marginals(g, std::vector<std::pair<NodeId, NodeId>>(pairs.begin(), pairs.end()));
+  const double marginals_s = secondsSince(t0);
+
+  PlanRequest req;
+  req.graph = &g;
+  req.marginals = &marginals;
+  req.start = s;
+  req.goal = t;
+  t0 = std::chrono::steady_clock::now();
+  const PlanResult r = pl->plan(req);
+  const double plan_s = secondsSince(t0);
+  if (!r.found)
+    throw Error(pinfo->name() + ": no path from " + std::to_string(s) + " to " +
+                std::to_string(t) + ": " + r.reason);
+
+  // The chosen path under every criterion, with the planner's options where it has them.
+  const eu::CriterionOptions copt = eu::criterionOptionsFrom(pparams, ctx.seed);
+  const eu::PathModel model = eu::makePathModel(g, &marginals, r.nodes);
+  nlohmann::json costs = nlohmann::json::object();
+  nlohmann::json labels = nlohmann::json::object();
+  eu::PathCost expected;
+  for (auto c : {eu::Criterion::ExpectedUncertainty, eu::Criterion::MechanicalWork,
+                 eu::Criterion::SumDopt, eu::Criterion::Distance}) {
+    const eu::PathCost pc = eu::evaluatePath(c, model, copt);
+    costs[eu::criterionName(c)] = pc.cost;
+    labels[eu::criterionName(c)] = pc.label;
+    if (c == eu::Criterion::ExpectedUncertainty) expected = pc;
+  }
+  std::string note;
+  if (candidates.capped)
+    note += "path search capped at " + std::to_string(search.max_paths) + " paths. ";
+  if (expected.missing_cross)
+    note += std::to_string(expected.missing_cross) +
+            " relocalization queries on the chosen path lacked a cross-covariance block.";
+
+  if (!image.getValue().empty()) {
+    eu::RenderOptions ro;
+    ro.ellipses = ellipses.getValue();
+    ro.map_png = map.getValue();
+    ro.map_resolution = resolution.getValue();
+    eu::renderPlan(image.getValue(), g, &marginals, r.nodes, ro);
+  }
+
+  if (json.getValue()) {
+    nlohmann::json ec = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i)
+      ec.push_back({expected.expected(i, 0), expected.expected(i, 1), expected.expected(i, 2)});
+    nlohmann::json j = {{"graph", graph.getValue()},
+                        {"planner", pinfo->name()},
+                        {"start", s},
+                        {"goal", t},
+                        {"path", r.nodes},
+                        {"cost", r.cost},
+                        {"criterion", r.criterion},
+                        {"costs", costs},
+                        {"labels", labels},
+                        {"expected_covariance", ec},
+                        {"candidates", candidates.paths.size()},
+                        {"capped", candidates.capped},
+                        {"reduced_nodes", candidates.reduced_nodes},
+                        {"reduced_edges", candidates.reduced_edges},
+                        {"cross_blocks", pairs.size()},
+                        {"search_time_s", search_s},
+                        {"marginals_time_s", marginals_s},
+                        {"plan_time_s", plan_s},
+                        {"note", note}};
+    if (!image.getValue().empty()) j["image"] = image.getValue();
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::cout << std::setprecision(6) << graph.getValue() << ": " << g.size() << " nodes, "
+              << g.edges.size() << " edges; " << candidates.paths.size()
+              << " candidate paths (reduced graph " << candidates.reduced_nodes << " nodes, "
+              << candidates.reduced_edges << " edges" << (candidates.capped ? ", capped" : "")
+              << ")\n"
+              << pinfo->name() << ": " << r.nodes.size() << " nodes: " << joinPath(r.nodes)
+              << "\n  " << r.criterion << " = " << r.cost << " (plan " << plan_s
+              << " s, marginals " << marginals_s << " s)\n";
+    for (const auto& [k, v] : costs.items())
+      std::cout << "  " << std::left << std::setw(22) << k << labels[k].get<std::string>()
+                << " = " << v.get<double>() << "\n";
+    if (!note.empty()) std::cout << "note: " << note << "\n";
+    if (!image.getValue().empty()) std::cout << "wrote " << image.getValue() << "\n";
+  }
+  return kOk;
+}
+
 }  // namespace asf::app

@@ -1,0 +1,66 @@
+// planner_expected_uncertainty: the path whose expected covariance at the goal is smallest
+// (thesis chapter 3, Algorithm 1) among all simple paths of the reduced pose graph.
+#include <asf/errors.h>
+#include <asf/expected_uncertainty.h>
+#include <asf/planner.h>
+
+namespace {
+
+class ExpectedUncertaintyPlanner final : public asf::Planner {
+ public:
+  void configure(const asf::Params& params, const asf::PluginContext& ctx) override {
+    options_ = asf::eu::criterionOptionsFrom(params, ctx.seed);
+    search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
+    search_.reduce = params.getBool("reduce");
+  }
+
+  asf::PlanResult plan(const asf::PlanRequest& req) override {
+    std::string note;
+    asf::PlanResult r;
+    try {
+      r = asf::eu::planBest(req, asf::eu::Criterion::ExpectedUncertainty, options_, search_,
+                            &note);
+    } catch (const asf::Error& e) {  // e.g. a marginal block of the wrong size
+      r = asf::PlanResult{};
+      r.criterion = "expected_uncertainty";
+      r.reason = e.what();
+    }
+    if (!note.empty()) MRPT_LOG_WARN_STREAM(note);
+    return r;
+  }
+
+ private:
+  asf::eu::CriterionOptions options_;
+  asf::eu::PathSearchOptions search_;
+};
+
+const asf::KeySpec kKeys[] = {
+    asf::keyEnum("scalar", "det", "det|trace|det_cbrt",
+                 "Scalar of the expected goal covariance E[C]: det, trace or det^(1/3)"),
+    asf::keyDouble("window_x", "0.3", "Half width of the localization window in x [m]", 1e-6,
+                   1e6),
+    asf::keyDouble("window_y", "0.3", "Half width of the localization window in y [m]", 1e-6,
+                   1e6),
+    asf::keyDouble("window_phi_deg", "30", "Half width of the localization window in angle [deg]",
+                   1e-6, 180),
+    asf::keyDouble("p_recognition", "1",
+                   "Place-recognition probability of nodes not in p_recognition_file", 0, 1),
+    asf::keyPath("p_recognition_file", "",
+                 "Optional file of 'node_id probability' lines (place recognition per node)"),
+    asf::keyInt("qmc_points", "128", "Lattice points of the Gaussian window integral", 2, 1e6),
+    asf::keyInt("qmc_shifts", "8", "Random lattice shifts (error estimate) of the integral", 2,
+                1000),
+    asf::keyBool("use_cross", "true",
+                 "Use robot/node cross-covariances from the marginals (else independent)"),
+    asf::keyDouble("prune_below", "1e-12",
+                   "Drop hypotheses whose probability falls below this (0: exact O(m^2))", 0, 1),
+    asf::keyInt("seed", "0", "Seed of the lattice shifts (0: the run's seed)", 0, 9.0e15),
+    asf::keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9),
+    asf::keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)"),
+};
+
+}  // namespace
+
+ASF_PLUGIN(ExpectedUncertaintyPlanner, asf::PluginKind::Planner, "expected_uncertainty", "1.0.0",
+           "Path minimizing the expected goal covariance under relocalization (Algorithm 1)",
+           asf::ThreadSafety::ThreadCompatible, kKeys)
