@@ -759,4 +759,24 @@ void renderPlan(const std::string& png, const PoseGraph& g, const Marginals* mar
   if (!ok) throw Error(png + ": cannot write the image");
 }
 
+void CriterionPlanner::configure(const Params& params, const PluginContext& ctx) {
+  options_ = criterionOptionsFrom(params, ctx.seed);
+  search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
+  search_.reduce = params.getBool("reduce");
+}
+
+PlanResult CriterionPlanner::plan(const PlanRequest& req) {
+  std::string note;
+  PlanResult r;
+  try {
+    r = planBest(req, criterion_, options_, search_, &note);
+  } catch (const Error& e) {  // e.g. a marginal block of the wrong size
+    r = PlanResult{};
+    r.criterion = criterionName(criterion_);
+    r.reason = e.what();
+  }
+  if (!note.empty()) MRPT_LOG_WARN_STREAM(note);
+  return r;
+}
+
 }  // namespace asf::eu

@@ -1,37 +1,13 @@
 // planner_expected_uncertainty: the path whose expected covariance at the goal is smallest
 // (thesis chapter 3, Algorithm 1) among all simple paths of the reduced pose graph.
-#include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
 #include <asf/planner.h>
 
 namespace {
 
-class ExpectedUncertaintyPlanner final : public asf::Planner {
+class ExpectedUncertaintyPlanner final : public asf::eu::CriterionPlanner {
  public:
-  void configure(const asf::Params& params, const asf::PluginContext& ctx) override {
-    options_ = asf::eu::criterionOptionsFrom(params, ctx.seed);
-    search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
-    search_.reduce = params.getBool("reduce");
-  }
-
-  asf::PlanResult plan(const asf::PlanRequest& req) override {
-    std::string note;
-    asf::PlanResult r;
-    try {
-      r = asf::eu::planBest(req, asf::eu::Criterion::ExpectedUncertainty, options_, search_,
-                            &note);
-    } catch (const asf::Error& e) {  // e.g. a marginal block of the wrong size
-      r = asf::PlanResult{};
-      r.criterion = "expected_uncertainty";
-      r.reason = e.what();
-    }
-    if (!note.empty()) MRPT_LOG_WARN_STREAM(note);
-    return r;
-  }
-
- private:
-  asf::eu::CriterionOptions options_;
-  asf::eu::PathSearchOptions search_;
+  ExpectedUncertaintyPlanner() : CriterionPlanner(asf::eu::Criterion::ExpectedUncertainty) {}
 };
 
 const asf::KeySpec kKeys[] = {

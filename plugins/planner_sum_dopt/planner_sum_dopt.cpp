@@ -1,37 +1,14 @@
 // planner_sum_dopt: the path minimizing the sum over its nodes of the D-optimality of their
 // marginal covariance (Carrillo et al.; thesis eq. 3.24). A baseline of thesis chapter 3,
 // searched over the same candidate paths as expected_uncertainty.
-#include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
 #include <asf/planner.h>
 
 namespace {
 
-class SumDoptPlanner final : public asf::Planner {
+class SumDoptPlanner final : public asf::eu::CriterionPlanner {
  public:
-  void configure(const asf::Params& params, const asf::PluginContext& ctx) override {
-    options_ = asf::eu::criterionOptionsFrom(params, ctx.seed);
-    search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
-    search_.reduce = params.getBool("reduce");
-  }
-
-  asf::PlanResult plan(const asf::PlanRequest& req) override {
-    std::string note;
-    asf::PlanResult r;
-    try {
-      r = asf::eu::planBest(req, asf::eu::Criterion::SumDopt, options_, search_, &note);
-    } catch (const asf::Error& e) {
-      r = asf::PlanResult{};
-      r.criterion = "sum_dopt";
-      r.reason = e.what();
-    }
-    if (!note.empty()) MRPT_LOG_WARN_STREAM(note);
-    return r;
-  }
-
- private:
-  asf::eu::CriterionOptions options_;
-  asf::eu::PathSearchOptions search_;
+  SumDoptPlanner() : CriterionPlanner(asf::eu::Criterion::SumDopt) {}
 };
 
 const asf::KeySpec kKeys[] = {

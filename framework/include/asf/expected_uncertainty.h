@@ -200,6 +200,22 @@ PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
 PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions& o,
                     const PathSearchOptions& search, std::string* note = nullptr);
 
+/// The planner plugins of this library (expected_uncertainty, mechanical_work, sum_dopt)
+/// differ only in their criterion and key table: each is this class with its criterion.
+/// configure() reads the criterion keys the table declares plus `max_paths` and `reduce`;
+/// plan() is planBest(), with the note logged as a warning and errors as found = false.
+class CriterionPlanner : public Planner {
+ public:
+  explicit CriterionPlanner(Criterion c) : criterion_(c) {}
+  void configure(const Params& params, const PluginContext& ctx) override;
+  PlanResult plan(const PlanRequest& req) override;
+
+ private:
+  Criterion criterion_;
+  CriterionOptions options_;
+  PathSearchOptions search_;
+};
+
 // ---------------------------------------------------------------------------------------
 // Drawing
 
