@@ -15,20 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "plugin_cli.h"
 
 namespace asf::app {
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 }  // namespace
 
@@ -60,34 +51,14 @@ int cmdOptimize(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   Registry reg;
-  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
-  for (const auto& d : path.getValue()) reg.scanDirectory(d);
+  scanPlugins(reg, path.getValue());
   const auto info = reg.find(backend.getValue(), PluginKind::Backend);
   const std::string name = info->name();
-
   // The back-end's keys, validated like an INI section ([name] key = value).
-  IniConfig ini = IniConfig::fromText("", "--set");
-  for (const auto& s : set.getValue()) {
-    const auto eq = s.find('=');
-    const auto dot = s.find('.');
-    if (eq == std::string::npos)
-      throw ConfigError("--set " + s + ": expected key=value");
-    const bool has_section = dot != std::string::npos && dot < eq;
-    if (has_section && lower(s.substr(0, dot)) != lower(name))
-      throw ConfigError("--set " + s + ": the back-end is '" + name + "', not '" +
-                        s.substr(0, dot) + "'");
-    ini.applyOverride(has_section ? s : name + "." + s);
-  }
-  const Params params = ini.resolve(name, info->descriptor->keys, info->descriptor->num_keys);
+  const Params params = setOverrides(set.getValue(), name, "back-end")
+                            .resolve(name, info->descriptor->keys, info->descriptor->num_keys);
   auto be = Registry::create<Backend>(info);
-  // Plugin log lines go to stderr, so stdout stays one JSON object with --json.
-  be->logging_enable_console_output = false;
-  be->logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
-                             std::string_view logger, const mrpt::Clock::time_point&) {
-    std::cerr << "[" << logger << "] " << msg;
-    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
-  });
-  be->setLoggerName(name);
+  logToStderr(*be, name);
   be->configure(params, PluginContext{});
 
   PoseGraph g = readG2o(file.getValue());

@@ -19,47 +19,11 @@
 #include <set>
 
 #include "commands.h"
+#include "plugin_cli.h"
 
 namespace asf::app {
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
-/// Plugin log lines go to stderr, so stdout stays one JSON object with --json.
-void logToStderr(Plugin& p, const std::string& name) {
-  p.logging_enable_console_output = false;
-  p.logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
-                           std::string_view logger, const mrpt::Clock::time_point&) {
-    std::cerr << "[" << logger << "] " << msg;
-    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
-  });
-  p.setLoggerName(name);
-}
-
-Params paramsFor(const PluginInfo& info, const std::vector<std::string>& sets) {
-  const std::string name = info.name();
-  IniConfig ini = IniConfig::fromText("", "--set");
-  for (const auto& s : sets) {
-    const auto eq = s.find('=');
-    const auto dot = s.find('.');
-    if (eq == std::string::npos) throw ConfigError("--set " + s + ": expected key=value");
-    const bool has_section = dot != std::string::npos && dot < eq;
-    if (has_section && lower(s.substr(0, dot)) != lower(name))
-      throw ConfigError("--set " + s + ": the planner is '" + name + "', not '" +
-                        s.substr(0, dot) + "'");
-    ini.applyOverride(has_section ? s : name + "." + s);
-  }
-  return ini.resolve(name, info.descriptor->keys, info.descriptor->num_keys);
-}
 
 std::string joinPath(const std::vector<NodeId>& p) {
   std::string s;
@@ -111,11 +75,12 @@ int cmdPlan(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   Registry reg;
-  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
-  for (const auto& d : path.getValue()) reg.scanDirectory(d);
+  scanPlugins(reg, path.getValue());
   const auto pinfo = reg.find(planner.getValue(), PluginKind::Planner);
   const auto binfo = reg.find(backend.getValue(), PluginKind::Backend);
-  const Params pparams = paramsFor(*pinfo, set.getValue());
+  const Params pparams = setOverrides(set.getValue(), pinfo->name(), "planner")
+                             .resolve(pinfo->name(), pinfo->descriptor->keys,
+                                      pinfo->descriptor->num_keys);
   const Params bparams =
       Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys);
   PluginContext ctx;

@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "plugin_cli.h"
 
 namespace asf::app {
 
@@ -28,12 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -47,14 +42,7 @@ struct SegmenterSetup {
 
   PluginHandle<Segmenter> create() const {
     auto s = Registry::create<Segmenter>(info);
-    // Plugin log lines go to stderr: stdout stays the report.
-    s->logging_enable_console_output = false;
-    s->logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
-                              std::string_view logger, const mrpt::Clock::time_point&) {
-      std::cerr << "[" << logger << "] " << msg;
-      if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
-    });
-    s->setLoggerName(info->name());
+    logToStderr(*s, info->name());
     s->configure(params, PluginContext{});
     return s;
   }
@@ -67,25 +55,18 @@ const char* kSetHelp =
 SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::string>& sets,
                               const std::vector<std::string>& plugin_paths, bool with_topology) {
   Registry reg;
-  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
-  for (const auto& d : plugin_paths) reg.scanDirectory(d);
+  scanPlugins(reg, plugin_paths);
   SegmenterSetup s;
   s.info = reg.find(name, PluginKind::Segmenter);
   const std::string plugin = s.info->name();
-  IniConfig ini = IniConfig::fromText("", "--set");
-  for (const auto& a : sets) {
-    const auto eq = a.find('='), dot = a.find('.');
-    if (eq == std::string::npos) throw ConfigError("--set " + a + ": expected key=value");
-    const bool has_section = dot != std::string::npos && dot < eq;
-    const std::string section = has_section ? lower(a.substr(0, dot)) : "";
-    if (has_section && section == "topology" && !with_topology)
-      throw ConfigError("--set " + a + ": no topological graph here (asf segment has one)");
-    if (has_section && section != "topology" && section != lower(plugin))
-      throw ConfigError("--set " + a + ": the segmenter is '" + plugin + "', not '" +
-                        a.substr(0, dot) + "'" +
-                        (with_topology ? " (topology.key=value for the graph)" : ""));
-    ini.applyOverride(has_section ? a : plugin + "." + a);
-  }
+  if (!with_topology)
+    for (const auto& a : sets)
+      if (lowercase(a).rfind("topology.", 0) == 0)
+        throw ConfigError("--set " + a + ": no topological graph here (asf segment has one)");
+  const IniConfig ini =
+      setOverrides(sets, plugin, "segmenter", with_topology ? std::vector<std::string>{"topology"}
+                                                            : std::vector<std::string>{},
+                   with_topology ? " (topology.key=value for the graph)" : "");
   s.params = ini.resolve(plugin, s.info->descriptor->keys, s.info->descriptor->num_keys);
   std::size_t n = 0;
   const KeySpec* topo_keys = TopoBuilder::keys(n);
@@ -411,7 +392,7 @@ int cmdSegmentEval(int argc, char** argv) {
     throw InputError(furnished.getValue() + ": no such folder (--furnished)");
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(plain.getValue()))
-    if (e.is_regular_file() && lower(e.path().extension().string()) == ".png")
+    if (e.is_regular_file() && lowercase(e.path().extension().string()) == ".png")
       names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
   if (!only.getValue().empty()) {

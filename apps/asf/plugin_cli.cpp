@@ -1,0 +1,52 @@
+#include "plugin_cli.h"
+
+#include <algorithm>
+#include <asf/errors.h>
+#include <cctype>
+#include <iostream>
+
+namespace asf::app {
+
+void scanPlugins(Registry& reg, const std::vector<std::string>& extra) {
+  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+  for (const auto& d : extra) reg.scanDirectory(d);
+}
+
+std::string lowercase(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& plugin,
+                       const std::string& what, const std::vector<std::string>& extra_sections,
+                       const std::string& hint) {
+  IniConfig ini = IniConfig::fromText("", "--set");
+  for (const auto& a : sets) {
+    const auto eq = a.find('='), dot = a.find('.');
+    if (eq == std::string::npos) throw ConfigError("--set " + a + ": expected key=value");
+    const bool has_section = dot != std::string::npos && dot < eq;
+    if (has_section) {
+      const std::string section = lowercase(a.substr(0, dot));
+      const bool extra = std::find(extra_sections.begin(), extra_sections.end(), section) !=
+                         extra_sections.end();
+      if (!extra && section != lowercase(plugin))
+        throw ConfigError("--set " + a + ": the " + what + " is '" + plugin + "', not '" +
+                          a.substr(0, dot) + "'" + hint);
+    }
+    ini.applyOverride(has_section ? a : plugin + "." + a);
+  }
+  return ini;
+}
+
+void logToStderr(Plugin& p, const std::string& name) {
+  p.logging_enable_console_output = false;
+  p.logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
+                           std::string_view logger, const mrpt::Clock::time_point&) {
+    std::cerr << "[" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
+  });
+  p.setLoggerName(name);
+}
+
+}  // namespace asf::app
