@@ -121,8 +121,11 @@ class IcpGraphFrontend final : public asf::Frontend {
       cur = std::make_shared<const Cloud>(Cloud::fromScan(*f.scan));
       const asf::NodeId span = static_cast<asf::NodeId>(submap_) - 1;
       Cloud ref = submap(g, last, last >= span ? last - span : 0, last);
+      // Old keyframes near the predicted pose join the reference: the match then sees the
+      // mapped surroundings, not only the last scans. (Uncorrected drift between old and
+      // recent scans biases it; revisitEdge() gives the optimizer the direct constraint.)
       if (submap_radius_ > 0)
-        addNearbyKeyframes(g, last, g.nodes[last].pose + acc, last >= span ? last - span : 0, ref);
+        addScans(g, last, nearbyKeyframes(g, g.nodes[last].pose + acc, last >= span ? last - span : 0), ref);
       const MatchResult m = asf::icp_graph::match(ref, *cur, acc, icp_, min_points_);
       std::string why;
       if (sequentialGate(m, acc, acc_cov, why)) {
@@ -193,22 +196,29 @@ class IcpGraphFrontend final : public asf::Frontend {
     return out;
   }
 
-  /// Adds to `ref` (frame of `last`) the scans of the old keyframes (before `first`) near the
-  /// predicted pose: the sequential match then sees the mapped surroundings, not only the
-  /// last scans. Old and recent scans may disagree by uncorrected drift, which biases this
-  /// match; revisitEdge() gives the optimizer the direct constraint to the old keyframes.
-  void addNearbyKeyframes(const asf::PoseGraph& g, asf::NodeId last, const CPose2D& pred,
-                          asf::NodeId first, Cloud& ref) {
+  /// Keyframes with a scan before `before` within submap_radius_ of `c`, nearest first, at
+  /// most submap_nearby_ (the old keyframes of a place the robot is revisiting).
+  std::vector<asf::NodeId> nearbyKeyframes(const asf::PoseGraph& g, const CPose2D& c,
+                                           asf::NodeId before) const {
     std::vector<std::pair<double, asf::NodeId>> near;
-    for (asf::NodeId k = 0; k < first && k < g.size(); ++k) {
-      const double d = std::hypot(g.nodes[k].pose.x() - pred.x(), g.nodes[k].pose.y() - pred.y());
+    for (asf::NodeId k = 0; k < before && k < g.size(); ++k) {
+      if (!g.nodes[k].scan) continue;
+      const double d = std::hypot(g.nodes[k].pose.x() - c.x(), g.nodes[k].pose.y() - c.y());
       if (d <= submap_radius_) near.emplace_back(d, k);
     }
     std::sort(near.begin(), near.end());
     if (near.size() > static_cast<std::size_t>(submap_nearby_)) near.resize(submap_nearby_);
-    const CPose2D inv = CPose2D() - g.nodes[last].pose;
-    for (const auto& [d, k] : near)
-      if (auto c = cloudOf(g, k)) ref.add(*c, inv + g.nodes[k].pose);
+    std::vector<asf::NodeId> out;
+    for (const auto& [d, k] : near) out.push_back(k);
+    return out;
+  }
+
+  /// Adds the scans of `ids` to `out`, placed by the estimate in the frame of node `frame`.
+  void addScans(const asf::PoseGraph& g, asf::NodeId frame, const std::vector<asf::NodeId>& ids,
+                Cloud& out) {
+    const CPose2D inv = CPose2D() - g.nodes[frame].pose;
+    for (asf::NodeId k : ids)
+      if (auto c = cloudOf(g, k)) out.add(*c, inv + g.nodes[k].pose);
   }
 
   /// Revisit edge: the new keyframe j matched against the old keyframes (before `first`, the
@@ -217,21 +227,13 @@ class IcpGraphFrontend final : public asf::Frontend {
   /// place is tied to its first visit at every keyframe, not only at verified loop closures.
   void revisitEdge(asf::PoseGraph& g, asf::NodeId j, asf::NodeId first) {
     const CPose2D& xj = g.nodes[j].pose;
-    std::vector<std::pair<double, asf::NodeId>> near;
-    for (asf::NodeId k = 0; k < first && k < j; ++k) {
-      if (!g.nodes[k].scan) continue;
-      const double d = std::hypot(g.nodes[k].pose.x() - xj.x(), g.nodes[k].pose.y() - xj.y());
-      if (d <= submap_radius_) near.emplace_back(d, k);
-    }
+    const std::vector<asf::NodeId> near = nearbyKeyframes(g, xj, first);
     if (near.empty()) return;
-    std::sort(near.begin(), near.end());
-    if (near.size() > static_cast<std::size_t>(submap_nearby_)) near.resize(submap_nearby_);
-    const asf::NodeId k = near.front().second;
+    const asf::NodeId k = near.front();
     Cloud ref;
     ref.setNormalNeighbourhood(normal_k_, normal_radius_);
+    addScans(g, k, near, ref);
     const CPose2D inv = CPose2D() - g.nodes[k].pose;
-    for (const auto& [d, n] : near)
-      if (auto c = cloudOf(g, n)) ref.add(*c, inv + g.nodes[n].pose);
     const CPose2D est = inv + xj;
     const MatchResult m = asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_);
     if (!m.ran || m.goodness < loop_min_goodness_ || m.inlier_ratio < loop_min_inliers_ ||
