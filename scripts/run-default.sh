@@ -6,4 +6,4 @@ cd "$(dirname "$0")/.."
 bash scripts/build.sh
 BUILD_DIR=${ASF_BUILD_DIR:-build}
 "$BUILD_DIR/bin/asf" run configs/default.ini --out results/default "$@"
-echo "Open results/default/map.png and results/default/regions.png; numbers in results/default/summary.json."
+echo "Report: results/default/report.html (map, regions, coverage and pose error plots); numbers in results/default/summary.json."

@@ -68,7 +68,7 @@ TEST(Host, PluginsReportsBrokenFilesWithExitCode1) {
 }
 
 TEST(Host, ConfigPrintsDefaultsAndRejectsTypos) {
-  auto r = asf("config " ASF_TEST_SOURCE_DIR "/configs/default.ini --set map.resolution=0.1");
+  auto r = asf("config " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --set map.resolution=0.1");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "resolution = 0.1"));
   EXPECT_TRUE(has(r.out, "[dense_gn]")) << "sections of selected plugins appear with defaults";
@@ -88,7 +88,7 @@ TEST(Host, ConfigPrintsDefaultsAndRejectsTypos) {
 TEST(Host, RunWritesResultsAndSaysWhere) {
   const fs::path out = fs::temp_directory_path() / "asf_host_run";
   fs::remove_all(out);
-  const auto r = asf("run " ASF_TEST_SOURCE_DIR "/configs/default.ini --out " + out.string() +
+  const auto r = asf("run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " + out.string() +
                      " --set pipeline.max_steps=50 -v WARN");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "step budget (50) spent")) << r.out;

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kDefault = ASF_TEST_SOURCE_DIR "/configs/default.ini";
+const std::string kDefault = ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini";
 
 fs::path tempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("asf_test_pipeline_" + name);
@@ -169,6 +169,8 @@ TEST(Pipeline, InterruptedRunLeavesValidOutputs) {
   const auto j = readJson(out / "summary.json");
   EXPECT_EQ(j["stop_reason"], "interrupted");
   EXPECT_TRUE(fs::exists(out / "graph.g2o"));
+  EXPECT_GE(lineCount(out / "timeseries.csv"), 2u) << "header and the final row";
+  EXPECT_TRUE(fs::exists(out / "report.html"));
   fs::remove_all(out);
 }
 

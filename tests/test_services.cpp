@@ -149,6 +149,38 @@ TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {
   EXPECT_EQ(tb.graph().edges[je].traversals.size(), 2u);
   EXPECT_TRUE(tb.graph().node(2)->visited);
   EXPECT_EQ(tb.graph().node(2)->entrance_edge, je);
+  // The border cells of each edge lie on its first region's side.
+  for (const auto& b : tb.graph().edges[je].border) EXPECT_LT(b.x, 0.5);
+  EXPECT_EQ(tb.graph().edges[je].border.size(), 4u);
+
+  // A re-segmentation renames the regions (7 and 9, say after a loop closure): with the pose
+  // graph as history the traversals are those of the robot's path, not lost with the ids.
+  asf::Segmentation renamed = seg;
+  for (auto& l : renamed.labels.labels) l = l == 1 ? 7 : l == 2 ? 9 : 0;
+  renamed.regions[0].id = 7;
+  renamed.regions[1].id = 9;
+  asf::PoseGraph history;
+  history.addNode(mrpt::poses::CPose2D(0.2, 0.25, 0), 10.0);  // in 7
+  history.addNode(mrpt::poses::CPose2D(0.8, 0.25, 0), 11.0);  // into 9
+  history.addNode(mrpt::poses::CPose2D(0.3, 0.35, 0), 12.0);  // back into 7
+  history.addNode(mrpt::poses::CPose2D(0.85, 0.3, 0), 13.0);  // into 9 again
+  tb.update(renamed, map, &history);
+  const auto& t3 = tb.graph();
+  const int ke = t3.edges[0].frontier() ? 1 : 0;
+  ASSERT_EQ(t3.edges[ke].a, 7);
+  // Then the robot's last observed position (0.3, 0.25), in 7: a fourth crossing.
+  ASSERT_EQ(t3.edges[ke].traversals.size(), 4u);
+  EXPECT_TRUE(t3.edges[ke].traversals[0].forward);
+  EXPECT_FALSE(t3.edges[ke].traversals[1].forward);
+  EXPECT_TRUE(t3.edges[ke].traversals[2].forward);
+  EXPECT_FALSE(t3.edges[ke].traversals[3].forward);
+  EXPECT_EQ(t3.outwardTraversals(ke, 7), 2);
+  EXPECT_EQ(t3.outwardTraversals(ke, 9), 2);
+  EXPECT_TRUE(t3.node(7)->visited);
+  EXPECT_TRUE(t3.node(9)->visited);
+  EXPECT_EQ(t3.node(7)->entrance_edge, -1) << "the start region has no entrance";
+  EXPECT_EQ(t3.node(9)->entrance_edge, ke);
+  EXPECT_EQ(t3.current, 7);
 }
 
 TEST(Geometry, PolygonAreaAndCentroid) {

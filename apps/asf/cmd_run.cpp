@@ -58,12 +58,15 @@ int cmdRun(int argc, char** argv) {
   if (s.ate_rmse_m >= 0)
     std::cout << ", ATE RMSE " << s.ate_rmse_m << " m (max " << s.ate_max_m << " m, "
               << s.ate_poses << " keyframes)";
+  if (s.coverage >= 0) std::cout << ", coverage " << 100 * s.coverage << "%";
   std::cout << " in " << s.wall_time_s << " s\n";
   std::cout << "asf run: results in " << std::filesystem::absolute(dir).lexically_normal().string()
             << "/ (";
   const auto files = Pipeline::outputFiles();
   for (std::size_t i = 0; i < files.size(); ++i) std::cout << (i ? ", " : "") << files[i];
   std::cout << ")\n";
+  std::cout << "asf run: report: "
+            << (std::filesystem::absolute(dir) / "report.html").lexically_normal().string() << "\n";
   return g_stop ? kInterrupted : kOk;
 }
 

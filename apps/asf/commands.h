@@ -32,5 +32,6 @@ int cmdAte(int argc, char** argv);
 int cmdSegment(int argc, char** argv);
 int cmdSegmentEval(int argc, char** argv);
 int cmdPlan(int argc, char** argv);
+int cmdExperiment(int argc, char** argv);
 
 }  // namespace asf::app

@@ -50,6 +50,8 @@ const Command kCommands[] = {
      "Score a segmenter on the room segmentation benchmark (precision, recall, MCC, time)"},
     {"plan", asf::app::cmdPlan,
      "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
+    {"experiment", asf::app::cmdExperiment,
+     "Replications x policies of an exploration pipeline in parallel: tables, plots, report"},
 };
 
 void usage(std::ostream& os) {

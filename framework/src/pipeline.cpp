@@ -1,9 +1,12 @@
+#include <asf/coverage.h>
 #include <asf/errors.h>
 #include <asf/pipeline.h>
+#include <asf/run_report.h>
 #include <asf/trajectory_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -36,6 +39,10 @@ const KeySpec kPipelineKeys[] = {
     keyInt("segment_every", "1", "Segment every n-th map version", 1),
     keyInt("max_failed_goals", "50",
            "Stop when the policy's goals failed (unreachable/blocked) this many times in a row",
+           1),
+    keyInt("max_idle_decisions", "200",
+           "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
+           "(a policy going round in circles)",
            1),
     keyDouble("progress_interval", "2.0", "Seconds between progress lines (0: none)", 0),
     keyEnum("verbosity", "INFO", "DEBUG|INFO|WARN|ERROR", "Log level of the host and plugins"),
@@ -220,6 +227,13 @@ struct Pipeline::Impl : public mrpt::system::COutputLogger {
   Marginals marginals;
   Segmentation seg;
   std::vector<mrpt::poses::CPose2D> path;
+  std::shared_ptr<const WorldTruth> world;
+  std::unique_ptr<CoverageMeter> coverage;
+  TopoGraph world_topo;  ///< of the true world, map frame (offline baselines)
+  bool have_world_topo = false;
+
+  /// The pipeline's segmenter, a second instance, run once on the true world.
+  void segmentWorld();
 
   template <class T>
   void make(const char* slot, int index, PluginHandle<T>& h) {
@@ -263,6 +277,11 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
   if (!m.source || !m.frontend) throw ConfigError("[pipeline] needs a source and a frontend");
   m.map.configure(cfg.map);
   m.topo.configure(cfg.topology);
+  m.world = m.source->worldTruth();
+  if (m.world && m.world->grid) {
+    m.coverage = std::make_unique<CoverageMeter>(*m.world);
+    if (m.policy && m.segmenter) m.segmentWorld();
+  }
   if (m.policy && !m.source->isActive())
     m.logStr(mrpt::system::LVL_WARN, "the policy is ignored: source '" +
                                          cfg.slots.at("source")->name() + "' is passive");
@@ -270,9 +289,37 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
 
 Pipeline::~Pipeline() = default;
 
+void Pipeline::Impl::segmentWorld() {
+  PluginHandle<Segmenter> seg_world;
+  make("segmenter", 3, seg_world);
+  GridMap wm;
+  wm.grid = world->grid;
+  wm.version = 1;
+  const Segmentation ws = seg_world->segment(wm, nullptr);
+  TopoBuilder tb;
+  tb.configure(cfg.topology);
+  tb.update(ws, wm);
+  // World frame -> map frame, so a baseline's goals are in the frame navigation uses.
+  const mrpt::poses::CPose2D inv = -world->map_origin;
+  auto toMap = [&](Point2& p) { inv.composePoint(p.x, p.y, p.x, p.y); };
+  world_topo = tb.graph();
+  for (auto& n : world_topo.nodes) toMap(n.centroid);
+  for (auto& e : world_topo.edges) {
+    toMap(e.midpoint);
+    for (auto& b : e.border) toMap(b);
+  }
+  world_topo.current = ws.labels.atPoint(world->map_origin.x(), world->map_origin.y());
+  have_world_topo = true;
+  logStr(mrpt::system::LVL_INFO, "true world: " + std::to_string(ws.regions.size()) +
+                                     " regions, " + std::to_string(world_topo.edges.size()) +
+                                     " edges, reachable free area " +
+                                     std::to_string(coverage->reachableArea()) + " m^2");
+}
+
 std::vector<std::string> Pipeline::outputFiles() {
-  return {"config.ini",  "trajectory.csv", "decisions.csv", "graph.g2o",    "keyframes.txt",
-          "map.png",     "regions.png",    "topology.json", "summary.json"};
+  return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv",
+          "graph.g2o",     "keyframes.txt",  "map.png",        "regions.png",
+          "topology.json", "summary.json",   "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {
@@ -298,8 +345,42 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
   double err_sum = 0, t0 = 0, now_t = 0;
   long err_n = 0, nodes_since_opt = 0;
   int failed_in_row = 0;
+  const int max_idle = static_cast<int>(P.getInt("max_idle_decisions"));
+  int idle_decisions = 0;
+  double idle_since_distance = 0;
   Goal last_goal;
   bool have_goal = false;
+  // Compute time per stage since the last timeseries row, and per call for the summary.
+  struct StageMs {
+    double frontend = 0, backend = 0, map = 0, segment = 0, policy = 0;
+  } stage;
+  std::vector<double> decision_ms, segment_ms;
+  auto msSince = [](Clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  };
+  auto loopClosures = [&] {
+    return static_cast<std::size_t>(
+        std::count_if(m.graph.edges.begin(), m.graph.edges.end(),
+                      [](const PoseEdge& e) { return e.kind == EdgeKind::LoopClosure; }));
+  };
+  double last_coverage = -1;
+  auto seriesRow = [&](double pose_error) {
+    Recorder::SeriesRow r;
+    r.step = sum.steps;
+    r.time = now_t;
+    r.distance = sum.distance_m;
+    if (m.coverage) last_coverage = r.coverage = m.coverage->coverage(m.map.map());
+    r.explored_area = freeArea(m.map.map());
+    r.pose_error = pose_error;
+    r.loop_closures = loopClosures();
+    r.nodes = m.graph.size();
+    r.edges = m.graph.edges.size();
+    r.regions = m.seg.regions.size();
+    r.decisions = sum.decisions;
+    r.ms = {stage.frontend, stage.backend, stage.map, stage.segment, stage.policy};
+    rec.series(r);
+    stage = {};
+  };
 
   auto progress = [&](bool force) {
     const auto now = Clock::now();
@@ -311,6 +392,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     os << std::fixed << std::setprecision(2) << "step " << sum.steps << "  dist "
        << sum.distance_m << " m  nodes " << m.graph.size() << "  edges " << m.graph.edges.size()
        << "  regions " << m.seg.regions.size() << "  decisions " << sum.decisions;
+    if (last_coverage >= 0) os << "  coverage " << std::setprecision(1) << 100 * last_coverage << "%" << std::setprecision(2);
     if (err_n) os << "  pose error " << std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) << " m";
     os << "  (" << std::setprecision(1)
        << std::chrono::duration<double>(now - t_start).count() << " s)";
@@ -339,6 +421,14 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
                             " goals failed; giving up";
           break;
         }
+        if (sum.distance_m - idle_since_distance >= 0.1) {
+          idle_since_distance = sum.distance_m;
+          idle_decisions = 0;
+        } else if (++idle_decisions >= max_idle) {
+          sum.stop_reason = "no progress: the policy's last " + std::to_string(idle_decisions) +
+                            " decisions moved the robot less than 0.1 m";
+          break;
+        }
         ExplorationState s;
         s.topo = &m.topo.graph();
         s.robot = m.frontend->currentPose(m.graph);
@@ -347,7 +437,13 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
         s.time = now_t;
         s.last_status = st;
         s.last_goal = last_goal;
+        s.segmentation = m.seg.regions.empty() ? nullptr : &m.seg;
+        s.world_topo = m.have_world_topo ? &m.world_topo : nullptr;
+        const auto t_dec = Clock::now();
         const Decision d = m.policy->decide(s);
+        const double dec_ms = msSince(t_dec);
+        stage.policy += dec_ms;
+        decision_ms.push_back(dec_ms);
         ++sum.decisions;
         rec.decision(sum.steps, s.time, d, st);
         if (d.type == Decision::Type::Done) {
@@ -375,19 +471,32 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       if (sum.steps == 0) t0 = frame->timestamp;
       ++sum.steps;
       now_t = frame->timestamp - t0;
+      auto t_stage = Clock::now();
       const bool changed = m.frontend->process(*frame, m.graph, m.marginals);
+      stage.frontend += msSince(t_stage);
       if (changed) ++nodes_since_opt;
       if (changed && m.backend && nodes_since_opt >= optimize_every) {
+        t_stage = Clock::now();
         nodes_since_opt = 0;
         m.backend->optimize(m.graph);
         if (want_marginals) m.marginals = m.backend->marginals(m.graph);
         m.marginals.graph_revision = m.graph.revision;
+        stage.backend += msSince(t_stage);
       }
-      if (changed && m.map.update(m.graph) && m.segmenter &&
-          m.map.map().version % segment_every == 0) {
+      bool map_changed = false;
+      if (changed) {
+        t_stage = Clock::now();
+        map_changed = m.map.update(m.graph);
+        stage.map += msSince(t_stage);
+      }
+      if (map_changed && m.segmenter && m.map.map().version % segment_every == 0) {
+        t_stage = Clock::now();
         m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
         m.seg.map_version = m.map.map().version;
-        m.topo.update(m.seg, m.map.map());
+        m.topo.update(m.seg, m.map.map(), &m.graph);
+        const double ms = msSince(t_stage);
+        stage.segment += ms;
+        segment_ms.push_back(ms);
       }
       const mrpt::poses::CPose2D est = m.frontend->currentPose(m.graph);
       m.topo.observeRobot(est.x(), est.y(), frame->timestamp - t0);
@@ -411,6 +520,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       m.path.push_back(est);
       rec.step({sum.steps, frame->timestamp - t0, est, truth, m.graph.size(),
                 m.graph.edges.size(), sum.distance_m});
+      if (map_changed) seriesRow(truth ? std::hypot(truth->x() - est.x(), truth->y() - est.y()) : -1);
       progress(false);
     }
   };
@@ -436,10 +546,35 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       sum.ate_max_m = te.ate_max_m;
       sum.ate_poses = te.poses;
     }
+    sum.loop_closures = loopClosures();
+    sum.explored_area_m2 = freeArea(m.map.map());
+    if (m.coverage) {
+      sum.coverage = m.coverage->coverage(m.map.map());
+      sum.reachable_area_m2 = m.coverage->reachableArea();
+    }
+    if (!decision_ms.empty()) {
+      double total = 0;
+      for (double v : decision_ms) total += v;
+      sum.decision_ms_mean = total / decision_ms.size();
+      sum.decision_ms_max = *std::max_element(decision_ms.begin(), decision_ms.end());
+    }
+    if (!segment_ms.empty()) {
+      std::vector<double> v = segment_ms;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      sum.segment_ms_median = v[v.size() / 2];
+    }
+    if (m.policy) sum.policy = m.cfg.slots.at("policy")->name();
+    sum.seed = static_cast<long>(m.cfg.pipeline.getInt("seed"));
+    seriesRow(err_n ? std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) : -1);
     sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start).count();
     std::string err;
     rec.finish(m.graph, m.map.map(), m.seg, m.topo.graph(), m.path, sum, err);
     if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
+    try {
+      writeRunReport(m.out_dir);
+    } catch (const std::exception& e) {
+      m.logStr(mrpt::system::LVL_ERROR, std::string("writing report.html: ") + e.what());
+    }
   };
 
   // Keyframes added since the last optimization are optimized once more at the end, so the
@@ -453,7 +588,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     if (m.map.update(m.graph) && m.segmenter) {
       m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
       m.seg.map_version = m.map.map().version;
-      m.topo.update(m.seg, m.map.map());
+      m.topo.update(m.seg, m.map.map(), &m.graph);
     }
   };
 

@@ -44,7 +44,10 @@ Recorder::Recorder(const std::string& out_dir, const ResolvedConfig& cfg) : dir_
   traj_ << "step,time_s,x,y,phi,gt_x,gt_y,gt_phi,pose_error_m,nodes,edges,distance_m\n";
   decisions_.open(dir_ + "/decisions.csv");
   decisions_ << "step,time_s,previous_status,decision,goal_x,goal_y,reason\n";
-  if (!traj_ || !decisions_) throw Error(dir_ + ": cannot write the run's files");
+  series_.open(dir_ + "/timeseries.csv");
+  series_ << "step,time_s,distance_m,coverage,explored_area_m2,pose_error_m,loop_closures,nodes,"
+             "edges,regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms\n";
+  if (!traj_ || !decisions_ || !series_) throw Error(dir_ + ": cannot write the run's files");
 }
 
 void Recorder::step(const Step& s) {
@@ -57,6 +60,18 @@ void Recorder::step(const Step& s) {
     traj_ << ",,,";
   traj_ << ',' << s.nodes << ',' << s.edges << ',' << s.distance << '\n';
   traj_.flush();  // an interrupted run keeps every step written
+}
+
+void Recorder::series(const SeriesRow& r) {
+  series_ << r.step << ',' << std::setprecision(10) << r.time << ',' << r.distance << ',';
+  if (r.coverage >= 0) series_ << r.coverage;
+  series_ << ',' << r.explored_area << ',';
+  if (r.pose_error >= 0) series_ << r.pose_error;
+  series_ << ',' << r.loop_closures << ',' << r.nodes << ',' << r.edges << ',' << r.regions << ','
+          << r.decisions << std::setprecision(4);
+  for (double v : r.ms) series_ << ',' << v;
+  series_ << '\n';
+  series_.flush();
 }
 
 void Recorder::decision(long step, double time, const Decision& d, NavStatus previous) {
@@ -110,6 +125,16 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   attempt("summary.json", [&] {
     json j;
     j["plugins"] = slots_;
+    j["policy"] = summary.policy.empty() ? json(nullptr) : json(summary.policy);
+    j["seed"] = summary.seed;
+    j["coverage"] = summary.coverage < 0 ? json(nullptr) : json(summary.coverage);
+    j["reachable_area_m2"] =
+        summary.reachable_area_m2 < 0 ? json(nullptr) : json(summary.reachable_area_m2);
+    j["explored_area_m2"] = summary.explored_area_m2;
+    j["loop_closures"] = summary.loop_closures;
+    j["decision_ms_mean"] = summary.decision_ms_mean;
+    j["decision_ms_max"] = summary.decision_ms_max;
+    j["segment_ms_median"] = summary.segment_ms_median;
     j["steps"] = summary.steps;
     j["distance_m"] = summary.distance_m;
     j["nodes"] = summary.nodes;

@@ -2,6 +2,7 @@
 // Writes a run's outputs. Private to the framework: stages never know about files.
 #include <asf/pipeline.h>
 
+#include <array>
 #include <fstream>
 #include <string>
 
@@ -19,6 +20,15 @@ class Recorder {
     double distance;
   };
   void step(const Step& s);
+  /// One row of timeseries.csv (negative coverage / pose error: unknown, written empty).
+  struct SeriesRow {
+    long step = 0;
+    double time = 0, distance = 0, coverage = -1, explored_area = 0, pose_error = -1;
+    std::size_t loop_closures = 0, nodes = 0, edges = 0, regions = 0;
+    int decisions = 0;
+    std::array<double, 5> ms{};  ///< frontend, backend, map, segment, policy
+  };
+  void series(const SeriesRow& r);
   void decision(long step, double time, const Decision& d, NavStatus previous);
   /// Final files: graph, map, regions, topology, summary. Never throws (logs instead):
   /// it also runs while an exception propagates.
@@ -28,7 +38,7 @@ class Recorder {
 
  private:
   std::string dir_;
-  std::ofstream traj_, decisions_;
+  std::ofstream traj_, decisions_, series_;
   std::map<std::string, std::string> slots_;
 };
 

@@ -2,6 +2,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 
 namespace asf {
@@ -37,7 +38,7 @@ void TopoBuilder::configure(const Params& p) {
   unknown_band_ = p.getDouble("unknown_band");
 }
 
-void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
+void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const PoseGraph* history) {
   // Carry over what persists by region id / region pair.
   std::map<RegionId, TopoNode> old_nodes;
   for (const auto& n : graph_.nodes) old_nodes[n.region] = n;
@@ -54,6 +55,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
   struct Acc {
     int cells = 0;
     double sx = 0, sy = 0;
+    std::vector<Point2> border;  // cells on the side of the key's first region
   };
   std::map<Key, Acc> acc;
   auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
@@ -79,10 +81,15 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
         const bool inside = nx >= 0 && ny >= 0 && nx < L.width && ny < L.height;
         const RegionId b = inside ? L.at(nx, ny) : 0;
         if (b > 0 && b != a && (d[0] + d[1]) > 0) {  // each pair of cells once
-          auto& s = acc[edgeKey(a, b)];
+          const Key k = edgeKey(a, b);
+          auto& s = acc[k];
           ++s.cells;
           s.sx += 0.5 * (cellX(cx) + cellX(nx));
           s.sy += 0.5 * (cellY(cy) + cellY(ny));
+          if (k.first == a)
+            s.border.push_back({cellX(cx), cellY(cy)});
+          else
+            s.border.push_back({cellX(nx), cellY(ny)});
         }
         if (b == 0 && (inside ? unknown(nx, ny) : true)) frontier = true;
       }
@@ -91,6 +98,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
         ++s.cells;
         s.sx += cellX(cx);
         s.sy += cellY(cy);
+        s.border.push_back({cellX(cx), cellY(cy)});
       }
     }
 
@@ -117,6 +125,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
     e.b = k.second;
     e.width = width;
     e.midpoint = {s.sx / s.cells, s.sy / s.cells};
+    e.border = s.border;
     auto t = old_trav.find(k);
     if (t != old_trav.end()) e.traversals = t->second;
     g.edges.push_back(e);
@@ -129,9 +138,70 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map) {
   }
   if (!g.node(g.current)) g.current = 0;
   graph_ = std::move(g);
+  if (history) replay(*history);
+}
+
+void TopoBuilder::replay(const PoseGraph& history) {
+  for (auto& e : graph_.edges) e.traversals.clear();
+  for (auto& n : graph_.nodes) {
+    n.visited = false;
+    n.entrance_edge = -1;
+  }
+  std::map<Key, int> edge_of;
+  for (std::size_t i = 0; i < graph_.edges.size(); ++i)
+    edge_of[edgeKey(graph_.edges[i].a, graph_.edges[i].b)] = static_cast<int>(i);
+
+  struct Sample {
+    double x, y, t;
+  };
+  std::vector<Sample> path;
+  const double t0 = history.nodes.empty() ? 0 : history.nodes.front().timestamp;
+  for (const PoseNode& n : history.nodes) path.push_back({n.pose.x(), n.pose.y(), n.timestamp - t0});
+  if (have_robot_) path.push_back({robot_x_, robot_y_, robot_t_});
+
+  const double step = 0.5 * (seg_.labels.resolution > 0 ? seg_.labels.resolution : 0.05);
+  RegionId last = 0;
+  auto visit = [&](double x, double y, double t) {
+    const RegionId r = seg_.labels.atPoint(x, y);
+    if (r <= 0 || r == last) return;
+    TopoNode* to = graph_.node(r);
+    if (!to) return;
+    int edge = -1;
+    if (last > 0) {
+      auto it = edge_of.find(edgeKey(last, r));
+      if (it != edge_of.end()) {
+        edge = it->second;
+        TopoEdge& e = graph_.edges[edge];
+        e.traversals.push_back({e.a == last, t});
+      }
+    }
+    // The entrance edge is that of the first arrival; the region of the start has none.
+    if (!to->visited && last > 0) to->entrance_edge = edge;
+    to->visited = true;
+    last = r;
+  };
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (i == 0) {
+      visit(path[0].x, path[0].y, path[0].t);
+      continue;
+    }
+    const Sample& a = path[i - 1];
+    const Sample& b = path[i];
+    const double len = std::hypot(b.x - a.x, b.y - a.y);
+    const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+    for (int k = 1; k <= n; ++k) {
+      const double f = static_cast<double>(k) / n;
+      visit(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.t + f * (b.t - a.t));
+    }
+  }
+  graph_.current = last;
 }
 
 void TopoBuilder::observeRobot(double x, double y, double t) {
+  have_robot_ = true;
+  robot_x_ = x;
+  robot_y_ = y;
+  robot_t_ = t;
   const RegionId r = seg_.labels.atPoint(x, y);
   if (r <= 0 || r == graph_.current) return;
   const RegionId from = graph_.current;

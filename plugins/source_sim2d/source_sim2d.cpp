@@ -63,6 +63,12 @@ class Sim2dSource final : public asf::Source {
       p.fail("start_x", os.str());
     }
 
+    auto truth = std::make_shared<asf::WorldTruth>();
+    truth->grid = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(world_.grid());
+    truth->map_origin = true_pose_;
+    truth->robot_radius = radius_;
+    truth_ = std::move(truth);
+
     rays_ = static_cast<int>(p.getInt("laser_rays"));
     fov_ = p.getDouble("laser_fov_deg") * kDeg;
     max_range_ = p.getDouble("laser_max_range");
@@ -150,6 +156,7 @@ class Sim2dSource final : public asf::Source {
   }
 
   asf::NavStatus status() const override { return status_; }
+  std::shared_ptr<const asf::WorldTruth> worldTruth() const override { return truth_; }
 
   std::optional<asf::SensorFrame> next() override {
     if (step_ >= max_steps_) return std::nullopt;
@@ -319,6 +326,7 @@ class Sim2dSource final : public asf::Source {
   }
 
   asf::sim2d::World world_;
+  std::shared_ptr<const asf::WorldTruth> truth_;  // a copy of the world for evaluation
   asf::sim2d::NavOptions nav_;
   asf::OdometryNoiseModel model_;
   CPose2D true_pose_, believed_;

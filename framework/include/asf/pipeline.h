@@ -60,6 +60,16 @@ struct RunSummary {
   std::size_t ate_poses = 0;
   std::size_t regions = 0;
   int decisions = 0;
+  /// Share of the reachable free area of the true world observed by the final map; -1
+  /// when the source does not know the world.
+  double coverage = -1;
+  double reachable_area_m2 = -1;  ///< of the true world; -1 when unknown
+  double explored_area_m2 = 0;    ///< free area of the final map
+  std::size_t loop_closures = 0;  ///< loop-closure edges in the final graph
+  double decision_ms_mean = 0, decision_ms_max = 0;  ///< policy decide() compute time
+  double segment_ms_median = 0;   ///< segmenter + topological graph update, per update
+  std::string policy;             ///< plugin name, empty without a policy
+  long seed = 0;
   bool finished = false;       ///< the policy said done, or the passive source ended
   std::string stop_reason;
   double wall_time_s = 0;

@@ -20,9 +20,15 @@ struct ExplorationState {
   mrpt::poses::CPose2D robot;             ///< estimate, map frame
   const GridMap* map = nullptr;           ///< may be null before the first map
   const PoseGraph* graph = nullptr;       ///< may be null
+  /// The regions `topo` was built from (labels in the map frame); may be null.
+  const Segmentation* segmentation = nullptr;
   double time = 0;                        ///< seconds since the start of the run
   NavStatus last_status = NavStatus::Idle;  ///< outcome of the previous goal
   Goal last_goal;                         ///< meaningful unless last_status == Idle
+  /// Offline baselines only (they are given the whole map by definition): the topological
+  /// graph of the true world, segmented once by the pipeline's segmenter, in the map frame;
+  /// null when the source does not know the world. On-line policies must not read it.
+  const TopoGraph* world_topo = nullptr;
 };
 
 class Policy : public Plugin {

@@ -15,9 +15,22 @@
 #include <asf/plugin.h>
 #include <asf/sensor_frame.h>
 
+#include <memory>
 #include <optional>
 
 namespace asf {
+
+/// The true world, for a source that knows it (a simulator). Only for evaluation (coverage)
+/// and for the offline baselines that are given the whole map by definition; never part of
+/// the SLAM estimate.
+struct WorldTruth {
+  /// Occupancy grid of the world in the world frame (MRPT convention: 1 = free).
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> grid;
+  /// Pose of the map frame's origin (the robot's first true pose) in the world frame:
+  /// p_map = map_origin^-1 (+) p_world.
+  mrpt::poses::CPose2D map_origin;
+  double robot_radius = 0.2;  ///< of the simulated robot [m]
+};
 
 /// What an active source may use to plan: the SLAM estimate, never the ground truth.
 struct NavigationContext {
@@ -38,6 +51,9 @@ class Source : public Plugin {
     return NavStatus::Unreachable;
   }
   virtual NavStatus status() const { return NavStatus::Idle; }
+  /// The true world, or null when the source does not know it (logs). Valid after
+  /// configure(); the host reads it once, before the first next().
+  virtual std::shared_ptr<const WorldTruth> worldTruth() const { return nullptr; }
 };
 
 }  // namespace asf

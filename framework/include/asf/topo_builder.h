@@ -7,6 +7,7 @@
 #include <asf/grid_map.h>
 #include <asf/key_spec.h>
 #include <asf/params.h>
+#include <asf/pose_graph.h>
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
 
@@ -17,9 +18,17 @@ class TopoBuilder {
   static const KeySpec* keys(std::size_t& n);  ///< the [topology] section
   void configure(const Params& p);
 
-  /// Recomputes nodes and edges from a new segmentation; traversal history, visited flags
-  /// and entrance edges carry over for region ids that persist.
-  void update(const Segmentation& seg, const GridMap& map);
+  /// Recomputes nodes and edges from a new segmentation.
+  ///
+  /// With `history` (the pose graph: its nodes in order are the robot's past, at their
+  /// optimized poses), traversals, visited flags, entrance edges and the current region are
+  /// recomputed by replaying that trajectory, then the robot's last observed position,
+  /// through the new regions: a region boundary moved, split or renamed by a re-segmentation
+  /// then gets the history the robot really has with it. A step between two poses is
+  /// sampled every half cell; a change of region along it is a traversal when the two
+  /// regions share an edge. Without `history`, traversals, visited flags and entrance
+  /// edges carry over for region ids that persist.
+  void update(const Segmentation& seg, const GridMap& map, const PoseGraph* history = nullptr);
   /// Records the robot at (x, y) at time t: updates the current region, and a traversal
   /// when it moved into a neighbouring region.
   void observeRobot(double x, double y, double t);
@@ -27,8 +36,12 @@ class TopoBuilder {
 
  private:
   double min_border_width_ = 0.3, min_frontier_width_ = 0.5, unknown_band_ = 0.02;
+  void replay(const PoseGraph& history);
+
   Segmentation seg_;
   TopoGraph graph_;
+  bool have_robot_ = false;
+  double robot_x_ = 0, robot_y_ = 0, robot_t_ = 0;
 };
 
 }  // namespace asf

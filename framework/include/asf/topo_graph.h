@@ -28,6 +28,9 @@ struct TopoEdge {
   RegionId a = 0, b = 0;  ///< b == kUnexplored for frontier edges
   Point2 midpoint;        ///< middle of the shared border
   double width = 0;       ///< free width of the border, metres
+  /// Cell centres along the border (a's side), map frame: where a goal for this edge can
+  /// be placed. For a frontier edge, the cells of region a next to unknown space.
+  std::vector<Point2> border;
   bool frontier() const { return b == kUnexplored; }
   std::vector<Traversal> traversals;
 };

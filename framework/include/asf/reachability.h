@@ -1,0 +1,67 @@
+#pragma once
+/// \file reachability.h
+/// Where the robot can drive on the estimated map, and how far each place is: geodesic
+/// distances from the robot over known-free cells that keep the robot's radius from every
+/// obstacle (8-connected Dijkstra, diagonal steps sqrt(2) cells). What exploration policies
+/// use to pick the nearest goal and to avoid goals the robot cannot reach.
+///
+/// The robot may start closer than its radius to an obstacle (after a drift of the map):
+/// cells within `robot_radius` of the start that are free are passable, so it can leave.
+#include <asf/geometry.h>
+#include <asf/grid_map.h>
+
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace asf {
+
+struct ReachabilityOptions {
+  double robot_radius = 0.2;         ///< cells closer than this to an obstacle are lethal [m]
+  double occupied_threshold = 0.65;  ///< p(occupied) above this is an obstacle
+  double unknown_band = 0.02;        ///< |p - 0.5| below this is unknown (not passable)
+};
+
+class Reachability {
+ public:
+  static constexpr double kUnreachable = std::numeric_limits<double>::infinity();
+
+  /// Distances from `from` (map frame) over `map`. An empty or null grid gives a field
+  /// where nothing is reachable.
+  static Reachability compute(const GridMap& map, const Point2& from,
+                              const ReachabilityOptions& options = {});
+
+  /// Geodesic distance [m] from the start to the cell of p; kUnreachable if p is off the
+  /// grid or not reachable.
+  double distanceTo(const Point2& p) const;
+  bool reachable(const Point2& p) const { return distanceTo(p) < kUnreachable; }
+
+  /// The reachable cell centre nearest (Euclidean) to p within `radius` [m], if any; ties
+  /// go to the smaller geodesic distance.
+  std::optional<Point2> nearestReachable(const Point2& p, double radius) const;
+
+  /// Among `candidates`, the index of the one with the smallest geodesic distance
+  /// (each candidate may be moved to its nearest reachable cell within `snap_radius`);
+  /// -1 if none is reachable. `snapped`, when given, receives the reachable point.
+  int closest(const std::vector<Point2>& candidates, double snap_radius,
+              Point2* snapped = nullptr, double* distance = nullptr) const;
+
+  /// Grid geometry, for callers that scan cells (e.g. frontier detection).
+  double resolution() const { return resolution_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  /// Cell centre of (cx, cy) in the map frame.
+  Point2 cellCenter(int cx, int cy) const {
+    return {origin_x_ + (cx + 0.5) * resolution_, origin_y_ + (cy + 0.5) * resolution_};
+  }
+  /// Distance of cell (cx, cy); kUnreachable outside the grid.
+  double cellDistance(int cx, int cy) const;
+
+ private:
+  double resolution_ = 0.05, origin_x_ = 0, origin_y_ = 0;
+  int width_ = 0, height_ = 0;
+  std::vector<float> dist_;  ///< metres, row-major, +inf = unreachable
+};
+
+}  // namespace asf

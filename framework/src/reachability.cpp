@@ -1,0 +1,216 @@
+#include <asf/reachability.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace asf {
+
+namespace {
+
+enum CellState : std::uint8_t { kFree = 0, kUnknown = 1, kOccupied = 2 };
+
+}  // namespace
+
+Reachability Reachability::compute(const GridMap& map, const Point2& from,
+                                   const ReachabilityOptions& o) {
+  Reachability r;
+  const mrpt::maps::COccupancyGridMap2D* grid = map.grid.get();
+  if (!grid || grid->getSizeX() == 0 || grid->getSizeY() == 0) return r;
+  r.resolution_ = grid->getResolution();
+  r.origin_x_ = grid->getXMin();
+  r.origin_y_ = grid->getYMin();
+  r.width_ = static_cast<int>(grid->getSizeX());
+  r.height_ = static_cast<int>(grid->getSizeY());
+  const int W = r.width_, H = r.height_;
+  const double res = r.resolution_;
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  r.dist_.assign(n, std::numeric_limits<float>::infinity());
+
+  const int sx = static_cast<int>(std::floor((from.x - r.origin_x_) / res));
+  const int sy = static_cast<int>(std::floor((from.y - r.origin_y_) / res));
+  if (sx < 0 || sy < 0 || sx >= W || sy >= H) return r;  // start off the map: nothing known
+
+  // Classify once, through a table over every raw log-odds value (MRPT's cells are 8 or
+  // 16 bits): cheaper than converting each cell to a probability.
+  using CellT = mrpt::maps::COccupancyGridMap2D::cellType;
+  using CellU = mrpt::maps::COccupancyGridMap2D::cellTypeUnsigned;
+  constexpr std::size_t kValues = std::size_t{1} << (8 * sizeof(CellT));
+  std::vector<std::uint8_t> class_of(kValues);
+  for (std::size_t u = 0; u < kValues; ++u) {
+    const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(
+        static_cast<CellT>(static_cast<CellU>(u)));  // MRPT stores p(free)
+    class_of[u] = 1.0 - p_free > o.occupied_threshold       ? kOccupied
+                  : std::abs(p_free - 0.5) < o.unknown_band ? kUnknown
+                                                            : kFree;
+  }
+  std::vector<std::uint8_t> state(n);
+  cv::Mat1b not_obstacle(H, W);
+  bool any_obstacle = false;
+  for (int y = 0; y < H; ++y) {
+    const CellT* cells = grid->getRow(y);
+    std::uint8_t* mask_row = not_obstacle[y];
+    std::uint8_t* state_row = &state[static_cast<std::size_t>(y) * W];
+    for (int x = 0; x < W; ++x) {
+      const std::uint8_t s = class_of[static_cast<CellU>(cells[x])];
+      state_row[x] = s;
+      mask_row[x] = s == kOccupied ? 0 : 255;
+      any_obstacle |= s == kOccupied;
+    }
+  }
+
+  // Clearance of a cell = distance from its centre to the nearest obstacle cell's edge
+  // (centre distance minus half a cell), as the sim2d navigator measures it, so a cell
+  // passable here is not lethal there.
+  cv::Mat1f centre_dist;
+  if (any_obstacle)
+    cv::distanceTransform(not_obstacle, centre_dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const float min_centre_dist = static_cast<float>(o.robot_radius / res + 0.5);
+
+  // Passable cells in a grid padded by one non-passable cell, so neighbour steps need no
+  // bounds checks.
+  const int PW = W + 2, PH = H + 2;
+  std::vector<std::uint8_t> passable(static_cast<std::size_t>(PW) * PH, 0);
+  const double r2 = o.robot_radius * o.robot_radius;
+  for (int y = 0; y < H; ++y) {
+    const float* dist_row = any_obstacle ? centre_dist[y] : nullptr;
+    for (int x = 0; x < W; ++x) {
+      const double sdx = r.origin_x_ + (x + 0.5) * res - from.x;
+      const double sdy = r.origin_y_ + (y + 0.5) * res - from.y;
+      const bool under_robot = sdx * sdx + sdy * sdy <= r2;
+      const std::uint8_t st = state[static_cast<std::size_t>(y) * W + x];
+      // The robot's own footprint is free even where the sensor has not seen it (behind a
+      // 270-degree laser at the start): unknown cells under it are passable.
+      if (st == kOccupied || (st == kUnknown && !under_robot)) continue;
+      // Escape rule: cells under the robot stay passable even within the radius of an
+      // obstacle, so a robot that drifted close to a wall can leave.
+      const bool ok = !dist_row || dist_row[x] >= min_centre_dist || under_robot;
+      passable[static_cast<std::size_t>(y + 1) * PW + (x + 1)] = ok;
+    }
+  }
+
+  // Dijkstra in cell units with buckets one cell wide: every step costs >= 1, so no cell
+  // in the current bucket can improve another one there and the result is exact, in
+  // linear time (three buckets in a ring cover steps of 1 and sqrt(2)).
+  std::vector<float> d(passable.size(), std::numeric_limits<float>::infinity());
+  std::vector<std::uint8_t> settled(passable.size(), 0);
+  const int start = (sy + 1) * PW + (sx + 1);
+  std::vector<int> bucket[3];
+  for (auto& b : bucket) b.reserve(1024);
+  d[start] = 0;
+  bucket[0].push_back(start);
+  const int kOrtho[4] = {1, -1, PW, -PW};
+  const int kDiag[4][3] = {{PW + 1, 1, PW}, {PW - 1, -1, PW}, {-PW + 1, 1, -PW},
+                           {-PW - 1, -1, -PW}};  // step, and the two cells it passes
+  const float kSqrt2 = static_cast<float>(M_SQRT2);
+  int empty_in_a_row = 0;
+  for (int k = 0; empty_in_a_row < 3; ++k) {
+    std::vector<int>& cur = bucket[k % 3];
+    if (cur.empty()) {
+      ++empty_in_a_row;
+      continue;
+    }
+    empty_in_a_row = 0;
+    for (std::size_t i = 0; i < cur.size(); ++i) {
+      const int c = cur[i];
+      if (settled[c] || static_cast<int>(d[c]) != k) continue;  // stale entry
+      settled[c] = 1;
+      const float dc = d[c];
+      for (const int step : kOrtho) {
+        const int nb = c + step;
+        if (!passable[nb] || dc + 1.f >= d[nb]) continue;
+        d[nb] = dc + 1.f;
+        bucket[static_cast<int>(d[nb]) % 3].push_back(nb);
+      }
+      for (const auto& diag : kDiag) {
+        const int nb = c + diag[0];
+        // No corner cutting past cells the robot may not occupy.
+        if (!passable[nb] || !passable[c + diag[1]] || !passable[c + diag[2]] ||
+            dc + kSqrt2 >= d[nb])
+          continue;
+        d[nb] = dc + kSqrt2;
+        bucket[static_cast<int>(d[nb]) % 3].push_back(nb);
+      }
+    }
+    cur.clear();
+  }
+
+  const float to_metres = static_cast<float>(res);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const float v = d[static_cast<std::size_t>(y + 1) * PW + (x + 1)];
+      if (v < std::numeric_limits<float>::infinity())
+        r.dist_[static_cast<std::size_t>(y) * W + x] = v * to_metres;
+    }
+  return r;
+}
+
+double Reachability::cellDistance(int cx, int cy) const {
+  if (cx < 0 || cy < 0 || cx >= width_ || cy >= height_) return kUnreachable;
+  return dist_[static_cast<std::size_t>(cy) * width_ + cx];
+}
+
+double Reachability::distanceTo(const Point2& p) const {
+  if (width_ == 0) return kUnreachable;
+  return cellDistance(static_cast<int>(std::floor((p.x - origin_x_) / resolution_)),
+                      static_cast<int>(std::floor((p.y - origin_y_) / resolution_)));
+}
+
+std::optional<Point2> Reachability::nearestReachable(const Point2& p, double radius) const {
+  if (width_ == 0) return std::nullopt;
+  const int px = static_cast<int>(std::floor((p.x - origin_x_) / resolution_));
+  const int py = static_cast<int>(std::floor((p.y - origin_y_) / resolution_));
+  // p's own cell counts even when its centre is farther than a tiny radius.
+  if (cellDistance(px, py) < kUnreachable && radius < 0.5 * resolution_)
+    return cellCenter(px, py);
+  const int span = static_cast<int>(std::ceil(std::max(radius, 0.0) / resolution_)) + 1;
+  const double r2 = radius * radius;
+  double best_d2 = std::numeric_limits<double>::infinity(), best_geo = kUnreachable;
+  int bx = -1, by = -1;
+  for (int cy = std::max(0, py - span); cy <= std::min(height_ - 1, py + span); ++cy)
+    for (int cx = std::max(0, px - span); cx <= std::min(width_ - 1, px + span); ++cx) {
+      const double geo = dist_[static_cast<std::size_t>(cy) * width_ + cx];
+      if (!(geo < kUnreachable)) continue;
+      const Point2 c = cellCenter(cx, cy);
+      const double d2 = (c.x - p.x) * (c.x - p.x) + (c.y - p.y) * (c.y - p.y);
+      const bool own = cx == px && cy == py;
+      if (d2 > r2 && !own) continue;
+      // Distances equal to a micrometre are ties (cell centres come from MRPT's float
+      // resolution); the row-major scan keeps the smaller cell index on a full tie.
+      const bool tie = std::abs(std::sqrt(d2) - std::sqrt(best_d2)) <= 1e-6;
+      if ((d2 < best_d2 && !tie) || (tie && geo < best_geo)) {
+        best_d2 = d2;
+        best_geo = geo;
+        bx = cx;
+        by = cy;
+      }
+    }
+  if (bx < 0) return std::nullopt;
+  return cellCenter(bx, by);
+}
+
+int Reachability::closest(const std::vector<Point2>& candidates, double snap_radius,
+                          Point2* snapped, double* distance) const {
+  int best = -1;
+  double best_dist = kUnreachable;
+  Point2 best_point;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const std::optional<Point2> q = nearestReachable(candidates[i], snap_radius);
+    if (!q) continue;
+    const double dq = distanceTo(*q);
+    if (dq < best_dist) {
+      best_dist = dq;
+      best = static_cast<int>(i);
+      best_point = *q;
+    }
+  }
+  if (best >= 0) {
+    if (snapped) *snapped = best_point;
+    if (distance) *distance = best_dist;
+  }
+  return best;
+}
+
+}  // namespace asf

@@ -1,0 +1,475 @@
+#include <asf/abi.h>
+#include <asf/errors.h>
+#include <asf/run_report.h>
+#include <asf/svg_plot.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace asf {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace report {
+
+namespace {
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> f;
+  std::string cur;
+  for (char c : line) {
+    if (c == ',') {
+      f.push_back(cur);
+      cur.clear();
+    } else if (c != '\r') {
+      cur += c;
+    }
+  }
+  f.push_back(cur);
+  return f;
+}
+
+double parseNumber(const std::string& s) {
+  const char* b = s.c_str();
+  while (*b == ' ' || *b == '\t') ++b;
+  if (!*b) return NAN;
+  char* end = nullptr;
+  const double v = std::strtod(b, &end);
+  while (end && (*end == ' ' || *end == '\t')) ++end;
+  return end && !*end ? v : NAN;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string o;
+  o.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                       (static_cast<unsigned char>(bytes[i + 1]) << 8) |
+                       static_cast<unsigned char>(bytes[i + 2]);
+    o += t[v >> 18];
+    o += t[(v >> 12) & 63];
+    o += t[(v >> 6) & 63];
+    o += t[v & 63];
+  }
+  if (i < bytes.size()) {
+    const bool two = i + 1 < bytes.size();
+    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                       (two ? static_cast<unsigned char>(bytes[i + 1]) << 8 : 0);
+    o += t[v >> 18];
+    o += t[(v >> 12) & 63];
+    o += two ? t[(v >> 6) & 63] : '=';
+    o += '=';
+  }
+  return o;
+}
+
+}  // namespace
+
+std::map<std::string, std::vector<double>> readCsvColumns(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read");
+  std::string line;
+  if (!std::getline(in, line) || line.empty()) throw InputError(path + ":1: no header line");
+  const std::vector<std::string> names = splitCsv(line);
+  std::map<std::string, std::vector<double>> cols;
+  for (const auto& n : names) cols[n];
+  while (std::getline(in, line)) {
+    if (line.empty() || line == "\r") continue;
+    const std::vector<std::string> f = splitCsv(line);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      cols[names[i]].push_back(i < f.size() ? parseNumber(f[i]) : NAN);
+  }
+  return cols;
+}
+
+std::string htmlEscape(const std::string& text) {
+  std::string o;
+  for (char c : text) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+std::string embeddedPng(const std::string& path, const std::string& alt) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string bytes = ss.str();
+  if (bytes.empty()) return "";
+  return "<img alt=\"" + htmlEscape(alt) + "\" src=\"data:image/png;base64," + base64(bytes) +
+         "\">";
+}
+
+const char* css() {
+  return R"(body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1400px;padding:0 1em;color:#222}
+h1{font-size:1.5em;margin-bottom:.2em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ddd}
+.sub{color:#666;margin-top:0}
+table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}
+th{background:#f3f3f3}td.num{text-align:right;font-variant-numeric:tabular-nums}
+.grid{display:flex;flex-wrap:wrap;gap:12px}.grid>div{flex:0 0 auto}
+figure{margin:0}figure img{max-width:660px;image-rendering:pixelated;border:1px solid #ccc}
+figcaption{color:#555;font-size:.85em}
+.note{color:#a33}.foot{color:#888;font-size:.8em;margin-top:2em}
+)";
+}
+
+void writeFileAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error(path + ": cannot write");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw Error(path + ": cannot write: " + ec.message());
+}
+
+}  // namespace report
+
+namespace {
+
+using report::htmlEscape;
+
+/// Units and readable names of the summary keys, in the order the table shows them.
+struct KeyInfo {
+  const char* key;
+  const char* label;
+};
+const KeyInfo kSummaryKeys[] = {
+    {"policy", "policy"},
+    {"seed", "seed"},
+    {"stop_reason", "stop reason"},
+    {"finished", "finished"},
+    {"distance_m", "distance (m)"},
+    {"coverage", "coverage"},
+    {"explored_area_m2", "explored area (m²)"},
+    {"reachable_area_m2", "reachable area (m²)"},
+    {"mean_pose_error_m", "mean pose error (m)"},
+    {"final_pose_error_m", "final pose error (m)"},
+    {"ate_rmse_m", "ATE RMSE (m)"},
+    {"ate_max_m", "ATE max (m)"},
+    {"loop_closures", "loop closures"},
+    {"decisions", "decisions"},
+    {"decision_ms_mean", "decision time, mean (ms)"},
+    {"decision_ms_max", "decision time, max (ms)"},
+    {"segment_ms_median", "segmentation time, median (ms)"},
+    {"wall_time_s", "wall time (s)"},
+    {"steps", "steps"},
+    {"nodes", "nodes"},
+    {"edges", "edges"},
+    {"regions", "regions"},
+};
+
+std::string fmtNumber(double v) {
+  char b[64];
+  if (std::fabs(v) >= 1e5 || (v != 0 && std::fabs(v) < 1e-3))
+    std::snprintf(b, sizeof b, "%.4g", v);
+  else
+    std::snprintf(b, sizeof b, "%.3f", v);
+  return b;
+}
+
+std::string fmtValue(const std::string& key, const json& v) {
+  if (v.is_null()) return "unknown";
+  if (v.is_boolean()) return v.get<bool>() ? "yes" : "no";
+  if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
+  if (v.is_number()) {
+    const double d = v.get<double>();
+    if (key == "coverage") return fmtNumber(100 * d) + " %";
+    return fmtNumber(d);
+  }
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_object()) {
+    std::string s;
+    for (auto it = v.begin(); it != v.end(); ++it)
+      s += (s.empty() ? "" : ", ") + it.key() + ": " + fmtValue(it.key(), it.value());
+    return s;
+  }
+  return v.dump();
+}
+
+std::string summaryTable(const json& j) {
+  std::ostringstream o;
+  o << "<table>\n";
+  auto row = [&](const std::string& label, const std::string& key, const json& v) {
+    const bool numeric = v.is_number();
+    o << "<tr><th>" << htmlEscape(label) << "</th><td" << (numeric ? " class=\"num\"" : "")
+      << ">" << htmlEscape(fmtValue(key, v)) << "</td></tr>\n";
+  };
+  std::vector<std::string> shown;
+  for (const auto& k : kSummaryKeys)
+    if (j.contains(k.key)) {
+      row(k.label, k.key, j[k.key]);
+      shown.push_back(k.key);
+    }
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find(shown.begin(), shown.end(), it.key()) == shown.end())
+      row(it.key(), it.key(), it.value());
+  o << "</table>\n";
+  return o.str();
+}
+
+/// The last `n` rows of decisions.csv as a table (step, decision, goal, reason).
+std::string decisionsTable(const std::string& path, std::size_t n, std::string& note) {
+  std::ifstream in(path);
+  if (!in) {
+    note = "decisions.csv: missing";
+    return "";
+  }
+  std::string line;
+  if (!std::getline(in, line)) {
+    note = "decisions.csv: empty";
+    return "";
+  }
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) header.push_back(f);
+  }
+  auto col = [&](const char* name) -> int {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+  const int c_step = col("step"), c_dec = col("decision"), c_gx = col("goal_x"),
+            c_gy = col("goal_y"), c_reason = col("reason");
+  std::vector<std::string> lines;
+  std::size_t total = 0;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    ++total;
+    lines.push_back(line);
+    if (lines.size() > n) lines.erase(lines.begin());
+  }
+  if (lines.empty()) {
+    note = "decisions.csv: no decision recorded";
+    return "";
+  }
+  std::ostringstream o;
+  o << "<p>The last " << lines.size() << " of " << total << " decisions.</p>\n"
+    << "<table>\n<tr><th>step</th><th>decision</th><th>goal (m)</th><th>reason</th></tr>\n";
+  for (const auto& l : lines) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    std::string x;
+    while (std::getline(ss, x, ',')) f.push_back(x);
+    auto at = [&](int i) { return i >= 0 && i < static_cast<int>(f.size()) ? f[i] : ""; };
+    std::string reason = at(c_reason);
+    // A reason with commas (not written by asf, but possible) keeps its tail.
+    if (c_reason + 1 == static_cast<int>(header.size()))
+      for (std::size_t i = header.size(); i < f.size(); ++i) reason += "," + f[i];
+    const std::string goal =
+        at(c_gx).empty() ? "" : "(" + at(c_gx) + ", " + at(c_gy) + ")";
+    o << "<tr><td class=\"num\">" << htmlEscape(at(c_step)) << "</td><td>"
+      << htmlEscape(at(c_dec)) << "</td><td>" << htmlEscape(goal) << "</td><td>"
+      << htmlEscape(reason) << "</td></tr>\n";
+  }
+  o << "</table>\n";
+  return o.str();
+}
+
+std::vector<double> column(const std::map<std::string, std::vector<double>>& cols,
+                           const std::string& name, std::size_t rows) {
+  auto it = cols.find(name);
+  return it == cols.end() ? std::vector<double>(rows, NAN) : it->second;
+}
+
+bool anyFinite(const std::vector<double>& v) {
+  for (double x : v)
+    if (std::isfinite(x)) return true;
+  return false;
+}
+
+std::string plots(const std::string& path, std::vector<std::string>& notes) {
+  std::map<std::string, std::vector<double>> ts;
+  try {
+    ts = report::readCsvColumns(path);
+  } catch (const Error& e) {
+    notes.push_back(fs::exists(path) ? e.what() : "timeseries.csv: missing (no plots)");
+    return "";
+  }
+  if (!ts.count("distance_m")) {
+    notes.push_back("timeseries.csv: no distance_m column (no plots)");
+    return "";
+  }
+  const std::vector<double>& d = ts["distance_m"];
+  const std::size_t rows = d.size();
+  const std::string xl = "distance travelled (m)";
+  std::vector<plot::Figure> figs;
+
+  plot::Figure cov{"Coverage", xl, "coverage of the reachable area (%)", {}};
+  std::vector<double> c = column(ts, "coverage", rows);
+  for (double& v : c) v *= 100;
+  cov.series.push_back(plot::series("coverage", d, c));
+  if (!anyFinite(c)) notes.push_back("coverage: unknown (the source does not know the world)");
+  figs.push_back(cov);
+
+  const std::vector<double> e = column(ts, "pose_error_m", rows);
+  plot::Figure err{"Pose error", xl, "|true - estimated position| (m)", {}};
+  err.series.push_back(plot::series("pose error", d, e));
+  if (!anyFinite(e)) notes.push_back("pose error: unknown (no ground truth)");
+  figs.push_back(err);
+
+  std::vector<double> epd(rows, NAN);
+  for (std::size_t i = 0; i < rows; ++i)
+    if (d[i] > 0) epd[i] = e[i] / d[i];
+  plot::Figure rel{"Pose error per distance travelled", xl, "pose error / distance", {}};
+  rel.series.push_back(plot::series("pose error / distance", d, epd));
+  figs.push_back(rel);
+
+  // Cumulative time per stage: per-row milliseconds are too noisy to read. Seconds once
+  // some stage passes one second, else milliseconds.
+  plot::Figure cpu{"Compute time per stage (cumulative)", xl, "", {}};
+  double most = 0;
+  for (const char* stage : {"frontend", "backend", "map", "segment", "policy"}) {
+    const std::string name = std::string(stage) + "_ms";
+    if (!ts.count(name)) continue;
+    std::vector<double> cum(rows, NAN);
+    double sum = 0;
+    for (std::size_t i = 0; i < rows; ++i) {
+      if (std::isfinite(ts[name][i])) sum += ts[name][i];
+      cum[i] = sum;
+    }
+    most = std::max(most, sum);
+    cpu.series.push_back(plot::series(stage, d, cum));
+  }
+  const bool seconds = most >= 1000;
+  cpu.y_label = seconds ? "compute time (s)" : "compute time (ms)";
+  if (seconds)
+    for (auto& s : cpu.series)
+      for (double& v : s.y) v /= 1000;
+  figs.push_back(cpu);
+
+  std::ostringstream o;
+  o << "<div class=\"grid\">\n";
+  for (auto& f : figs) {
+    f.width = 560;
+    f.height = 340;
+    o << "<div>" << plot::svg(f) << "</div>\n";
+  }
+  o << "</div>\n";
+  return o.str();
+}
+
+std::string nowText() {
+  const std::time_t t = std::time(nullptr);
+  char b[64];
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  std::strftime(b, sizeof b, "%Y-%m-%d %H:%M:%S", &tm);
+  return b;
+}
+
+}  // namespace
+
+std::string writeRunReport(const std::string& run_dir) {
+  const fs::path dir(run_dir);
+  std::vector<std::string> notes;
+  std::ostringstream body;
+
+  json summary;
+  bool have_summary = false;
+  {
+    const fs::path p = dir / "summary.json";
+    std::ifstream in(p);
+    if (!in) {
+      notes.push_back("summary.json: missing (the run did not finish writing its outputs)");
+    } else {
+      try {
+        in >> summary;
+        have_summary = summary.is_object();
+        if (!have_summary) notes.push_back("summary.json: not a JSON object");
+      } catch (const std::exception& e) {
+        notes.push_back(std::string("summary.json: invalid JSON: ") + e.what());
+      }
+    }
+  }
+  std::string name = fs::absolute(dir).lexically_normal().filename().string();
+  if (name.empty()) name = fs::absolute(dir).lexically_normal().parent_path().filename().string();
+  std::string sub;
+  if (have_summary) {
+    auto str = [&](const char* k) {
+      return summary.contains(k) && !summary[k].is_null() ? fmtValue(k, summary[k]) : "";
+    };
+    for (const auto& [k, label] : {std::pair<const char*, const char*>{"policy", "policy "},
+                                   {"seed", "seed "},
+                                   {"stop_reason", ""}})
+      if (!str(k).empty()) sub += (sub.empty() ? "" : " · ") + std::string(label) + str(k);
+  }
+
+  body << "<h1>asf run: " << htmlEscape(name) << "</h1>\n";
+  if (!sub.empty()) body << "<p class=\"sub\">" << htmlEscape(sub) << "</p>\n";
+  body << "<p class=\"sub\">" << htmlEscape(fs::absolute(dir).lexically_normal().string())
+       << "</p>\n";
+
+  body << "<h2>Summary</h2>\n";
+  if (have_summary) body << summaryTable(summary);
+  else body << "<p class=\"note\">No summary (see the notes below).</p>\n";
+
+  body << "<h2>Maps</h2>\n<div class=\"grid\">\n";
+  for (const auto& [file, caption] :
+       {std::pair<const char*, const char*>{"map.png", "map.png: occupancy grid, path, keyframes"},
+        {"regions.png", "regions.png: regions and topological graph"}}) {
+    const std::string img = report::embeddedPng((dir / file).string(), file);
+    if (img.empty()) {
+      notes.push_back(std::string(file) + ": missing");
+      continue;
+    }
+    body << "<div><figure>" << img << "<figcaption>" << htmlEscape(caption)
+         << "</figcaption></figure></div>\n";
+  }
+  body << "</div>\n";
+
+  body << "<h2>Progress</h2>\n";
+  const std::string p = plots((dir / "timeseries.csv").string(), notes);
+  body << (p.empty() ? "<p class=\"note\">No time series (see the notes below).</p>\n" : p);
+
+  body << "<h2>Decisions</h2>\n";
+  std::string dnote;
+  const std::string dt = decisionsTable((dir / "decisions.csv").string(), 20, dnote);
+  if (!dnote.empty()) notes.push_back(dnote);
+  body << (dt.empty() ? "<p class=\"note\">" + htmlEscape(dnote) + "</p>\n" : dt);
+
+  if (!notes.empty()) {
+    body << "<h2>Notes</h2>\n<ul>\n";
+    for (const auto& n : notes) body << "<li class=\"note\">" << htmlEscape(n) << "</li>\n";
+    body << "</ul>\n";
+  }
+  body << "<p class=\"foot\">asf " ASF_VERSION_STRING ", report written " << nowText()
+       << "</p>\n";
+
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>asf run: "
+       << htmlEscape(name) << "</title>\n<style>\n"
+       << report::css() << "</style>\n</head>\n<body>\n"
+       << body.str() << "</body>\n</html>\n";
+  const std::string out = (dir / "report.html").string();
+  report::writeFileAtomically(out, html.str());
+  return out;
+}
+
+}  // namespace asf

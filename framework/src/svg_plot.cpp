@@ -1,0 +1,283 @@
+#include <asf/errors.h>
+#include <asf/svg_plot.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace asf::plot {
+
+namespace {
+
+// Colour-blind friendly palette (Okabe & Ito), most distinct first.
+const char* const kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
+                                "#E69F00", "#56B4E9", "#000000", "#F0E442"};
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f", v);
+  return b;
+}
+
+/// A tick label with as many decimals as the step needs (0.25 never appears: steps are
+/// 1, 2 or 5 times a power of ten).
+std::string tickLabel(double v, double step) {
+  if (std::fabs(v) < step * 1e-9) v = 0;  // no "-0"
+  const int decimals = std::max(0, static_cast<int>(std::ceil(-std::log10(step) - 1e-9)));
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", std::min(decimals, 12), v);
+  return b;
+}
+
+bool finite(double v) { return std::isfinite(v); }
+
+struct Range {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  void add(double v) {
+    if (!finite(v)) return;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  bool empty() const { return !(lo <= hi); }
+};
+
+bool hasBand(const Series& s) {
+  return !s.y_low.empty() && s.y_low.size() == s.x.size() && s.y_high.size() == s.x.size();
+}
+
+/// Runs of consecutive indices where `ok(i)` holds: the pieces of a line with gaps.
+template <class Ok>
+std::vector<std::pair<std::size_t, std::size_t>> runs(std::size_t n, Ok ok) {
+  std::vector<std::pair<std::size_t, std::size_t>> r;
+  std::size_t i = 0;
+  while (i < n) {
+    if (!ok(i)) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j < n && ok(j)) ++j;
+    r.emplace_back(i, j);  // [i, j)
+    i = j;
+  }
+  return r;
+}
+
+}  // namespace
+
+std::vector<double> niceTicks(double lo, double hi, int target) {
+  if (!finite(lo) || !finite(hi)) {
+    if (finite(lo)) hi = lo;
+    else if (finite(hi)) lo = hi;
+    else lo = 0, hi = 1;
+  }
+  if (lo > hi) std::swap(lo, hi);
+  if (hi - lo <= 1e-12 * std::max(1.0, std::fabs(lo))) {
+    // One value: a range that shows it (0 alone gives [0, 1]).
+    const double pad = lo == 0 ? 1 : std::fabs(lo) * 0.1;
+    lo = lo == 0 ? 0 : lo - pad;
+    hi = hi + pad;
+  }
+  const double raw = (hi - lo) / std::max(1, target);
+  if (!finite(raw) || raw <= 0) return {lo, hi};
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double n = raw / mag;
+  const double step = (n < 1.5 ? 1 : n < 3 ? 2 : n < 7 ? 5 : 10) * mag;
+  const double k0 = std::floor(lo / step + 1e-9), k1 = std::ceil(hi / step - 1e-9);
+  if (!finite(k0) || !finite(k1) || k1 - k0 > 1000) return {lo, hi};
+  std::vector<double> t;
+  // Multiples of the step (not accumulated sums), so 0.3 is 3 * 0.1, not 0.1 + 0.1 + 0.1.
+  for (double k = k0; k <= k1; k += 1) t.push_back(k * step);
+  if (t.size() < 2) t.push_back((k0 + 1) * step);
+  return t;
+}
+
+std::string svg(const Figure& f) {
+  const double W = std::max(f.width, 200), H0 = std::max(f.height, 150);
+
+  // Legend below the plot, entries flowing left to right (never covers the data).
+  struct LegendItem {
+    double x, y;
+    std::size_t series;
+  };
+  std::vector<LegendItem> legend;
+  const double left = 70, right = 20, top = f.title.empty() ? 16 : 36;
+  double lx = left, ly = 0;
+  int legend_rows = f.series.empty() ? 0 : 1;
+  for (std::size_t i = 0; i < f.series.size(); ++i) {
+    const double w = 34 + 7.0 * f.series[i].label.size() + 16;
+    if (lx + w > W - right && lx > left) {
+      lx = left;
+      ++legend_rows;
+    }
+    legend.push_back({lx, (legend_rows - 1) * 18.0, i});
+    lx += w;
+  }
+  const double legend_h = legend_rows * 18.0;
+  const double H = H0 + legend_h;
+  const double bottom = 46 + legend_h;
+  const double pw = W - left - right, ph = H - top - bottom;
+
+  Range xr, yr;
+  bool any = false;
+  for (const auto& s : f.series) {
+    const bool band = hasBand(s);
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!finite(s.x[i])) continue;
+      const double y = i < s.y.size() ? s.y[i] : NAN;
+      if (finite(y)) {
+        any = true;
+        xr.add(s.x[i]);
+        yr.add(y);
+      }
+      if (band && finite(s.y_low[i]) && finite(s.y_high[i])) {
+        xr.add(s.x[i]);
+        yr.add(s.y_low[i]);
+        yr.add(s.y_high[i]);
+      }
+    }
+  }
+
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    << "\" viewBox=\"0 0 " << W << ' ' << H
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  if (!f.title.empty()) o << "<title>" << esc(f.title) << "</title>\n";
+  o << "<rect x=\"0\" y=\"0\" width=\"" << W << "\" height=\"" << H << "\" fill=\"white\"/>\n";
+  if (!f.title.empty())
+    o << "<text x=\"" << num(W / 2) << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\" "
+      << "font-weight=\"bold\">" << esc(f.title) << "</text>\n";
+  o << "<rect x=\"" << num(left) << "\" y=\"" << num(top) << "\" width=\"" << num(pw)
+    << "\" height=\"" << num(ph) << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  // Axis labels.
+  o << "<text x=\"" << num(left + pw / 2) << "\" y=\"" << num(top + ph + 38)
+    << "\" text-anchor=\"middle\">" << esc(f.x_label) << "</text>\n";
+  o << "<text transform=\"translate(16," << num(top + ph / 2)
+    << ") rotate(-90)\" text-anchor=\"middle\">" << esc(f.y_label) << "</text>\n";
+
+  if (!any) {
+    o << "<text x=\"" << num(left + pw / 2) << "\" y=\"" << num(top + ph / 2)
+      << "\" text-anchor=\"middle\" font-size=\"16\" fill=\"#888\">no data</text>\n";
+  } else {
+    if (f.y_from_zero) {
+      yr.add(0);
+    }
+    const std::vector<double> xt = niceTicks(xr.lo, xr.hi), yt = niceTicks(yr.lo, yr.hi);
+    const double x0 = xt.front(), x1 = xt.back(), y0 = yt.front(), y1 = yt.back();
+    const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1, ystep = yt.size() > 1 ? yt[1] - yt[0] : 1;
+    auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * pw; };
+    auto py = [&](double y) { return top + ph - (y - y0) / (y1 - y0) * ph; };
+
+    o << "<g stroke=\"#e4e4e4\">\n";
+    for (double t : xt)
+      o << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(t))
+        << "\" y2=\"" << num(top + ph) << "\"/>\n";
+    for (double t : yt)
+      o << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left + pw)
+        << "\" y2=\"" << num(py(t)) << "\"/>\n";
+    o << "</g>\n<g fill=\"#333\">\n";
+    for (double t : xt)
+      o << "<text x=\"" << num(px(t)) << "\" y=\"" << num(top + ph + 16)
+        << "\" text-anchor=\"middle\">" << tickLabel(t, xstep) << "</text>\n";
+    for (double t : yt)
+      o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(py(t) + 4)
+        << "\" text-anchor=\"end\">" << tickLabel(t, ystep) << "</text>\n";
+    o << "</g>\n";
+
+    std::size_t pal = 0;
+    std::vector<std::string> colors;
+    for (const auto& s : f.series)
+      colors.push_back(s.color.empty() ? kPalette[pal++ % (sizeof kPalette / sizeof *kPalette)]
+                                       : s.color);
+    // Bands first, so every line is drawn over every band.
+    for (std::size_t k = 0; k < f.series.size(); ++k) {
+      const Series& s = f.series[k];
+      if (!hasBand(s)) continue;
+      for (auto [a, b] : runs(s.x.size(), [&](std::size_t i) {
+             return finite(s.x[i]) && finite(s.y_low[i]) && finite(s.y_high[i]);
+           })) {
+        o << "<polygon fill=\"" << esc(colors[k]) << "\" fill-opacity=\"0.18\" stroke=\"none\" "
+          << "points=\"";
+        for (std::size_t i = a; i < b; ++i) o << num(px(s.x[i])) << ',' << num(py(s.y_high[i])) << ' ';
+        for (std::size_t i = b; i-- > a;) o << num(px(s.x[i])) << ',' << num(py(s.y_low[i])) << ' ';
+        o << "\"/>\n";
+      }
+    }
+    for (std::size_t k = 0; k < f.series.size(); ++k) {
+      const Series& s = f.series[k];
+      const std::size_t n = std::min(s.x.size(), s.y.size());
+      const auto pieces =
+          runs(n, [&](std::size_t i) { return finite(s.x[i]) && finite(s.y[i]); });
+      std::ostringstream d;
+      for (auto [a, b] : pieces) {
+        if (b - a == 1) {  // an isolated point: a dot, a path of one point is invisible
+          o << "<circle cx=\"" << num(px(s.x[a])) << "\" cy=\"" << num(py(s.y[a]))
+            << "\" r=\"2.5\" fill=\"" << esc(colors[k]) << "\"/>\n";
+          continue;
+        }
+        for (std::size_t i = a; i < b; ++i)
+          d << (i == a ? 'M' : 'L') << num(px(s.x[i])) << ',' << num(py(s.y[i])) << ' ';
+      }
+      if (!d.str().empty())
+        o << "<path fill=\"none\" stroke=\"" << esc(colors[k]) << "\" stroke-width=\"1.8\" "
+          << "stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "")
+          << " d=\"" << d.str() << "\"/>\n";
+    }
+    // Legend swatches use the same colours.
+    for (const auto& it : legend) {
+      const Series& s = f.series[it.series];
+      const double y = top + ph + 46 + it.y + 4;
+      if (hasBand(s))
+        o << "<rect x=\"" << num(it.x) << "\" y=\"" << num(y - 6) << "\" width=\"26\" "
+          << "height=\"12\" fill=\"" << esc(colors[it.series]) << "\" fill-opacity=\"0.18\"/>\n";
+      o << "<line x1=\"" << num(it.x) << "\" y1=\"" << num(y) << "\" x2=\"" << num(it.x + 26)
+        << "\" y2=\"" << num(y) << "\" stroke=\"" << esc(colors[it.series])
+        << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << "/>\n";
+      o << "<text x=\"" << num(it.x + 32) << "\" y=\"" << num(y + 4) << "\">" << esc(s.label)
+        << "</text>\n";
+    }
+    o << "</svg>\n";
+    return o.str();
+  }
+  // No data: the legend still names the series.
+  for (const auto& it : legend) {
+    const double y = top + ph + 46 + it.y + 4;
+    o << "<text x=\"" << num(it.x + 32) << "\" y=\"" << num(y + 4) << "\" fill=\"#888\">"
+      << esc(f.series[it.series].label) << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
+void writeSvg(const Figure& f, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << svg(f);
+    if (!out) throw Error(path + ": cannot write the plot");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw Error(path + ": cannot write the plot: " + ec.message());
+}
+
+}  // namespace asf::plot

@@ -1,0 +1,386 @@
+// policy_tigre: TIGRE (thesis ch. 6), Tarry's maze search on the on-line topological graph.
+//
+// At the region the robot is in: leave by an edge not yet traversed outward from it, the
+// entrance edge only as a last resort; among the allowed edges prefer those to visited
+// regions (loop closing) over the others, then the nearest. Stop when no edge of the graph
+// is left untraversed (Fraenkel-style count), frontier edges included.
+#include <asf/graph_routes.h>
+#include <asf/policy.h>
+#include <asf/reachability.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using asf::Point2;
+using asf::RegionId;
+using EdgeKey = std::pair<RegionId, RegionId>;  // (lower, higher) or (region, kUnexplored)
+
+EdgeKey keyOf(const asf::TopoEdge& e) {
+  if (e.frontier()) return {e.a, asf::kUnexplored};
+  return e.a < e.b ? EdgeKey{e.a, e.b} : EdgeKey{e.b, e.a};
+}
+
+double dist(const Point2& a, const Point2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+std::string fmt(double v, int prec = 2) {
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(prec);
+  os << v;
+  return os.str();
+}
+
+std::string edgeName(const EdgeKey& k) {
+  return k.second == asf::kUnexplored
+             ? "frontier of region " + std::to_string(k.first)
+             : "edge " + std::to_string(k.first) + "-" + std::to_string(k.second);
+}
+
+class TigrePolicy final : public asf::Policy {
+ public:
+  void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
+    reach_opt_.robot_radius = p.getDouble("robot_radius");
+    reach_opt_.occupied_threshold = p.getDouble("occupied_threshold");
+    reach_opt_.unknown_band = p.getDouble("unknown_band");
+    tolerance_ = p.getDouble("goal_tolerance");
+    region_tolerance_ = p.getDouble("region_tolerance");
+    snap_ = p.getDouble("snap_radius");
+    blacklist_radius_ = p.getDouble("blacklist_radius");
+    max_edge_failures_ = static_cast<int>(p.getInt("max_edge_failures"));
+    region_centre_ = p.getBool("region_centre");
+    options_ = asf::graph::TarryOptions::modified();
+    options_.loop_closing_first = p.getBool("loop_closing_first");
+    max_waits_ = static_cast<int>(p.getInt("max_waits"));
+    rng_.seed(static_cast<std::mt19937::result_type>(ctx.seed));
+    failures_.clear();
+    chosen_.clear();
+    tries_.clear();
+    frontier_blacklist_.clear();
+    pending_.reset();
+    last_.reset();
+    waits_ = 0;
+  }
+
+  asf::Decision decide(const asf::ExplorationState& s) override {
+    learnFromLastGoal(s);
+    const asf::TopoGraph& topo = *s.topo;
+    const Point2 robot{s.robot.x(), s.robot.y()};
+    if (!s.map || !s.map->grid || topo.nodes.size() <= 1) return wait(robot, "no regions yet");
+    const asf::Reachability reach = asf::Reachability::compute(*s.map, robot, reach_opt_);
+
+    // Phase 2 of an edge crossing: into the next region, unless already there.
+    if (pending_ && s.last_status == asf::NavStatus::Reached && topo.current != pending_->region) {
+      const Pending p = *pending_;
+      pending_.reset();
+      if (const auto g = regionGoal(s, reach, p.region)) {
+        last_ = Attempt{p.key, false, *g};
+        // A tight tolerance: the robot must stand in the region, not near it.
+        return asf::Decision::goTo({g->x, g->y, region_tolerance_},
+                                   "into region " + std::to_string(p.region) +
+                                       " (centre) across " + edgeName(p.key));
+      }
+    }
+    pending_.reset();
+
+    const RegionId here = topo.current;
+    if (here <= 0 || !topo.node(here)) {
+      // Not inside any region (the start, or the region vanished): the nearest one.
+      double best = asf::Reachability::kUnreachable;
+      std::optional<Point2> goal;
+      RegionId target = 0;
+      for (const auto& n : topo.nodes) {
+        if (n.region == asf::kUnexplored) continue;
+        const auto g = regionGoal(s, reach, n.region);
+        if (g && reach.distanceTo(*g) < best) {
+          best = reach.distanceTo(*g);
+          goal = g;
+          target = n.region;
+        }
+      }
+      if (!goal) return wait(robot, "outside every region and none reachable");
+      last_ = Attempt{{target, target}, false, *goal};
+      return go(*goal, "not inside a region: to region " + std::to_string(target) + " (" +
+                           fmt(best) + " m)");
+    }
+    waits_ = 0;
+
+    // Every edge of the graph: where its goal is and whether it is still untraversed.
+    std::vector<Option> options;
+    int untraversed = 0, given_up = 0;
+    for (std::size_t i = 0; i < topo.edges.size(); ++i) {
+      const asf::TopoEdge& e = topo.edges[i];
+      const EdgeKey k = keyOf(e);
+      // A region edge chosen again and again but never registered as traversed (the robot
+      // crosses elsewhere, the border is thin) is given up like a failing one.
+      if (failures_[k] >= max_edge_failures_ ||
+          (!e.frontier() && e.traversals.empty() && chosen_[k] >= max_edge_failures_ + 1)) {
+        ++given_up;
+        continue;
+      }
+      Option o;
+      o.index = static_cast<int>(i);
+      o.key = k;
+      if (e.frontier()) {
+        std::vector<Point2> cells;
+        for (const Point2& c : e.border)
+          if (!blacklisted(c)) cells.push_back(c);
+        double d = 0;
+        Point2 g;
+        if (cells.empty() || reach.closest(cells, snap_, &g, &d) < 0) continue;
+        o.goal = g;
+        o.cost = d;
+        o.untraversed = true;
+      } else {
+        o.untraversed = e.traversals.empty();
+        const double half = 0.5 * e.width + snap_;
+        std::optional<Point2> g = reach.nearestReachable(e.midpoint, half);
+        if (!g) {
+          Point2 gc;
+          if (reach.closest(e.border, snap_, &gc) < 0) {
+            o.cost = asf::Reachability::kUnreachable;
+          } else {
+            g = gc;
+          }
+        }
+        if (g) {
+          o.goal = *g;
+          o.cost = reach.distanceTo(*g);
+        }
+      }
+      if (o.untraversed) ++untraversed;
+      options.push_back(o);
+    }
+    if (untraversed == 0) {
+      std::ostringstream why;
+      why << "every edge traversed";
+      if (given_up) why << " except " << given_up << " given up after failures";
+      why << " (" << topo.edges.size() << " edges)";
+      return asf::Decision::done(why.str());
+    }
+
+    // Tarry's rule at the current region.
+    const asf::TopoNode* node = topo.node(here);
+    std::vector<asf::graph::TarryCandidate> cands;
+    for (std::size_t j = 0; j < options.size(); ++j) {
+      const Option& o = options[j];
+      const asf::TopoEdge& e = topo.edges[o.index];
+      if (e.a != here && e.b != here) continue;
+      if (!std::isfinite(o.cost)) continue;  // no reachable goal for it now
+      asf::graph::TarryCandidate c;
+      c.edge = static_cast<int>(j);
+      c.traversed_outward = !e.frontier() && topo.outwardTraversals(o.index, here) > 0;
+      if (!e.frontier() && stuck(o.key, here, topo.outwardTraversals(o.index, here)))
+        c.traversed_outward = true;  // chosen again and again without ever crossing
+      c.entrance = node->entrance_edge == o.index;
+      if (!e.frontier()) {
+        const asf::TopoNode* other = topo.node(e.a == here ? e.b : e.a);
+        c.leads_to_visited = other && other->visited;
+      }
+      c.cost = o.cost;
+      cands.push_back(c);
+    }
+    const int pick = asf::graph::tarryChoose(cands, options_, rng_);
+    if (pick >= 0) {
+      const Option& o = options[pick];
+      const asf::TopoEdge& e = topo.edges[o.index];
+      const bool entrance = node->entrance_edge == o.index;
+      std::string why = "region " + std::to_string(here) + ": " + edgeName(o.key);
+      if (e.frontier()) {
+        why += " (" + fmt(o.cost) + " m)";
+        last_ = Attempt{o.key, true, o.goal};
+        return go(o.goal, why);
+      }
+      const RegionId next = e.a == here ? e.b : e.a;
+      const asf::TopoNode* other = topo.node(next);
+      why += entrance ? " (entrance edge, last resort" : (other && other->visited)
+                                                              ? " (link to visited region"
+                                                              : " (to unvisited region";
+      why += ", " + fmt(o.cost) + " m)";
+      last_ = Attempt{o.key, false, o.goal};
+      ++chosen_[o.key];
+      noteTry(o.key, here, topo.outwardTraversals(o.index, here));
+      if (region_centre_) pending_ = Pending{o.key, next};
+      return go(o.goal, why + ": border");
+    }
+
+    // Nothing left here, but edges elsewhere are untraversed (the graph changed under the
+    // walk): go to the nearest of them.
+    const Option* best = nullptr;
+    for (const Option& o : options)
+      if (o.untraversed && std::isfinite(o.cost) && (!best || o.cost < best->cost)) best = &o;
+    if (!best) {
+      std::ostringstream why;
+      why << untraversed << " untraversed edges left, none reachable";
+      return asf::Decision::done(why.str());
+    }
+    last_ = Attempt{best->key, topo.edges[best->index].frontier(), best->goal};
+    const asf::TopoEdge& e = topo.edges[best->index];
+    if (!e.frontier()) ++chosen_[best->key];
+    if (!e.frontier() && region_centre_) {
+      // Cross it away from the side the robot comes from.
+      const RegionId far = e.a == topo.current ? e.b : e.a;
+      pending_ = Pending{best->key, far};
+    }
+    return go(best->goal, "region " + std::to_string(here) + " done; relocating to " +
+                              edgeName(best->key) + " (" + fmt(best->cost) + " m)");
+  }
+
+ private:
+  struct Option {
+    int index = -1;
+    EdgeKey key;
+    Point2 goal;
+    double cost = asf::Reachability::kUnreachable;
+    bool untraversed = false;
+  };
+  struct Attempt {
+    EdgeKey key;
+    bool frontier = false;
+    Point2 goal;
+  };
+  struct Pending {
+    EdgeKey key;
+    RegionId region = 0;
+  };
+
+  asf::Decision go(const Point2& g, const std::string& why) {
+    return asf::Decision::goTo({g.x, g.y, tolerance_}, why);
+  }
+
+  /// Stand still one step (the goal is the robot's position) while the map and graph grow.
+  asf::Decision wait(const Point2& robot, const std::string& why) {
+    if (++waits_ > max_waits_)
+      return asf::Decision::done(why + " after " + std::to_string(max_waits_) + " waits");
+    last_.reset();
+    return go(robot, "waiting: " + why);
+  }
+
+  /// What the outcome of the previous goal teaches: failures count against its edge, and
+  /// a frontier the robot reached or could not reach is not chosen again there.
+  void learnFromLastGoal(const asf::ExplorationState& s) {
+    if (!last_) return;
+    const Attempt a = *last_;
+    const bool failed = s.last_status == asf::NavStatus::Unreachable ||
+                        s.last_status == asf::NavStatus::Blocked;
+    if (failed) {
+      ++failures_[a.key];
+      pending_.reset();
+      MRPT_LOG_WARN_STREAM(edgeName(a.key) << ": goal (" << fmt(a.goal.x) << ", "
+                                           << fmt(a.goal.y) << ") "
+                                           << asf::navStatusName(s.last_status) << " ("
+                                           << failures_[a.key] << " failures)");
+    }
+    if (a.frontier && (failed || s.last_status == asf::NavStatus::Reached))
+      frontier_blacklist_.push_back(a.goal);
+    if (!pending_) last_.reset();
+  }
+
+  /// Attempts to leave `from` by an edge, against its outward traversals when the first of
+  /// them was made: a choice repeated without a new traversal does not lead anywhere.
+  void noteTry(const EdgeKey& k, RegionId from, int outward) {
+    Tries& t = tries_[{k, from}];
+    if (t.count == 0 || t.outward != outward) t = {0, outward};
+    ++t.count;
+  }
+  bool stuck(const EdgeKey& k, RegionId from, int outward) const {
+    auto it = tries_.find({k, from});
+    return it != tries_.end() && it->second.outward == outward &&
+           it->second.count > max_edge_failures_;
+  }
+
+  bool blacklisted(const Point2& p) const {
+    for (const Point2& b : frontier_blacklist_)
+      if (dist(p, b) < blacklist_radius_) return true;
+    return false;
+  }
+
+  /// A reachable cell of region r near its centroid (the centroid itself may lie outside a
+  /// non-convex region or too close to a wall).
+  std::optional<Point2> regionGoal(const asf::ExplorationState& s, const asf::Reachability& reach,
+                                   RegionId r) const {
+    const asf::TopoNode* n = s.topo->node(r);
+    if (!n) return std::nullopt;
+    if (s.segmentation && s.segmentation->labels.atPoint(n->centroid.x, n->centroid.y) == r &&
+        reach.reachable(n->centroid))
+      return n->centroid;
+    if (!s.segmentation) return reach.nearestReachable(n->centroid, 1.0);
+    const asf::LabelImage& L = s.segmentation->labels;
+    double best = std::numeric_limits<double>::infinity();
+    std::optional<Point2> goal;
+    for (int cy = 0; cy < L.height; ++cy)
+      for (int cx = 0; cx < L.width; ++cx) {
+        if (L.at(cx, cy) != r) continue;
+        const Point2 c{L.origin_x + (cx + 0.5) * L.resolution, L.origin_y + (cy + 0.5) * L.resolution};
+        const double d = dist(c, n->centroid);
+        if (d < best && reach.reachable(c)) {
+          best = d;
+          goal = c;
+        }
+      }
+    return goal;
+  }
+
+  asf::ReachabilityOptions reach_opt_;
+  asf::graph::TarryOptions options_;
+  double tolerance_ = 0.3, region_tolerance_ = 0.1, snap_ = 0.5, blacklist_radius_ = 0.5;
+  int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0;
+  bool region_centre_ = true;
+  std::mt19937 rng_;
+  std::map<EdgeKey, int> failures_, chosen_;
+  struct Tries {
+    int count = 0, outward = 0;
+  };
+  std::map<std::pair<EdgeKey, RegionId>, Tries> tries_;
+  std::vector<Point2> frontier_blacklist_;
+  std::optional<Pending> pending_;
+  std::optional<Attempt> last_;
+};
+
+const asf::KeySpec kKeys[] = {
+    asf::keyDouble("robot_radius", "0.25",
+                   "Goals keep this distance from obstacles of the estimated map: the robot's "
+                   "radius and a margin for the map's blur [m]",
+                   0.0, 5.0),
+    asf::keyDouble("occupied_threshold", "0.65", "p(occupied) above this is an obstacle", 0.5,
+                   1.0),
+    asf::keyDouble("unknown_band", "0.02", "|p - 0.5| below this is unknown", 0.0, 0.5),
+    asf::keyDouble("goal_tolerance", "0.3", "A goal is reached within this distance [m]", 0.01,
+                   5.0),
+    asf::keyDouble("region_tolerance", "0.1",
+                   "Tolerance of the goal inside the next region (small: the robot must enter "
+                   "it) [m]",
+                   0.01, 5.0),
+    asf::keyDouble("snap_radius", "0.5",
+                   "A border or frontier cell may be replaced by a reachable cell this close [m]",
+                   0.0, 5.0),
+    asf::keyDouble("blacklist_radius", "0.5",
+                   "Frontier cells this close to a frontier goal already tried are not chosen "
+                   "again [m]",
+                   0.0, 10.0),
+    asf::keyInt("max_edge_failures", "2",
+                "An edge whose goals failed (unreachable/blocked) this often is given up", 1,
+                100),
+    asf::keyBool("region_centre", "true",
+                 "After the border of a region edge, go on to the next region's centre"),
+    asf::keyBool("loop_closing_first", "true",
+                 "Prefer edges to visited regions (loop closing) over the others (thesis' "
+                 "tie-break; false: plain Tarry with nearest-first)"),
+    asf::keyInt("max_waits", "20",
+                "Steps to wait for a map with regions before giving up", 1, 100000),
+};
+
+}  // namespace
+
+ASF_PLUGIN(TigrePolicy, asf::PluginKind::Policy, "tigre", "1.0.0",
+           "TIGRE: Tarry's maze search on the topological graph, entrance edge last, loop "
+           "closing first, stop when every edge is traversed",
+           asf::ThreadSafety::ThreadCompatible, kKeys)

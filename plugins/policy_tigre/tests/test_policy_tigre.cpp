@@ -1,0 +1,312 @@
+// Tests of the tigre policy on hand-made worlds: a fully known free grid cut into regions
+// by a label image, the topological graph built by the framework's TopoBuilder, and a robot
+// that teleports to each goal (the navigation is not under test here).
+#include <asf/policy.h>
+#include <asf/registry.h>
+#include <asf/topo_builder.h>
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <functional>
+#include <map>
+#include <set>
+
+namespace {
+
+std::shared_ptr<const asf::PluginInfo> info() {
+  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_tigre.so");
+  return i;
+}
+
+asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::Registry::create<asf::Policy>(info());
+  asf::PluginContext ctx;
+  ctx.seed = 7;
+  h->configure(asf::Params::fromSpecs("tigre", info()->descriptor->keys,
+                                      info()->descriptor->num_keys, kv),
+               ctx);
+  return h;
+}
+
+/// A free, fully known W x H metre world whose regions are given by label(x, y) (0 = no
+/// region, e.g. a wall cell, which is then also occupied in the grid), closed by a 0.3 m
+/// outer wall (else its rim would border space never observed: frontier edges).
+struct World {
+  asf::GridMap map;
+  asf::Segmentation seg;
+  asf::TopoBuilder topo;
+  double t = 0;
+
+  World(double W, double H, const std::function<asf::RegionId(double, double)>& label,
+        std::map<std::string, std::string> topo_keys = {}) {
+    const double res = 0.1;
+    const double rim = 0.3;
+    auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(-rim, W + rim, -rim, H + rim, res);
+    asf::LabelImage& L = seg.labels;
+    L.width = static_cast<int>(grid->getSizeX());
+    L.height = static_cast<int>(grid->getSizeY());
+    L.resolution = res;
+    L.origin_x = grid->getXMin();
+    L.origin_y = grid->getYMin();
+    L.labels.assign(static_cast<std::size_t>(L.width) * L.height, 0);
+    std::map<asf::RegionId, std::pair<double, int>> sums_x, sums_y;
+    for (int cy = 0; cy < L.height; ++cy)
+      for (int cx = 0; cx < L.width; ++cx) {
+        const double x = grid->idx2x(cx), y = grid->idx2y(cy);
+        const bool inside = x > 0 && x < W && y > 0 && y < H;
+        const asf::RegionId r = inside ? label(x, y) : 0;
+        L.labels[static_cast<std::size_t>(cy) * L.width + cx] = r;
+        grid->setCell(cx, cy, r > 0 ? 1.0f : 0.0f);
+        if (r > 0) {
+          sums_x[r].first += x;
+          ++sums_x[r].second;
+          sums_y[r].first += y;
+        }
+      }
+    for (const auto& [r, sx] : sums_x) {
+      asf::Region reg;
+      reg.id = r;
+      reg.area = sx.second * res * res;
+      reg.centroid = {sx.first / sx.second, sums_y[r].first / sx.second};
+      seg.regions.push_back(reg);
+    }
+    map.grid = grid;
+    map.version = 1;
+    topo.configure(asf::Params::fromSpecs("topology", keys(), nkeys(), topo_keys));
+    topo.update(seg, map);
+  }
+  static const asf::KeySpec* keys() {
+    std::size_t n;
+    return asf::TopoBuilder::keys(n);
+  }
+  static std::size_t nkeys() {
+    std::size_t n;
+    asf::TopoBuilder::keys(n);
+    return n;
+  }
+  void put(double x, double y) { topo.observeRobot(x, y, t += 1); }
+};
+
+struct Walked {
+  std::vector<asf::Decision> decisions;
+  std::vector<asf::RegionId> regions;  ///< region after each goal
+  bool done = false;
+};
+
+/// Drives the policy until Done (or `max` decisions), teleporting the robot to each goal.
+Walked drive(asf::Policy& p, World& w, double x, double y, int max = 200) {
+  Walked run;
+  w.put(x, y);
+  asf::ExplorationState s;
+  s.robot = mrpt::poses::CPose2D(x, y, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  for (int i = 0; i < max; ++i) {
+    s.topo = &w.topo.graph();
+    const asf::Decision d = p.decide(s);
+    run.decisions.push_back(d);
+    if (d.type == asf::Decision::Type::Done) {
+      run.done = true;
+      break;
+    }
+    s.robot = mrpt::poses::CPose2D(d.goal.x, d.goal.y, 0);
+    w.put(d.goal.x, d.goal.y);
+    run.regions.push_back(w.topo.graph().current);
+    s.last_status = asf::NavStatus::Reached;
+    s.last_goal = d.goal;
+  }
+  return run;
+}
+
+// Rooms in a row, 3 m each, separated by 0.2 m walls with a 1 m door in the middle.
+asf::RegionId rowOfRooms(double x, double y, int rooms) {
+  const int i = static_cast<int>(x / 3.0);
+  if (i >= rooms) return 0;
+  const double in = x - 3.0 * i;
+  if (in > 2.8 && i + 1 < rooms && !(y > 1.0 && y < 2.0)) return 0;  // wall, door at y in (1,2)
+  return i + 1;
+}
+
+TEST(PolicyTigre, CorridorOfRoomsIsWalkedOutAndDoneWhenEveryEdgeIsTraversed) {
+  World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
+  ASSERT_EQ(w.topo.graph().edges.size(), 2u);  // 1-2, 2-3, no frontier (all known)
+  auto p = make();
+  const Walked r = drive(*p, w, 1.5, 1.5);
+  ASSERT_TRUE(r.done);
+  EXPECT_NE(r.decisions.back().reason.find("every edge traversed"), std::string::npos)
+      << r.decisions.back().reason;
+  // Fraenkel-style stop: each edge once, no walk back.
+  for (const auto& e : w.topo.graph().edges) EXPECT_EQ(e.traversals.size(), 1u);
+  EXPECT_EQ(w.topo.graph().current, 3);
+}
+
+// A 2 x 2 block of rooms (1 bottom-left, 2 bottom-right, 3 top-right, 4 top-left) with doors
+// between side neighbours only: a cycle of four edges.
+asf::RegionId blockOfFour(double x, double y) {
+  const bool right = x >= 3.0, top = y >= 3.0;
+  const double ix = right ? x - 3.0 : x, iy = top ? y - 3.0 : y;
+  // walls 0.2 m wide around the inner cross, doors 1 m wide in their middle
+  const bool vwall = (x > 2.9 && x < 3.1) && !(iy > 1.0 && iy < 2.0);
+  const bool hwall = (y > 2.9 && y < 3.1) && !(ix > 1.0 && ix < 2.0);
+  if (vwall || hwall) return 0;
+  if (x > 2.9 && x < 3.1 && y > 2.9 && y < 3.1) return 0;
+  if (!right && !top) return 1;
+  if (right && !top) return 2;
+  if (right && top) return 3;
+  return 4;
+}
+
+TEST(PolicyTigre, EveryEdgeOfACycleAtMostOnceEachWay) {
+  World w(6.0, 6.0, blockOfFour);
+  ASSERT_EQ(w.topo.graph().edges.size(), 4u);
+  auto p = make();
+  const Walked r = drive(*p, w, 1.5, 1.5);
+  ASSERT_TRUE(r.done) << r.decisions.back().reason;
+  for (const auto& e : w.topo.graph().edges) {
+    EXPECT_GE(e.traversals.size(), 1u) << e.a << "-" << e.b;
+    int fwd = 0, back = 0;
+    for (const auto& t : e.traversals) (t.forward ? fwd : back)++;
+    EXPECT_LE(fwd, 1) << e.a << "-" << e.b;
+    EXPECT_LE(back, 1) << e.a << "-" << e.b;
+  }
+}
+
+// Hand-made graph at one decision: region 2 entered from 1 (its entrance edge, the nearest),
+// with an untraversed edge to unvisited region 3 farther away.
+TEST(PolicyTigre, EntranceEdgeOnlyAsLastResort) {
+  World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
+  w.put(1.5, 1.5);
+  w.put(3.3, 1.5);  // into region 2 through the door: entrance edge 1-2
+  const asf::TopoGraph& g = w.topo.graph();
+  ASSERT_EQ(g.current, 2);
+  ASSERT_GE(g.node(2)->entrance_edge, 0);
+  auto p = make();
+  asf::ExplorationState s;
+  s.topo = &g;
+  s.robot = mrpt::poses::CPose2D(3.3, 1.5, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  const asf::Decision d = p->decide(s);
+  ASSERT_EQ(d.type, asf::Decision::Type::GoTo) << d.reason;
+  EXPECT_GT(d.goal.x, 5.0) << d.reason;  // the door 2-3 at x ~ 5.9, not 1-2 at x ~ 2.9
+  EXPECT_NE(d.reason.find("edge 2-3"), std::string::npos) << d.reason;
+}
+
+// Region 5 (centre of a plus) after arriving from 1: edges to 2 (visited, far) and to 3
+// (unvisited, near). TIGRE takes the loop-closing link; with loop_closing_first = false the
+// nearest.
+TEST(PolicyTigre, LoopClosingTieBreakPrefersVisitedRegions) {
+  // Columns of 3 m: region 1 | region 5 | region 3 at the bottom row (y < 3) and region 2 on
+  // top of all three (y >= 3.2), reached from 1 and 5 through doors.
+  auto label = [](double x, double y) -> asf::RegionId {
+    if (y >= 2.9 && y < 3.1) {  // horizontal wall with doors above 1 (x in 1..2) and 5 (x in 4..5)
+      if ((x > 1.0 && x < 2.0) || (x > 4.0 && x < 5.0)) return y < 3.0 ? (x < 3 ? 1 : 5) : 2;
+      return 0;
+    }
+    if (y >= 3.0) return 2;
+    if (x > 2.9 && x < 3.1) return (y > 1.0 && y < 2.0) ? (x < 3.0 ? 1 : 5) : 0;
+    if (x > 5.9 && x < 6.1) return (y > 1.0 && y < 2.0) ? (x < 6.0 ? 5 : 3) : 0;
+    if (x < 3.0) return 1;
+    if (x < 6.0) return 5;
+    return 3;
+  };
+  auto run = [&](bool loop_first) {
+    World w(7.0, 6.0, label);
+    w.put(1.5, 1.5);
+    w.put(1.5, 4.5);  // 1 -> 2
+    w.put(1.5, 1.5);  // 2 -> 1
+    w.put(3.3, 1.5);  // 1 -> 5, region 2 is visited
+    const asf::TopoGraph& g = w.topo.graph();
+    EXPECT_EQ(g.current, 5);
+    auto p = make({{"loop_closing_first", loop_first ? "true" : "false"}});
+    asf::ExplorationState s;
+    s.topo = &g;
+    s.robot = mrpt::poses::CPose2D(5.7, 1.5, 0);  // near the door to 3
+    s.map = &w.map;
+    s.segmentation = &w.seg;
+    return p->decide(s);
+  };
+  const asf::Decision tigre = run(true);
+  EXPECT_NE(tigre.reason.find("edge 2-5"), std::string::npos) << tigre.reason;
+  EXPECT_NE(tigre.reason.find("link to visited region"), std::string::npos) << tigre.reason;
+  const asf::Decision plain = run(false);
+  EXPECT_NE(plain.reason.find("edge 3-5"), std::string::npos) << plain.reason;
+}
+
+TEST(PolicyTigre, FrontierEdgeGoalIsOnTheFrontierAndNotRetriedAfterReaching) {
+  // One known room 3 x 3 whose right side opens onto unknown space (cells p = 0.5).
+  World w(6.0, 3.0, [](double x, double) -> asf::RegionId { return x < 3.0 ? 1 : 0; });
+  auto grid = std::const_pointer_cast<mrpt::maps::COccupancyGridMap2D>(w.map.grid);
+  for (int cy = 0; cy < static_cast<int>(grid->getSizeY()); ++cy)
+    for (int cx = 0; cx < static_cast<int>(grid->getSizeX()); ++cx)
+      if (grid->idx2x(cx) >= 3.0) grid->setCell(cx, cy, 0.5f);
+  w.topo.update(w.seg, w.map);
+  const asf::TopoGraph& g = w.topo.graph();
+  ASSERT_EQ(g.edges.size(), 1u);
+  ASSERT_TRUE(g.edges[0].frontier());
+  w.put(1.0, 1.5);
+  auto p = make();
+  asf::ExplorationState s;
+  s.topo = &g;
+  s.robot = mrpt::poses::CPose2D(1.0, 1.5, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  const asf::Decision d = p->decide(s);
+  ASSERT_EQ(d.type, asf::Decision::Type::GoTo) << d.reason;
+  EXPECT_GT(d.goal.x, 2.3);  // at the frontier (x ~ 2.95), kept off the walls
+  EXPECT_NE(d.reason.find("frontier of region 1"), std::string::npos) << d.reason;
+  // Reached, yet the frontier is still there (nothing more could be seen): the policy must
+  // not send the robot to the same place forever.
+  s.robot = mrpt::poses::CPose2D(d.goal.x, d.goal.y, 0);
+  s.last_status = asf::NavStatus::Reached;
+  s.last_goal = d.goal;
+  std::set<std::pair<int, int>> goals;
+  goals.insert({static_cast<int>(d.goal.x * 10), static_cast<int>(d.goal.y * 10)});
+  int n = 0;
+  for (; n < 50; ++n) {
+    const asf::Decision e = p->decide(s);
+    if (e.type == asf::Decision::Type::Done) break;
+    EXPECT_TRUE(goals.insert({static_cast<int>(e.goal.x * 10), static_cast<int>(e.goal.y * 10)}).second)
+        << "goal repeated: " << e.reason;
+    s.robot = mrpt::poses::CPose2D(e.goal.x, e.goal.y, 0);
+    s.last_goal = e.goal;
+  }
+  EXPECT_LT(n, 50);
+}
+
+TEST(PolicyTigre, WaitsForAMapThenGivesUp) {
+  auto p = make({{"max_waits", "3"}});
+  asf::TopoGraph empty;
+  asf::ExplorationState s;
+  s.topo = &empty;
+  for (int i = 0; i < 3; ++i) {
+    const asf::Decision d = p->decide(s);
+    ASSERT_EQ(d.type, asf::Decision::Type::GoTo) << d.reason;
+    EXPECT_NE(d.reason.find("waiting"), std::string::npos);
+  }
+  EXPECT_EQ(p->decide(s).type, asf::Decision::Type::Done);
+}
+
+TEST(PolicyTigre, UnreachableEdgeIsGivenUpAfterMaxFailures) {
+  World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
+  w.put(1.5, 1.5);
+  auto p = make({{"max_edge_failures", "2"}, {"region_centre", "false"}});
+  asf::ExplorationState s;
+  s.topo = &w.topo.graph();
+  s.robot = mrpt::poses::CPose2D(1.5, 1.5, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  // The navigation fails for every goal: the policy must end, not loop.
+  int n = 0;
+  asf::Decision d;
+  for (; n < 20; ++n) {
+    d = p->decide(s);
+    if (d.type == asf::Decision::Type::Done) break;
+    s.last_status = asf::NavStatus::Unreachable;
+    s.last_goal = d.goal;
+  }
+  EXPECT_LT(n, 20);
+  EXPECT_EQ(d.type, asf::Decision::Type::Done);
+}
+
+}  // namespace
