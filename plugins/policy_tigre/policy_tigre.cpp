@@ -56,7 +56,11 @@ class TigrePolicy final : public asf::Policy {
     snap_ = p.getDouble("snap_radius");
     blacklist_radius_ = p.getDouble("blacklist_radius");
     max_edge_failures_ = static_cast<int>(p.getInt("max_edge_failures"));
-    region_centre_ = p.getBool("region_centre");
+    const std::string next_goal = p.getString("next_goal");
+    next_goal_ = next_goal == "centre" ? NextGoal::Centre
+                 : next_goal == "entry" ? NextGoal::Entry
+                                        : NextGoal::None;
+    entry_depth_ = p.getDouble("entry_depth");
     options_ = asf::graph::TarryOptions::modified();
     options_.loop_closing_first = p.getBool("loop_closing_first");
     max_waits_ = static_cast<int>(p.getInt("max_waits"));
@@ -68,6 +72,7 @@ class TigrePolicy final : public asf::Policy {
     pending_.reset();
     last_.reset();
     waits_ = 0;
+    failure_streak_ = 0;
   }
 
   asf::Decision decide(const asf::ExplorationState& s) override {
@@ -81,12 +86,23 @@ class TigrePolicy final : public asf::Policy {
     if (pending_ && s.last_status == asf::NavStatus::Reached && topo.current != pending_->region) {
       const Pending p = *pending_;
       pending_.reset();
-      if (const auto g = regionGoal(s, reach, p.region)) {
+      std::optional<Point2> anchor;
+      if (next_goal_ == NextGoal::Entry) {
+        // A little beyond the border, towards the region's centre: enough to be inside.
+        if (const asf::TopoNode* n = topo.node(p.region)) {
+          const double d = dist(p.border, n->centroid);
+          const double f = d > entry_depth_ ? entry_depth_ / d : 1.0;
+          anchor = Point2{p.border.x + f * (n->centroid.x - p.border.x),
+                          p.border.y + f * (n->centroid.y - p.border.y)};
+        }
+      }
+      if (const auto g = regionGoal(s, reach, p.region, anchor)) {
         last_ = Attempt{p.key, false, *g};
         // A tight tolerance: the robot must stand in the region, not near it.
         return asf::Decision::goTo({g->x, g->y, region_tolerance_},
                                    "into region " + std::to_string(p.region) +
-                                       " (centre) across " + edgeName(p.key));
+                                       (anchor ? " (entry)" : " (centre)") + " across " +
+                                       edgeName(p.key));
       }
     }
     pending_.reset();
@@ -208,7 +224,7 @@ class TigrePolicy final : public asf::Policy {
       last_ = Attempt{o.key, false, o.goal};
       ++chosen_[o.key];
       noteTry(o.key, here, topo.outwardTraversals(o.index, here));
-      if (region_centre_) pending_ = Pending{o.key, next};
+      if (next_goal_ != NextGoal::None) pending_ = Pending{o.key, next, o.goal};
       return go(o.goal, why + ": border");
     }
 
@@ -225,10 +241,10 @@ class TigrePolicy final : public asf::Policy {
     last_ = Attempt{best->key, topo.edges[best->index].frontier(), best->goal};
     const asf::TopoEdge& e = topo.edges[best->index];
     if (!e.frontier()) ++chosen_[best->key];
-    if (!e.frontier() && region_centre_) {
+    if (!e.frontier() && next_goal_ != NextGoal::None) {
       // Cross it away from the side the robot comes from.
       const RegionId far = e.a == topo.current ? e.b : e.a;
-      pending_ = Pending{best->key, far};
+      pending_ = Pending{best->key, far, best->goal};
     }
     return go(best->goal, "region " + std::to_string(here) + " done; relocating to " +
                               edgeName(best->key) + " (" + fmt(best->cost) + " m)");
@@ -249,8 +265,10 @@ class TigrePolicy final : public asf::Policy {
   };
   struct Pending {
     EdgeKey key;
-    RegionId region = 0;
+    RegionId region = 0;  ///< to enter
+    Point2 border;        ///< the goal on the border, reached first
   };
+  enum class NextGoal { Centre, Entry, None };
 
   asf::Decision go(const Point2& g, const std::string& why) {
     return asf::Decision::goTo({g.x, g.y, tolerance_}, why);
@@ -271,8 +289,12 @@ class TigrePolicy final : public asf::Policy {
     const Attempt a = *last_;
     const bool failed = s.last_status == asf::NavStatus::Unreachable ||
                         s.last_status == asf::NavStatus::Blocked;
+    // Goals failing one after the other, whatever the edge, say the robot is stuck rather
+    // than the edges unreachable: beyond the third such failure, edges are not blamed (the
+    // host stops a run whose goals keep failing, [pipeline] max_failed_goals).
+    failure_streak_ = failed ? failure_streak_ + 1 : 0;
+    if (failed && failure_streak_ <= 3) ++failures_[a.key];
     if (failed) {
-      ++failures_[a.key];
       pending_.reset();
       MRPT_LOG_WARN_STREAM(edgeName(a.key) << ": goal (" << fmt(a.goal.x) << ", "
                                            << fmt(a.goal.y) << ") "
@@ -303,16 +325,17 @@ class TigrePolicy final : public asf::Policy {
     return false;
   }
 
-  /// A reachable cell of region r near its centroid (the centroid itself may lie outside a
-  /// non-convex region or too close to a wall).
+  /// A reachable cell of region r near `anchor` (default: its centroid, which may lie outside
+  /// a non-convex region or too close to a wall).
   std::optional<Point2> regionGoal(const asf::ExplorationState& s, const asf::Reachability& reach,
-                                   RegionId r) const {
+                                   RegionId r, std::optional<Point2> anchor = std::nullopt) const {
     const asf::TopoNode* n = s.topo->node(r);
     if (!n) return std::nullopt;
-    if (s.segmentation && s.segmentation->labels.atPoint(n->centroid.x, n->centroid.y) == r &&
-        reach.reachable(n->centroid))
-      return n->centroid;
-    if (!s.segmentation) return reach.nearestReachable(n->centroid, 1.0);
+    const Point2 target = anchor ? *anchor : n->centroid;
+    if (s.segmentation && s.segmentation->labels.atPoint(target.x, target.y) == r &&
+        reach.reachable(target))
+      return target;
+    if (!s.segmentation) return reach.nearestReachable(target, 1.0);
     const asf::LabelImage& L = s.segmentation->labels;
     double best = std::numeric_limits<double>::infinity();
     std::optional<Point2> goal;
@@ -320,7 +343,7 @@ class TigrePolicy final : public asf::Policy {
       for (int cx = 0; cx < L.width; ++cx) {
         if (L.at(cx, cy) != r) continue;
         const Point2 c{L.origin_x + (cx + 0.5) * L.resolution, L.origin_y + (cy + 0.5) * L.resolution};
-        const double d = dist(c, n->centroid);
+        const double d = dist(c, target);
         if (d < best && reach.reachable(c)) {
           best = d;
           goal = c;
@@ -332,8 +355,9 @@ class TigrePolicy final : public asf::Policy {
   asf::ReachabilityOptions reach_opt_;
   asf::graph::TarryOptions options_;
   double tolerance_ = 0.3, region_tolerance_ = 0.1, snap_ = 0.5, blacklist_radius_ = 0.5;
-  int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0;
-  bool region_centre_ = true;
+  int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0, failure_streak_ = 0;
+  NextGoal next_goal_ = NextGoal::Centre;
+  double entry_depth_ = 0.6;
   std::mt19937 rng_;
   std::map<EdgeKey, int> failures_, chosen_;
   struct Tries {
@@ -369,8 +393,12 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("max_edge_failures", "2",
                 "An edge whose goals failed (unreachable/blocked) this often is given up", 1,
                 100),
-    asf::keyBool("region_centre", "true",
-                 "After the border of a region edge, go on to the next region's centre"),
+    asf::keyEnum("next_goal", "centre", "centre|entry|none",
+                 "After the border of a region edge: on to the next region's centre (thesis), "
+                 "just inside it (entry_depth beyond the border), or no second goal"),
+    asf::keyDouble("entry_depth", "0.6",
+                   "next_goal = entry: how far beyond the border, towards the centre [m]", 0.0,
+                   10.0),
     asf::keyBool("loop_closing_first", "true",
                  "Prefer edges to visited regions (loop closing) over the others (thesis' "
                  "tie-break; false: plain Tarry with nearest-first)"),

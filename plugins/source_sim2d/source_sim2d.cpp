@@ -87,7 +87,9 @@ class Sim2dSource final : public asf::Source {
     model_.a4 = p.getDouble("odo_a4");
     model_.min_std_xy = p.getDouble("odo_min_std_xy");
     model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
-    nav_.robot_radius = radius_;
+    // Plans keep a margin beyond the true radius: obstacles are known to a cell, and a path
+    // that grazes the lethal boundary touches the true wall.
+    nav_.robot_radius = radius_ + p.getDouble("nav_safety_margin");
     nav_.inflation_margin = p.getDouble("nav_inflation_margin");
     nav_.occupied_threshold = p.getDouble("nav_occupied_threshold");
     nav_.unknown_blocked = p.getString("nav_unknown") == "blocked";
@@ -202,6 +204,22 @@ class Sim2dSource final : public asf::Source {
     return true;
   }
 
+  // Heading (map frame, from the believed pose) of the longest valid ray of the latest scan:
+  // where there is the most room.
+  std::optional<double> openHeading() const {
+    if (!last_scan_) return std::nullopt;
+    double best = -1, heading = 0;
+    for (std::size_t i = 0; i < last_scan_->getScanSize(); ++i) {
+      const double r = last_scan_->getScanRangeValidity(i) ? last_scan_->getScanRange(i)
+                                                           : max_range_;
+      if (r > best) {
+        best = r;
+        heading = believed_.phi() + last_scan_->sensorPose.yaw() + last_scan_->getScanAngle(i);
+      }
+    }
+    return mrpt::math::wrapToPi(heading);
+  }
+
   // Endpoints of the latest scan in the map frame (placed with the believed pose): the
   // obstacles around the robot as it senses them now, right relative to it even when the
   // estimated map has drifted (a local obstacle layer, as navigation stacks have).
@@ -222,10 +240,25 @@ class Sim2dSource final : public asf::Source {
   // The next command (forward, turn) from the believed pose towards the current waypoint.
   CPose2D command() {
     if (backup_left_ > 0) {
-      const double back = std::min(step_length_, backup_left_);
-      backup_left_ -= back;
-      if (backup_left_ <= 1e-12 && !plan()) status_ = asf::NavStatus::Unreachable;
-      return CPose2D(-back, 0, 0);
+      // Recovery: back up straight; when the first back-up step was stopped too (the robot
+      // is wedged, e.g. across a narrow passage), turn towards the most open direction of
+      // the latest scan and drive that way instead (a disc robot can always turn).
+      if (!escape_heading_) {
+        const double back = std::min(step_length_, backup_left_);
+        backup_left_ -= back;
+        if (backup_left_ <= 1e-12 && !plan()) status_ = asf::NavStatus::Unreachable;
+        return CPose2D(-back, 0, 0);
+      }
+      const double err = mrpt::math::wrapToPi(*escape_heading_ - believed_.phi());
+      if (std::abs(err) > heading_tol_)
+        return CPose2D(0, 0, std::copysign(std::min(std::abs(err), turn_step_), err));
+      const double fwd = std::min(step_length_, backup_left_);
+      backup_left_ -= fwd;
+      if (backup_left_ <= 1e-12) {
+        escape_heading_.reset();
+        if (!plan()) status_ = asf::NavStatus::Unreachable;
+      }
+      return CPose2D(fwd, 0, 0);
     }
     // Replan now and then: the latest scan corrects the path where the map has drifted.
     if (replan_every_ > 0 && ++since_plan_ >= replan_every_ && !path_.empty() && !plan(false)) {
@@ -271,6 +304,8 @@ class Sim2dSource final : public asf::Source {
       if (world_.sweepCollides({true_pose_.x(), true_pose_.y()}, {to.x(), to.y()}, radius_)) {
         ++collisions_;
         collided_ = true;
+        // Stopped while backing up (or escaping): escape towards open space next time.
+        if (backup_left_ > 0 || escape_heading_) escape_heading_ = openHeading();
         backup_left_ = 0;
         MRPT_LOG_WARN_STREAM("blocked: moving " << u.x() << " m from (" << true_pose_.x() << ", "
                                                 << true_pose_.y() << ") would hit a wall");
@@ -336,6 +371,7 @@ class Sim2dSource final : public asf::Source {
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> plan_grid_;
   bool collided_ = false;
   double backup_left_ = 0, recovery_backup_ = 0;
+  std::optional<double> escape_heading_;  // set when backing up failed too
   std::int64_t since_plan_ = 0, replan_every_ = 0;
   std::deque<asf::Point2> path_;
   asf::NavStatus status_ = asf::NavStatus::Idle;
@@ -413,6 +449,8 @@ const asf::KeySpec kKeys[] = {
                  "Unknown cells of the estimated map: passable at nav_unknown_cost, or blocked"),
     asf::keyDouble("nav_unknown_cost", "4.0", "Cost factor of driving through unknown space",
                    1, 1e6),
+    asf::keyDouble("nav_safety_margin", "0.05",
+                   "Paths keep robot_radius plus this from obstacles of the map [m]", 0.0, 1.0),
     asf::keyDouble("nav_inflation_margin", "0.4",
                    "Beyond robot_radius, paths are penalised this close to obstacles [m]", 0,
                    100),

@@ -290,7 +290,7 @@ TEST(PolicyTigre, WaitsForAMapThenGivesUp) {
 TEST(PolicyTigre, UnreachableEdgeIsGivenUpAfterMaxFailures) {
   World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
   w.put(1.5, 1.5);
-  auto p = make({{"max_edge_failures", "2"}, {"region_centre", "false"}});
+  auto p = make({{"max_edge_failures", "2"}, {"next_goal", "none"}});
   asf::ExplorationState s;
   s.topo = &w.topo.graph();
   s.robot = mrpt::poses::CPose2D(1.5, 1.5, 0);
