@@ -60,6 +60,8 @@ RoutePolicy::Plan RoutePolicy::plan(const TopoGraph& topo, RegionId start, Route
     g.edges.push_back({index[e.a], index[e.b], len});
     topo_edge.push_back(static_cast<int>(i));
   }
+  p.edges = g.m();
+  for (const auto& e : g.edges) p.edges_length += e.length;
   if (g.edges.empty()) {
     p.walk.nodes = {0};
     return p;
@@ -110,7 +112,8 @@ Decision RoutePolicy::decide(const ExplorationState& s) {
     planned_ = true;
     std::ostringstream os;
     os << name << " walk over the true world's graph: " << plan_.walk.edges.size()
-       << " steps, " << plan_.walk.length << " m (" << plan_.regions.size() << " regions)";
+       << " steps, " << plan_.walk.length << " m (" << plan_.regions.size() << " regions, "
+       << plan_.edges << " edges of total length " << plan_.edges_length << " m)";
     MRPT_LOG_INFO(os.str());
   } else if (next_ > 0 && (s.last_status == NavStatus::Unreachable ||
                            s.last_status == NavStatus::Blocked)) {
@@ -123,7 +126,8 @@ Decision RoutePolicy::decide(const ExplorationState& s) {
   if (next_ >= plan_.goals.size()) {
     std::ostringstream os;
     os << name << " walk done: " << plan_.walk.edges.size() << " steps, " << plan_.walk.length
-       << " m planned, " << skipped_ << " goals skipped";
+       << " m planned over " << plan_.edges << " edges of total length " << plan_.edges_length
+       << " m, " << skipped_ << " goals skipped";
     return Decision::done(os.str());
   }
   const std::size_t i = next_++;

@@ -18,13 +18,15 @@ class RoutePolicy : public Policy {
   void configure(const Params& params, const PluginContext& ctx) override;
   Decision decide(const ExplorationState& state) override;
 
-  /// The walk over `topo` (region edges only, the component of `start`) and its goals,
-  /// exposed for tests: goals[i] belongs to walk step goal_step[i].
+  /// The walk over `topo` (region edges only, the component of `start`) and its goals
+  /// (two per step: border midpoint, then centroid), exposed for tests.
   struct Plan {
     graph::Walk walk;
     std::vector<RegionId> regions;  ///< node index -> region id
     std::vector<Goal> goals;
     std::vector<std::string> labels;  ///< why each goal (for decision reasons)
+    int edges = 0;                    ///< region edges of the walked component
+    double edges_length = 0;          ///< their total length [m]
   };
   static Plan plan(const TopoGraph& topo, RegionId start, Route route, double tolerance,
                    std::uint32_t seed);
