@@ -46,41 +46,66 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
                   : std::abs(p_free - 0.5) < o.unknown_band ? kUnknown
                                                             : kFree;
   }
-  std::vector<std::uint8_t> state(n);
-  cv::Mat1b not_obstacle(H, W);
-  bool any_obstacle = false;
+  // Only the box of known cells (plus the robot's footprint) can hold passable cells: the
+  // rest of the grid, often most of it (MapBuilder grows it with margins), is unknown.
+  int bx0 = W, by0 = H, bx1 = -1, by1 = -1;
   for (int y = 0; y < H; ++y) {
     const CellT* cells = grid->getRow(y);
+    int first = -1, last = -1;
+    for (int x = 0; x < W; ++x)
+      if (class_of[static_cast<CellU>(cells[x])] != kUnknown) {
+        if (first < 0) first = x;
+        last = x;
+      }
+    if (first < 0) continue;
+    bx0 = std::min(bx0, first);
+    bx1 = std::max(bx1, last);
+    by0 = std::min(by0, y);
+    by1 = std::max(by1, y);
+  }
+  const int foot = static_cast<int>(std::ceil(o.robot_radius / res)) + 1;
+  bx0 = std::max(0, std::min(bx0, sx - foot));
+  by0 = std::max(0, std::min(by0, sy - foot));
+  bx1 = std::min(W - 1, std::max(bx1, sx + foot));
+  by1 = std::min(H - 1, std::max(by1, sy + foot));
+  const int BW = bx1 - bx0 + 1, BH = by1 - by0 + 1;
+
+  std::vector<std::uint8_t> state(static_cast<std::size_t>(BW) * BH);
+  cv::Mat1b not_obstacle(BH, BW);
+  bool any_obstacle = false;
+  for (int y = 0; y < BH; ++y) {
+    const CellT* cells = grid->getRow(y + by0) + bx0;
     std::uint8_t* mask_row = not_obstacle[y];
-    std::uint8_t* state_row = &state[static_cast<std::size_t>(y) * W];
-    for (int x = 0; x < W; ++x) {
-      const std::uint8_t s = class_of[static_cast<CellU>(cells[x])];
-      state_row[x] = s;
-      mask_row[x] = s == kOccupied ? 0 : 255;
-      any_obstacle |= s == kOccupied;
+    std::uint8_t* state_row = &state[static_cast<std::size_t>(y) * BW];
+    for (int x = 0; x < BW; ++x) {
+      const std::uint8_t st = class_of[static_cast<CellU>(cells[x])];
+      state_row[x] = st;
+      mask_row[x] = st == kOccupied ? 0 : 255;
+      any_obstacle |= st == kOccupied;
     }
   }
 
   // Clearance of a cell = distance from its centre to the nearest obstacle cell's edge
   // (centre distance minus half a cell), as the sim2d navigator measures it, so a cell
-  // passable here is not lethal there.
+  // passable here is not lethal there. Outside the box there are no obstacles, so the
+  // transform of the box is exact.
   cv::Mat1f centre_dist;
   if (any_obstacle)
     cv::distanceTransform(not_obstacle, centre_dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const float min_centre_dist = static_cast<float>(o.robot_radius / res + 0.5);
 
-  // Passable cells in a grid padded by one non-passable cell, so neighbour steps need no
+  // Passable cells of the box, padded by one non-passable cell, so neighbour steps need no
   // bounds checks.
-  const int PW = W + 2, PH = H + 2;
+  const int PW = BW + 2, PH = BH + 2;
   std::vector<std::uint8_t> passable(static_cast<std::size_t>(PW) * PH, 0);
   const double r2 = o.robot_radius * o.robot_radius;
-  for (int y = 0; y < H; ++y) {
+  for (int y = 0; y < BH; ++y) {
     const float* dist_row = any_obstacle ? centre_dist[y] : nullptr;
-    for (int x = 0; x < W; ++x) {
-      const double sdx = r.origin_x_ + (x + 0.5) * res - from.x;
-      const double sdy = r.origin_y_ + (y + 0.5) * res - from.y;
+    for (int x = 0; x < BW; ++x) {
+      const double sdx = r.origin_x_ + (x + bx0 + 0.5) * res - from.x;
+      const double sdy = r.origin_y_ + (y + by0 + 0.5) * res - from.y;
       const bool under_robot = sdx * sdx + sdy * sdy <= r2;
-      const std::uint8_t st = state[static_cast<std::size_t>(y) * W + x];
+      const std::uint8_t st = state[static_cast<std::size_t>(y) * BW + x];
       // The robot's own footprint is free even where the sensor has not seen it (behind a
       // 270-degree laser at the start): unknown cells under it are passable.
       if (st == kOccupied || (st == kUnknown && !under_robot)) continue;
@@ -96,7 +121,7 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
   // linear time (three buckets in a ring cover steps of 1 and sqrt(2)).
   std::vector<float> d(passable.size(), std::numeric_limits<float>::infinity());
   std::vector<std::uint8_t> settled(passable.size(), 0);
-  const int start = (sy + 1) * PW + (sx + 1);
+  const int start = (sy - by0 + 1) * PW + (sx - bx0 + 1);
   std::vector<int> bucket[3];
   for (auto& b : bucket) b.reserve(1024);
   d[start] = 0;
@@ -138,11 +163,11 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
   }
 
   const float to_metres = static_cast<float>(res);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
+  for (int y = 0; y < BH; ++y)
+    for (int x = 0; x < BW; ++x) {
       const float v = d[static_cast<std::size_t>(y + 1) * PW + (x + 1)];
       if (v < std::numeric_limits<float>::infinity())
-        r.dist_[static_cast<std::size_t>(y) * W + x] = v * to_metres;
+        r.dist_[static_cast<std::size_t>(y + by0) * W + (x + bx0)] = v * to_metres;
     }
   return r;
 }
@@ -162,9 +187,14 @@ std::optional<Point2> Reachability::nearestReachable(const Point2& p, double rad
   if (width_ == 0) return std::nullopt;
   const int px = static_cast<int>(std::floor((p.x - origin_x_) / resolution_));
   const int py = static_cast<int>(std::floor((p.y - origin_y_) / resolution_));
-  // p's own cell counts even when its centre is farther than a tiny radius.
-  if (cellDistance(px, py) < kUnreachable && radius < 0.5 * resolution_)
-    return cellCenter(px, py);
+  // p's own cell counts even when its centre is farther than a tiny radius; when p is that
+  // centre (border and frontier cells are), no other cell can be nearer.
+  if (cellDistance(px, py) < kUnreachable) {
+    const Point2 c = cellCenter(px, py);
+    if (radius < 0.5 * resolution_ ||
+        std::hypot(c.x - p.x, c.y - p.y) <= 1e-3 * resolution_)
+      return c;
+  }
   const int span = static_cast<int>(std::ceil(std::max(radius, 0.0) / resolution_)) + 1;
   const double r2 = radius * radius;
   double best_d2 = std::numeric_limits<double>::infinity(), best_geo = kUnreachable;
