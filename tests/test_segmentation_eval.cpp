@@ -310,6 +310,20 @@ TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
     }
   EXPECT_TRUE(j["edges"].is_array());
   EXPECT_TRUE(fs::file_size(d / "overlay.png") > 0);
+  // The same overlay as SVG: the raster regions embedded, one vector node per region.
+  const auto rs = runHost("segment " + (d / "map.png").string() +
+                          " --resolution 0.05 --segmenter free_components --set min_area=0 -o " +
+                          (d / "labels2.png").string() + " --overlay " + (d / "overlay.svg").string());
+  ASSERT_EQ(rs.code, 0) << rs.out;
+  std::ifstream svg_in(d / "overlay.svg");
+  const std::string svg((std::istreambuf_iterator<char>(svg_in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_TRUE(has(svg, "data:image/png;base64,"));
+  std::size_t circles = 0;
+  for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1))
+    ++circles;
+  EXPECT_EQ(circles, 2u) << "one node per region, none current";
+  EXPECT_TRUE(has(svg, "</svg>"));
   // Errors name the file / plugin.
   const auto missing = runHost("segment " + (d / "nope.png").string() +
                                " --segmenter free_components -o " + (d / "x.png").string());

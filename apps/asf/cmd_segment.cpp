@@ -118,7 +118,7 @@ int cmdSegment(int argc, char** argv) {
                                    "LABELS.png", cmd);
   TCLAP::ValueArg<std::string> graph("", "graph", "Write the topological graph (JSON)", false,
                                      "", "OUT.json", cmd);
-  TCLAP::ValueArg<std::string> overlay("", "overlay", "Write an overlay image (PNG)", false, "",
+  TCLAP::ValueArg<std::string> overlay("", "overlay", "Write an overlay image: PNG, or SVG (graph as vectors) when the name ends in .svg", false, "",
                                        "OUT.png", cmd);
   TCLAP::ValueArg<int> threshold("t", "free-threshold", "Pixels >= this are free", false,
                                  kBenchmarkFreeThreshold, "0-255", cmd);

@@ -319,7 +319,7 @@ void Pipeline::Impl::segmentWorld() {
 std::vector<std::string> Pipeline::outputFiles() {
   return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv",
           "graph.g2o",     "keyframes.txt",  "map.png",        "regions.png",
-          "topology.json", "summary.json",   "report.html"};
+          "topology.json", "topology.svg",   "summary.json",   "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {

@@ -109,15 +109,24 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   attempt("map.png", [&] {
     if (!map.grid) return;
     MapImage m = renderGrid(*map.grid);
+    auto drawPath = [&](MapImage& img) {
+      for (std::size_t i = 1; i < path.size(); ++i)
+        cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()),
+                 img.px(path[i].x(), path[i].y()), {200, 80, 0}, 1, cv::LINE_AA);
+    };
     if (!seg.labels.labels.empty()) {
       MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
       render::drawRegions(regions, seg.labels);
+      // topology.svg: the regions as the background, graph and trajectory as vectors.
+      std::vector<Point2> pts;
+      pts.reserve(path.size());
+      for (const auto& p : path) pts.push_back({p.x(), p.y()});
+      writeAtomically(dir_ + "/topology.svg", render::topologySvg(regions, regions.img, topo, pts));
+      drawPath(regions);
       render::drawTopology(regions, topo);
       if (!cv::imwrite(dir_ + "/regions.png", regions.img)) throw Error("cannot write");
     }
-    for (std::size_t i = 1; i < path.size(); ++i)
-      cv::line(m.img, m.px(path[i - 1].x(), path[i - 1].y()), m.px(path[i].x(), path[i].y()),
-               {200, 80, 0}, 1, cv::LINE_AA);
+    drawPath(m);
     for (const auto& n : graph.nodes) cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
     if (!cv::imwrite(dir_ + "/map.png", m.img)) throw Error("cannot write");
   });

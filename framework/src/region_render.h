@@ -6,6 +6,9 @@
 
 #include <opencv2/core.hpp>
 
+#include <string>
+#include <vector>
+
 namespace mrpt::maps {
 class COccupancyGridMap2D;
 }
@@ -32,5 +35,12 @@ void drawRegions(MapImage& m, const LabelImage& labels);
 void drawTopology(MapImage& m, const TopoGraph& topo);
 /// Region ids as text at the centroids.
 void drawRegionIds(MapImage& m, const Segmentation& seg);
+
+/// An SVG of `background` (embedded PNG) with the topological graph drawn as vectors on top:
+/// region nodes (filled when visited, ringed when current) with their ids, edges through
+/// their border midpoints labelled with their traversal counts, frontier edges in red, and
+/// `path` (map frame) as a polyline. Pixel geometry is that of `m`.
+std::string topologySvg(const MapImage& m, const cv::Mat& background, const TopoGraph& topo,
+                        const std::vector<Point2>& path = {});
 
 }  // namespace asf::render

@@ -47,6 +47,9 @@ double parseNumber(const std::string& s) {
   return end && !*end ? v : NAN;
 }
 
+
+}  // namespace
+
 std::string base64(const std::string& bytes) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string o;
@@ -72,8 +75,6 @@ std::string base64(const std::string& bytes) {
   }
   return o;
 }
-
-}  // namespace
 
 std::map<std::string, std::vector<double>> readCsvColumns(const std::string& path) {
   std::ifstream in(path);

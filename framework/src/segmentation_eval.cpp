@@ -1,5 +1,6 @@
 #include <asf/errors.h>
 #include <asf/segmentation_eval.h>
+#include <asf/run_report.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -7,6 +8,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -86,6 +90,61 @@ void drawRegionIds(MapImage& m, const Segmentation& seg) {
     cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {255, 255, 255}, 3, cv::LINE_AA);
     cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 1, cv::LINE_AA);
   }
+}
+
+std::string topologySvg(const MapImage& m, const cv::Mat& background, const TopoGraph& topo,
+                        const std::vector<Point2>& path) {
+  std::vector<unsigned char> png;
+  cv::imencode(".png", background, png);
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(1);
+  const int W = background.cols, H = background.rows;
+  os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+     << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"sans-serif\">\n"
+     << "<image width=\"" << W << "\" height=\"" << H << "\" href=\"data:image/png;base64,"
+     << report::base64(std::string(png.begin(), png.end())) << "\"/>\n";
+  auto at = [&](const Point2& p) {
+    const cv::Point q = m.px(p.x, p.y);
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(1) << q.x + 0.5 << "," << q.y + 0.5;
+    return o.str();
+  };
+  if (path.size() > 1) {
+    os << "<polyline fill=\"none\" stroke=\"#0050c8\" stroke-width=\"1\" stroke-opacity=\"0.7\" "
+          "points=\"";
+    for (const Point2& p : path) os << at(p) << " ";
+    os << "\"/>\n";
+  }
+  for (const auto& e : topo.edges) {
+    const TopoNode* a = topo.node(e.a);
+    if (!a) continue;
+    if (e.frontier()) {
+      os << "<polyline fill=\"none\" stroke=\"#d00000\" stroke-width=\"1.5\" points=\""
+         << at(a->centroid) << " " << at(e.midpoint) << "\"/>\n";
+      continue;
+    }
+    const TopoNode* b = topo.node(e.b);
+    if (!b) continue;
+    os << "<polyline fill=\"none\" stroke=\"#202020\" stroke-width=\"1.5\" points=\""
+       << at(a->centroid) << " " << at(e.midpoint) << " " << at(b->centroid) << "\"/>\n";
+    const cv::Point q = m.px(e.midpoint.x, e.midpoint.y);
+    os << "<text x=\"" << q.x + 3 << "\" y=\"" << q.y - 3
+       << "\" font-size=\"9\" fill=\"#202020\">" << e.traversals.size() << "</text>\n";
+  }
+  for (const auto& n : topo.nodes) {
+    if (n.region <= 0) continue;
+    const cv::Point q = m.px(n.centroid.x, n.centroid.y);
+    os << "<circle cx=\"" << q.x + 0.5 << "\" cy=\"" << q.y + 0.5 << "\" r=\"4\" fill=\""
+       << (n.visited ? "#000000" : "#ffffff") << "\" stroke=\"#000000\"/>\n";
+    if (n.region == topo.current)
+      os << "<circle cx=\"" << q.x + 0.5 << "\" cy=\"" << q.y + 0.5
+         << "\" r=\"7\" fill=\"none\" stroke=\"#0050c8\" stroke-width=\"2\"/>\n";
+    os << "<text x=\"" << q.x + 6 << "\" y=\"" << q.y - 6
+       << "\" font-size=\"10\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">"
+       << n.region << "</text>\n";
+  }
+  os << "</svg>\n";
+  return os.str();
 }
 
 }  // namespace render
@@ -376,6 +435,15 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map,
                             rooms->at(c, r + 1) != l;
         if (border) m.img.at<cv::Vec3b>(r, c) = {0, 0, 150};
       }
+  }
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".svg" || ext == ".SVG") {
+    // Vector graph over the raster regions: ids and edges stay sharp when zoomed.
+    const TopoGraph none;
+    std::ofstream f(path);
+    f << render::topologySvg(m, m.img, topo ? *topo : none);
+    if (!f) throw Error(path + ": cannot write the SVG");
+    return;
   }
   if (topo) render::drawTopology(m, *topo);
   render::drawRegionIds(m, seg);

@@ -28,6 +28,9 @@ std::map<std::string, std::vector<double>> readCsvColumns(const std::string& pat
 /// `text` with & < > " escaped for HTML.
 std::string htmlEscape(const std::string& text);
 
+/// RFC 4648 base64 of `bytes` (for data: URLs).
+std::string base64(const std::string& bytes);
+
 /// An <img> element with the PNG file embedded (base64), or "" when it cannot be read.
 std::string embeddedPng(const std::string& path, const std::string& alt);
 
