@@ -1,0 +1,76 @@
+// asf optimal on a topological graph (topology.json) and its exhaustive walk search
+// (--walks, --plot): the figures 5.6-5.10 command.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using asf_test::has;
+using asf_test::runHost;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("asf_test_cmd_optimal_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(AsfOptimalCommand, ExhaustiveWalksMeetTheRelaxedOptimumOnACycle) {
+  // A 4-cycle with a chord 1-3. The E-optimal weights are the cycle's, 1/4 each (the chord
+  // gets none); the closed walk round the cycle (d = 4) has exactly those weights, so the best
+  // E rate over walks of 4 traversals equals the relaxed optimum, 0.5 (eigenvalues of the
+  // cycle's Laplacian / 4: 0.5, 1, 0.5).
+  const fs::path d = tempDir("walks");
+  std::ofstream(d / "g.txt") << "4 5 1-2 2-3 3-4 4-1 1-3\n";
+  const auto r = runHost("optimal " + (d / "g.txt").string() + " --criteria E --walks 5 --json -p " +
+                             (d / "w.svg").string(),
+                         false);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["optimum"]["E"].get<double>(), 0.5, 1e-6);
+  const auto& x = j["exhaustive"];
+  ASSERT_EQ(x["d"].size(), 5u);
+  EXPECT_EQ(x["rate"]["E"][0].get<double>(), 0.0) << "one edge leaves the graph disconnected";
+  EXPECT_NEAR(x["rate"]["E"][3].get<double>(), 0.5, 1e-9);
+  for (const auto& v : x["rate"]["E"]) EXPECT_LE(v.get<double>(), 0.5 + 1e-9) << "never above the optimum";
+  std::ifstream svg(d / "w.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(has(text, "<svg"));
+  // --plot needs --walks; --start must name a node.
+  const auto bad = runHost("optimal " + (d / "g.txt").string() + " -p " + (d / "x.svg").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(has(bad.out, "--walks")) << bad.out;
+  const auto bad_start = runHost("optimal " + (d / "g.txt").string() + " --walks 3 --start 9");
+  EXPECT_EQ(bad_start.code, 1);
+  EXPECT_TRUE(has(bad_start.out, "--start 9: nodes are 1..4")) << bad_start.out;
+  fs::remove_all(d);
+}
+
+TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
+  // Three regions in a row plus a frontier edge: the frontier and the unexplored node are
+  // not part of the graph (a path of 3 nodes, 2 edges: D-optimal weights 1/2 each).
+  const fs::path d = tempDir("topology");
+  std::ofstream(d / "topology.json") << R"({"nodes": [{"region": 4}, {"region": 7}, {"region": 9},
+    {"region": -1}], "edges": [{"a": 4, "b": 7, "frontier": false}, {"a": 7, "b": 9,
+    "frontier": false}, {"a": 9, "b": -1, "frontier": true}]})";
+  const auto r = runHost("optimal " + (d / "topology.json").string() + " --criteria D --json", false);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["n"], 3);
+  EXPECT_EQ(j["m"], 2);
+  EXPECT_TRUE(j["connected"].get<bool>());
+  EXPECT_NEAR(j["weights"]["D"][0].get<double>(), 0.5, 1e-6);
+  std::ofstream(d / "bad.json") << R"({"nodes": [{"region": 1}], "edges": [{"a": 1, "b": 5}]})";
+  const auto bad = runHost("optimal " + (d / "bad.json").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(has(bad.out, "names a region that is not a node")) << bad.out;
+  fs::remove_all(d);
+}
+
+}  // namespace
