@@ -4,6 +4,8 @@
 #include <asf/segment_world.h>
 #include <asf/topo_builder.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -181,6 +183,50 @@ TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {
   EXPECT_EQ(t3.node(7)->entrance_edge, -1) << "the start region has no entrance";
   EXPECT_EQ(t3.node(9)->entrance_edge, ke);
   EXPECT_EQ(t3.current, 7);
+}
+
+TEST(TopoBuilder, FrontierEdgesNeedAStretchOfAdjacentCells) {
+  // One region, 11 x 6 free cells inside walls; column 11 is wall except the rows listed as
+  // unknown. Three unknown cells far apart (0.3 m in total, but 0.1 m each) are no frontier;
+  // three adjacent ones (a 0.3 m stretch) are.
+  auto frontierEdges = [](std::vector<int> unknown_rows) {
+    asf::Segmentation seg;
+    auto& L = seg.labels;
+    L.width = 12, L.height = 8, L.resolution = 0.1;
+    L.labels.assign(96, 0);
+    auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(0.0f, 1.2f, 0.0f, 0.8f, 0.1f);
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 12; ++x) {
+        const bool wall = y == 0 || y == 7 || x == 0 || x == 11;
+        const bool unknown = x == 11 && std::find(unknown_rows.begin(), unknown_rows.end(), y) !=
+                                            unknown_rows.end();
+        grid->setCell(x, y, unknown ? 0.5f : wall ? 0.0f : 1.0f);
+        if (!wall) L.labels[y * 12 + x] = 1;
+      }
+    asf::Region r;
+    r.id = 1, r.centroid = {0.6, 0.4}, r.area = 0.6;
+    seg.regions = {r};
+    asf::GridMap map;
+    map.grid = grid;
+    map.version = 1;
+    std::size_t n;
+    const asf::KeySpec* k = asf::TopoBuilder::keys(n);
+    asf::TopoBuilder tb;
+    tb.configure(asf::Params::fromSpecs("topology", k, n, {{"min_frontier_width", "0.3"}}));
+    tb.update(seg, map);
+    return tb.graph().edges;
+  };
+  EXPECT_TRUE(frontierEdges({1, 3, 5}).empty());
+  const auto edges = frontierEdges({2, 3, 4});
+  ASSERT_EQ(edges.size(), 1u);
+  EXPECT_TRUE(edges[0].frontier());
+  EXPECT_NEAR(edges[0].width, 0.3, 1e-9);
+  EXPECT_NEAR(edges[0].midpoint.y, 0.35, 1e-6);  // the middle of rows 2..4
+  EXPECT_EQ(edges[0].border.size(), 3u);
+  // A stretch plus a stray cell: only the stretch's cells are kept.
+  const auto mixed = frontierEdges({1, 2, 3, 6});
+  ASSERT_EQ(mixed.size(), 1u);
+  EXPECT_EQ(mixed[0].border.size(), 3u);
 }
 
 TEST(Geometry, PolygonAreaAndCentroid) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <algorithm>
 #include <map>
+#include <unordered_map>
 
 namespace asf {
 
@@ -13,8 +14,8 @@ const KeySpec kTopoKeys[] = {
               "Two regions are joined when their shared free border is at least this wide [m]",
               0.0, 100.0),
     keyDouble("min_frontier_width", "0.5",
-              "A region gets a frontier edge when it borders unknown space over at least this "
-              "width [m]",
+              "A region gets a frontier edge when it borders unknown space along a stretch of "
+              "adjacent cells at least this wide [m]; shorter stretches are ignored",
               0.0, 100.0),
     keyDouble("unknown_band", "0.02",
               "A cell is unknown when its probability differs from 0.5 by less than this", 0.0, 0.5),
@@ -26,6 +27,51 @@ Key edgeKey(RegionId a, RegionId b) {
   return a < b ? Key{a, b} : Key{b, a};
 }
 }  // namespace
+
+void TopoBuilder::keepWideFrontiers(std::vector<int>& cells, int width, double resolution,
+                                    std::vector<Point2>& border) const {
+  // A region borders unknown space "over a width" along a stretch of adjacent frontier
+  // cells (8-neighbours); scattered single cells along a wall's blurred edge add up to a
+  // width but are no place to explore from.
+  std::unordered_map<int, int> at;  // cell index -> position in `cells`
+  for (std::size_t i = 0; i < cells.size(); ++i) at.emplace(cells[i], static_cast<int>(i));
+  std::vector<char> kept(cells.size(), 0), seen(cells.size(), 0);
+  std::vector<int> stack, piece;
+  const int min_cells = static_cast<int>(std::ceil(min_frontier_width_ / resolution - 1e-9));
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (seen[i]) continue;
+    piece.clear();
+    stack.assign(1, static_cast<int>(i));
+    seen[i] = 1;
+    while (!stack.empty()) {
+      const int j = stack.back();
+      stack.pop_back();
+      piece.push_back(j);
+      const int cx = cells[j] % width, cy = cells[j] / width;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (!dx && !dy) continue;
+          const int nx = cx + dx, ny = cy + dy;
+          if (nx < 0 || nx >= width || ny < 0) continue;
+          auto it = at.find(ny * width + nx);
+          if (it == at.end() || seen[it->second]) continue;
+          seen[it->second] = 1;
+          stack.push_back(it->second);
+        }
+    }
+    if (static_cast<int>(piece.size()) >= min_cells)
+      for (int j : piece) kept[j] = 1;
+  }
+  std::vector<Point2> b;
+  std::vector<int> c;
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (kept[i]) {
+      b.push_back(border[i]);
+      c.push_back(cells[i]);
+    }
+  border.swap(b);
+  cells.swap(c);
+}
 
 const KeySpec* TopoBuilder::keys(std::size_t& n) {
   n = std::size(kTopoKeys);
@@ -56,6 +102,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
     int cells = 0;
     double sx = 0, sy = 0;
     std::vector<Point2> border;  // cells on the side of the key's first region
+    std::vector<int> frontier_cells;  // frontier keys: label-image index of each border cell
   };
   std::map<Key, Acc> acc;
   auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
@@ -99,6 +146,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
         s.sx += cellX(cx);
         s.sy += cellY(cy);
         s.border.push_back({cellX(cx), cellY(cy)});
+        s.frontier_cells.push_back(cy * L.width + cx);
       }
     }
 
@@ -116,9 +164,20 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
   TopoNode unexplored;
   unexplored.region = kUnexplored;
   g.nodes.push_back(unexplored);
-  for (const auto& [k, s] : acc) {
-    const double width = s.cells * L.resolution;
+  for (auto& [k, s] : acc) {
     const bool is_frontier = k.second == kUnexplored;
+    if (is_frontier) keepWideFrontiers(s.frontier_cells, L.width, L.resolution, s.border);
+    if (is_frontier) {
+      // Width, midpoint from the stretches kept.
+      s.cells = static_cast<int>(s.border.size());
+      s.sx = s.sy = 0;
+      for (const Point2& b : s.border) {
+        s.sx += b.x;
+        s.sy += b.y;
+      }
+      if (s.cells == 0) continue;
+    }
+    const double width = s.cells * L.resolution;
     if (width < (is_frontier ? min_frontier_width_ : min_border_width_)) continue;
     TopoEdge e;
     e.a = k.first;

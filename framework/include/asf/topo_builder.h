@@ -2,8 +2,8 @@
 /// \file topo_builder.h
 /// Framework service: topological graph from a Segmentation and the map, with the robot's
 /// traversal history. Regions that share a free border at least `min_border_width` wide are
-/// joined; a region bordering unknown space over at least `min_frontier_width` gets an edge
-/// to the kUnexplored node.
+/// joined; a region bordering unknown space along a stretch at least `min_frontier_width`
+/// wide gets an edge to the kUnexplored node (through the cells of all such stretches).
 #include <asf/grid_map.h>
 #include <asf/key_spec.h>
 #include <asf/params.h>
@@ -37,6 +37,10 @@ class TopoBuilder {
  private:
   double min_border_width_ = 0.3, min_frontier_width_ = 0.5, unknown_band_ = 0.02;
   void replay(const PoseGraph& history);
+  /// Keeps the frontier cells (label-image indices, with their points in `border`) that
+  /// lie on stretches of at least min_frontier_width.
+  void keepWideFrontiers(std::vector<int>& cells, int width, double resolution,
+                         std::vector<Point2>& border) const;
 
   Segmentation seg_;
   TopoGraph graph_;
