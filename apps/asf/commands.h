@@ -33,5 +33,6 @@ int cmdSegment(int argc, char** argv);
 int cmdSegmentEval(int argc, char** argv);
 int cmdPlan(int argc, char** argv);
 int cmdExperiment(int argc, char** argv);
+int cmdMap3d(int argc, char** argv);
 
 }  // namespace asf::app

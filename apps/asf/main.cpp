@@ -52,6 +52,8 @@ const Command kCommands[] = {
      "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
     {"experiment", asf::app::cmdExperiment,
      "Replications x policies of an exploration pipeline in parallel: tables, plots, report"},
+    {"map3d", asf::app::cmdMap3d,
+     "3D observations of a rawlog into an OctoMap (.bt/.ot), projected to the 2D grid"},
 };
 
 void usage(std::ostream& os) {

@@ -78,12 +78,32 @@ struct Design {
     return W;
   }
   // R = [a_j^T X a_l] (X symmetric).
-  MatrixXd quad(const MatrixXd& X) const {
-    const MatrixXd W = rows(X);
+  MatrixXd quad(const MatrixXd& X) const { return quadRows(rows(X)); }
+  // The same from W = rows(X).
+  MatrixXd quadRows(const MatrixXd& W) const {
     if (!graph) return W * A.transpose();
     MatrixXd R(m, m);
     for (int l = 0; l < m; ++l) R.col(l) = W.col(u[l]) - W.col(v[l]);
     return R;
+  }
+  // X sum_j w_j a_j a_j^T (graphs: two columns per edge, O(rows(X) m)).
+  MatrixXd mulSum(const MatrixXd& X, const VectorXd& w) const {
+    if (!graph) return (X * A.transpose()) * w.asDiagonal() * A;
+    MatrixXd Y = MatrixXd::Zero(X.rows(), N);
+    VectorXd c(X.rows());
+    for (int j = 0; j < m; ++j) {
+      c = w[j] * (X.col(u[j]) - X.col(v[j]));
+      Y.col(u[j]) += c;
+      Y.col(v[j]) -= c;
+    }
+    return Y;
+  }
+  // X Pi.
+  MatrixXd mulPi(const MatrixXd& X) const {
+    if (!graph) return X;
+    MatrixXd Y = X;
+    Y.colwise() -= X.rowwise().sum() / N;
+    return Y;
   }
   // a_j^T X a_j; X need not be symmetric (the symmetric part counts).
   VectorXd diagQuad(const MatrixXd& X) const {
@@ -137,46 +157,60 @@ Design graphDesign(const Multigraph& g, std::vector<int>& kept) {
 
 // Largest step alpha with X + alpha dX still positive definite (X = R R^T given by its
 // Cholesky factor): 1 / max(0, -lambda_min(R^-1 dX R^-T)), lambda_min estimated by Lanczos
-// with full reorthogonalization (O(n^2) per iteration instead of a dense eigensolver). A Ritz
-// value is >= lambda_min, so the estimate can be long: callers verify the step by Cholesky.
-double maxStepPD(const Eigen::LLT<MatrixXd>& X, const MatrixXd& dX) {
+// with full reorthogonalization (O(n^2) per iteration instead of a dense eigensolver). `start`
+// (if not empty) is the first Lanczos vector and receives the Ritz vector of the smallest
+// Ritz value: the extreme eigenvector moves little between the predictor and the corrector
+// and between iterations, so a warm start converges in a few steps. It stops when that Ritz
+// pair's residual is below rtol |Ritz value|. A Ritz value is >= lambda_min, so the estimate
+// can be long: callers verify the step by Cholesky.
+double maxStepPD(const Eigen::LLT<MatrixXd>& X, const MatrixXd& dX, VectorXd& start,
+                 int kcap = 40, double rtol = 1e-3) {
   const int n = static_cast<int>(dX.rows());
-  const int kmax = std::min(n, 40);
+  const int kmax = std::min(n, kcap);
   MatrixXd V(n, kmax + 1);
   VectorXd al(kmax), be(kmax + 1);
-  VectorXd v(n);
-  for (int i = 0; i < n; ++i) v[i] = std::sin(1.0 + 0.7 * i);  // deterministic start
-  V.col(0) = v.normalized();
-  double prev = kInf, ritz = 0;
-  int k = 0;
-  VectorXd w(n);
-  for (; k < kmax; ++k) {
-    w = X.matrixU().solve(V.col(k));
-    w = dX * w;
-    X.matrixL().solveInPlace(w);
-    al[k] = V.col(k).dot(w);
-    w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
-    w -= V.leftCols(k + 1) * (V.leftCols(k + 1).transpose() * w);
-    be[k + 1] = w.norm();
-    MatrixXd T = MatrixXd::Zero(k + 1, k + 1);
-    for (int i = 0; i <= k; ++i) {
-      T(i, i) = al[i];
-      if (i > 0) T(i, i - 1) = T(i - 1, i) = be[i];
-    }
-    ritz = Eigen::SelfAdjointEigenSolver<MatrixXd>(T, Eigen::EigenvaluesOnly).eigenvalues()[0];
-    const double scale = al.head(k + 1).cwiseAbs().maxCoeff() + 1e-300;
-    if (be[k + 1] <= 1e-12 * scale) break;
-    if (k >= 4 && std::abs(ritz - prev) <= 1e-4 * std::abs(ritz)) break;
-    prev = ritz;
-    V.col(k + 1) = w / be[k + 1];
+  VectorXd w(n), y(n), h(kmax + 1);
+  if (start.size() == n && start.norm() > 0) {
+    w = start;
+  } else {
+    for (int i = 0; i < n; ++i) w[i] = std::sin(1.0 + 0.7 * i);  // deterministic start
   }
+  V.col(0) = w.normalized();
+  Eigen::SelfAdjointEigenSolver<MatrixXd> es;
+  double ritz = 0, prev = kInf, scale = 1e-300;
+  int k = 0;
+  for (;; ++k) {
+    w = V.col(k);
+    X.matrixU().solveInPlace(w);
+    y.noalias() = dX * w;
+    X.matrixL().solveInPlace(y);
+    al[k] = V.col(k).dot(y);
+    for (int pass = 0; pass < 2; ++pass) {
+      h.head(k + 1).noalias() = V.leftCols(k + 1).transpose() * y;
+      y.noalias() -= V.leftCols(k + 1) * h.head(k + 1);
+    }
+    be[k + 1] = y.norm();
+    scale = std::max(scale, std::abs(al[k]));
+    es.computeFromTridiagonal(al.head(k + 1), be.segment(1, k), Eigen::ComputeEigenvectors);
+    ritz = es.eigenvalues()[0];
+    const double residual = be[k + 1] * std::abs(es.eigenvectors()(k, 0));
+    if (k + 1 >= kmax || be[k + 1] <= 1e-12 * scale ||
+        (k >= 1 && residual <= rtol * std::abs(ritz)) ||
+        (k >= 2 && std::abs(ritz - prev) <= rtol * std::abs(ritz)))
+      break;
+    prev = ritz;
+    V.col(k + 1) = y / be[k + 1];
+  }
+  start.noalias() = V.leftCols(k + 1) * es.eigenvectors().col(0);
   return ritz < 0 ? -1.0 / ritz : kInf;
 }
 
-bool isPD(const Design& D, const MatrixXd& X) {
+// Cholesky of X padded to be invertible (X + J/N for graphs); false if not positive definite.
+bool factorPD(const Design& D, const MatrixXd& X, Eigen::LLT<MatrixXd>& c) {
   MatrixXd Y = X;
   D.pad(Y);
-  return Eigen::LLT<MatrixXd>(Y).info() == Eigen::Success;
+  c.compute(Y);
+  return c.info() == Eigen::Success;
 }
 
 // ---- E: primal-dual interior point method on
@@ -185,6 +219,11 @@ bool isPD(const Design& D, const MatrixXd& X) {
 // HKM search direction, Mehrotra predictor-corrector, separate primal and dual step lengths.
 // The start is primal and dual feasible, so the linear constraints stay satisfied and the
 // gap is <Z, S> + x^T z = nu - t.
+//
+// Cost per iteration: one Cholesky and one inverse of S, the (m+1) x (m+1) Schur complement
+// (entries (a_j^T Z a_l)(a_j^T S^-1 a_l) by look-ups) and its Cholesky, and two dense products
+// (Z dS + dZ_aff dS_aff) S^-1: products with dS = sum dx_j a_j a_j^T - dt Pi are sparse (two
+// columns per edge). The Cholesky factors that accept a step are those of the next iteration.
 struct EResult {
   VectorXd x;
   MatrixXd W;  // dual matrix, trace 1 on the problem space, PSD
@@ -209,6 +248,8 @@ void certifyE(const Design& D, const VectorXd& xin, const MatrixXd& Z, EResult& 
 EResult solveE(const Design& D, double tol, int max_iter) {
   const int m = D.m, N = D.N, k = D.k();
   const MatrixXd Pi = D.pi();
+  const MatrixXd I = MatrixXd::Identity(N, N);
+  const double gam = getenv("EGAM") ? atof(getenv("EGAM")) : 0.98;
   VectorXd x = VectorXd::Constant(m, 1.0 / m);
   const double lmin0 = D.spectrum(D.sumOuter(x))[0];
   if (!(lmin0 > 0)) throw Error("E-optimal design: the design vectors do not span the space");
@@ -217,6 +258,20 @@ EResult solveE(const Design& D, double tol, int max_iter) {
   VectorXd za = D.diagQuad(Z);
   double nu = za.maxCoeff() + lmin0;  // dual feasible, z of the order of the gap
   VectorXd z = (nu - za.array()).matrix();
+  const int estart = getenv("ESTART") ? atoi(getenv("ESTART")) : 0;
+  if (estart > 0) {
+    MatrixXd S0 = D.sumOuter(x) - t * Pi;
+    Eigen::LLT<MatrixXd> c0;
+    factorPD(D, S0, c0);
+    Z = c0.solve(I);
+    D.pad(Z, -1.0);
+    Z = 0.5 * (Z + Z.transpose()).eval();
+    Z /= Z.trace();
+    za = D.diagQuad(Z);
+    const double mum = Z.cwiseProduct(S0).sum() / k;
+    nu = za.maxCoeff() + (estart == 1 ? m * mum : estart == 2 ? lmin0 : 0.5 * (za.maxCoeff() - za.minCoeff()) + m * mum);
+    z = (nu - za.array()).matrix();
+  }
 
   EResult best;
   best.bound = kInf;
@@ -237,26 +292,31 @@ EResult solveE(const Design& D, double tol, int max_iter) {
     return (best.bound - best.value) <= tol * best.bound;
   };
 
+  MatrixXd S = D.sumOuter(x) - t * Pi;
+  Eigen::LLT<MatrixXd> cS, cZ;
+  bool okS = factorPD(D, S, cS), okZ = factorPD(D, Z, cZ);
+  MatrixXd Sinv, Ws, Wz, H(m + 1, m + 1);
+  VectorXd vS, vZ;  // Lanczos warm starts (step lengths)
   for (int it = 1; it <= max_iter; ++it) {
-    MatrixXd S = D.sumOuter(x) - t * Pi;
-    MatrixXd Sp = S;
-    D.pad(Sp);
-    Eigen::LLT<MatrixXd> cS(Sp);
-    if (cS.info() != Eigen::Success) break;  // lost interiority (numerical end)
-    MatrixXd Sinv = cS.solve(MatrixXd::Identity(N, N));
+    if (!okS) break;  // lost interiority (numerical end)
+    Sinv = cS.solve(I);
     D.pad(Sinv, -1.0);
     const double mu = ((Z.cwiseProduct(S)).sum() + x.dot(z)) / (k + m);
-    if (nu - t <= 0.2 * tol * std::abs(nu) || mu <= 0) {
+    // Certificate estimate at no cost: S > 0 gives lambda_min(L(x)) >= t, and a positive
+    // definite Z gives the bound max_j a_j^T Z a_j / tr Z; certifyE then does it exactly.
+    za = D.diagQuad(Z);
+    const double lo = t / x.sum(), hi = okZ ? za.maxCoeff() / Z.trace() : nu;
+    if (hi - lo <= tol * hi || mu <= 0) {
       if (consider(x, Z, it)) return best;
       if (mu <= 0) break;
     }
-    const MatrixXd ZSinv = Z * Sinv;
-    const MatrixXd Rz = D.quad(Z), Rs = D.quad(Sinv);
-    const VectorXd c = D.diagQuad(ZSinv);
-    const double tau = ZSinv.trace();
+    Ws = D.rows(Sinv);
+    Wz = D.rows(Z);
+    const MatrixXd Rz = D.quadRows(Wz), Rs = D.quadRows(Ws);
+    const VectorXd c = Wz.cwiseProduct(Ws).rowwise().sum();  // a_j^T Z S^-1 a_j
+    const double tau = Z.cwiseProduct(Sinv).sum();            // tr(Z S^-1)
     const VectorXd sinv = Rs.diagonal();
     const double trSinv = Sinv.trace();
-    MatrixXd H(m + 1, m + 1);
     H.topLeftCorner(m, m) = Rz.cwiseProduct(Rs);
     H.topLeftCorner(m, m).diagonal() += z.cwiseQuotient(x);
     H.block(0, m, m, 1) = -c;
@@ -279,11 +339,13 @@ EResult solveE(const Design& D, double tol, int max_iter) {
       VectorXd rhs(m + 1);
       rhs.head(m) = sigma_mu * (sinv + x.cwiseInverse()) - VectorXd::Constant(m, nu);
       rhs[m] = 1.0 - sigma_mu * trSinv;
-      MatrixXd G;
+      MatrixXd M;  // Z dS (+ dZ_aff dS_aff): the product that meets S^-1
       if (aff) {
-        G = aff->dZ * aff->dS * Sinv;
-        rhs.head(m) -= D.diagQuad(G) + aff->dz.cwiseProduct(aff->dx).cwiseQuotient(x);
-        rhs[m] += G.trace();
+        // Second-order term G = dZ_aff dS_aff S^-1: a_j^T G a_j and tr G without forming G.
+        M = D.mulSum(aff->dZ, aff->dx) - aff->dt * D.mulPi(aff->dZ);
+        rhs.head(m) -= D.rows(M).cwiseProduct(Ws).rowwise().sum() +
+                       aff->dz.cwiseProduct(aff->dx).cwiseQuotient(x);
+        rhs[m] += M.cwiseProduct(Sinv).sum();
       }
       const VectorXd Hr = cH.solve(rhs);
       Dir d;
@@ -292,28 +354,30 @@ EResult solveE(const Design& D, double tol, int max_iter) {
       d.dx = sol.head(m);
       d.dt = sol[m];
       d.dS = D.sumOuter(d.dx) - d.dt * Pi;
-      MatrixXd T = Z * d.dS * Sinv;
-      if (aff) T += G;
+      if (aff)
+        M += D.mulSum(Z, d.dx) - d.dt * D.mulPi(Z);
+      else
+        M = D.mulSum(Z, d.dx) - d.dt * D.mulPi(Z);
+      MatrixXd T(N, N);
+      T.noalias() = M * Sinv;
       d.dZ = sigma_mu * Sinv - Z - 0.5 * (T + T.transpose());
       d.dz = (sigma_mu * x.cwiseInverse() - z - z.cwiseProduct(d.dx).cwiseQuotient(x));
       if (aff) d.dz -= aff->dz.cwiseProduct(aff->dx).cwiseQuotient(x);
       return d;
     };
-    MatrixXd Zp = Z;
-    D.pad(Zp);
-    const Eigen::LLT<MatrixXd> cZ(Zp);
-    auto steps = [&](const Dir& d, double& ap, double& ad) {
+    auto steps = [&](const Dir& d, double& ap, double& ad, int kcap) {
+      (void)kcap;
       ap = ad = kInf;
       for (int j = 0; j < m; ++j) {
         if (d.dx[j] < 0) ap = std::min(ap, -x[j] / d.dx[j]);
         if (d.dz[j] < 0) ad = std::min(ad, -z[j] / d.dz[j]);
       }
-      ap = std::min(ap, maxStepPD(cS, d.dS));
-      ad = std::min(ad, cZ.info() == Eigen::Success ? maxStepPD(cZ, d.dZ) : 0.0);
+      ap = std::min(ap, maxStepPD(cS, d.dS, vS));
+      ad = std::min(ad, okZ ? maxStepPD(cZ, d.dZ, vZ) : 0.0);
     };
     const Dir aff = direction(0.0, nullptr);
     double ap, ad;
-    steps(aff, ap, ad);
+    steps(aff, ap, ad, 40);
     ap = std::min(1.0, ap);
     ad = std::min(1.0, ad);
     const MatrixXd Sa = S + ap * aff.dS, Za = Z + ad * aff.dZ;
@@ -321,17 +385,36 @@ EResult solveE(const Design& D, double tol, int max_iter) {
         ((Za.cwiseProduct(Sa)).sum() + (x + ap * aff.dx).dot(z + ad * aff.dz)) / (k + m);
     const double sigma = std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0);
     const Dir d = direction(sigma * mu, &aff);
-    steps(d, ap, ad);
-    ap = std::min(1.0, 0.98 * ap);
-    ad = std::min(1.0, 0.98 * ad);
-    for (int back = 0; back < 30 && !isPD(D, S + ap * d.dS); ++back) ap *= 0.8;
-    for (int back = 0; back < 30 && !isPD(D, Z + ad * d.dZ); ++back) ad *= 0.8;
-    x += ap * d.dx;
-    t += ap * d.dt;
-    Z += ad * d.dZ;
-    Z = 0.5 * (Z + Z.transpose()).eval();
-    z += ad * d.dz;
-    nu += ad * d.dnu;
+    steps(d, ap, ad, 40);
+    ap = std::min(1.0, gam * ap);
+    ad = std::min(1.0, gam * ad);
+    // Accept the longest step (backtracking) whose new S, resp. Z, factors: those Cholesky
+    // factors serve the next iteration.
+    okS = false;
+    for (int back = 0; back < 30 && !okS; ++back, ap *= 0.8) {
+      const VectorXd xn = x + ap * d.dx;
+      const double tn = t + ap * d.dt;
+      MatrixXd Sn = D.sumOuter(xn) - tn * Pi;
+      if (factorPD(D, Sn, cS)) {
+        okS = true;
+        x = xn;
+        t = tn;
+        S.swap(Sn);
+      }
+    }
+    if (!okS) okS = factorPD(D, S, cS);  // keep x, t (and the old factor)
+    bool okZn = false;
+    for (int back = 0; back < 30 && !okZn; ++back, ad *= 0.8) {
+      MatrixXd Zn = Z + ad * d.dZ;
+      Zn = 0.5 * (Zn + Zn.transpose()).eval();
+      if (factorPD(D, Zn, cZ)) {
+        okZn = true;
+        Z.swap(Zn);
+        z += ad * d.dz;
+        nu += ad * d.dnu;
+      }
+    }
+    if (!okZn) okZ = factorPD(D, Z, cZ);
     best.iterations = it;
   }
   consider(x, Z, best.iterations);

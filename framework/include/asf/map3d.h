@@ -127,7 +127,9 @@ class Map3d {
   // ------------------------------------------------------------------- outputs
 
   /// The 2D projection (MRPT convention: cell value = p(free)) at project_resolution. Per
-  /// column (x, y), over the leaves whose z extent overlaps (min_height, max_height):
+  /// column (x, y), over the voxels whose centre is strictly inside (min_height, max_height)
+  /// (a pruned leaf when one of its voxels is; the floor voxel [0, resolution) stays out
+  /// while resolution <= 2 min_height):
   /// occupied if one has occupancy >= 0.5 + unknown_band (p(free) = 1 - the largest such
   /// occupancy), else free if one has occupancy <= 0.5 - unknown_band (p(free) = 1 - the
   /// largest such occupancy, the least sure free voxel), else unknown (0.5). The grid spans
