@@ -9,10 +9,31 @@
 namespace asf {
 
 namespace {
-
-enum CellState : std::uint8_t { kFree = 0, kUnknown = 1, kOccupied = 2 };
-
+constexpr std::uint8_t kFree = kCellFree, kUnknown = kCellUnknown, kOccupied = kCellOccupied;
 }  // namespace
+
+std::vector<std::uint8_t> classifyCells(const mrpt::maps::COccupancyGridMap2D& grid,
+                                        const ReachabilityOptions& o) {
+  using CellT = mrpt::maps::COccupancyGridMap2D::cellType;
+  using CellU = mrpt::maps::COccupancyGridMap2D::cellTypeUnsigned;
+  constexpr std::size_t kValues = std::size_t{1} << (8 * sizeof(CellT));
+  std::vector<std::uint8_t> class_of(kValues);
+  for (std::size_t u = 0; u < kValues; ++u) {
+    const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(
+        static_cast<CellT>(static_cast<CellU>(u)));  // MRPT stores p(free)
+    class_of[u] = 1.0 - p_free > o.occupied_threshold       ? kOccupied
+                  : std::abs(p_free - 0.5) < o.unknown_band ? kUnknown
+                                                            : kFree;
+  }
+  const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
+  std::vector<std::uint8_t> state(static_cast<std::size_t>(W) * H);
+  for (int y = 0; y < H; ++y) {
+    const CellT* cells = grid.getRow(y);
+    std::uint8_t* row = &state[static_cast<std::size_t>(y) * W];
+    for (int x = 0; x < W; ++x) row[x] = class_of[static_cast<CellU>(cells[x])];
+  }
+  return state;
+}
 
 Reachability Reachability::compute(const GridMap& map, const Point2& from,
                                    const ReachabilityOptions& o) {
@@ -33,27 +54,15 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
   const int sy = static_cast<int>(std::floor((from.y - r.origin_y_) / res));
   if (sx < 0 || sy < 0 || sx >= W || sy >= H) return r;  // start off the map: nothing known
 
-  // Classify once, through a table over every raw log-odds value (MRPT's cells are 8 or
-  // 16 bits): cheaper than converting each cell to a probability.
-  using CellT = mrpt::maps::COccupancyGridMap2D::cellType;
-  using CellU = mrpt::maps::COccupancyGridMap2D::cellTypeUnsigned;
-  constexpr std::size_t kValues = std::size_t{1} << (8 * sizeof(CellT));
-  std::vector<std::uint8_t> class_of(kValues);
-  for (std::size_t u = 0; u < kValues; ++u) {
-    const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(
-        static_cast<CellT>(static_cast<CellU>(u)));  // MRPT stores p(free)
-    class_of[u] = 1.0 - p_free > o.occupied_threshold       ? kOccupied
-                  : std::abs(p_free - 0.5) < o.unknown_band ? kUnknown
-                                                            : kFree;
-  }
+  const std::vector<std::uint8_t> all = classifyCells(*grid, o);
   // Only the box of known cells (plus the robot's footprint) can hold passable cells: the
   // rest of the grid, often most of it (MapBuilder grows it with margins), is unknown.
   int bx0 = W, by0 = H, bx1 = -1, by1 = -1;
   for (int y = 0; y < H; ++y) {
-    const CellT* cells = grid->getRow(y);
+    const std::uint8_t* row = &all[static_cast<std::size_t>(y) * W];
     int first = -1, last = -1;
     for (int x = 0; x < W; ++x)
-      if (class_of[static_cast<CellU>(cells[x])] != kUnknown) {
+      if (row[x] != kUnknown) {
         if (first < 0) first = x;
         last = x;
       }
@@ -74,11 +83,11 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
   cv::Mat1b not_obstacle(BH, BW);
   bool any_obstacle = false;
   for (int y = 0; y < BH; ++y) {
-    const CellT* cells = grid->getRow(y + by0) + bx0;
+    const std::uint8_t* cells = &all[static_cast<std::size_t>(y + by0) * W + bx0];
     std::uint8_t* mask_row = not_obstacle[y];
     std::uint8_t* state_row = &state[static_cast<std::size_t>(y) * BW];
     for (int x = 0; x < BW; ++x) {
-      const std::uint8_t st = class_of[static_cast<CellU>(cells[x])];
+      const std::uint8_t st = cells[x];
       state_row[x] = st;
       mask_row[x] = st == kOccupied ? 0 : 255;
       any_obstacle |= st == kOccupied;

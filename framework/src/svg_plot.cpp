@@ -1,4 +1,5 @@
 #include <asf/errors.h>
+#include <asf/run_report.h>
 #include <asf/svg_plot.h>
 
 #include <algorithm>
@@ -17,19 +18,8 @@ namespace {
 const char* const kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
                                 "#E69F00", "#56B4E9", "#000000", "#F0E442"};
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
+// Text in SVG is escaped as in HTML.
+std::string esc(const std::string& s) { return report::htmlEscape(s); }
 
 std::string num(double v) {
   char b[32];

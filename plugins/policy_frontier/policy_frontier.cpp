@@ -17,7 +17,7 @@
 
 namespace {
 
-enum CellState : std::uint8_t { kFree = 0, kUnknown = 1, kOccupied = 2 };
+constexpr std::uint8_t kFree = asf::kCellFree, kUnknown = asf::kCellUnknown;
 
 /// A frontier: 8-connected frontier cells (row-major indices, ascending).
 struct Frontier {
@@ -161,25 +161,7 @@ class FrontierPolicy final : public asf::Policy {
   /// nothing is known) clustered 8-connected, in row-major order of their first cell.
   std::vector<Frontier> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid) const {
     const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
-    // Classified through a table over every raw log-odds value (MRPT's cells are 8 or 16
-    // bits), as Reachability does: cheaper than a probability per cell.
-    using CellT = mrpt::maps::COccupancyGridMap2D::cellType;
-    using CellU = mrpt::maps::COccupancyGridMap2D::cellTypeUnsigned;
-    constexpr std::size_t kValues = std::size_t{1} << (8 * sizeof(CellT));
-    std::vector<std::uint8_t> class_of(kValues);
-    for (std::size_t u = 0; u < kValues; ++u) {
-      const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(
-          static_cast<CellT>(static_cast<CellU>(u)));  // MRPT stores p(free)
-      class_of[u] = 1.0 - p_free > reach_.occupied_threshold       ? kOccupied
-                    : std::abs(p_free - 0.5) < reach_.unknown_band ? kUnknown
-                                                                   : kFree;
-    }
-    std::vector<std::uint8_t> state(static_cast<std::size_t>(W) * H);
-    for (int y = 0; y < H; ++y) {
-      const CellT* cells = grid.getRow(y);
-      for (int x = 0; x < W; ++x)
-        state[static_cast<std::size_t>(y) * W + x] = class_of[static_cast<CellU>(cells[x])];
-    }
+    const std::vector<std::uint8_t> state = asf::classifyCells(grid, reach_);
     const auto unknownAt = [&](int x, int y) {
       return x < 0 || y < 0 || x >= W || y >= H ||
              state[static_cast<std::size_t>(y) * W + x] == kUnknown;

@@ -10,6 +10,7 @@
 #include <asf/geometry.h>
 #include <asf/grid_map.h>
 
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -22,6 +23,14 @@ struct ReachabilityOptions {
   double occupied_threshold = 0.65;  ///< p(occupied) above this is an obstacle
   double unknown_band = 0.02;        ///< |p - 0.5| below this is unknown (not passable)
 };
+
+/// What a cell of the estimated map is, under the thresholds of `options`.
+enum CellState : std::uint8_t { kCellFree = 0, kCellUnknown = 1, kCellOccupied = 2 };
+
+/// Every cell of `grid` classified (row-major, getSizeX() per row), through a table over the
+/// raw cell values (MRPT's cells are 8 or 16 bits): cheaper than a probability per cell.
+std::vector<std::uint8_t> classifyCells(const mrpt::maps::COccupancyGridMap2D& grid,
+                                        const ReachabilityOptions& options);
 
 class Reachability {
  public:
