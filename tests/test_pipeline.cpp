@@ -174,6 +174,24 @@ TEST(Pipeline, InterruptedRunLeavesValidOutputs) {
   fs::remove_all(out);
 }
 
+TEST(Pipeline, PolicyThatNeverMovesTheRobotIsStopped) {
+  // A looping route whose only waypoint is where the robot stands: every goal is reached at
+  // once and the policy would go on forever; the host stops it.
+  asf::Registry reg;
+  auto ini = asf::IniConfig::fromFile(kDefault);
+  ini.set("pipeline", "progress_interval", "0");
+  ini.set("pipeline", "max_idle_decisions", "20");
+  ini.set("waypoints", "waypoints", "0 0");
+  ini.set("waypoints", "loop", "true");
+  const fs::path out = tempDir("idle");
+  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+  const asf::RunSummary s = p.run();
+  EXPECT_FALSE(s.finished);
+  EXPECT_TRUE(has(s.stop_reason, "no progress: the policy's last 20 decisions")) << s.stop_reason;
+  EXPECT_EQ(s.decisions, 20);
+  fs::remove_all(out);
+}
+
 TEST(Pipeline, PluginFailureMidRunKeepsWhatWasProduced) {
   // The test policy shuttles for 3 goals and throws on its 4th decision; the run must
   // report the error and still leave the steps driven so far on disk.

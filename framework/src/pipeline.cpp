@@ -421,10 +421,11 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
                             " goals failed; giving up";
           break;
         }
+        // Counts the decisions since the robot last moved 0.1 m (the previous one included).
         if (sum.distance_m - idle_since_distance >= 0.1) {
           idle_since_distance = sum.distance_m;
           idle_decisions = 0;
-        } else if (++idle_decisions >= max_idle) {
+        } else if (sum.decisions > 0 && ++idle_decisions >= max_idle) {
           sum.stop_reason = "no progress: the policy's last " + std::to_string(idle_decisions) +
                             " decisions moved the robot less than 0.1 m";
           break;
