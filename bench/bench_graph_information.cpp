@@ -1,7 +1,8 @@
 // Certified optimal edge weights (graph_information.h) on seeded random connected graphs of
 // 100 nodes and 297 edges (a random spanning tree plus distinct random edges), the size the
 // issue's cvxopt figures were measured on (D 0.24 s, A 0.70 s, E 2.2 s). Counters: the
-// certified relative gap and the iterations of the last run.
+// certified relative gap and the iterations of the last run. set137/<criterion> solves the
+// criterion on all 137 graphs of `asf graph-gen`'s default list (what `asf optimal-eval` does).
 //
 //   build/bench/bench_graph_information [--benchmark_filter=E]
 #include <asf/graph_families.h>

@@ -2,6 +2,7 @@
 // probability, the baseline criteria, the reduced-graph path search and the plan drawing.
 #include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
+#include <asf/place_recognition.h>
 #include <asf/params.h>
 
 #include <Eigen/Cholesky>
@@ -478,6 +479,10 @@ CriterionOptions criterionOptionsFrom(const Params& params, std::uint64_t ctx_se
   if (params.has("prune_below")) o.prune_below = params.getDouble("prune_below");
   if (params.has("seed") && params.getInt("seed") != 0)  // 0: the run's seed
     o.reloc.seed = static_cast<std::uint64_t>(params.getInt("seed"));
+  if (params.has("recognition_samples"))
+    o.recognition_samples = static_cast<int>(params.getInt("recognition_samples"));
+  if (params.has("recognition_map_radius"))
+    o.recognition_map_radius = params.getDouble("recognition_map_radius");
   return o;
 }
 
@@ -768,8 +773,36 @@ void CriterionPlanner::configure(const Params& params, const PluginContext& ctx)
 PlanResult CriterionPlanner::plan(const PlanRequest& req) {
   std::string note;
   PlanResult r;
+  CriterionOptions options = options_;
+  if (options_.recognition_samples > 0 && req.graph) {
+    // Place recognition by Monte Carlo for the nodes the file does not give, once per
+    // graph revision (the local maps move with the optimized poses).
+    if (req.graph->revision != recognition_revision_) {
+      recognition_.clear();
+      recognition_revision_ = req.graph->revision;
+    }
+    RecognitionMcOptions mc;
+    mc.samples = options_.recognition_samples;
+    mc.half_x = options_.reloc.half_x;
+    mc.half_y = options_.reloc.half_y;
+    mc.half_phi = options_.reloc.half_phi;
+    mc.map_radius = options_.recognition_map_radius;
+    mc.seed = options_.reloc.seed;
+    std::size_t computed = 0;
+    for (const PoseNode& n : req.graph->nodes) {
+      if (!n.scan || options_.reloc.p_recognition_by_node.count(n.id)) continue;
+      if (!recognition_.count(n.id)) {
+        recognition_[n.id] = recognitionProbability(*req.graph, n.id, mc);
+        ++computed;
+      }
+      options.reloc.p_recognition_by_node[n.id] = recognition_[n.id];
+    }
+    if (computed)
+      MRPT_LOG_INFO_STREAM("place recognition by Monte Carlo: " << computed << " nodes x "
+                                                                << mc.samples << " ICP samples");
+  }
   try {
-    r = planBest(req, criterion_, options_, search_, &note);
+    r = planBest(req, criterion_, options, search_, &note);
   } catch (const Error& e) {  // e.g. a marginal block of the wrong size
     r = PlanResult{};
     r.criterion = criterionName(criterion_);

@@ -155,14 +155,48 @@ Design graphDesign(const Multigraph& g, std::vector<int>& kept) {
   return d;
 }
 
+// In-place inverse of a lower-triangular matrix (recursive blocks: two half-size inverses
+// and two triangular products), n^3/3 flops instead of the n^3 of a solve against I.
+void invertLower(Eigen::Ref<MatrixXd> X) {
+  const Eigen::Index n = X.rows();
+  if (n <= 16) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      X(j, j) = 1.0 / X(j, j);
+      for (Eigen::Index i = j + 1; i < n; ++i) {
+        double acc = 0;
+        for (Eigen::Index q = j; q < i; ++q) acc += X(i, q) * X(q, j);
+        X(i, j) = -acc / X(i, i);
+      }
+    }
+    return;
+  }
+  const Eigen::Index h = n / 2;
+  invertLower(X.topLeftCorner(h, h));
+  invertLower(X.bottomRightCorner(n - h, n - h));
+  const MatrixXd T = X.bottomLeftCorner(n - h, h) * X.topLeftCorner(h, h).triangularView<Eigen::Lower>();
+  X.bottomLeftCorner(n - h, h).noalias() =
+      -(X.bottomRightCorner(n - h, n - h).triangularView<Eigen::Lower>() * T);
+}
+
+// Inverse of the matrix X = L L^T factored by c: L^-T L^-1 (symmetric by construction).
+MatrixXd inverseFromLLT(const Eigen::LLT<MatrixXd>& c) {
+  MatrixXd Li = c.matrixL();
+  invertLower(Li);
+  const Eigen::Index n = Li.rows();
+  MatrixXd P = MatrixXd::Zero(n, n);
+  P.selfadjointView<Eigen::Lower>().rankUpdate(Li.transpose());
+  P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
+  return P;
+}
+
 // Largest step alpha with X + alpha dX still positive definite (X = R R^T given by its
 // Cholesky factor): 1 / max(0, -lambda_min(R^-1 dX R^-T)), lambda_min estimated by Lanczos
 // with full reorthogonalization (O(n^2) per iteration instead of a dense eigensolver). `start`
 // (if not empty) is the first Lanczos vector and receives the Ritz vector of the smallest
 // Ritz value: the extreme eigenvector moves little between the predictor and the corrector
 // and between iterations, so a warm start converges in a few steps. It stops when that Ritz
-// pair's residual is below rtol |Ritz value|. A Ritz value is >= lambda_min, so the estimate
-// can be long: callers verify the step by Cholesky.
+// value changes by less than rtol (relative) in a step. A Ritz value is >= lambda_min, so the
+// estimate can be long: callers verify the step by Cholesky.
 double maxStepPD(const Eigen::LLT<MatrixXd>& X, const MatrixXd& dX, VectorXd& start,
                  int kcap = 40, double rtol = 1e-3) {
   const int n = static_cast<int>(dX.rows());
@@ -191,16 +225,15 @@ double maxStepPD(const Eigen::LLT<MatrixXd>& X, const MatrixXd& dX, VectorXd& st
     }
     be[k + 1] = y.norm();
     scale = std::max(scale, std::abs(al[k]));
-    es.computeFromTridiagonal(al.head(k + 1), be.segment(1, k), Eigen::ComputeEigenvectors);
+    es.computeFromTridiagonal(al.head(k + 1), be.segment(1, k), Eigen::EigenvaluesOnly);
     ritz = es.eigenvalues()[0];
-    const double residual = be[k + 1] * std::abs(es.eigenvectors()(k, 0));
     if (k + 1 >= kmax || be[k + 1] <= 1e-12 * scale ||
-        (k >= 1 && residual <= rtol * std::abs(ritz)) ||
         (k >= 2 && std::abs(ritz - prev) <= rtol * std::abs(ritz)))
       break;
     prev = ritz;
     V.col(k + 1) = y / be[k + 1];
   }
+  es.computeFromTridiagonal(al.head(k + 1), be.segment(1, k), Eigen::ComputeEigenvectors);
   start.noalias() = V.leftCols(k + 1) * es.eigenvectors().col(0);
   return ritz < 0 ? -1.0 / ritz : kInf;
 }
@@ -248,30 +281,22 @@ void certifyE(const Design& D, const VectorXd& xin, const MatrixXd& Z, EResult& 
 EResult solveE(const Design& D, double tol, int max_iter) {
   const int m = D.m, N = D.N, k = D.k();
   const MatrixXd Pi = D.pi();
-  const MatrixXd I = MatrixXd::Identity(N, N);
-  const double gam = getenv("EGAM") ? atof(getenv("EGAM")) : 0.98;
   VectorXd x = VectorXd::Constant(m, 1.0 / m);
   const double lmin0 = D.spectrum(D.sumOuter(x))[0];
   if (!(lmin0 > 0)) throw Error("E-optimal design: the design vectors do not span the space");
+  // Start: x uniform, t = lambda_min / 2, and the centred dual Z = S^-1 / tr S^-1 (Z S is a
+  // multiple of Pi), which also puts Z's weight on the low eigenvectors of L(x), so the
+  // starting bound is already of the order of the optimum.
   double t = 0.5 * lmin0;
-  MatrixXd Z = Pi / k;
+  MatrixXd S = D.sumOuter(x) - t * Pi;
+  Eigen::LLT<MatrixXd> cS, cZ;
+  if (!factorPD(D, S, cS)) throw Error("E-optimal design: no interior starting point");
+  MatrixXd Z = inverseFromLLT(cS);
+  D.pad(Z, -1.0);
+  Z /= Z.trace();
   VectorXd za = D.diagQuad(Z);
   double nu = za.maxCoeff() + lmin0;  // dual feasible, z of the order of the gap
   VectorXd z = (nu - za.array()).matrix();
-  const int estart = getenv("ESTART") ? atoi(getenv("ESTART")) : 0;
-  if (estart > 0) {
-    MatrixXd S0 = D.sumOuter(x) - t * Pi;
-    Eigen::LLT<MatrixXd> c0;
-    factorPD(D, S0, c0);
-    Z = c0.solve(I);
-    D.pad(Z, -1.0);
-    Z = 0.5 * (Z + Z.transpose()).eval();
-    Z /= Z.trace();
-    za = D.diagQuad(Z);
-    const double mum = Z.cwiseProduct(S0).sum() / k;
-    nu = za.maxCoeff() + (estart == 1 ? m * mum : estart == 2 ? lmin0 : 0.5 * (za.maxCoeff() - za.minCoeff()) + m * mum);
-    z = (nu - za.array()).matrix();
-  }
 
   EResult best;
   best.bound = kInf;
@@ -292,21 +317,19 @@ EResult solveE(const Design& D, double tol, int max_iter) {
     return (best.bound - best.value) <= tol * best.bound;
   };
 
-  MatrixXd S = D.sumOuter(x) - t * Pi;
-  Eigen::LLT<MatrixXd> cS, cZ;
-  bool okS = factorPD(D, S, cS), okZ = factorPD(D, Z, cZ);
+  bool okS = true, okZ = factorPD(D, Z, cZ);
   MatrixXd Sinv, Ws, Wz, H(m + 1, m + 1);
   VectorXd vS, vZ;  // Lanczos warm starts (step lengths)
   for (int it = 1; it <= max_iter; ++it) {
     if (!okS) break;  // lost interiority (numerical end)
-    Sinv = cS.solve(I);
+    Sinv = inverseFromLLT(cS);
     D.pad(Sinv, -1.0);
     const double mu = ((Z.cwiseProduct(S)).sum() + x.dot(z)) / (k + m);
     // Certificate estimate at no cost: S > 0 gives lambda_min(L(x)) >= t, and a positive
     // definite Z gives the bound max_j a_j^T Z a_j / tr Z; certifyE then does it exactly.
     za = D.diagQuad(Z);
     const double lo = t / x.sum(), hi = okZ ? za.maxCoeff() / Z.trace() : nu;
-    if (hi - lo <= tol * hi || mu <= 0) {
+    if (hi - lo <= 0.2 * tol * hi || mu <= 0) {
       if (consider(x, Z, it)) return best;
       if (mu <= 0) break;
     }
@@ -366,18 +389,17 @@ EResult solveE(const Design& D, double tol, int max_iter) {
       return d;
     };
     auto steps = [&](const Dir& d, double& ap, double& ad, int kcap) {
-      (void)kcap;
       ap = ad = kInf;
       for (int j = 0; j < m; ++j) {
         if (d.dx[j] < 0) ap = std::min(ap, -x[j] / d.dx[j]);
         if (d.dz[j] < 0) ad = std::min(ad, -z[j] / d.dz[j]);
       }
-      ap = std::min(ap, maxStepPD(cS, d.dS, vS));
-      ad = std::min(ad, okZ ? maxStepPD(cZ, d.dZ, vZ) : 0.0);
+      ap = std::min(ap, maxStepPD(cS, d.dS, vS, kcap));
+      ad = std::min(ad, okZ ? maxStepPD(cZ, d.dZ, vZ, kcap) : 0.0);
     };
     const Dir aff = direction(0.0, nullptr);
     double ap, ad;
-    steps(aff, ap, ad, 40);
+    steps(aff, ap, ad, 6);  // the predictor's steps only set sigma: a rough estimate will do
     ap = std::min(1.0, ap);
     ad = std::min(1.0, ad);
     const MatrixXd Sa = S + ap * aff.dS, Za = Z + ad * aff.dZ;
@@ -386,8 +408,8 @@ EResult solveE(const Design& D, double tol, int max_iter) {
     const double sigma = std::clamp(std::pow(mu_aff / mu, 3.0), 0.0, 1.0);
     const Dir d = direction(sigma * mu, &aff);
     steps(d, ap, ad, 40);
-    ap = std::min(1.0, gam * ap);
-    ad = std::min(1.0, gam * ad);
+    ap = std::min(1.0, 0.98 * ap);
+    ad = std::min(1.0, 0.98 * ad);
     // Accept the longest step (backtracking) whose new S, resp. Z, factors: those Cholesky
     // factors serve the next iteration.
     okS = false;
@@ -448,7 +470,7 @@ SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivat
       r.phi = std::exp(logdet / k);
       return r;
     }
-    MatrixXd P = c.solve(MatrixXd::Identity(N, N));
+    MatrixXd P = inverseFromLLT(c);
     D.pad(P, -1.0);  // P = M^+ on 1-perp
     if (p == 0.0) {
       r.F = logdet;
@@ -466,7 +488,7 @@ SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivat
       r.F = -tr;
       r.phi = k / tr;
       if (gradient_only) {
-        r.g = D.diagQuad(P * P);
+        r.g = D.rows(P).rowwise().squaredNorm();  // a_j^T P^2 a_j = |P a_j|^2
       } else if (derivatives) {
         const MatrixXd R = D.quad(P), R2 = D.quad(P * P);
         r.g = R2.diagonal();
@@ -538,6 +560,9 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
   }
   SmoothEval ev = evalSmooth(D, x, p, true);
   if (!ev.ok) throw Error("optimal design: the uniform weights have no information");
+  Eigen::LLT<MatrixXd> c;  // Newton system factor (kept for chord steps)
+  std::vector<int> Fprev;
+  bool lastChord = false;
   for (int it = 0;; ++it) {
     const double lam = x.dot(ev.g);
     const double ratio = ev.g.maxCoeff() / lam;  // bound / value
@@ -550,33 +575,69 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
     std::vector<int> F;
     for (int j = 0; j < m; ++j)
       if (x[j] > 0 || ev.g[j] > lam) F.push_back(j);
-    VectorXd d = VectorXd::Zero(m);
-    for (int pass = 0; pass < 4; ++pass) {
-      const int f = static_cast<int>(F.size());
+    // Newton step on the free set: K d = g - l 1 with sum d = 0, K = -H. Zero weights whose
+    // step would be negative are then fixed at zero; the system without them is solved with
+    // the same Cholesky factor through the bordered (capacitance) formula, not refactored:
+    // with E the columns of the fixed variables and C = E^T K^-1 E, the solution of the
+    // reduced system is K^-1 r - K^-1 E C^-1 E^T K^-1 r (zero on the fixed variables).
+    // Close to the optimum (relative gap below 1e-4) with an unchanged free set, the factor
+    // of the previous Hessian is reused (a chord step: it converges fast there, and the
+    // certificate does not depend on it); the step after a chord step uses a fresh Hessian.
+    const int f = static_cast<int>(F.size());
+    VectorXd gF(f);
+    for (int b = 0; b < f; ++b) gF[b] = ev.g[F[b]];
+    const bool chord = F == Fprev && ratio - 1.0 < 1e-4 * ratio && !lastChord;
+    if (!chord) {
       MatrixXd K(f, f);
-      VectorXd gF(f);
-      for (int a = 0; a < f; ++a) {
-        gF[a] = ev.g[F[a]];
-        for (int b = 0; b < f; ++b) K(a, b) = -ev.H(F[a], F[b]);
-      }
+      for (int b = 0; b < f; ++b)
+        for (int a = 0; a < f; ++a) K(a, b) = -ev.H(F[a], F[b]);
       const double reg = 1e-13 * K.diagonal().mean();
       K.diagonal().array() += reg;
-      Eigen::LLT<MatrixXd> c(K);
+      c.compute(K);
       if (c.info() != Eigen::Success) {
         K.diagonal().array() += 1e-8 * K.diagonal().mean();
         c.compute(K);
       }
-      const VectorXd Kg = c.solve(gF), K1 = c.solve(VectorXd::Ones(f));
+    }
+    lastChord = chord;
+    Fprev = F;
+    const VectorXd Kg0 = c.solve(gF), K10 = c.solve(VectorXd::Ones(f));
+    std::vector<int> fixed;  // positions in F
+    std::vector<char> isFixed(f, 0);
+    VectorXd d = VectorXd::Zero(m);
+    for (int pass = 0; pass < 8; ++pass) {
+      VectorXd Kg = Kg0, K1 = K10;
+      if (!fixed.empty()) {
+        const int r = static_cast<int>(fixed.size());
+        MatrixXd E = MatrixXd::Zero(f, r);
+        for (int q = 0; q < r; ++q) E(fixed[q], q) = 1.0;
+        const MatrixXd KE = c.solve(E);
+        MatrixXd C(r, r);
+        VectorXd eg(r), e1(r);
+        for (int q = 0; q < r; ++q) {
+          C.row(q) = KE.row(fixed[q]);
+          eg[q] = Kg0[fixed[q]];
+          e1[q] = K10[fixed[q]];
+        }
+        const Eigen::LDLT<MatrixXd> cC(0.5 * (C + C.transpose()));
+        Kg -= KE * cC.solve(eg);
+        K1 -= KE * cC.solve(e1);
+        for (int q : fixed) Kg[q] = K1[q] = 0;
+      }
       const double l = Kg.sum() / K1.sum();
       const VectorXd dF = Kg - l * K1;
       d.setZero();
-      std::vector<int> keep;
+      int added = 0;
       for (int a = 0; a < f; ++a) {
+        if (isFixed[a]) continue;
         d[F[a]] = dF[a];
-        if (!(x[F[a]] <= 0 && dF[a] < 0)) keep.push_back(F[a]);
+        if (x[F[a]] <= 0 && dF[a] < 0) {  // zero weights that would go negative stay at zero
+          isFixed[a] = 1;
+          fixed.push_back(a);
+          ++added;
+        }
       }
-      if (keep.size() == F.size()) break;
-      F.swap(keep);  // zero weights that would go negative stay at zero
+      if (added == 0) break;
       d.setZero();
     }
     const double slope = ev.g.dot(d);
@@ -584,7 +645,7 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
     // Projection arc (Bertsekas): x(a) = P_simplex-ish(x + a d) by clipping at zero, so
     // several weights can reach zero in one step; Armijo test along the arc.
     double a = 1.0;
-    bool accepted = false;
+    bool accepted = false, evaluated = false;
     for (int ls = 0; ls < 60 && !accepted; ++ls, a *= 0.5) {
       VectorXd xt = (x + a * d).cwiseMax(0.0);
       xt /= xt.sum();
@@ -595,10 +656,20 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
       if (trial.F >= ev.F + 1e-4 * pred || (a < 1e-10 && trial.F >= ev.F)) {
         x = xt;
         accepted = true;
+      } else if (ls == 0 && pred <= 1e-9 * std::abs(ev.F)) {
+        // The full Newton step promises an increase of F below its round-off, so F can not
+        // rank the points; the certificate (the quantity that matters) can: take the step
+        // if it lowers bound / value.
+        SmoothEval full = evalSmooth(D, xt, p, true);
+        if (full.ok && full.g.maxCoeff() / xt.dot(full.g) < ratio) {
+          x = xt;
+          ev = std::move(full);
+          accepted = evaluated = true;
+        }
       }
     }
     if (!accepted) break;
-    ev = evalSmooth(D, x, p, true);
+    if (!evaluated) ev = evalSmooth(D, x, p, true);
     if (!ev.ok) break;
   }
   return out;

@@ -23,6 +23,13 @@ const asf::KeySpec kKeys[] = {
                    "Place-recognition probability of nodes not in p_recognition_file", 0, 1),
     asf::keyPath("p_recognition_file", "",
                  "Optional file of 'node_id probability' lines (place recognition per node)"),
+    asf::keyInt("recognition_samples", "0",
+                "> 0: p_recognition of nodes with a scan by Monte Carlo, this many ICP "
+                "relocalizations each (nodes in p_recognition_file keep theirs); 0: the constant",
+                0, 100000),
+    asf::keyDouble("recognition_map_radius", "6.0",
+                   "Monte Carlo: the local map holds the other nodes' scans within this [m]", 0.1,
+                   1000),
     asf::keyInt("qmc_points", "128", "Lattice points of the Gaussian window integral", 2, 1e6),
     asf::keyInt("qmc_shifts", "8", "Random lattice shifts (error estimate) of the integral", 2,
                 1000),

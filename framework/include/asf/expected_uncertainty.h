@@ -143,11 +143,16 @@ struct CriterionOptions {
   Scalar scalar = Scalar::Det;         ///< of E[C] (expected_uncertainty) and of Sigma (sum_dopt)
   RelocalizationOptions reloc;
   double prune_below = 1e-12;
+  /// > 0: p_recognition of the nodes with a scan and not in p_recognition_file by Monte
+  /// Carlo with this many ICP samples each (place_recognition.h); 0: the constant.
+  int recognition_samples = 0;
+  double recognition_map_radius = 6.0;  ///< local map of the Monte Carlo [m]
 };
 
 /// Reads the keys this module defines from a plugin's params, when present: scalar,
 /// window_x, window_y, window_phi_deg, p_recognition, p_recognition_file, qmc_points,
-/// qmc_shifts, use_cross, prune_below; the seed is ctx_seed unless a `seed` key is non-zero.
+/// qmc_shifts, use_cross, prune_below, recognition_samples, recognition_map_radius; the seed
+/// is ctx_seed unless a `seed` key is non-zero.
 /// Throws ConfigError (naming the key) for a bad scalar or recognition file.
 CriterionOptions criterionOptionsFrom(const Params& params, std::uint64_t ctx_seed);
 
@@ -214,6 +219,9 @@ class CriterionPlanner : public Planner {
   Criterion criterion_;
   CriterionOptions options_;
   PathSearchOptions search_;
+  /// Monte Carlo p_recognition per node, for the graph revision it was computed on.
+  std::map<NodeId, double> recognition_;
+  std::uint64_t recognition_revision_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------

@@ -87,8 +87,9 @@ class Map3d {
   /// the robot: CObservationPointCloud, CObservationVelodyneScan (its point_cloud, generated
   /// with MRPT's defaults when empty), CObservation3DRangeScan (points3D, or the range image
   /// unprojected), CObservation2DRangeScan (valid ranges in the scan plane; tilted by its
-  /// sensorPose). Returns false and says why for anything else; CObservationRotatingScan is
-  /// unsupported: MRPT 2.5 stores no ring elevation angles in it, so it has no 3D points.
+  /// sensorPose), CObservationRotatingScan of one ring (a planar scan). Returns false and
+  /// says why for anything else; a CObservationRotatingScan of several rings is unsupported:
+  /// MRPT 2.5 stores no ring elevation angles in it, so it has no 3D points.
   static bool observationPoints(const mrpt::obs::CObservation& obs,
                                 std::vector<Eigen::Vector3f>& points_in_sensor_frame,
                                 mrpt::poses::CPose3D& sensor_on_robot, std::string* why = nullptr);
