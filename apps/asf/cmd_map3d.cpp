@@ -3,6 +3,7 @@
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
+#include <asf/run_report.h>
 #include <asf/map3d.h>
 #include <asf/rawlog_io.h>
 #include <asf/segmentation_eval.h>
@@ -54,13 +55,7 @@ std::string fmt(double v, int digits) {
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f) throw Error(path + ": cannot write");
-  }
-  fs::rename(tmp, path);
+  report::writeFileAtomically(path, text);
 }
 
 }  // namespace

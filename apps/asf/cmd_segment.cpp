@@ -4,6 +4,7 @@
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
+#include <asf/run_report.h>
 #include <asf/registry.h>
 #include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
@@ -90,13 +91,7 @@ LabelRaster rasterOf(const Segmentation& seg, const GrayImage& image, const std:
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f) throw Error(path + ": cannot write");
-  }
-  fs::rename(tmp, path);
+  report::writeFileAtomically(path, text);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "recorder.h"
 
+#include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -22,13 +23,7 @@ using nlohmann::json;
 namespace {
 
 void writeAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f) throw Error(path + ": write failed");
-  }
-  fs::rename(tmp, path);
+  report::writeFileAtomically(path, text);
 }
 
 using render::MapImage;
