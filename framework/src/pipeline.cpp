@@ -601,7 +601,11 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     finish();
     throw;
   }
-  if (m.planner && m.graph.size() > 1) {
+  progress(true);
+  finish();
+  // The planner's check comes after the outputs are on disk: a slow planner on a large graph
+  // then costs time, never the run's files; an interrupted run skips it.
+  if (m.planner && m.graph.size() > 1 && !(stop && stop->load())) {
     PlanRequest req;
     req.graph = &m.graph;
     req.marginals = m.marginals.valid() ? &m.marginals : nullptr;
@@ -617,8 +621,6 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       os << "planner: no path home: " << r.reason;
     m.logStr(mrpt::system::LVL_INFO, os.str());
   }
-  progress(true);
-  finish();
   return sum;
 }
 
