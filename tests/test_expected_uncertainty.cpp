@@ -345,6 +345,45 @@ TEST(PathSearch, CapIsReported) {
   EXPECT_THROW(eu::allSimplePaths(ladder, 0, 99), asf::Error);
 }
 
+TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
+  // The ladder has many simple paths 0 -> 9; with a budget already spent after the first
+  // evaluation, planBest returns that first path and a note; without one, all are compared.
+  const auto ladder = graphOf(10, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {7, 8},
+                                   {8, 9}, {0, 5}, {1, 6}, {2, 7}, {3, 8}, {4, 9}});
+  asf::PlanRequest req;
+  req.graph = &ladder;
+  req.start = 0;
+  req.goal = 9;
+  eu::PathSearchOptions all, budget;
+  budget.max_seconds = 1e-12;
+  std::string note_all, note_budget;
+  const auto r_all = eu::planBest(req, eu::Criterion::Distance, {}, all, &note_all);
+  const auto r_budget = eu::planBest(req, eu::Criterion::Distance, {}, budget, &note_budget);
+  ASSERT_TRUE(r_all.found);
+  ASSERT_TRUE(r_budget.found);
+  EXPECT_EQ(note_all.find("time budget"), std::string::npos) << note_all;
+  EXPECT_NE(note_budget.find("time budget of"), std::string::npos) << note_budget;
+  EXPECT_NE(note_budget.find("after 1 of"), std::string::npos) << note_budget;
+  EXPECT_LE(r_all.cost, r_budget.cost);
+
+  // The search itself: a 2 x 30 ladder has about 2^29 simple paths end to end; with a spent
+  // budget the search stops early and says so.
+  std::vector<std::pair<int, int>> rungs;
+  for (int i = 0; i + 1 < 30; ++i) {
+    rungs.emplace_back(i, i + 1);
+    rungs.emplace_back(30 + i, 31 + i);
+  }
+  for (int i = 0; i < 30; ++i) rungs.emplace_back(i, 30 + i);
+  const auto big = graphOf(60, rungs);
+  eu::PathSearchOptions quick;
+  quick.max_paths = 1u << 30;
+  quick.max_seconds = 1e-12;
+  const auto r = eu::allSimplePaths(big, 0, 59, quick);
+  EXPECT_TRUE(r.timed_out);
+  EXPECT_TRUE(r.capped);
+  EXPECT_LT(r.paths.size(), 100000u);
+}
+
 // ---------------------------------------------------------------------------------------
 // Criteria and recognition probabilities
 

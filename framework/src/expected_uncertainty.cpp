@@ -10,6 +10,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <boost/math/special_functions/erf.hpp>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -599,8 +600,18 @@ PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
   std::vector<char> on_path(n, 0);
   std::vector<std::pair<std::size_t, bool>> stack;  // reduced edges taken
   bool stop = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::size_t expansions = 0;
   std::function<void(NodeId)> dfs = [&](NodeId v) {
     if (stop) return;
+    // A loopy graph can hide few paths in a huge search tree: the time budget holds here too.
+    if (o.max_seconds > 0 && (++expansions & 4095) == 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+            o.max_seconds) {
+      out.capped = out.timed_out = true;
+      stop = true;
+      return;
+    }
     if (v == goal) {
       if (out.paths.size() >= o.max_paths) {
         out.capped = true;
@@ -661,8 +672,17 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
     return res;
   }
   const EdgeIndex index(g);
-  std::size_t missing = 0;
+  std::size_t missing = 0, evaluated = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  bool out_of_time = false;
   for (const auto& p : paths.paths) {
+    if (search.max_seconds > 0 && evaluated > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+            search.max_seconds) {
+      out_of_time = true;
+      break;
+    }
+    ++evaluated;
     const PathModel model = makePathModel(g, index, needs_marginals ? req.marginals : nullptr, p);
     const PathCost pc = evaluatePath(c, model, o);
     missing += pc.missing_cross;
@@ -677,10 +697,17 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
   }
   if (note) {
     note->clear();
-    if (paths.capped)
+    if (paths.timed_out)
+      *note += "path search stopped by the time budget (" + std::to_string(search.max_seconds) +
+               " s) after " + std::to_string(paths.paths.size()) + " paths; the best may be missing. ";
+    else if (paths.capped)
       *note += "path search capped at " + std::to_string(search.max_paths) +
                " paths (reduced graph: " + std::to_string(paths.reduced_nodes) + " nodes, " +
                std::to_string(paths.reduced_edges) + " edges); the best may be missing. ";
+    if (out_of_time)
+      *note += "time budget of " + std::to_string(search.max_seconds) + " s spent after " +
+               std::to_string(evaluated) + " of " + std::to_string(paths.paths.size()) +
+               " candidate paths; the best may be missing. ";
     if (missing)
       *note += std::to_string(missing) +
                " relocalization queries lacked a cross-covariance block (treated as zero).";
@@ -768,6 +795,7 @@ void CriterionPlanner::configure(const Params& params, const PluginContext& ctx)
   options_ = criterionOptionsFrom(params, ctx.seed);
   search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
   search_.reduce = params.getBool("reduce");
+  if (params.has("max_seconds")) search_.max_seconds = params.getDouble("max_seconds");
 }
 
 PlanResult CriterionPlanner::plan(const PlanRequest& req) {

@@ -187,10 +187,15 @@ ReducedGraph reduceGraph(const PoseGraph& g, NodeId start, NodeId goal);
 struct PathSearchOptions {
   std::size_t max_paths = 10000;  ///< stop after this many paths (reported as capped)
   bool reduce = true;             ///< search the reduced graph (false: the simple graph)
+  /// The search and then planBest's evaluation of the candidates each stop after this many
+  /// seconds (0: no limit), keeping what they have and saying so in the note: a loopy graph
+  /// has more paths than time allows.
+  double max_seconds = 0;
 };
 struct PathSearchResult {
   std::vector<std::vector<NodeId>> paths;  ///< expanded node sequences start..goal
-  bool capped = false;
+  bool capped = false;     ///< stopped at max_paths or by the time budget
+  bool timed_out = false;  ///< stopped by max_seconds
   std::size_t reduced_nodes = 0, reduced_edges = 0;
 };
 /// All simple paths from start to goal (depth-first over the reduced graph, expanded back).
