@@ -101,9 +101,7 @@ int cmdPlan(int argc, char** argv) {
 
   // The candidate paths as the planner sees them (its own search keys when it has them),
   // to request the cross-covariance blocks its relocalization probability reads.
-  eu::PathSearchOptions search;
-  if (pparams.has("max_paths")) search.max_paths = pparams.getInt("max_paths");
-  if (pparams.has("reduce")) search.reduce = pparams.getBool("reduce");
+  const eu::PathSearchOptions search = eu::pathSearchOptionsFrom(pparams);
   const auto t_search = std::chrono::steady_clock::now();
   const eu::PathSearchResult candidates = eu::allSimplePaths(g, s, t, search);
   const double search_s = secondsSince(t_search);

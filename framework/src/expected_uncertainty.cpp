@@ -793,9 +793,15 @@ void renderPlan(const std::string& png, const PoseGraph& g, const Marginals* mar
 
 void CriterionPlanner::configure(const Params& params, const PluginContext& ctx) {
   options_ = criterionOptionsFrom(params, ctx.seed);
-  search_.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
-  search_.reduce = params.getBool("reduce");
-  if (params.has("max_seconds")) search_.max_seconds = params.getDouble("max_seconds");
+  search_ = pathSearchOptionsFrom(params);
+}
+
+PathSearchOptions pathSearchOptionsFrom(const Params& params) {
+  PathSearchOptions o;
+  if (params.has("max_paths")) o.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
+  if (params.has("reduce")) o.reduce = params.getBool("reduce");
+  if (params.has("max_seconds")) o.max_seconds = params.getDouble("max_seconds");
+  return o;
 }
 
 PlanResult CriterionPlanner::plan(const PlanRequest& req) {

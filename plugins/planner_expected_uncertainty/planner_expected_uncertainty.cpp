@@ -38,12 +38,9 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("prune_below", "1e-12",
                    "Drop hypotheses whose probability falls below this (0: exact O(m^2))", 0, 1),
     asf::keyInt("seed", "0", "Seed of the lattice shifts (0: the run's seed)", 0, 9.0e15),
-    asf::keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9),
-    asf::keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)"),
-    asf::keyDouble("max_seconds", "10",
-                   "Stop evaluating candidate paths after this long, keeping the best so far "
-                   "(0: no limit) [s]",
-                   0, 1e6),
+    asf::eu::keyMaxPaths(),
+    asf::eu::keyReduce(),
+    asf::eu::keyMaxSeconds(),
 };
 
 }  // namespace

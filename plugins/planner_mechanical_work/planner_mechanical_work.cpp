@@ -12,12 +12,9 @@ class MechanicalWorkPlanner final : public asf::eu::CriterionPlanner {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9),
-    asf::keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)"),
-    asf::keyDouble("max_seconds", "10",
-                   "Stop evaluating candidate paths after this long, keeping the best so far "
-                   "(0: no limit) [s]",
-                   0, 1e6),
+    asf::eu::keyMaxPaths(),
+    asf::eu::keyReduce(),
+    asf::eu::keyMaxSeconds(),
 };
 
 }  // namespace

@@ -14,12 +14,9 @@ class SumDoptPlanner final : public asf::eu::CriterionPlanner {
 const asf::KeySpec kKeys[] = {
     asf::keyEnum("scalar", "det", "det|trace|det_cbrt",
                  "D-optimality of a node covariance: det (thesis), det^(1/3), or trace (A-opt)"),
-    asf::keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9),
-    asf::keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)"),
-    asf::keyDouble("max_seconds", "10",
-                   "Stop evaluating candidate paths after this long, keeping the best so far "
-                   "(0: no limit) [s]",
-                   0, 1e6),
+    asf::eu::keyMaxPaths(),
+    asf::eu::keyReduce(),
+    asf::eu::keyMaxSeconds(),
 };
 
 }  // namespace

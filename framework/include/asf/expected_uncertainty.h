@@ -11,6 +11,7 @@
 /// Marginals::node; the robot's estimate along a path is the nodes' current estimates, its
 /// motion between consecutive nodes the relative pose of those estimates, with the
 /// covariance of the edge(s) joining them (parallel edges fused by adding information).
+#include <asf/key_spec.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 
@@ -184,6 +185,21 @@ struct ReducedGraph {
 };
 ReducedGraph reduceGraph(const PoseGraph& g, NodeId start, NodeId goal);
 
+/// The path-search keys every criterion planner plugin declares (max_paths, reduce,
+/// max_seconds), one definition for their docs and defaults.
+constexpr KeySpec keyMaxPaths() {
+  return keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9);
+}
+constexpr KeySpec keyReduce() {
+  return keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)");
+}
+constexpr KeySpec keyMaxSeconds() {
+  return keyDouble("max_seconds", "10",
+                   "Time budget of the path search and, again, of the evaluation of the "
+                   "candidates; the best found so far is kept (0: no limit) [s]",
+                   0, 1e6);
+}
+
 struct PathSearchOptions {
   std::size_t max_paths = 10000;  ///< stop after this many paths (reported as capped)
   bool reduce = true;             ///< search the reduced graph (false: the simple graph)
@@ -192,6 +208,9 @@ struct PathSearchOptions {
   /// has more paths than time allows.
   double max_seconds = 0;
 };
+/// The search keys of a planner's params, when present (max_paths, reduce, max_seconds).
+PathSearchOptions pathSearchOptionsFrom(const Params& params);
+
 struct PathSearchResult {
   std::vector<std::vector<NodeId>> paths;  ///< expanded node sequences start..goal
   bool capped = false;     ///< stopped at max_paths or by the time budget
