@@ -316,6 +316,43 @@ bool Map3d::observationPoints(const mrpt::obs::CObservation& obs,
   return fail(std::string(obs.GetRuntimeClass()->className) + " has no 3D points");
 }
 
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> horizontalSlice(
+    const mrpt::obs::CObservation& obs, const SliceOptions& o, std::string* why) {
+  std::vector<Eigen::Vector3f> pts;
+  mrpt::poses::CPose3D sensor;
+  if (!Map3d::observationPoints(obs, pts, sensor, why)) return nullptr;
+  const int n = std::max(o.rays, 2);
+  const double bin = 2 * M_PI / n;
+  std::vector<float> range(static_cast<std::size_t>(n), std::numeric_limits<float>::infinity());
+  for (const auto& p : pts) {
+    if (!p.allFinite()) continue;
+    double x, y, z;  // in the robot frame
+    sensor.composePoint(p.x(), p.y(), p.z(), x, y, z);
+    if (z < o.min_z || z > o.max_z) continue;
+    const double dx = x - sensor.x(), dy = y - sensor.y();
+    const double r = std::hypot(dx, dy);
+    if (r > o.max_range || r <= 0) continue;
+    int i = static_cast<int>(std::floor((std::atan2(dy, dx) + M_PI) / bin));
+    i = std::clamp(i, 0, n - 1);
+    range[static_cast<std::size_t>(i)] = std::min(range[static_cast<std::size_t>(i)], static_cast<float>(r));
+  }
+  auto scan = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+  scan->aperture = static_cast<float>(2 * M_PI * (n - 1) / n);
+  scan->rightToLeft = true;
+  scan->maxRange = static_cast<float>(o.max_range);
+  scan->sensorPose = mrpt::poses::CPose3D(sensor.x(), sensor.y(), 0.5 * (o.min_z + o.max_z), 0, 0, 0);
+  scan->sensorLabel = obs.sensorLabel + "_SLICE";
+  scan->timestamp = obs.timestamp;
+  scan->resizeScan(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const float r = range[static_cast<std::size_t>(i)];
+    const bool valid = std::isfinite(r);
+    scan->setScanRange(static_cast<std::size_t>(i), valid ? r : static_cast<float>(o.max_range));
+    scan->setScanRangeValidity(static_cast<std::size_t>(i), valid);
+  }
+  return scan;
+}
+
 std::size_t Map3d::insertObservation(const mrpt::obs::CObservation& obs,
                                      const mrpt::poses::CPose2D& robot_pose) {
   std::vector<Eigen::Vector3f> pts;

@@ -105,4 +105,31 @@ bool MapBuilder::update(const PoseGraph& graph) {
   return true;
 }
 
+std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
+    const mrpt::maps::COccupancyGridMap2D& a, const mrpt::maps::COccupancyGridMap2D& b,
+    double band) {
+  const double res = a.getResolution();
+  const double x0 = std::min(a.getXMin(), b.getXMin()), x1 = std::max(a.getXMax(), b.getXMax());
+  const double y0 = std::min(a.getYMin(), b.getYMin()), y1 = std::max(a.getYMax(), b.getYMax());
+  auto out = std::make_shared<mrpt::maps::COccupancyGridMap2D>(
+      static_cast<float>(x0), static_cast<float>(x1), static_cast<float>(y0),
+      static_cast<float>(y1), static_cast<float>(res));
+  const unsigned w = out->getSizeX(), h = out->getSizeY();
+  for (unsigned cy = 0; cy < h; ++cy) {
+    const float y = out->idx2y(cy);
+    for (unsigned cx = 0; cx < w; ++cx) {
+      const float x = out->idx2x(cx);
+      const float pa = a.getPos(x, y), pb = b.getPos(x, y);  // 0.5 outside a grid
+      const bool ka = std::abs(pa - 0.5f) > band, kb = std::abs(pb - 0.5f) > band;
+      float p = 0.5f;
+      if (ka && kb) p = std::min(pa, pb);
+      else if (ka) p = pa;
+      else if (kb) p = pb;
+      out->setCell(static_cast<int>(cx), static_cast<int>(cy), p);
+    }
+  }
+  return out;
+}
+
+
 }  // namespace asf

@@ -1,5 +1,6 @@
 #include <asf/coverage.h>
 #include <asf/errors.h>
+#include <asf/map3d.h>
 #include <asf/pipeline.h>
 #include <asf/run_report.h>
 #include <asf/trajectory_eval.h>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 #include "recorder.h"
@@ -44,6 +46,12 @@ const KeySpec kPipelineKeys[] = {
            "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
            "(a policy going round in circles)",
            1),
+    keyBool("map3d", "false",
+            "Build the 3D map ([map3d]) from the frames' 3D observations at the keyframes; "
+            "writes map3d.bt, map3d.ot, map3d.json, map3d_grid.png"),
+    keyEnum("navigation_map", "scan2d", "scan2d|map3d|merged",
+            "Grid the policy, navigation, segmenter and coverage use: the 2D scans' ([map]), "
+            "the 3D map's projection, or both merged (an obstacle in either is one)"),
     keyDouble("progress_interval", "2.0", "Seconds between progress lines (0: none)", 0),
     keyEnum("verbosity", "INFO", "DEBUG|INFO|WARN|ERROR", "Log level of the host and plugins"),
 };
@@ -97,6 +105,8 @@ std::vector<FrameworkSection> frameworkSections() {
   v.push_back({"map", k, n});
   k = TopoBuilder::keys(n);
   v.push_back({"topology", k, n});
+  k = Map3d::keys(n);
+  v.push_back({"map3d", k, n});
   return v;
 }
 
@@ -108,6 +118,8 @@ std::string ResolvedConfig::toIni() const {
   appendSection(os, "map", map, fw[1].keys, fw[1].num_keys, "framework: occupancy grid builder");
   appendSection(os, "topology", topology, fw[2].keys, fw[2].num_keys,
                 "framework: topological graph builder");
+  appendSection(os, "map3d", map3d, fw[3].keys, fw[3].num_keys,
+                "framework: 3D map (OctoMap), used with [pipeline] map3d = true");
   for (const char* slot : kSlots) {
     auto it = slots.find(slot);
     if (it == slots.end()) continue;
@@ -134,6 +146,13 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
   attempt([&] { rc.pipeline = ini.resolve("pipeline", fw[0].keys, fw[0].num_keys); });
   attempt([&] { rc.map = ini.resolve("map", fw[1].keys, fw[1].num_keys); });
   attempt([&] { rc.topology = ini.resolve("topology", fw[2].keys, fw[2].num_keys); });
+  attempt([&] { rc.map3d = ini.resolve("map3d", fw[3].keys, fw[3].num_keys); });
+  attempt([&] {
+    if (rc.pipeline.has("navigation_map") && rc.pipeline.getString("navigation_map") != "scan2d" &&
+        !rc.pipeline.getBool("map3d"))
+      rc.pipeline.fail("navigation_map", "'" + rc.pipeline.getString("navigation_map") +
+                                             "' needs the 3D map: set [pipeline] map3d = true");
+  });
   if (!ini.hasSection("pipeline"))
     errors.insert(errors.begin(), ini.fileName() + ": no [pipeline] section");
 
@@ -194,7 +213,8 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
     std::string msg = ini.where(section) + ": unknown section [" + section + "]";
     const std::string hint = didYouMean(section, known_sections);
     if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
-    msg += "; sections are [pipeline], [map], [topology] and one per plugin, named after it";
+    msg += "; sections are [pipeline], [map], [topology], [map3d] and one per plugin, named "
+           "after it";
     errors.push_back(msg);
   }
   for (const auto& [slot, info] : rc.slots) {
@@ -231,6 +251,33 @@ struct Pipeline::Impl : public mrpt::system::COutputLogger {
   std::unique_ptr<CoverageMeter> coverage;
   TopoGraph world_topo;  ///< of the true world, map frame (offline baselines)
   bool have_world_topo = false;
+
+  // 3D map ([pipeline] map3d): keyframe ids are node * kObsPerNode + index in the frame.
+  static constexpr Map3d::KeyframeId kObsPerNode = 16;
+  std::unique_ptr<Map3d> map3d;
+  std::string nav_kind = "scan2d";  ///< [pipeline] navigation_map
+  GridMap projected;                ///< last projection of map3d
+  GridMap merged;                   ///< navigation_map = merged
+  std::uint64_t projected_from = 0;  ///< map3d version of `projected`
+  std::uint64_t merged_2d = 0, merged_3d = 0;  ///< input versions of `merged`
+  std::uint64_t nav_version = 0;
+  struct Map3dCounts {
+    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0,
+                over_cap = 0;
+    double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
+  } m3;
+  std::set<std::string> warned_3d;
+
+  /// The grid the policy, navigation, segmenter and coverage use.
+  const GridMap& navMap() const {
+    if (nav_kind == "map3d") return projected;
+    if (nav_kind == "merged") return merged;
+    return map.map();
+  }
+  void addKeyframes3d(const SensorFrame& f, std::size_t nodes_before);
+  void followKeyframes3d();
+  /// Brings the projection (and the merged grid) up to date; true if navMap() changed.
+  bool updateNavMap(bool map2d_changed);
 
   /// The pipeline's segmenter, a second instance, run once on the true world.
   void segmentWorld();
@@ -277,6 +324,11 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
   if (!m.source || !m.frontend) throw ConfigError("[pipeline] needs a source and a frontend");
   m.map.configure(cfg.map);
   m.topo.configure(cfg.topology);
+  if (cfg.pipeline.getBool("map3d")) {
+    m.map3d = std::make_unique<Map3d>();
+    m.map3d->configure(cfg.map3d);
+  }
+  m.nav_kind = cfg.pipeline.getString("navigation_map");
   m.world = m.source->worldTruth();
   if (m.world && m.world->grid) {
     m.coverage = std::make_unique<CoverageMeter>(*m.world);
@@ -314,6 +366,105 @@ void Pipeline::Impl::segmentWorld() {
                                      " regions, " + std::to_string(world_topo.edges.size()) +
                                      " edges, reachable free area " +
                                      std::to_string(coverage->reachableArea()) + " m^2");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_before) {
+  if (!map3d || f.observations3d.empty()) return;
+  if (graph.size() <= nodes_before) {
+    m3.not_keyframes += f.observations3d.size();
+    return;
+  }
+  const auto t0 = Clock::now();
+  const PoseNode& node = graph.nodes.back();  // the front-end's node for this frame
+  Map3d::KeyframeId k = 0;
+  for (const auto& o : f.observations3d) {
+    if (!o) continue;
+    ++m3.observations;
+    if (k == kObsPerNode) {
+      ++m3.over_cap;
+      continue;
+    }
+    std::vector<Eigen::Vector3f> pts;
+    mrpt::poses::CPose3D sensor;
+    std::string why;
+    if (!Map3d::observationPoints(*o, pts, sensor, &why)) {
+      ++m3.unsupported;
+      if (warned_3d.insert(why).second)
+        logStr(mrpt::system::LVL_WARN, "map3d: observation '" + o->sensorLabel +
+                                           "' not used: " + why + " (warned once)");
+      continue;
+    }
+    map3d->addKeyframe(node.id * kObsPerNode + k++, node.pose, sensor, std::move(pts));
+    ++m3.keyframes;
+  }
+  m3.insert_ms += msSince(t0);
+}
+
+void Pipeline::Impl::followKeyframes3d() {
+  if (!map3d || map3d->numKeyframes() == 0) return;
+  std::map<Map3d::KeyframeId, mrpt::poses::CPose2D> poses;
+  // Ids not added are ignored by Map3d: every slot of every node is offered.
+  for (const PoseNode& n : graph.nodes)
+    for (Map3d::KeyframeId k = 0; k < kObsPerNode; ++k)
+      poses.emplace_hint(poses.end(), n.id * kObsPerNode + k, n.pose);
+  map3d->updateKeyframePoses(poses);
+}
+
+bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
+  if (!map3d) return map2d_changed;
+  if (map3d->rebuilding()) {
+    const auto t0 = Clock::now();
+    map3d->rebuildStep();
+    m3.rebuild_ms += msSince(t0);
+  }
+  bool projected_changed = false;
+  if (map3d->version() != projected_from) {
+    const auto t0 = Clock::now();
+    GridMap p = map3d->project();
+    m3.project_ms += msSince(t0);
+    projected_from = map3d->version();
+    if (p.grid) {
+      p.version = projected.version + 1;
+      p.rebuilt = p.rebuilt || projected.version == 0;
+      projected = std::move(p);
+      projected_changed = true;
+    }
+  }
+  if (nav_kind == "map3d") return projected_changed;
+  if (nav_kind != "merged") return map2d_changed;
+  const GridMap& m2 = map.map();
+  if (!m2.grid || !projected.grid) {
+    // One map alone: it is the merged one until the other exists.
+    const GridMap& only = m2.grid ? m2 : projected;
+    if (!only.grid || (only.version == (m2.grid ? merged_2d : merged_3d))) return false;
+    (m2.grid ? merged_2d : merged_3d) = only.version;
+    const std::uint64_t v = merged.version + 1;
+    merged = only;
+    merged.version = v;
+    merged.rebuilt = true;
+    return true;
+  }
+  if (m2.version == merged_2d && projected.version == merged_3d) return false;
+  const bool whole = projected.version != merged_3d || m2.rebuilt;
+  GridMap g;
+  g.grid = mergeOccupancy(*m2.grid, *projected.grid);
+  g.version = merged.version + 1;
+  g.rebuilt = whole;
+  if (whole) g.changed = {g.grid->getXMin(), g.grid->getYMin(), g.grid->getXMax(), g.grid->getYMax()};
+  else g.changed = m2.changed;
+  merged_2d = m2.version;
+  merged_3d = projected.version;
+  merged = std::move(g);
+  return true;
 }
 
 std::vector<std::string> Pipeline::outputFiles() {
@@ -369,8 +520,8 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     r.step = sum.steps;
     r.time = now_t;
     r.distance = sum.distance_m;
-    if (m.coverage) last_coverage = r.coverage = m.coverage->coverage(m.map.map());
-    r.explored_area = freeArea(m.map.map());
+    if (m.coverage) last_coverage = r.coverage = m.coverage->coverage(m.navMap());
+    r.explored_area = freeArea(m.navMap());
     r.pose_error = pose_error;
     r.loop_closures = loopClosures();
     r.nodes = m.graph.size();
@@ -433,7 +584,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
         ExplorationState s;
         s.topo = &m.topo.graph();
         s.robot = m.frontend->currentPose(m.graph);
-        s.map = m.map.map().version ? &m.map.map() : nullptr;
+        s.map = m.navMap().version ? &m.navMap() : nullptr;
         s.graph = &m.graph;
         s.time = now_t;
         s.last_status = st;
@@ -473,8 +624,12 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       ++sum.steps;
       now_t = frame->timestamp - t0;
       auto t_stage = Clock::now();
+      const std::size_t nodes_before = m.graph.size();
       const bool changed = m.frontend->process(*frame, m.graph, m.marginals);
       stage.frontend += msSince(t_stage);
+      t_stage = Clock::now();
+      m.addKeyframes3d(*frame, nodes_before);
+      stage.map += msSince(t_stage);
       if (changed) ++nodes_since_opt;
       if (changed && m.backend && nodes_since_opt >= optimize_every) {
         t_stage = Clock::now();
@@ -483,18 +638,18 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
         if (want_marginals) m.marginals = m.backend->marginals(m.graph);
         m.marginals.graph_revision = m.graph.revision;
         stage.backend += msSince(t_stage);
+        m.followKeyframes3d();
       }
       bool map_changed = false;
-      if (changed) {
+      t_stage = Clock::now();
+      if (changed) map_changed = m.map.update(m.graph);
+      map_changed = m.updateNavMap(map_changed);
+      stage.map += msSince(t_stage);
+      if (map_changed && m.segmenter && m.navMap().version % segment_every == 0) {
         t_stage = Clock::now();
-        map_changed = m.map.update(m.graph);
-        stage.map += msSince(t_stage);
-      }
-      if (map_changed && m.segmenter && m.map.map().version % segment_every == 0) {
-        t_stage = Clock::now();
-        m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
-        m.seg.map_version = m.map.map().version;
-        m.topo.update(m.seg, m.map.map(), &m.graph);
+        m.seg = m.segmenter->segment(m.navMap(), m.seg.regions.empty() ? nullptr : &m.seg);
+        m.seg.map_version = m.navMap().version;
+        m.topo.update(m.seg, m.navMap(), &m.graph);
         const double ms = msSince(t_stage);
         stage.segment += ms;
         segment_ms.push_back(ms);
@@ -527,6 +682,15 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
   };
 
   auto finish = [&] {
+    if (m.map3d) {
+      // A rebuild still under way is completed: the outputs show the final graph's map.
+      try {
+        while (m.map3d->rebuilding()) m.map3d->rebuildStep();
+        m.updateNavMap(false);
+      } catch (const std::exception& e) {
+        m.logStr(mrpt::system::LVL_ERROR, std::string("map3d: ") + e.what());
+      }
+    }
     sum.nodes = m.graph.size();
     sum.edges = m.graph.edges.size();
     sum.regions = m.seg.regions.size();
@@ -548,9 +712,9 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       sum.ate_poses = te.poses;
     }
     sum.loop_closures = loopClosures();
-    sum.explored_area_m2 = freeArea(m.map.map());
+    sum.explored_area_m2 = freeArea(m.navMap());
     if (m.coverage) {
-      sum.coverage = m.coverage->coverage(m.map.map());
+      sum.coverage = m.coverage->coverage(m.navMap());
       sum.reachable_area_m2 = m.coverage->reachableArea();
     }
     if (!decision_ms.empty()) {
@@ -569,7 +733,24 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     seriesRow(err_n ? std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) : -1);
     sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start).count();
     std::string err;
-    rec.finish(m.graph, m.map.map(), m.seg, m.topo.graph(), m.path, sum, err);
+    rec.finish(m.graph, m.navMap(), m.seg, m.topo.graph(), m.path, sum, err);
+    if (m.map3d) {
+      Recorder::Map3dInfo info;
+      info.keyframes = m.m3.keyframes;
+      info.observations = m.m3.observations;
+      info.not_keyframes = m.m3.not_keyframes;
+      info.unsupported = m.m3.unsupported;
+      info.over_cap = m.m3.over_cap;
+      info.insert_ms = m.m3.insert_ms;
+      info.project_ms = m.m3.project_ms;
+      info.rebuild_ms = m.m3.rebuild_ms;
+      info.navigation_map = m.nav_kind;
+      rec.finishMap3d(*m.map3d, m.projected, m.cfg.map3d, info, err);
+      if (m.m3.keyframes == 0)
+        m.logStr(mrpt::system::LVL_WARN,
+                 "[pipeline] map3d: no 3D observation reached a keyframe (does the source give "
+                 "any? e.g. [rawlog] observations3d = true)");
+    }
     if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
     try {
       writeRunReport(m.out_dir);
@@ -586,10 +767,13 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     m.backend->optimize(m.graph);
     if (want_marginals) m.marginals = m.backend->marginals(m.graph);
     m.marginals.graph_revision = m.graph.revision;
-    if (m.map.update(m.graph) && m.segmenter) {
-      m.seg = m.segmenter->segment(m.map.map(), m.seg.regions.empty() ? nullptr : &m.seg);
-      m.seg.map_version = m.map.map().version;
-      m.topo.update(m.seg, m.map.map(), &m.graph);
+    m.followKeyframes3d();
+    if (m.map3d)  // the whole rebuild now: the final segmentation sees the final graph's map
+      while (m.map3d->rebuilding()) m.map3d->rebuildStep();
+    if (m.updateNavMap(m.map.update(m.graph)) && m.segmenter) {
+      m.seg = m.segmenter->segment(m.navMap(), m.seg.regions.empty() ? nullptr : &m.seg);
+      m.seg.map_version = m.navMap().version;
+      m.topo.update(m.seg, m.navMap(), &m.graph);
     }
   };
 
@@ -609,7 +793,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     PlanRequest req;
     req.graph = &m.graph;
     req.marginals = m.marginals.valid() ? &m.marginals : nullptr;
-    req.map = m.map.map().version ? &m.map.map() : nullptr;
+    req.map = m.navMap().version ? &m.navMap() : nullptr;
     req.start = static_cast<NodeId>(m.graph.size() - 1);
     req.goal = 0;
     const PlanResult r = m.planner->plan(req);

@@ -11,7 +11,11 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CObservationRotatingScan.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/serialization/CArchive.h>
@@ -36,6 +40,14 @@ using mrpt::poses::CPosePDFGaussian;
 namespace {
 
 bool hasTime(const mrpt::Clock::time_point& t) { return t != mrpt::Clock::time_point(); }
+
+/// The classes whose points Map3d::observationPoints knows (2D scans are decided by label).
+bool is3dClass(const mrpt::obs::CObservation& o) {
+  return dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&o) ||
+         dynamic_cast<const mrpt::obs::CObservationVelodyneScan*>(&o) ||
+         dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&o) ||
+         dynamic_cast<const mrpt::obs::CObservationRotatingScan*>(&o);
+}
 
 Eigen::Matrix3d toEigen(const mrpt::math::CMatrixDouble33& m) {
   Eigen::Matrix3d e;
@@ -203,6 +215,23 @@ struct RawlogReader::Impl {
   // pose of the last emitted scan.
   std::deque<std::pair<mrpt::Clock::time_point, CPose2D>> pending_odo;
   std::optional<CPose2D> odo_now, odo_prev_scan;
+  // 3D observations waiting for the next frame (observation-only logs), and the 3D sensor
+  // whose observations make the frames (scan_from_3d).
+  std::vector<std::shared_ptr<const mrpt::obs::CObservation>> pending_3d;
+  std::optional<std::string> label_3d;
+
+  /// Whether `o` is the 3D sensor the frames come from (choosing it if none is yet).
+  bool chosen3d(const mrpt::obs::CObservation& o) {
+    if (!label_3d) label_3d = o.sensorLabel;
+    return o.sensorLabel == *label_3d;
+  }
+
+  std::shared_ptr<CObservation2DRangeScan> slice(const mrpt::obs::CObservation& o) {
+    std::string why;
+    auto scan = horizontalSlice(o, opt.slice, &why);
+    if (!scan) fail(o.sensorLabel + ": no 2D scan from it (scan_from_3d): " + why);
+    return scan;
+  }
 
   [[noreturn]] void fail(std::string why) {
     ended = true;
@@ -212,12 +241,12 @@ struct RawlogReader::Impl {
   }
 
   /// Whether `scan` is the chosen laser (choosing it if none is yet); counts the others.
-  bool chosen(const CObservation2DRangeScan& scan) {
+  bool chosen(const CObservation2DRangeScan& scan, bool count_skipped = true) {
     if (std::find(labels_seen.begin(), labels_seen.end(), scan.sensorLabel) == labels_seen.end())
       labels_seen.push_back(scan.sensorLabel);
     if (!label) label = scan.sensorLabel;
     if (scan.sensorLabel == *label) return true;
-    ++skipped;
+    if (count_skipped) ++skipped;
     return false;
   }
 
@@ -256,13 +285,15 @@ struct RawlogReader::Impl {
     SensorFrame f;
     for (const auto& o : sf) {
       auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
-      if (!scan) continue;
-      if (!chosen(*scan)) continue;
-      if (f.scan) {
-        ++skipped;  // a second scan of the same laser in one step
+      if (scan && !opt.scan_from_3d && chosen(*scan, /*count_skipped=*/!opt.observations3d)) {
+        if (f.scan) ++skipped;  // a second scan of the same laser in one step
+        else f.scan = scan;
         continue;
       }
-      f.scan = scan;
+      if (!scan && !is3dClass(*o)) continue;
+      if (opt.scan_from_3d && !scan && !f.scan && chosen3d(*o)) f.scan = slice(*o);
+      if (opt.observations3d) f.observations3d.push_back(o);
+      else if (scan && opt.scan_from_3d) ++skipped;
     }
     if (have_action) {
       f.odometry = action.mean;  // as stored: a replay gives back exactly what was written
@@ -296,6 +327,8 @@ struct RawlogReader::Impl {
     }
     SensorFrame f;
     f.scan = scan;
+    f.observations3d = std::move(pending_3d);
+    pending_3d.clear();
     f.timestamp = hasTime(scan->timestamp) ? mrpt::Clock::toDouble(scan->timestamp) : last_t;
     if (frames > 0) {
       if (odo_now && odo_prev_scan) f.odometry = *odo_now - *odo_prev_scan;
@@ -320,6 +353,7 @@ RawlogReader::RawlogReader(const std::string& path, RawlogReaderOptions options)
   if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
   impl_->ar = mrpt::serialization::archiveUniquePtrFrom(impl_->in);
   if (!impl_->opt.laser_label.empty()) impl_->label = impl_->opt.laser_label;
+  if (!impl_->opt.label_3d.empty()) impl_->label_3d = impl_->opt.label_3d;
   if (!impl_->opt.ground_truth_file.empty())
     impl_->gt = readGroundTruth(impl_->opt.ground_truth_file);
 }
@@ -349,7 +383,14 @@ std::optional<SensorFrame> RawlogReader::next() {
     } else if (auto odo = std::dynamic_pointer_cast<CObservationOdometry>(obj)) {
       m.pending_odo.emplace_back(odo->timestamp, odo->odometry);
     } else if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(obj)) {
-      if (m.chosen(*scan)) return m.finish(m.frameFromScan(scan));
+      if (!m.opt.scan_from_3d && m.chosen(*scan, !m.opt.observations3d))
+        return m.finish(m.frameFromScan(scan));
+      if (m.opt.observations3d) m.pending_3d.push_back(scan);
+      else if (m.opt.scan_from_3d) ++m.skipped;
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj);
+               o && is3dClass(*o) && (m.opt.observations3d || m.opt.scan_from_3d)) {
+      if (m.opt.observations3d) m.pending_3d.push_back(o);
+      if (m.opt.scan_from_3d && m.chosen3d(*o)) return m.finish(m.frameFromScan(m.slice(*o)));
     }
     // Anything else (other sensors, metadata) is not used.
   }
@@ -429,6 +470,10 @@ void RawlogWriter::write(const SensorFrame& frame) {
     scan->timestamp = t;
     sf.insert(scan);
   }
+  // MRPT's serialization is not const: the observations are copied (shared, not deep) into
+  // the frame as they are.
+  for (const auto& o : frame.observations3d)
+    if (o) sf.insert(std::const_pointer_cast<mrpt::obs::CObservation>(o));
   try {
     auto ar = mrpt::serialization::archiveFrom(impl_->stream());
     ar << acts << sf;

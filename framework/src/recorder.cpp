@@ -154,8 +154,65 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["stop_reason"] = summary.stop_reason;
     j["wall_time_s"] = summary.wall_time_s;
     j["final_chi2"] = graph.chi2();
+    if (map.grid)  // the grid of map.png (row 0 = top = y_min + height * resolution)
+      j["map"] = {{"x_min", map.grid->getXMin()},
+                  {"y_min", map.grid->getYMin()},
+                  {"resolution", map.grid->getResolution()},
+                  {"width", map.grid->getSizeX()},
+                  {"height", map.grid->getSizeY()}};
     if (!error.empty()) j["output_errors"] = error;
     writeAtomically(dir_ + "/summary.json", j.dump(2) + "\n");
+  });
+}
+
+void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Params& params,
+                           const Map3dInfo& info, std::string& error) {
+  auto attempt = [&](const char* what, auto&& fn) {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      error += std::string(error.empty() ? "" : "; ") + what + ": " + e.what();
+    }
+  };
+  attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
+  attempt("map3d.ot", [&] { map.writeOt(dir_ + "/map3d.ot"); });
+  attempt("map3d_grid.png", [&] {
+    if (!projected.grid) return;
+    MapImage m = renderGrid(*projected.grid);
+    if (!cv::imwrite(dir_ + "/map3d_grid.png", m.img)) throw Error("cannot write");
+  });
+  attempt("map3d.json", [&] {
+    const Map3dStats st = map.stats();
+    json j;
+    json jp = json::object();
+    for (const auto& [k, v] : params.values()) jp[k] = v.text;
+    j["params"] = jp;
+    j["navigation_map"] = info.navigation_map;
+    j["observations"] = info.observations;
+    j["keyframes"] = info.keyframes;
+    j["observations_not_at_keyframes"] = info.not_keyframes;
+    j["observations_unsupported"] = info.unsupported;
+    j["observations_over_cap"] = info.over_cap;
+    j["stats"] = {{"occupied_leaves", st.occupied_leaves},
+                  {"free_leaves", st.free_leaves},
+                  {"occupied_voxels", st.occupied_voxels},
+                  {"free_voxels", st.free_voxels},
+                  {"memory_bytes", st.memory_bytes},
+                  {"known_volume_m3", st.known_volume_m3},
+                  {"resolution", st.resolution},
+                  {"points_inserted", st.points_inserted},
+                  {"points_dropped", st.points_dropped},
+                  {"rebuilds", st.rebuilds}};
+    j["timings_ms"] = {{"insert", info.insert_ms},
+                       {"project", info.project_ms},
+                       {"rebuild", info.rebuild_ms}};
+    if (projected.grid)
+      j["projected"] = {{"width", projected.grid->getSizeX()},
+                        {"height", projected.grid->getSizeY()},
+                        {"resolution", projected.grid->getResolution()},
+                        {"x_min", projected.grid->getXMin()},
+                        {"y_min", projected.grid->getYMin()}};
+    writeAtomically(dir_ + "/map3d.json", j.dump(2) + "\n");
   });
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // Writes a run's outputs. Private to the framework: stages never know about files.
+#include <asf/map3d.h>
 #include <asf/pipeline.h>
 
 #include <array>
@@ -35,6 +36,16 @@ class Recorder {
   void finish(const PoseGraph& graph, const GridMap& map, const Segmentation& seg,
               const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
               const RunSummary& summary, std::string& error);
+  /// [pipeline] map3d: map3d.bt, map3d.ot, map3d_grid.png (the projection) and map3d.json
+  /// (parameters, statistics, counts, timings). Never throws.
+  struct Map3dInfo {
+    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0,
+                over_cap = 0;
+    double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
+    std::string navigation_map;
+  };
+  void finishMap3d(const Map3d& map, const GridMap& projected, const Params& params,
+                   const Map3dInfo& info, std::string& error);
 
  private:
   std::string dir_;

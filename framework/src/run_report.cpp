@@ -434,7 +434,10 @@ std::string writeRunReport(const std::string& run_dir) {
   body << "<h2>Maps</h2>\n<div class=\"grid\">\n";
   for (const auto& [file, caption] :
        {std::pair<const char*, const char*>{"map.png", "map.png: occupancy grid, path, keyframes"},
-        {"regions.png", "regions.png: regions and topological graph"}}) {
+        {"regions.png", "regions.png: regions and topological graph"},
+        {"map3d_grid.png", "map3d_grid.png: the 3D map projected to 2D (robot body band)"}}) {
+    const bool optional = std::string(file) == "map3d_grid.png";  // runs with [pipeline] map3d
+    if (optional && !fs::exists(dir / file)) continue;
     const std::string img = report::embeddedPng((dir / file).string(), file);
     if (img.empty()) {
       notes.push_back(std::string(file) + ": missing");

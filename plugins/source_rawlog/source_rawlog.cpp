@@ -22,6 +22,15 @@ class RawlogSource final : public asf::Source {
     o.odometry_model.a4 = p.getDouble("odo_a4");
     o.odometry_model.min_std_xy = p.getDouble("odo_min_std_xy");
     o.odometry_model.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    o.observations3d = p.getBool("observations3d");
+    o.scan_from_3d = p.getBool("scan_from_3d");
+    o.label_3d = p.getString("label_3d");
+    o.slice.min_z = p.getDouble("slice_min_z");
+    o.slice.max_z = p.getDouble("slice_max_z");
+    o.slice.rays = static_cast<int>(p.getInt("slice_rays"));
+    o.slice.max_range = p.getDouble("slice_max_range");
+    if (o.slice.min_z >= o.slice.max_z)
+      p.fail("slice_max_z", "must be above slice_min_z (" + p.getString("slice_min_z") + ")");
     max_gap_ = p.getDouble("ground_truth_max_gap");
     max_frames_ = p.getInt("max_frames");
     start_frame_ = p.getInt("start_frame");
@@ -111,6 +120,21 @@ const asf::KeySpec kKeys[] = {
                    10),
     asf::keyDouble("odo_min_std_phi_deg", "0.2",
                    "Odometry model: heading std added to every step [deg]", 0, 180),
+    asf::keyBool("observations3d", "false",
+                 "Attach each step's 3D observations (point clouds, Velodyne, 3D range scans, "
+                 "lasers other than laser_label) to the frame, for [pipeline] map3d"),
+    asf::keyBool("scan_from_3d", "false",
+                 "Frames come from the 3D sensor (label_3d); their 2D scan is a horizontal "
+                 "slice of its points (for a robot without a 2D laser)"),
+    asf::keyString("label_3d", "",
+                   "sensorLabel of the 3D sensor for scan_from_3d; empty: the first one seen"),
+    asf::keyDouble("slice_min_z", "0.1",
+                   "scan_from_3d: bottom of the height band, above the robot base [m]", -100, 100),
+    asf::keyDouble("slice_max_z", "1.0", "scan_from_3d: top of the height band [m]", -100, 100),
+    asf::keyInt("slice_rays", "720", "scan_from_3d: rays of the sliced scan over 360 deg", 8,
+                100000),
+    asf::keyDouble("slice_max_range", "30.0", "scan_from_3d: points farther are left out [m]",
+                   0.1, 1000),
     asf::keyInt("max_frames", "0", "Frames delivered before the stream ends; 0: all", 0, 1e12),
     asf::keyInt("start_frame", "0", "Frames of the log skipped before the first one delivered",
                 0, 1e12),

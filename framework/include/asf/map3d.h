@@ -42,6 +42,7 @@
 
 namespace mrpt::obs {
 class CObservation;
+class CObservation2DRangeScan;
 }
 
 namespace asf {
@@ -60,6 +61,24 @@ struct Map3dStats {
   std::size_t points_dropped = 0;   ///< non-finite, at the origin, or closer than min_range
   std::size_t rebuilds = 0;         ///< completed rebuilds
 };
+
+/// A virtual planar laser made from 3D points (what ROS' pointcloud_to_laserscan does), so
+/// a robot with only a 3D sensor feeds the 2D ICP front-end.
+struct SliceOptions {
+  double min_z = 0.1, max_z = 1.0;  ///< height band, metres above the robot base
+  int rays = 720;                   ///< over 360 degrees
+  double max_range = 30.0;          ///< farther points are left out [m]
+};
+
+/// The 2D scan of the points of `obs` (see Map3d::observationPoints) whose height in the
+/// robot frame lies in [min_z, max_z]: one ray per bearing bin around the sensor's (x, y) on
+/// the robot, the nearest point of the bin (horizontal distance), invalid when the bin has
+/// none. The scan is planar at the band's middle height, sensorPose (x, y, z_mid, 0, 0, 0),
+/// aperture 2 pi (rays - 1) / rays, rightToLeft (ray i at bearing -pi + pi/rays + i 2pi/rays),
+/// label "<label>_SLICE", the observation's timestamp. Null (and `why`) for an observation
+/// without 3D points.
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> horizontalSlice(
+    const mrpt::obs::CObservation& obs, const SliceOptions& o, std::string* why = nullptr);
 
 class Map3d {
  public:

@@ -13,6 +13,14 @@
 
 namespace asf {
 
+/// Two grids merged cell by cell over the union of their extents, at a's resolution (cell
+/// centres sampled in each): the least free of the known values (|p - 0.5| > unknown_band),
+/// 0.5 where neither knows. An obstacle either grid sees stays one (a low box under the 2D
+/// laser, a table top above it). MRPT convention: values are p(free).
+std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
+    const mrpt::maps::COccupancyGridMap2D& a, const mrpt::maps::COccupancyGridMap2D& b,
+    double unknown_band = 0.02);
+
 class MapBuilder {
  public:
   /// INI keys of the [map] section.

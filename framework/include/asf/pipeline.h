@@ -4,7 +4,16 @@
 /// topological graph -> policy -> source navigation, with recorders writing the outputs.
 ///
 /// INI: [pipeline] names one plugin per slot and the run's budget; each plugin reads the
-/// section named after the plugin; [map] and [topology] configure the framework services.
+/// section named after the plugin; [map], [topology] and [map3d] configure the framework
+/// services.
+///
+/// 3D map ([pipeline] map3d = true): the 3D observations of a frame that adds a pose-graph
+/// node (SensorFrame::observations3d) become keyframes of an asf::Map3d at that node, follow
+/// the node when the back-end moves it, and are projected to 2D; observations of frames that
+/// add no node are not used. [pipeline] navigation_map chooses the grid the policy, the
+/// navigation, the segmenter and the coverage see: the 2D scans' grid, the projection, or
+/// both merged (per cell the least free of the known values: an obstacle either sees is an
+/// obstacle).
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/frontend.h>
@@ -24,7 +33,7 @@ namespace asf {
 
 /// Keys of the [pipeline] section.
 const KeySpec* pipelineKeys(std::size_t& n);
-/// Framework-owned sections and their key tables (pipeline, map, topology).
+/// Framework-owned sections and their key tables (pipeline, map, topology, map3d).
 struct FrameworkSection {
   const char* name;
   const KeySpec* keys;
@@ -34,7 +43,7 @@ std::vector<FrameworkSection> frameworkSections();
 
 /// A pipeline's configuration resolved against the framework's and the plugins' key tables.
 struct ResolvedConfig {
-  Params pipeline, map, topology;
+  Params pipeline, map, topology, map3d;
   /// slot name -> plugin (empty slots absent)
   std::map<std::string, std::shared_ptr<const PluginInfo>> slots;
   std::map<std::string, Params> plugin_params;  ///< plugin name -> its section's values

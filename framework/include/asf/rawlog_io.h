@@ -15,6 +15,7 @@
 ///
 /// Ground-truth files are text, one pose per line: `timestamp x y phi` (seconds, metres,
 /// radians); `#` starts a comment line.
+#include <asf/map3d.h>
 #include <asf/sensor_frame.h>
 
 #include <cstddef>
@@ -75,6 +76,16 @@ struct RawlogReaderOptions {
   /// Optional ground-truth file: frames get the pose interpolated at their timestamp.
   std::string ground_truth_file;
   double ground_truth_max_gap = 0.5;  ///< seconds, see interpolateGroundTruth
+  /// Attach the step's 3D observations to SensorFrame::observations3d: point clouds,
+  /// Velodyne scans, 3D range scans, rotating scans, and 2D scans of lasers other than the
+  /// chosen one (a tilted laser).
+  bool observations3d = false;
+  /// Frames come from a 3D sensor: its observations (label `label_3d`, empty: the first 3D
+  /// observation seen) become the frames, their 2D scan the horizontalSlice() of their
+  /// points; 2D laser scans are then not used as frame scans.
+  bool scan_from_3d = false;
+  std::string label_3d;
+  SliceOptions slice;
 };
 
 /// Streams a rawlog, one SensorFrame per step:
@@ -82,7 +93,11 @@ struct RawlogReaderOptions {
 ///   (mean and covariance), the scan with the chosen label (or none);
 /// - observation-only logs: one frame per chosen laser scan; odometry is the increment of the
 ///   CObservationOdometry poses between consecutive scans (the last reading at or before
-///   each scan), its covariance from `odometry_model`.
+///   each scan), its covariance from `odometry_model`;
+/// - with scan_from_3d, the chosen 3D sensor's observations take the place of the chosen
+///   laser scans above (one frame per sensory frame holding one, or per observation);
+/// - with observations3d, a sensory frame's 3D observations go to its frame; in an
+///   observation-only log they go to the next frame emitted (the next chosen scan).
 /// A truncated or corrupt log ends the stream with asf::InputError naming the file and the
 /// record index; every frame returned before stays valid.
 ///
@@ -121,7 +136,9 @@ class RawlogReader {
 
 /// Writes SensorFrames as action/sensory-frame pairs: a CActionCollection holding a
 /// CActionRobotMovement2D (odometry increment, its covariance as a CPosePDFGaussian, the
-/// frame's timestamp) and a CSensoryFrame holding the scan (empty when the frame has none).
+/// frame's timestamp) and a CSensoryFrame holding the scan (empty when the frame has none)
+/// followed by the frame's observations3d (read back with RawlogReaderOptions::observations3d
+/// and laser_label set to the scan's label).
 /// A path ending in ".gz" is gz-compressed. Flushes every `flush_every` frames and on close.
 ///
 /// Replay fidelity (what RawlogReader gives back): timestamps as

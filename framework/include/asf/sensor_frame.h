@@ -6,8 +6,10 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace mrpt::obs {
+class CObservation;
 class CObservation2DRangeScan;
 }
 
@@ -23,6 +25,10 @@ struct SensorFrame {
   /// The 2D laser scan of this step, or null when the step has none. Its sensorPose is the
   /// laser's pose on the robot.
   std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> scan;
+  /// Observations of this step for the 3D map (asf/map3d.h): point clouds, Velodyne scans,
+  /// 3D range scans, tilted 2D scans. Each one's sensorPose is the sensor's pose on the
+  /// robot. Empty for a robot without 3D sensors.
+  std::vector<std::shared_ptr<const mrpt::obs::CObservation>> observations3d;
   /// True pose in the world frame, when the source knows it (simulators, logs with GT).
   std::optional<mrpt::poses::CPose2D> ground_truth;
 };
