@@ -120,11 +120,11 @@ std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
     for (unsigned cx = 0; cx < w; ++cx) {
       const float x = out->idx2x(cx);
       const float pa = a.getPos(x, y), pb = b.getPos(x, y);  // 0.5 outside a grid
-      const bool ka = std::abs(pa - 0.5f) > band, kb = std::abs(pb - 0.5f) > band;
+      const bool oa = pa < 0.5f - band, ob = pb < 0.5f - band;  // occupied
+      const bool fa = pa > 0.5f + band, fb = pb > 0.5f + band;  // free
       float p = 0.5f;
-      if (ka && kb) p = std::min(pa, pb);
-      else if (ka) p = pa;
-      else if (kb) p = pb;
+      if (oa || ob) p = std::min(oa ? pa : 1.0f, ob ? pb : 1.0f);
+      else if (fa || fb) p = std::max(fa ? pa : 0.0f, fb ? pb : 0.0f);
       out->setCell(static_cast<int>(cx), static_cast<int>(cy), p);
     }
   }

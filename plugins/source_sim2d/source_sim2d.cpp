@@ -1,7 +1,9 @@
-// source_sim2d: a 2D robot simulator on an occupancy-grid world (map image or built-in
-// room). MRPT simulates the laser (COccupancyGridMap2D::laserScanSimulator) and gives the
-// odometry noise model (CActionRobotMovement2D's Gaussian model); the robot plans on the
-// *estimated* map, drives in fixed steps and never passes through a true wall.
+// source_sim2d: a 2D robot simulator on a 2.5D occupancy-grid world (map image or built-in
+// room; every obstacle has a height). MRPT simulates the horizontal laser
+// (COccupancyGridMap2D::laserScanSimulator on the obstacles taller than the laser) and gives
+// the odometry noise model (CActionRobotMovement2D's Gaussian model); an optional tilted laser
+// is ray cast over the height field. The robot plans on the *estimated* map, drives in fixed
+// steps and never passes through a true obstacle, low or not.
 #include <asf/errors.h>
 #include <asf/rawlog_io.h>
 #include <asf/source.h>
@@ -31,10 +33,20 @@ class Sim2dSource final : public asf::Source {
  public:
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
     const std::string image = p.getString("map_image");
+    std::vector<asf::sim2d::HeightClass> classes;
+    try {
+      classes = asf::sim2d::parseHeightClasses(p.getString("obstacle_heights"));
+    } catch (const std::invalid_argument& e) {
+      p.fail("obstacle_heights", e.what());
+    }
+    const double wall_height = p.getDouble("wall_height");
     try {
       if (image.empty()) {
+        if (!classes.empty())
+          MRPT_LOG_WARN("obstacle_heights is ignored without map_image: the built-in room's "
+                        "walls are wall_height tall");
         world_ = asf::sim2d::World::room(p.getDouble("room_width"), p.getDouble("room_height"),
-                                         p.getDouble("resolution"));
+                                         p.getDouble("resolution"), wall_height);
       } else {
         asf::sim2d::ImageWorldOptions o;
         o.file = image;
@@ -43,6 +55,8 @@ class Sim2dSource final : public asf::Source {
         o.origin_y = p.getDouble("origin_y");
         o.occupied_threshold = p.getDouble("occupied_threshold");
         o.pad_wall_px = static_cast<int>(p.getInt("pad_wall_px"));
+        o.wall_height = wall_height;
+        o.height_classes = classes;
         world_ = asf::sim2d::World::fromImage(o);
         if (world_.wallCells() == 0)
           MRPT_LOG_WARN_STREAM(image << ": no pixel is darker than occupied_threshold; the "
@@ -77,6 +91,29 @@ class Sim2dSource final : public asf::Source {
     sensor_pose_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"),
                                         p.getDouble("sensor_z"), p.getDouble("sensor_yaw_deg") * kDeg,
                                         0, 0);
+    // The horizontal laser sees only the obstacles taller than its height. With all of them
+    // taller (the default) it scans the true grid itself, as before heights existed.
+    laser_grid_ = world_.gridTallerThan(sensor_pose_.z());
+    if (laser_grid_) {
+      MRPT_LOG_INFO_STREAM(world_.cellsNotTallerThan(sensor_pose_.z())
+                           << " obstacle cells are not taller than sensor_z = "
+                           << sensor_pose_.z() << " m: the horizontal laser does not see them");
+      if (world_.cellsNotTallerThan(sensor_pose_.z()) == world_.wallCells())
+        MRPT_LOG_WARN_STREAM("no obstacle is taller than sensor_z = "
+                             << sensor_pose_.z() << " m: the horizontal laser sees nothing");
+    }
+    tilted_ = p.getBool("tilted_laser");
+    tilted_rays_ = static_cast<std::size_t>(p.getInt("tilted_rays"));
+    tilted_fov_ = p.getDouble("tilted_fov_deg") * kDeg;
+    tilted_max_range_ = p.getDouble("tilted_max_range");
+    tilted_sigma_ = p.getDouble("tilted_range_sigma");
+    if (tilted_sigma_ < 0) tilted_sigma_ = range_sigma_;
+    // MRPT's CPose3D(x, y, z, yaw, pitch, roll): a positive pitch turns the sensor's x axis
+    // down (towards -z), so the downward tilt is the pitch as given.
+    tilted_pose_ = mrpt::poses::CPose3D(p.getDouble("tilted_x"), p.getDouble("tilted_y"),
+                                        p.getDouble("tilted_z"),
+                                        p.getDouble("tilted_yaw_deg") * kDeg,
+                                        p.getDouble("tilted_pitch_deg") * kDeg, 0);
     dt_ = p.getDouble("dt");
     step_length_ = p.getDouble("step_length");
     turn_step_ = p.getDouble("turn_step_deg") * kDeg;
@@ -113,6 +150,7 @@ class Sim2dSource final : public asf::Source {
     // path), which keeps runs comparable across sensor settings.
     motion_rng_.seed(ctx.seed);
     laser_rng_.seed(ctx.seed ^ 0x9e3779b97f4a7c15ULL);
+    tilted_rng_.seed(ctx.seed ^ 0xc2b2ae3d27d4eb4fULL);  // its own stream: see scanTilted()
     believed_ = true_pose_;
     step_ = 0;
     status_ = asf::NavStatus::Idle;
@@ -170,6 +208,7 @@ class Sim2dSource final : public asf::Source {
     if (laser_rate_ <= 0 || f.timestamp + 1e-9 >= next_scan_time_) {
       f.scan = scan(f.timestamp);
       last_scan_ = f.scan;
+      if (tilted_) f.observations3d.push_back(scanTilted(f.timestamp));
       if (laser_rate_ > 0) next_scan_time_ += 1.0 / laser_rate_;
     }
     if (writer_) {
@@ -344,7 +383,8 @@ class Sim2dSource final : public asf::Source {
     obs->maxRange = static_cast<float>(max_range_);
     obs->stdError = static_cast<float>(range_sigma_);
     obs->sensorPose = sensor_pose_;
-    world_.grid().laserScanSimulator(*obs, true_pose_, 0.5f, static_cast<std::size_t>(rays_));
+    (laser_grid_ ? *laser_grid_ : world_.grid())
+        .laserScanSimulator(*obs, true_pose_, 0.5f, static_cast<std::size_t>(rays_));
     std::normal_distribution<double> n01(0.0, 1.0);
     for (std::size_t i = 0; i < obs->getScanSize(); ++i) {
       const double noise = range_sigma_ * n01(laser_rng_);  // one draw per ray: stable streams
@@ -360,7 +400,39 @@ class Sim2dSource final : public asf::Source {
     return obs;
   }
 
+  // The tilted laser: exact ranges by ray casting over the height field from the true pose,
+  // then Gaussian noise from its own random stream (so enabling it changes neither the
+  // odometry nor the horizontal laser's draws); rays with no echo read maxRange, invalid.
+  std::shared_ptr<const mrpt::obs::CObservation> scanTilted(double t) {
+    auto obs = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+    obs->sensorLabel = "TILTED_LASER";
+    obs->timestamp = mrpt::Clock::fromDouble(t);
+    obs->aperture = static_cast<float>(tilted_fov_);
+    obs->rightToLeft = true;
+    obs->maxRange = static_cast<float>(tilted_max_range_);
+    obs->stdError = static_cast<float>(tilted_sigma_);
+    obs->sensorPose = tilted_pose_;
+    world_.simulateScan3D(*obs, true_pose_, tilted_rays_);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    for (std::size_t i = 0; i < obs->getScanSize(); ++i) {
+      const double noise = tilted_sigma_ * n01(tilted_rng_);  // one draw per ray
+      if (!obs->getScanRangeValidity(i)) continue;
+      const double z = obs->getScanRange(i) + noise;
+      const bool valid = z > 0 && z < tilted_max_range_;
+      obs->setScanRange(i, static_cast<float>(valid ? z : tilted_max_range_));
+      obs->setScanRangeValidity(i, valid);
+    }
+    return obs;
+  }
+
   asf::sim2d::World world_;
+  // The obstacles the horizontal laser sees (taller than sensor_z); null = world_.grid().
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> laser_grid_;
+  bool tilted_ = false;
+  std::size_t tilted_rays_ = 0;
+  double tilted_fov_ = 0, tilted_max_range_ = 0, tilted_sigma_ = 0;
+  mrpt::poses::CPose3D tilted_pose_;
+  std::mt19937_64 tilted_rng_;
   std::shared_ptr<const asf::WorldTruth> truth_;  // a copy of the world for evaluation
   asf::sim2d::NavOptions nav_;
   asf::OdometryNoiseModel model_;
@@ -395,6 +467,14 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("origin_y", "0", "World y of the image's lower-left corner [m]"),
     asf::keyDouble("occupied_threshold", "0.5",
                    "A pixel whose darkness 1 - gray/255 exceeds this is a wall", 0, 0.999),
+    asf::keyDouble("wall_height", "2.0",
+                   "Height of every obstacle pixel when obstacle_heights is empty, of the "
+                   "pad_wall_px frame and of the built-in room's walls [m]",
+                   1e-3, 1000),
+    asf::keyString("obstacle_heights", "",
+                   "Obstacle heights by gray level, 'GRAY:HEIGHT, ...' (e.g. '0:2.0, 100:0.25'): "
+                   "an obstacle pixel is as tall as the class with the nearest gray level (a tie "
+                   "goes to the darker class) [0..255:m]; empty = all wall_height"),
     asf::keyInt("pad_wall_px", "0",
                 "Wall of this many pixels added around the image (for maps without an outer "
                 "wall)",
@@ -415,8 +495,29 @@ const asf::KeySpec kKeys[] = {
                    "Scans per second of simulated time; 0 = one scan every step [Hz]", 0, 1e6),
     asf::keyDouble("sensor_x", "0.1", "Laser position on the robot, x (ahead) [m]", -10, 10),
     asf::keyDouble("sensor_y", "0", "Laser position on the robot, y (left) [m]", -10, 10),
-    asf::keyDouble("sensor_z", "0.3", "Laser height (recorded only) [m]", -10, 10),
+    asf::keyDouble("sensor_z", "0.3",
+                   "Laser height: it sees only the obstacles strictly taller than this [m]", -10,
+                   10),
     asf::keyDouble("sensor_yaw_deg", "0", "Laser heading on the robot [deg]", -360, 360),
+    asf::keyBool("tilted_laser", "false",
+                 "A second, tilted 2D laser ray cast over the 2.5D world: a scan labelled "
+                 "TILTED_LASER in each frame's observations3d whenever the horizontal laser scans"),
+    asf::keyDouble("tilted_x", "0.1", "Tilted laser position on the robot, x (ahead) [m]", -10,
+                   10),
+    asf::keyDouble("tilted_y", "0", "Tilted laser position on the robot, y (left) [m]", -10, 10),
+    asf::keyDouble("tilted_z", "0.5", "Tilted laser height above the floor [m]", 1e-3, 100),
+    asf::keyDouble("tilted_yaw_deg", "0", "Tilted laser heading on the robot [deg]", -360, 360),
+    asf::keyDouble("tilted_pitch_deg", "20",
+                   "Tilted laser downward tilt (positive = looking down; MRPT pitch) [deg]", -90,
+                   90),
+    asf::keyInt("tilted_rays", "181", "Rays per tilted scan", 2, 100000),
+    asf::keyDouble("tilted_fov_deg", "180", "Tilted laser field of view, centred ahead [deg]", 1,
+                   360),
+    asf::keyDouble("tilted_max_range", "4.0",
+                   "Tilted laser maximum range; no echo beyond = invalid ray [m]", 0.1, 1000),
+    asf::keyDouble("tilted_range_sigma", "-1",
+                   "Std of the tilted laser's Gaussian range noise; negative = range_sigma [m]",
+                   -1, 10),
     asf::keyDouble("dt", "0.1", "Simulated time per step [s]", 1e-4, 100),
     asf::keyDouble("step_length", "0.05", "Distance driven per step [m]", 1e-3, 10),
     asf::keyDouble("turn_step_deg", "10", "Rotation in place per step [deg]", 0.01, 180),

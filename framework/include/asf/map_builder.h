@@ -14,9 +14,11 @@
 namespace asf {
 
 /// Two grids merged cell by cell over the union of their extents, at a's resolution (cell
-/// centres sampled in each): the least free of the known values (|p - 0.5| > unknown_band),
-/// 0.5 where neither knows. An obstacle either grid sees stays one (a low box under the 2D
-/// laser, a table top above it). MRPT convention: values are p(free).
+/// centres sampled in each). A value is known when |p - 0.5| > unknown_band. Occupied in
+/// either: the more occupied value, so an obstacle either grid sees stays one (a low box
+/// under the 2D laser, a table top above it); else free in either: the more free value (a
+/// 3D map that saw the floor once does not dilute the 2D laser's certainty); else 0.5.
+/// MRPT convention: values are p(free).
 std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
     const mrpt::maps::COccupancyGridMap2D& a, const mrpt::maps::COccupancyGridMap2D& b,
     double unknown_band = 0.02);

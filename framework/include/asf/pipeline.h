@@ -12,8 +12,7 @@
 /// the node when the back-end moves it, and are projected to 2D; observations of frames that
 /// add no node are not used. [pipeline] navigation_map chooses the grid the policy, the
 /// navigation, the segmenter and the coverage see: the 2D scans' grid, the projection, or
-/// both merged (per cell the least free of the known values: an obstacle either sees is an
-/// obstacle).
+/// both merged (asf::mergeOccupancy: an obstacle either sees is an obstacle).
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/frontend.h>

@@ -1,7 +1,8 @@
 // Tests of the sim2d source: world loading, laser against analytic ranges, the odometry
-// noise statistics, navigation on the estimated map, collisions, determinism, and the
-// recorded rawlog replaying the same stream.
+// noise statistics, navigation on the estimated map, collisions, determinism, the recorded
+// rawlog replaying the same stream, and the 2.5D world with its tilted laser.
 #include <asf/errors.h>
+#include <asf/map3d.h>
 #include <asf/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/source.h>
@@ -9,9 +10,14 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose3D.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -441,6 +447,476 @@ TEST(Sim2dSource, ConfigErrorsNameTheKey) {
   const std::string e = configError({{"map_image", "/nonexistent/map.png"}});
   EXPECT_NE(e.find("map_image"), std::string::npos) << e;
   EXPECT_NE(e.find("/nonexistent/map.png"), std::string::npos) << e;
+}
+
+// ------------------------------------------------------------------- 2.5D world, tilted laser
+
+// Writes a binary PGM of w x h pixels with gray(col, row) (row 0 = top) and returns its path.
+std::string writePgm(const std::string& name, int w, int h,
+                     const std::function<int(int, int)>& gray) {
+  const fs::path dir = fs::path(ASF_TEST_BINARY_DIR) / "tests" / "sim2d_worlds";
+  fs::create_directories(dir);
+  const fs::path file = dir / name;
+  std::ofstream out(file, std::ios::binary);
+  out << "P5\n" << w << " " << h << "\n255\n";
+  for (int row = 0; row < h; ++row)
+    for (int col = 0; col < w; ++col) out.put(static_cast<char>(gray(col, row)));
+  return file.string();
+}
+
+// 6 m x 3 m at 0.02 m/px: a black (2 m) border wall two pixels thick, a low box (gray 100,
+// 0.25 m) over x in [2.0, 2.4], y in [1.3, 1.7] and a tall pillar (gray 0, 2 m) over
+// x in [4.0, 4.4], y in [0.2, 0.6].
+constexpr double kRes = 0.02;
+std::string lowBoxWorld() {
+  static const std::string path = writePgm("lowbox.pgm", 300, 150, [](int col, int row) {
+    const double x = (col + 0.5) * kRes, y = (150 - 1 - row + 0.5) * kRes;
+    if (col < 2 || row < 2 || col >= 298 || row >= 148) return 0;
+    if (x > 2.0 && x < 2.4 && y > 1.3 && y < 1.7) return 100;
+    if (x > 4.0 && x < 4.4 && y > 0.2 && y < 0.6) return 0;
+    return 255;
+  });
+  return path;
+}
+
+KV lowBoxKeys(double x, double y) {
+  return {{"map_image", lowBoxWorld()},
+          {"resolution", "0.02"},
+          {"obstacle_heights", "0:2.0, 100:0.25"},
+          {"start_x", std::to_string(x)},
+          {"start_y", std::to_string(y)},
+          {"range_sigma", "0"},
+          {"tilted_laser", "true"}};
+}
+
+const mrpt::obs::CObservation2DRangeScan& tilted(const asf::SensorFrame& f) {
+  EXPECT_EQ(f.observations3d.size(), 1u);
+  auto s = std::dynamic_pointer_cast<const mrpt::obs::CObservation2DRangeScan>(
+      f.observations3d.at(0));
+  EXPECT_TRUE(s);
+  return *s;
+}
+
+// The world points of the valid rays of a scan taken at the robot's true pose: the ray's end in
+// the scan plane, through the scan's sensorPose and the robot pose.
+std::vector<mrpt::math::TPoint3D> worldPoints(const mrpt::obs::CObservation2DRangeScan& s,
+                                              const CPose2D& robot,
+                                              std::vector<std::size_t>* index = nullptr) {
+  const mrpt::poses::CPose3D sensor = mrpt::poses::CPose3D(robot) + s.sensorPose;
+  std::vector<mrpt::math::TPoint3D> pts;
+  for (std::size_t i = 0; i < s.getScanSize(); ++i) {
+    if (!s.getScanRangeValidity(i)) continue;
+    const double r = s.getScanRange(i), a = s.getScanAngle(i);
+    mrpt::math::TPoint3D p;
+    sensor.composePoint(r * std::cos(a), r * std::sin(a), 0, p.x, p.y, p.z);
+    pts.push_back(p);
+    if (index) index->push_back(i);
+  }
+  return pts;
+}
+
+TEST(Sim2dWorld, HeightClassesParse) {
+  const auto c = asf::sim2d::parseHeightClasses(" 0:2.0, 100:0.25 ;200:1e-1");
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c[1].gray, 100);
+  EXPECT_DOUBLE_EQ(c[1].height, 0.25);
+  EXPECT_DOUBLE_EQ(c[2].height, 0.1);
+  EXPECT_TRUE(asf::sim2d::parseHeightClasses("").empty());
+  EXPECT_TRUE(asf::sim2d::parseHeightClasses("   ").empty());
+  for (const char* bad : {"0=2", "300:1", "-1:1", "0:0", "0:-1", "0:abc", "0:1,0:2", "0:1,",
+                          "a:1", "0:1:2", "0:nan", "0:inf", ":1", "0:", "128"})
+    EXPECT_THROW(asf::sim2d::parseHeightClasses(bad), std::invalid_argument) << bad;
+}
+
+TEST(Sim2dWorld, ObstacleHeightIsTheNearestGrayClass) {
+  // Top row: gray 0, 50, 80, 100, 200, 255; the bottom row is free.
+  const int grays[6] = {0, 50, 80, 100, 200, 255};
+  asf::sim2d::ImageWorldOptions o;
+  o.file = writePgm("classes.pgm", 6, 2, [&](int col, int row) { return row ? 255 : grays[col]; });
+  o.resolution = 1.0;
+  o.pad_wall_px = 1;
+  o.wall_height = 1.5;
+  auto top = [](int col) { return col + 0.5; };  // x of pixel col; the top row is y in [1, 2]
+  {
+    const auto w = asf::sim2d::World::fromImage(o);  // no classes: every wall is wall_height
+    for (int col = 0; col < 4; ++col) EXPECT_DOUBLE_EQ(w.heightAt(top(col), 1.5), 1.5) << col;
+    EXPECT_EQ(w.heightAt(top(4), 1.5), 0.0);  // gray 200 is free (darkness 0.22 < 0.5)
+    EXPECT_EQ(w.heightAt(top(0), 0.5), 0.0);
+    EXPECT_DOUBLE_EQ(w.heightAt(-0.5, 0.5), 1.5);  // the padding frame
+    EXPECT_EQ(w.heightAt(-50, 0.5), 0.0);           // outside the grid
+    EXPECT_DOUBLE_EQ(w.maxHeight(), 1.5);
+    EXPECT_EQ(w.cellsNotTallerThan(1.4), 0u);
+    EXPECT_FALSE(w.gridTallerThan(1.4));
+  }
+  o.height_classes = asf::sim2d::parseHeightClasses("100:0.25, 0:2.0");
+  const auto w = asf::sim2d::World::fromImage(o);
+  EXPECT_DOUBLE_EQ(w.heightAt(top(0), 1.5), 2.0);
+  EXPECT_DOUBLE_EQ(w.heightAt(top(1), 1.5), 2.0);   // 50: a tie, the darker class wins
+  EXPECT_FLOAT_EQ(w.heightAt(top(2), 1.5), 0.25);   // 80: nearer to 100
+  EXPECT_FLOAT_EQ(w.heightAt(top(3), 1.5), 0.25);
+  EXPECT_EQ(w.heightAt(top(4), 1.5), 0.0);
+  EXPECT_DOUBLE_EQ(w.heightAt(-0.5, 0.5), 1.5);  // the frame stays wall_height
+  // Obstacles are obstacles whatever their height; the laser grid at 0.3 m drops the low ones.
+  EXPECT_TRUE(w.occupiedAt(top(3), 1.5));
+  EXPECT_EQ(w.cellsNotTallerThan(0.3), 2u);
+  const auto g = w.gridTallerThan(0.3);
+  ASSERT_TRUE(g);
+  EXPECT_LT(g->getPos(top(1), 1.5), 0.5f);
+  EXPECT_GT(g->getPos(top(2), 1.5), 0.5f);
+  EXPECT_GT(g->getPos(top(3), 1.5), 0.5f);
+  EXPECT_LT(w.grid().getPos(top(3), 1.5), 0.5f);
+}
+
+TEST(Sim2dTilted, PositivePitchLooksDown) {
+  // MRPT's convention: CPose3D(x, y, z, yaw, pitch, roll), positive pitch = the x axis down.
+  const mrpt::poses::CPose3D down(0, 0, 0.5, 0, 20 * M_PI / 180, 0);
+  mrpt::math::TPoint3D p;
+  down.composePoint(1, 0, 0, p.x, p.y, p.z);
+  EXPECT_NEAR(p.z, 0.5 - std::sin(20 * M_PI / 180), 1e-12);
+  // In a 20 m room with a 4 m range: looking down sees the floor, looking up sees nothing.
+  const KV room{{"room_width", "20"}, {"room_height", "20"}, {"start_x", "10"},
+                {"start_y", "10"},    {"range_sigma", "0"},  {"tilted_laser", "true"}};
+  KV up = room;
+  up["tilted_pitch_deg"] = "-20";
+  const auto fd = make(room)->next(), fu = make(up)->next();
+  // Looking down (defaults: 0.5 m, 20 deg, 4 m), ray a meets the floor at
+  // 0.5 / (cos(a) sin(20 deg)) metres: within range for |a| < 68.6 deg.
+  const auto& sd = tilted(*fd);
+  std::size_t within = 0;
+  for (std::size_t i = 0; i < sd.getScanSize(); ++i)
+    within += 0.5 / (std::cos(sd.getScanAngle(i)) * std::sin(20 * M_PI / 180)) < 4 &&
+              std::cos(sd.getScanAngle(i)) > 0;
+  EXPECT_EQ(within, 137u);
+  const auto down_pts = worldPoints(sd, *fd->ground_truth);
+  EXPECT_EQ(down_pts.size(), within);
+  for (const auto& q : down_pts) EXPECT_NEAR(q.z, 0, 1e-5);
+  EXPECT_TRUE(worldPoints(tilted(*fu), *fu->ground_truth).empty());
+}
+
+TEST(Sim2dTilted, FlatFloorGivesPointsAtTheAnalyticDistance) {
+  const double h = 0.5, pitch = 20 * M_PI / 180, phi = 30 * M_PI / 180;
+  auto src = make({{"room_width", "20"}, {"room_height", "20"}, {"resolution", "0.05"},
+                   {"start_x", "10"}, {"start_y", "10"}, {"start_phi_deg", "30"},
+                   {"range_sigma", "0"}, {"tilted_laser", "true"}, {"tilted_x", "0.1"},
+                   {"tilted_y", "0.05"}, {"tilted_z", "0.5"}, {"tilted_pitch_deg", "20"},
+                   {"tilted_rays", "121"}, {"tilted_fov_deg", "120"}});
+  const auto f = src->next();
+  ASSERT_TRUE(f && f->scan && f->ground_truth);
+  const auto& s = tilted(*f);
+  EXPECT_EQ(s.sensorLabel, "TILTED_LASER");
+  EXPECT_TRUE(s.rightToLeft);
+  EXPECT_NEAR(s.sensorPose.pitch(), pitch, 1e-12);
+  EXPECT_NEAR(s.sensorPose.z(), h, 1e-12);
+  EXPECT_EQ(s.timestamp, f->scan->timestamp);
+  ASSERT_EQ(s.getScanSize(), 121u);
+  std::vector<std::size_t> idx;
+  const auto pts = worldPoints(s, *f->ground_truth, &idx);
+  ASSERT_EQ(pts.size(), 121u);  // +-60 deg: every ray meets the floor within 4 m
+  // The sensor's ground position; the points lie on the floor on a line h / tan(pitch) ahead
+  // of it (perpendicular to the heading), at lateral offset h tan(a) / sin(pitch).
+  const double sx = 10 + 0.1 * std::cos(phi) - 0.05 * std::sin(phi);
+  const double sy = 10 + 0.1 * std::sin(phi) + 0.05 * std::cos(phi);
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const double a = s.getScanAngle(idx[k]);
+    const double ahead = (pts[k].x - sx) * std::cos(phi) + (pts[k].y - sy) * std::sin(phi);
+    const double left = -(pts[k].x - sx) * std::sin(phi) + (pts[k].y - sy) * std::cos(phi);
+    EXPECT_NEAR(pts[k].z, 0, 1e-5) << "ray " << idx[k];
+    EXPECT_NEAR(ahead, h / std::tan(pitch), 1e-5) << "ray " << idx[k];
+    EXPECT_NEAR(left, h * std::tan(a) / std::sin(pitch), 1e-5) << "ray " << idx[k];
+  }
+  // The 3D map's reading of the observation gives the same points.
+  std::vector<Eigen::Vector3f> local;
+  mrpt::poses::CPose3D on_robot;
+  std::string why;
+  ASSERT_TRUE(asf::Map3d::observationPoints(s, local, on_robot, &why)) << why;
+  ASSERT_EQ(local.size(), pts.size());
+  const mrpt::poses::CPose3D sensor = mrpt::poses::CPose3D(*f->ground_truth) + on_robot;
+  for (std::size_t k = 0; k < local.size(); ++k) {
+    mrpt::math::TPoint3D p;
+    sensor.composePoint(local[k].x(), local[k].y(), local[k].z(), p.x, p.y, p.z);
+    EXPECT_NEAR(p.z, 0, 1e-4);
+    EXPECT_NEAR(p.x, pts[k].x, 1e-4);
+  }
+}
+
+TEST(Sim2dTilted, LowBoxIsSeenOnlyByTheTiltedLaser) {
+  // The robot at (1, 1.5) faces the low box 0.9 m ahead of the lasers (at x = 1.1).
+  auto src = make(lowBoxKeys(1.0, 1.5));
+  const auto f = src->next();
+  ASSERT_TRUE(f && f->scan);
+  // Horizontal laser at 0.3 m: the ray straight ahead reaches the far wall (x = 5.96), and
+  // no ray ends at the box.
+  ASSERT_EQ(f->scan->getScanSize(), 361u);
+  EXPECT_NEAR(f->scan->getScanRange(180), 5.96 - 1.1, 0.03);
+  for (const auto& p : worldPoints(*f->scan, *f->ground_truth))
+    EXPECT_FALSE(p.x > 1.9 && p.x < 2.5 && p.y > 1.2 && p.y < 1.8) << p.x << " " << p.y;
+  // It is MRPT's simulator on the world without the box (gray 100 is free at threshold 0.7).
+  asf::sim2d::ImageWorldOptions o;
+  o.file = lowBoxWorld();
+  o.resolution = kRes;
+  o.occupied_threshold = 0.7;
+  const auto no_box = asf::sim2d::World::fromImage(o);
+  EXPECT_EQ(no_box.heightAt(2.2, 1.5), 0.0);
+  mrpt::obs::CObservation2DRangeScan expected = *f->scan;
+  no_box.grid().laserScanSimulator(expected, *f->ground_truth, 0.5f, 361);
+  for (std::size_t i = 0; i < 361; ++i) {
+    ASSERT_TRUE(expected.getScanRangeValidity(i));
+    ASSERT_EQ(f->scan->getScanRange(i), expected.getScanRange(i)) << "ray " << i;
+  }
+
+  // Tilted laser at 0.5 m, 20 deg down: the middle rays hit the box's face at x = 2.0 and
+  // z = 0.5 - 0.9 tan(20 deg); every hit above the floor is on the box.
+  std::vector<std::size_t> idx;
+  const auto& t = tilted(*f);
+  const auto pts = worldPoints(t, *f->ground_truth, &idx);
+  const double tan20 = std::tan(20 * M_PI / 180);
+  int on_box = 0;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const auto& p = pts[k];
+    if (p.z < 1e-5) continue;  // the floor
+    // The rays near +-90 deg stay high enough to reach the border wall (x, y = 0.04, 5.96, 2.96).
+    if (p.y > 2.96 - 1e-4 || p.y < 0.04 + 1e-4 || p.x < 0.04 + 1e-4 || p.x > 5.96 - 1e-4) {
+      EXPECT_LE(p.z, 0.5 + 1e-5);
+      continue;
+    }
+    ++on_box;
+    EXPECT_TRUE(p.x > 2.0 - 1e-6 && p.x < 2.4 && p.y > 1.3 - 1e-6 && p.y < 1.7 + 1e-6)
+        << "ray " << idx[k] << " at " << p.x << " " << p.y << " " << p.z;
+    EXPECT_LE(p.z, 0.25 + 1e-5);
+  }
+  EXPECT_GT(on_box, 10);
+  ASSERT_TRUE(t.getScanRangeValidity(90));
+  mrpt::math::TPoint3D p;
+  (mrpt::poses::CPose3D(*f->ground_truth) + t.sensorPose)
+      .composePoint(t.getScanRange(90), 0, 0, p.x, p.y, p.z);
+  EXPECT_NEAR(p.x, 2.0, 1e-4);
+  EXPECT_NEAR(p.z, 0.5 - 0.9 * tan20, 1e-4);
+}
+
+TEST(Sim2dTilted, TallPillarIsSeenByBothLasers) {
+  // The robot at (3, 0.4) faces the pillar's face at x = 4.0, 0.9 m ahead of the lasers.
+  auto src = make(lowBoxKeys(3.0, 0.4));
+  const auto f = src->next();
+  EXPECT_NEAR(f->scan->getScanRange(180), 0.9, 0.03);
+  const auto& t = tilted(*f);
+  mrpt::math::TPoint3D p;
+  (mrpt::poses::CPose3D(*f->ground_truth) + t.sensorPose)
+      .composePoint(t.getScanRange(90), 0, 0, p.x, p.y, p.z);
+  EXPECT_NEAR(p.x, 4.0, 1e-4);
+  EXPECT_NEAR(p.z, 0.5 - 0.9 * std::tan(20 * M_PI / 180), 1e-4);
+  // Raise the tilted laser to 2.4 m: its middle ray passes over the pillar's face (z = 2.07
+  // at x = 4.0) and comes down onto its 2 m top 0.4 / tan(20 deg) = 1.10 m ahead (x = 4.2).
+  KV kv = lowBoxKeys(3.0, 0.4);
+  kv["tilted_z"] = "2.4";
+  auto high = make(kv);
+  const auto g = high->next();
+  const auto& th = tilted(*g);
+  (mrpt::poses::CPose3D(*g->ground_truth) + th.sensorPose)
+      .composePoint(th.getScanRange(90), 0, 0, p.x, p.y, p.z);
+  EXPECT_NEAR(p.z, 2.0, 1e-4);
+  EXPECT_NEAR(p.x, 3.1 + 0.4 / std::tan(20 * M_PI / 180), 1e-4);
+}
+
+TEST(Sim2dTilted, RobotCannotDriveIntoALowBox) {
+  // No map and a horizontal laser that does not see the box: the plan goes straight through
+  // it, and the true world stops the robot.
+  KV kv = lowBoxKeys(1.0, 1.5);
+  kv["laser_rays"] = "31";
+  auto src = make(kv);
+  std::vector<asf::NavStatus> st;
+  const auto frames = drive(*src, {{3.5, 1.5, 0.1}}, &st);
+  ASSERT_EQ(st.size(), 1u);
+  EXPECT_EQ(st[0], asf::NavStatus::Blocked);
+  double max_x = 0;
+  for (const auto& f : frames) {
+    const double x = f.ground_truth->x(), y = f.ground_truth->y();
+    const double dx = std::max({2.0 - x, 0.0, x - 2.4}), dy = std::max({1.3 - y, 0.0, y - 1.7});
+    EXPECT_GE(std::hypot(dx, dy), 0.2 - kRes) << x << " " << y;
+    max_x = std::max(max_x, x);
+  }
+  EXPECT_GT(max_x, 1.7);  // it did drive up to the box
+}
+
+TEST(Sim2dTilted, DefaultsScanTheTrueGridWithMrpt) {
+  // The shipped cave with the defaults: every wall is 2 m tall, the horizontal laser is
+  // MRPT's simulator on the true grid, and there is no tilted scan.
+  const std::string cave = ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png";
+  auto src = make({{"map_image", cave}, {"pad_wall_px", "1"}, {"start_x", "2"},
+                   {"start_y", "2"}, {"laser_rays", "541"}, {"laser_fov_deg", "270"},
+                   {"laser_max_range", "10"}, {"range_sigma", "0"}});
+  asf::sim2d::ImageWorldOptions o;
+  o.file = cave;
+  o.pad_wall_px = 1;
+  const auto w = asf::sim2d::World::fromImage(o);
+  EXPECT_FALSE(w.gridTallerThan(0.3));
+  EXPECT_DOUBLE_EQ(w.maxHeight(), 2.0);
+  const auto f = src->next();
+  EXPECT_TRUE(f->observations3d.empty());
+  mrpt::obs::CObservation2DRangeScan expected = *f->scan;
+  w.grid().laserScanSimulator(expected, *f->ground_truth, 0.5f, 541);
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < 541; ++i) {
+    ASSERT_EQ(f->scan->getScanRangeValidity(i), expected.getScanRangeValidity(i)) << "ray " << i;
+    if (!expected.getScanRangeValidity(i)) continue;  // the source reads maxRange there
+    ASSERT_EQ(f->scan->getScanRange(i), expected.getScanRange(i)) << "ray " << i;
+    ++valid;
+  }
+  EXPECT_GT(valid, 300u);
+}
+
+TEST(Sim2dTilted, DeterministicAndIndependentOfTheOtherStreams) {
+  KV on{{"laser_rays", "50"}, {"tilted_laser", "true"}, {"tilted_range_sigma", "0.02"},
+        {"tilted_pitch_deg", "10"}};
+  KV off = on;
+  off["tilted_laser"] = "false";
+  const std::vector<asf::Goal> goals{{5, 4, 0.1}, {2, 2, 0.1}};
+  KV exact = on;
+  exact["tilted_range_sigma"] = "0";
+  const auto a = drive(*make(on, 3), goals), b = drive(*make(on, 3), goals),
+             c = drive(*make(on, 4), goals), d = drive(*make(off, 3), goals),
+             e = drive(*make(exact, 3), goals);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), d.size());
+  ASSERT_EQ(a.size(), e.size());
+  bool differs = false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const auto &ta = tilted(a[k]), &tb = tilted(b[k]);
+    for (std::size_t i = 0; i < ta.getScanSize(); ++i) {
+      ASSERT_EQ(ta.getScanRange(i), tb.getScanRange(i));
+      ASSERT_EQ(ta.getScanRangeValidity(i), tb.getScanRangeValidity(i));
+    }
+    if (k < c.size() && !c[k].observations3d.empty())
+      differs |= tilted(c[k]).getScanRange(90) != ta.getScanRange(90);
+    // Without the tilted laser: the same path, odometry and horizontal scans.
+    EXPECT_TRUE(d[k].observations3d.empty());
+    EXPECT_EQ(*d[k].ground_truth, *a[k].ground_truth);
+    EXPECT_EQ(d[k].odometry, a[k].odometry);
+    for (std::size_t i = 0; i < a[k].scan->getScanSize(); ++i)
+      ASSERT_EQ(d[k].scan->getScanRange(i), a[k].scan->getScanRange(i));
+  }
+  EXPECT_TRUE(differs);
+  // The noise: against the same run without it (same path), std 0.02 on the valid rays.
+  double sum2 = 0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(*e[k].ground_truth, *a[k].ground_truth);
+    const auto &ta = tilted(a[k]), &te = tilted(e[k]);
+    for (std::size_t i = 0; i < ta.getScanSize(); ++i) {
+      if (!ta.getScanRangeValidity(i) || !te.getScanRangeValidity(i)) continue;
+      sum2 += std::pow(ta.getScanRange(i) - te.getScanRange(i), 2);
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 1000u);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 0.02, 0.002);
+}
+
+TEST(Sim2dTilted, ConfigErrorsNameTheKey) {
+  KV kv = lowBoxKeys(1, 1.5);
+  kv["obstacle_heights"] = "0:2.0, 128";
+  const std::string e = configError(kv);
+  EXPECT_NE(e.find("obstacle_heights"), std::string::npos) << e;
+  EXPECT_NE(e.find("128"), std::string::npos) << e;
+  kv["obstacle_heights"] = "0:2.0, 100:-0.25";
+  EXPECT_NE(configError(kv).find("obstacle_heights"), std::string::npos);
+}
+
+TEST(Sim2dTilted, CostPerScan) {
+  // The cave, 181 rays over 180 deg, 4 m: the tilted scan against MRPT's horizontal one.
+  asf::sim2d::ImageWorldOptions o;
+  o.file = ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png";
+  o.pad_wall_px = 1;
+  const auto w = asf::sim2d::World::fromImage(o);
+  std::vector<CPose2D> poses;
+  for (double x = 0.5; x < 19.5; x += 0.37)
+    for (double y = 0.5; y < 19.5; y += 0.41)
+      if (w.clearance(x, y) > 0.2) poses.push_back(CPose2D(x, y, x * y));
+  ASSERT_GT(poses.size(), 500u);
+  mrpt::obs::CObservation2DRangeScan t;
+  t.aperture = static_cast<float>(M_PI);
+  t.maxRange = 4;
+  t.sensorPose = mrpt::poses::CPose3D(0.1, 0, 0.5, 0, 20 * M_PI / 180, 0);
+  mrpt::obs::CObservation2DRangeScan hz = t;
+  hz.sensorPose = mrpt::poses::CPose3D(0.1, 0, 0.3, 0, 0, 0);
+  hz.maxRange = 10;
+  hz.aperture = static_cast<float>(270 * M_PI / 180);
+  using Clock = std::chrono::steady_clock;
+  std::size_t valid = 0;
+  const auto t0 = Clock::now();
+  for (const auto& p : poses) {
+    w.simulateScan3D(t, p, 181);
+    for (std::size_t i = 0; i < 181; ++i) valid += t.getScanRangeValidity(i);
+  }
+  const auto t1 = Clock::now();
+  for (const auto& p : poses) w.grid().laserScanSimulator(hz, p, 0.5f, 541);
+  const auto t2 = Clock::now();
+  const double us_tilted = std::chrono::duration<double, std::micro>(t1 - t0).count() / poses.size();
+  const double us_hz = std::chrono::duration<double, std::micro>(t2 - t1).count() / poses.size();
+  std::printf("tilted laser (181 rays, 4 m): %.1f us/scan; MRPT horizontal (541 rays, 10 m): "
+              "%.1f us/scan; %zu scans, %.0f%% valid rays\n",
+              us_tilted, us_hz, poses.size(), 100.0 * valid / (181.0 * poses.size()));
+  EXPECT_GT(valid, 181 * poses.size() / 2);
+  EXPECT_LT(us_tilted, 5000);  // generous: shared machines; measured ~ tens of us
+}
+
+TEST(Sim2dTilted, LowObstaclesDatasetHasItsClasses) {
+  // datasets/low_obstacles: 8 m x 6 m, two rooms, boxes of 0.25 m (gray 64) and 0.2 m (112).
+  asf::sim2d::ImageWorldOptions o;
+  o.file = ASF_TEST_SOURCE_DIR "/datasets/low_obstacles/low_obstacles.png";
+  o.height_classes = asf::sim2d::parseHeightClasses("0:2.0, 64:0.25, 112:0.2");
+  const auto w = asf::sim2d::World::fromImage(o);
+  const asf::Box2 b = w.bounds();
+  EXPECT_NEAR(b.max_x - b.min_x, 8.0, 1e-4);
+  EXPECT_NEAR(b.max_y - b.min_y, 6.0, 1e-4);
+  EXPECT_DOUBLE_EQ(w.heightAt(0.05, 3.0), 2.0);   // outer wall
+  EXPECT_DOUBLE_EQ(w.heightAt(4.0, 1.0), 2.0);    // the wall between the rooms
+  EXPECT_EQ(w.heightAt(4.0, 3.0), 0.0);           // its door
+  EXPECT_DOUBLE_EQ(w.heightAt(5.15, 4.65), 2.0);  // the pillar
+  EXPECT_FLOAT_EQ(w.heightAt(2.2, 1.4), 0.25);    // boxes
+  EXPECT_FLOAT_EQ(w.heightAt(5.75, 2.25), 0.25);
+  EXPECT_FLOAT_EQ(w.heightAt(1.3, 4.35), 0.2);    // low boxes
+  EXPECT_FLOAT_EQ(w.heightAt(6.75, 4.4), 0.2);
+  EXPECT_FLOAT_EQ(w.heightAt(2.95, 2.95), 0.2);
+  EXPECT_EQ(w.heightAt(1.0, 1.0), 0.0);           // the suggested start
+  EXPECT_GT(w.clearance(1.0, 1.0), 0.3);
+  // The pixels (centre inside) of the five boxes, all below a laser at 0.3 m.
+  EXPECT_EQ(w.cellsNotTallerThan(0.3), 10u * 10 + 12u * 12 + 15u * 7 + 7u * 20 + 7u * 7);
+  EXPECT_EQ(w.cellsNotTallerThan(0.2), 15u * 7 + 7u * 20 + 7u * 7);
+}
+
+TEST(Sim2dTilted, RecordedRawlogKeepsTheTiltedScans) {
+  const fs::path dir = fs::path(ASF_TEST_BINARY_DIR) / "tests" / "sim2d_record_tilted";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::vector<asf::SensorFrame> frames;
+  {
+    auto src = make({{"laser_rays", "91"}, {"laser_rate", "4"}, {"tilted_laser", "true"}}, 5,
+                    dir.string());
+    frames = drive(*src, {{6, 4, 0.1}});
+  }
+  asf::RawlogReaderOptions ro;
+  ro.laser_label = "LASER";
+  ro.observations3d = true;
+  asf::RawlogReader reader((dir / "sim2d.rawlog").string(), ro);
+  std::size_t k = 0, tilted_scans = 0;
+  while (auto f = reader.next()) {
+    ASSERT_LT(k, frames.size());
+    const auto& o = frames[k++];
+    ASSERT_EQ(f->observations3d.size(), o.observations3d.size()) << "frame " << k;
+    EXPECT_EQ(o.observations3d.size(), o.scan ? 1u : 0u);  // with every horizontal scan
+    if (o.observations3d.empty()) continue;
+    ++tilted_scans;
+    const auto &a = tilted(*f), &b = tilted(o);
+    EXPECT_EQ(a.sensorLabel, "TILTED_LASER");
+    EXPECT_EQ(a.sensorPose, b.sensorPose);
+    ASSERT_EQ(a.getScanSize(), b.getScanSize());
+    for (std::size_t i = 0; i < a.getScanSize(); ++i) {
+      ASSERT_EQ(a.getScanRange(i), b.getScanRange(i));
+      ASSERT_EQ(a.getScanRangeValidity(i), b.getScanRangeValidity(i));
+    }
+  }
+  EXPECT_EQ(k, frames.size());
+  EXPECT_GT(tilted_scans, 10u);
 }
 
 }  // namespace
