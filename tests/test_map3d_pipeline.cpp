@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "test_util.h"
@@ -422,7 +423,9 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
     auto ini = asf::IniConfig::fromFile(ASF_TEST_SOURCE_DIR "/configs/low_obstacles.ini");
     ini.set("pipeline", "progress_interval", "0");
     ini.set("pipeline", "verbosity", "WARN");
-    ini.set("sim2d", "record", "false");
+    ini.set("sim2d", "record", with3d ? "true" : "false");
+    // Every move of a keyframe by the back-end re-inserts the octree's keyframes (below).
+    ini.set("map3d", "rebuild_threshold", "1e-6");
     if (!with3d) {
       ini.set("pipeline", "map3d", "false");
       ini.set("pipeline", "navigation_map", "scan2d");
@@ -436,6 +439,52 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
   EXPECT_GE(with3d.coverage, 0.98);
   EXPECT_TRUE(fs::exists(fs::temp_directory_path() / "asf_test_map3d_pipeline_low3d" /
                          "map3d_grid.png"));
+
+  // Keyframes follow the back-end: the final octree is the one built by inserting each
+  // keyframe's tilted scan (from the run's rawlog) at its final pose (keyframes.txt).
+  const fs::path out = fs::temp_directory_path() / "asf_test_map3d_pipeline_low3d";
+  std::ifstream jin(out / "map3d.json");
+  const auto j = nlohmann::json::parse(jin);
+  EXPECT_GE(j["stats"]["rebuilds"].get<int>(), 1);
+  std::vector<std::pair<double, CPose2D>> kf;
+  {
+    std::ifstream in(out / "keyframes.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream ls(line);
+      double t, x, y, phi;
+      ls >> t >> x >> y >> phi;
+      kf.emplace_back(t, CPose2D(x, y, phi));
+    }
+  }
+  ASSERT_EQ(kf.size(), with3d.nodes);
+  auto ini = asf::IniConfig::fromFile(ASF_TEST_SOURCE_DIR "/configs/low_obstacles.ini");
+  ini.set("map3d", "rebuild_threshold", "1e-6");
+  asf::Registry reg;
+  asf::Map3d fresh;
+  fresh.configure(asf::resolveConfig(ini, reg).map3d);
+  asf::RawlogReaderOptions o;
+  o.observations3d = true;
+  o.laser_label = "LASER";
+  asf::RawlogReader reader((out / "sim2d.rawlog").string(), o);
+  std::size_t next = 0;
+  while (auto f = reader.next()) {
+    if (next < kf.size() && std::abs(f->timestamp - kf[next].first) < 1e-6) {
+      ASSERT_EQ(f->observations3d.size(), 1u);
+      fresh.addKeyframe(next, kf[next].second, *f->observations3d[0]);
+      ++next;
+    }
+  }
+  EXPECT_EQ(next, kf.size());
+  octomap::OcTree run_tree(0.05);
+  ASSERT_TRUE(run_tree.readBinary((out / "map3d.bt").string()));
+  std::size_t run_occupied = 0;
+  for (auto it = run_tree.begin_leafs(); it != run_tree.end_leafs(); ++it)
+    if (run_tree.isNodeOccupied(*it)) run_occupied += std::size_t(1) << (3 * (16 - it.getDepth()));
+  EXPECT_EQ(run_occupied, fresh.stats().occupied_voxels);
+  EXPECT_EQ(fresh.stats().occupied_voxels, j["stats"]["occupied_voxels"].get<std::size_t>());
+
   const asf::RunSummary only2d = run(false, "low2d");
   EXPECT_LT(only2d.coverage, 0.9) << "the 2D laser alone was expected to miss the boxes";
 }
