@@ -58,6 +58,7 @@ class TigrePolicy final : public asf::Policy {
     max_edge_failures_ = static_cast<int>(p.getInt("max_edge_failures"));
     const std::string next_goal = p.getString("next_goal");
     next_goal_ = next_goal == "centre" ? NextGoal::Centre
+                 : next_goal == "centre_new" ? NextGoal::CentreNew
                  : next_goal == "entry" ? NextGoal::Entry
                                         : NextGoal::None;
     entry_depth_ = p.getDouble("entry_depth");
@@ -87,7 +88,8 @@ class TigrePolicy final : public asf::Policy {
       const Pending p = *pending_;
       pending_.reset();
       std::optional<Point2> anchor;
-      if (next_goal_ == NextGoal::Entry) {
+      // centre_new: a region seen before needs no second look from its centre.
+      if (next_goal_ == NextGoal::Entry || (next_goal_ == NextGoal::CentreNew && p.was_visited)) {
         // A little beyond the border, towards the region's centre: enough to be inside.
         if (const asf::TopoNode* n = topo.node(p.region)) {
           const double d = dist(p.border, n->centroid);
@@ -224,7 +226,8 @@ class TigrePolicy final : public asf::Policy {
       last_ = Attempt{o.key, false, o.goal};
       ++chosen_[o.key];
       noteTry(o.key, here, topo.outwardTraversals(o.index, here));
-      if (next_goal_ != NextGoal::None) pending_ = Pending{o.key, next, o.goal};
+      if (next_goal_ != NextGoal::None)
+        pending_ = Pending{o.key, next, o.goal, other && other->visited};
       return go(o.goal, why + ": border");
     }
 
@@ -244,7 +247,8 @@ class TigrePolicy final : public asf::Policy {
     if (!e.frontier() && next_goal_ != NextGoal::None) {
       // Cross it away from the side the robot comes from.
       const RegionId far = e.a == topo.current ? e.b : e.a;
-      pending_ = Pending{best->key, far, best->goal};
+      const asf::TopoNode* n = topo.node(far);
+      pending_ = Pending{best->key, far, best->goal, n && n->visited};
     }
     return go(best->goal, "region " + std::to_string(here) + " done; relocating to " +
                               edgeName(best->key) + " (" + fmt(best->cost) + " m)");
@@ -267,8 +271,9 @@ class TigrePolicy final : public asf::Policy {
     EdgeKey key;
     RegionId region = 0;  ///< to enter
     Point2 border;        ///< the goal on the border, reached first
+    bool was_visited = false;  ///< `region` had been visited when the edge was chosen
   };
-  enum class NextGoal { Centre, Entry, None };
+  enum class NextGoal { Centre, CentreNew, Entry, None };
 
   asf::Decision go(const Point2& g, const std::string& why) {
     return asf::Decision::goTo({g.x, g.y, tolerance_}, why);
@@ -356,7 +361,7 @@ class TigrePolicy final : public asf::Policy {
   asf::graph::TarryOptions options_;
   double tolerance_ = 0.3, region_tolerance_ = 0.1, snap_ = 0.5, blacklist_radius_ = 0.5;
   int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0, failure_streak_ = 0;
-  NextGoal next_goal_ = NextGoal::Centre;
+  NextGoal next_goal_ = NextGoal::CentreNew;
   double entry_depth_ = 0.6;
   std::mt19937 rng_;
   std::map<EdgeKey, int> failures_, chosen_;
@@ -393,9 +398,10 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("max_edge_failures", "2",
                 "An edge whose goals failed (unreachable/blocked) this often is given up", 1,
                 100),
-    asf::keyEnum("next_goal", "centre", "centre|entry|none",
+    asf::keyEnum("next_goal", "centre_new", "centre|centre_new|entry|none",
                  "After the border of a region edge: on to the next region's centre (thesis), "
-                 "just inside it (entry_depth beyond the border), or no second goal"),
+                 "to the centre only of a region not visited before (else entry), just inside "
+                 "it (entry_depth beyond the border), or no second goal"),
     asf::keyDouble("entry_depth", "0.6",
                    "next_goal = entry: how far beyond the border, towards the centre [m]", 0.0,
                    10.0),

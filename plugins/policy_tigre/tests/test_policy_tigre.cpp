@@ -171,6 +171,29 @@ TEST(PolicyTigre, EveryEdgeOfACycleAtMostOnceEachWay) {
   }
 }
 
+// next_goal = centre_new (the default): after the border, a region entered for the first
+// time is walked into up to its centre (to see it), a region seen before only just inside.
+TEST(PolicyTigre, CentreOnlyOfNewRegions) {
+  World w(6.0, 6.0, blockOfFour);
+  auto p = make();
+  const Walked r = drive(*p, w, 1.5, 1.5);
+  ASSERT_TRUE(r.done) << r.decisions.back().reason;
+  std::set<asf::RegionId> visited{1};
+  int centres = 0, entries = 0;
+  for (std::size_t i = 0; i < r.regions.size(); ++i) {
+    const std::string& why = r.decisions[i].reason;
+    if (why.rfind("into region ", 0) == 0) {
+      const asf::RegionId target = std::stoi(why.substr(12));
+      const bool entry = why.find("(entry)") != std::string::npos;
+      EXPECT_EQ(entry, visited.count(target) == 1) << why;
+      (entry ? entries : centres)++;
+    }
+    visited.insert(r.regions[i]);
+  }
+  EXPECT_EQ(centres, 3) << "regions 2, 3, 4 entered for the first time";
+  EXPECT_GE(entries, 1) << "closing the cycle re-enters region 1";
+}
+
 // Hand-made graph at one decision: region 2 entered from 1 (its entrance edge, the nearest),
 // with an untraversed edge to unvisited region 3 farther away.
 TEST(PolicyTigre, EntranceEdgeOnlyAsLastResort) {
