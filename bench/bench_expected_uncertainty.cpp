@@ -80,8 +80,18 @@ BENCHMARK(BM_WindowIntegral)->Arg(128)->Arg(1024)->Unit(benchmark::kMicrosecond)
 // ---- intel.g2o sweep ------------------------------------------------------------------
 
 const std::string kIntel = ASF_BENCH_SOURCE_DIR "/../shared/datasets/g2o/intel.g2o";
-constexpr int kPairs = 2;
-constexpr std::size_t kMaxPaths = 2;
+constexpr int kPairs = 20;
+
+/// The planners' candidate search with the defaults of plan-eval's config: all simple routes
+/// of the alias-merged reduced graph while at most 200, else Yen's 20 shortest and 20 routes
+/// of the penalty method, plus the Dijkstra path.
+eu::PathSearchOptions sweepSearch() {
+  eu::PathSearchOptions o;
+  o.max_paths = 200;
+  o.k_paths = 20;
+  o.diverse_paths = 20;
+  return o;
+}
 
 struct Intel {
   asf::PoseGraph g;
@@ -99,19 +109,17 @@ struct Intel {
                   asf::PluginContext{});
     be->optimize(g);  // the file is the raw initial guess; plan on the optimized graph
     std::mt19937 rng(42);
-    std::set<std::pair<asf::NodeId, asf::NodeId>> cross;
-    eu::PathSearchOptions search;
-    search.max_paths = kMaxPaths;
     while (static_cast<int>(pairs.size()) < kPairs) {
       const asf::NodeId s = rng() % g.size(), t = rng() % g.size();
-      if (s == t) continue;
-      pairs.emplace_back(s, t);
-      for (const auto& p : eu::allSimplePaths(g, s, t, search).paths)
-        for (std::size_t a = 0; a < p.size(); ++a)
-          for (std::size_t b = a + 1; b < p.size(); ++b)
-            cross.emplace(std::min(p[a], p[b]), std::max(p[a], p[b]));
+      if (s != t) pairs.emplace_back(s, t);
     }
-    m = be->marginals(g, {cross.begin(), cross.end()});
+    // Every cross block (1.5M): the union over the candidates' node pairs is about as large
+    // and slower to gather.
+    std::vector<std::pair<asf::NodeId, asf::NodeId>> cross;
+    cross.reserve(g.size() * (g.size() - 1) / 2);
+    for (asf::NodeId a = 0; a < g.size(); ++a)
+      for (asf::NodeId b = a + 1; b < g.size(); ++b) cross.emplace_back(a, b);
+    m = be->marginals(g, cross);
     ok = true;
   }
 };
@@ -121,14 +129,53 @@ const Intel& intel() {
   return i;
 }
 
-void BM_IntelSweep(benchmark::State& state) {
-  // Opt-in: intel's paths run to ~1700 nodes, i.e. ~1.4M window integrals per path, so
-  // even two pairs take minutes (see docs/BENCHMARKS.md).
-  const char* on = std::getenv("ASF_BENCH_INTEL_SWEEP");
-  if (!on || std::string(on) != "1") {
-    state.SkipWithError("opt-in: set ASF_BENCH_INTEL_SWEEP=1 (takes minutes per pair)");
+void BM_IntelSearch(benchmark::State& state) {
+  // The candidate search alone over the sweep's pairs: search = all capped at 200 (the
+  // first slice's depth-first enumeration), or auto (Yen's + penalty routes beyond 200),
+  // without / with the alias merge (radius 1 m).
+  const Intel& d = intel();
+  if (!d.ok) {
+    state.SkipWithError("intel.g2o not found (../shared/datasets/g2o)");
     return;
   }
+  eu::PathSearchOptions o = sweepSearch();
+  o.method = state.range(0) ? eu::SearchMethod::Auto : eu::SearchMethod::All;
+  // The depth-first enumeration alone may not find 200 routes in hours: the first slice's
+  // 10 s budget per pair.
+  if (!state.range(0)) o.max_seconds = 10;
+  o.merge_radius = state.range(1) ? 1.0 : 0.0;
+  state.SetLabel(std::string(state.range(0) ? "auto" : "all<=200") +
+                 (state.range(1) ? ", merged" : ", unmerged"));
+  std::size_t paths = 0, vertices = 0, fell_back = 0, capped = 0, timed_out = 0;
+  for (auto _ : state) {
+    paths = vertices = fell_back = capped = timed_out = 0;
+    for (const auto& [s, t] : d.pairs) {
+      const auto r = eu::searchPaths(d.g, s, t, o);
+      paths += r.paths.size();
+      vertices += r.reduced_nodes;
+      fell_back += r.fell_back;
+      capped += r.capped;
+      timed_out += r.timed_out;
+    }
+  }
+  state.counters["timed_out"] = static_cast<double>(timed_out);
+  state.counters["pairs"] = kPairs;
+  state.counters["paths_per_pair"] = static_cast<double>(paths) / kPairs;
+  state.counters["search_vertices"] = static_cast<double>(vertices) / kPairs;
+  state.counters["fell_back"] = static_cast<double>(fell_back);
+  state.counters["capped"] = static_cast<double>(capped);
+}
+BENCHMARK(BM_IntelSearch)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+void BM_IntelSweep(benchmark::State& state) {
+  // Planning (search + evaluation of every candidate) for kPairs random start/goal pairs
+  // of the optimized intel.g2o (1728 nodes).
   const Intel& d = intel();
   if (!d.ok) {
     state.SkipWithError("intel.g2o not found (../shared/datasets/g2o)");
@@ -137,11 +184,10 @@ void BM_IntelSweep(benchmark::State& state) {
   const auto c = static_cast<eu::Criterion>(state.range(0));
   state.SetLabel(eu::criterionName(c));
   eu::CriterionOptions o;
-  eu::PathSearchOptions search;
-  search.max_paths = kMaxPaths;
+  const eu::PathSearchOptions search = sweepSearch();
   std::size_t candidates = 0, capped = 0;
   for (const auto& [s, t] : d.pairs) {  // counters, outside the timing
-    const auto paths = eu::allSimplePaths(d.g, s, t, search);
+    const auto paths = eu::searchPaths(d.g, s, t, search);
     candidates += paths.paths.size();
     capped += paths.capped;
   }

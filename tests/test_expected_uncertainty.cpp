@@ -292,7 +292,9 @@ std::set<std::vector<NodeId>> bruteForcePaths(const asf::PoseGraph& g, NodeId s,
 }
 
 void expectSamePaths(const asf::PoseGraph& g, NodeId s, NodeId t, const std::string& what) {
-  const auto r = eu::allSimplePaths(g, s, t);
+  eu::PathSearchOptions o;
+  o.merge_radius = 0;  // the reduction alone: every simple path of the graph
+  const auto r = eu::allSimplePaths(g, s, t, o);
   EXPECT_FALSE(r.capped);
   const std::set<std::vector<NodeId>> got(r.paths.begin(), r.paths.end());
   EXPECT_EQ(got.size(), r.paths.size()) << what << ": a path was produced twice";
@@ -339,6 +341,7 @@ TEST(PathSearch, CapIsReported) {
                                    {8, 9}, {0, 5}, {1, 6}, {2, 7}, {3, 8}, {4, 9}});
   eu::PathSearchOptions o;
   o.max_paths = 3;
+  o.merge_radius = 0;
   const auto r = eu::allSimplePaths(ladder, 0, 9, o);
   EXPECT_TRUE(r.capped);
   EXPECT_EQ(r.paths.size(), 3u);
@@ -355,6 +358,8 @@ TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
   req.start = 0;
   req.goal = 9;
   eu::PathSearchOptions all, budget;
+  all.merge_radius = budget.merge_radius = 0;
+  all.method = budget.method = eu::SearchMethod::All;
   budget.max_seconds = 1e-12;
   std::string note_all, note_budget;
   const auto r_all = eu::planBest(req, eu::Criterion::Distance, {}, all, &note_all);
@@ -378,10 +383,352 @@ TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
   eu::PathSearchOptions quick;
   quick.max_paths = 1u << 30;
   quick.max_seconds = 1e-12;
+  quick.merge_radius = 0;
   const auto r = eu::allSimplePaths(big, 0, 59, quick);
   EXPECT_TRUE(r.timed_out);
   EXPECT_TRUE(r.capped);
   EXPECT_LT(r.paths.size(), 100000u);
+}
+
+// ---------------------------------------------------------------------------------------
+// Alias-merged search graph, Yen's k shortest simple paths, the candidate search
+
+/// A graph with the given node positions; `closures` are marked as loop closures, `chain`
+/// edges as odometry.
+asf::PoseGraph graphAt(const std::vector<std::pair<double, double>>& xy,
+                       const std::vector<std::pair<int, int>>& chain,
+                       const std::vector<std::pair<int, int>>& closures) {
+  asf::PoseGraph g;
+  for (auto [x, y] : xy) g.addNode(CPose2D(x, y, 0));
+  auto add = [&](int a, int b, asf::EdgeKind k) {
+    asf::PoseEdge e;
+    e.from = a;
+    e.to = b;
+    e.kind = k;
+    e.mean = g.nodes[b].pose - g.nodes[a].pose;
+    g.addEdge(e);
+  };
+  for (auto [a, b] : chain) add(a, b, asf::EdgeKind::Odometry);
+  for (auto [a, b] : closures) add(a, b, asf::EdgeKind::LoopClosure);
+  return g;
+}
+
+/// The vertex sequence a node path visits (consecutive repeats collapsed).
+std::vector<NodeId> project(const eu::SearchGraph& sg, const std::vector<NodeId>& path) {
+  std::vector<NodeId> out;
+  for (NodeId v : path)
+    if (out.empty() || out.back() != sg.vertex_of[v]) out.push_back(sg.vertex_of[v]);
+  return out;
+}
+
+bool simple(const std::vector<NodeId>& seq) {
+  return std::set<NodeId>(seq.begin(), seq.end()).size() == seq.size();
+}
+
+bool adjacent(const asf::PoseGraph& g, NodeId a, NodeId b) {
+  for (const auto& e : g.edges)
+    if ((e.from == a && e.to == b) || (e.from == b && e.to == a)) return a != b;
+  return false;
+}
+
+/// The oracle: the distinct vertex sequences of all simple node paths s -> t that do not
+/// re-enter a vertex must be exactly the routes the search returns, one path each, and each
+/// returned path must be a simple chain of graph edges visiting its route in order.
+std::size_t expectSameRoutes(const asf::PoseGraph& g, NodeId s, NodeId t, double radius,
+                             const std::string& what) {
+  const auto sg = eu::buildSearchGraph(g, s, t, radius);
+  std::set<std::vector<NodeId>> oracle;
+  for (const auto& p : bruteForcePaths(g, s, t)) {
+    const auto seq = project(sg, p);
+    if (simple(seq)) oracle.insert(seq);
+  }
+  eu::PathSearchOptions o;
+  o.merge_radius = radius;
+  o.max_paths = 1u << 20;
+  const auto r = eu::allSimplePaths(g, s, t, o);
+  EXPECT_FALSE(r.capped) << what;
+  std::set<std::vector<NodeId>> got;
+  for (const auto& p : r.paths) {
+    if (p.empty()) {
+      ADD_FAILURE() << what << ": empty path";
+      continue;
+    }
+    EXPECT_EQ(p.front(), s) << what;
+    EXPECT_EQ(p.back(), t) << what;
+    EXPECT_TRUE(simple(p)) << what << ": a returned path repeats a node";
+    for (std::size_t i = 1; i < p.size(); ++i)
+      EXPECT_TRUE(adjacent(g, p[i - 1], p[i])) << what << ": " << p[i - 1] << " - " << p[i];
+    const auto seq = project(sg, p);
+    EXPECT_TRUE(simple(seq)) << what;
+    EXPECT_TRUE(got.insert(seq).second) << what << ": a route was returned twice";
+  }
+  EXPECT_EQ(got, oracle) << what << " " << s << " -> " << t << " radius " << radius;
+  return sg.merged_vertices;
+}
+
+TEST(SearchGraph, AliasedLadderBecomesOneRoute) {
+  // A corridor driven twice: nodes 0..5 along y = 0, then 6..11 back along y = 0.2, a loop
+  // closure between each pair of aliases, and a detour 12-13 from node 2 to node 4.
+  std::vector<std::pair<double, double>> xy;
+  for (int i = 0; i < 6; ++i) xy.emplace_back(i, 0);
+  for (int i = 5; i >= 0; --i) xy.emplace_back(i, 0.2);
+  xy.emplace_back(2, 3);
+  xy.emplace_back(4, 3);
+  std::vector<std::pair<int, int>> chain, closures;
+  for (int i = 0; i + 1 < 12; ++i) chain.emplace_back(i, i + 1);
+  chain.insert(chain.end(), {{2, 12}, {12, 13}, {13, 4}});
+  for (int i = 0; i < 6; ++i) closures.emplace_back(i, 11 - i);
+  const auto g = graphAt(xy, chain, closures);
+
+  const auto sg = eu::buildSearchGraph(g, 0, 5, 0.5);
+  EXPECT_EQ(sg.merged_vertices, 6u);  // 0|11 .. 5|6
+  EXPECT_EQ(sg.vertex_of[0], sg.vertex_of[11]);
+  EXPECT_EQ(sg.vertex_of[2], sg.vertex_of[9]);
+  // Start and goal never share a vertex: with a radius spanning the corridor, 0 and 5 stay
+  // apart (the rest may merge).
+  const auto wide = eu::buildSearchGraph(g, 0, 5, 10);
+  EXPECT_NE(wide.vertex_of[0], wide.vertex_of[5]);
+  eu::PathSearchOptions o;
+  o.merge_radius = 0.5;
+  // Without the merge the ladder has dozens of simple paths 0 -> 5; merged: the corridor
+  // (with or without the detour), and the starts/ends through the alias nodes.
+  eu::PathSearchOptions raw = o;
+  raw.merge_radius = 0;
+  const auto merged = eu::allSimplePaths(g, 0, 5, o);
+  const auto all = eu::allSimplePaths(g, 0, 5, raw);
+  EXPECT_LT(merged.paths.size() * 4, all.paths.size())
+      << merged.paths.size() << " vs " << all.paths.size();
+  for (NodeId s = 0; s < g.size(); ++s)
+    for (NodeId t = 0; t < g.size(); ++t)
+      for (double radius : {0.0, 0.25, 0.5, 1.5})
+        expectSameRoutes(g, s, t, radius, "ladder");
+}
+
+TEST(SearchGraph, MergedGraphPreservesAllDistinctRoutesOnRandomGraphs) {
+  std::mt19937_64 rng(2024);
+  std::uniform_real_distribution<double> u(0, 3);
+  int with_merges = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 3 + static_cast<int>(rng() % 8);
+    std::vector<std::pair<double, double>> xy;
+    for (int i = 0; i < n; ++i) xy.emplace_back(u(rng), u(rng));
+    std::vector<std::pair<int, int>> chain, closures;
+    for (int i = 1; i < n; ++i) chain.emplace_back(i - 1, i);
+    const int extra = static_cast<int>(rng() % 6);
+    for (int k = 0; k < extra; ++k)
+      closures.emplace_back(static_cast<int>(rng() % n), static_cast<int>(rng() % n));
+    const auto g = graphAt(xy, chain, closures);
+    const double radius = std::uniform_real_distribution<double>(0, 2.5)(rng);
+    with_merges += expectSameRoutes(g, static_cast<NodeId>(rng() % n),
+                                    static_cast<NodeId>(rng() % n), radius,
+                                    "trial " + std::to_string(trial)) > 0;
+  }
+  EXPECT_GT(with_merges, 100);  // the oracle saw merged vertices, not only the reduction
+}
+
+TEST(SearchGraph, ExpandRouteRejectsBadRoutes) {
+  const auto g = graphAt({{0, 0}, {1, 0}, {2, 0}, {1, 1}}, {{0, 1}, {1, 2}, {0, 3}, {3, 2}}, {});
+  const auto sg = eu::buildSearchGraph(g, 0, 2, 0, false);
+  EXPECT_EQ(eu::expandRoute(g, sg, {0, 1, 2}, 0, 2), (std::vector<NodeId>{0, 1, 2}));
+  EXPECT_EQ(eu::expandRoute(g, sg, {0, 3, 2}, 0, 2), (std::vector<NodeId>{0, 3, 2}));
+  EXPECT_THROW(eu::expandRoute(g, sg, {0, 2}, 0, 2), asf::Error);        // not adjacent
+  EXPECT_THROW(eu::expandRoute(g, sg, {0, 1, 0, 1, 2}, 0, 2), asf::Error);  // repeated
+  EXPECT_THROW(eu::expandRoute(g, sg, {1, 2}, 0, 2), asf::Error);        // wrong start
+}
+
+/// All simple s -> t paths of a multigraph as edge sequences, by (cost, length, edges).
+std::vector<std::vector<std::size_t>> bruteForceEdgePaths(std::size_t n,
+                                                          const std::vector<eu::WeightedEdge>& e,
+                                                          std::uint32_t s, std::uint32_t t) {
+  std::vector<std::pair<double, std::vector<std::size_t>>> all;
+  std::vector<std::size_t> cur;
+  std::vector<char> on(n, 0);
+  std::function<void(std::uint32_t, double)> dfs = [&](std::uint32_t v, double c) {
+    if (v == t) {
+      all.emplace_back(c, cur);
+      return;
+    }
+    on[v] = 1;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      if (e[i].a == e[i].b) continue;
+      std::uint32_t w;
+      if (e[i].a == v)
+        w = e[i].b;
+      else if (e[i].b == v)
+        w = e[i].a;
+      else
+        continue;
+      if (on[w]) continue;
+      cur.push_back(i);
+      dfs(w, c + e[i].w);
+      cur.pop_back();
+    }
+    on[v] = 0;
+  };
+  dfs(s, 0);
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first < b.first;
+    if (a.second.size() != b.second.size()) return a.second.size() < b.second.size();
+    return a.second < b.second;
+  });
+  std::vector<std::vector<std::size_t>> out;
+  for (auto& p : all) out.push_back(std::move(p.second));
+  return out;
+}
+
+TEST(Yen, EqualsTheSortedBruteForceListOnRandomGraphs) {
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> w(0.1, 5);
+  std::size_t compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const std::size_t n = 2 + rng() % 7;
+    std::vector<eu::WeightedEdge> e;
+    const int m = static_cast<int>(rng() % 14);
+    for (int k = 0; k < m; ++k)  // parallel edges and self-loops included
+      e.push_back({static_cast<std::uint32_t>(rng() % n), static_cast<std::uint32_t>(rng() % n),
+                   w(rng)});
+    const auto s = static_cast<std::uint32_t>(rng() % n), t = static_cast<std::uint32_t>(rng() % n);
+    const auto oracle = bruteForceEdgePaths(n, e, s, t);
+    for (std::size_t k : {std::size_t{1}, std::size_t{3}, oracle.size() + 2}) {
+      const auto got = eu::kShortestSimplePaths(n, e, s, t, k);
+      const std::size_t want = std::min(k, oracle.size());
+      ASSERT_EQ(got.size(), want) << "trial " << trial << " k " << k;
+      for (std::size_t i = 0; i < want; ++i)
+        EXPECT_EQ(got[i], oracle[i]) << "trial " << trial << " k " << k << " rank " << i;
+      compared += want;
+    }
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_THROW(eu::kShortestSimplePaths(2, {{0, 5, 1.0}}, 0, 1, 3), asf::Error);
+}
+
+TEST(PathSearch, AutoFallsBackToYenOnALoopyGraphAndSaysSo) {
+  // A 2 x 30 ladder (rails 1 m apart, so no merge at 0.5 m): about 2^29 simple paths.
+  std::vector<std::pair<double, double>> xy;
+  std::vector<std::pair<int, int>> chain, closures;
+  for (int i = 0; i < 30; ++i) xy.emplace_back(i, 0);
+  for (int i = 0; i < 30; ++i) xy.emplace_back(i, 1);
+  for (int i = 0; i + 1 < 30; ++i) {
+    chain.emplace_back(i, i + 1);
+    chain.emplace_back(30 + i, 31 + i);
+  }
+  for (int i = 0; i < 30; ++i) closures.emplace_back(i, 30 + i);
+  const auto g = graphAt(xy, chain, closures);
+  eu::PathSearchOptions o;
+  o.merge_radius = 0.5;
+  o.max_paths = 100;
+  o.k_paths = 12;
+  o.diverse_paths = 0;
+  const auto r = eu::searchPaths(g, 0, 59, o);
+  EXPECT_TRUE(r.fell_back);
+  EXPECT_FALSE(r.capped);
+  EXPECT_EQ(r.method, eu::SearchMethod::Yen);
+  ASSERT_EQ(r.paths.size(), 12u);  // the Dijkstra path is Yen's first: not added again
+  EXPECT_FALSE(r.added_shortest);
+  EXPECT_EQ(r.paths.front(), eu::shortestPath(g, 0, 59));
+  std::set<std::vector<NodeId>> distinct(r.paths.begin(), r.paths.end());
+  EXPECT_EQ(distinct.size(), r.paths.size());
+  double prev = 0;
+  for (const auto& p : r.paths) {
+    EXPECT_TRUE(simple(p));
+    double len = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) {
+      ASSERT_TRUE(adjacent(g, p[i - 1], p[i]));
+      len += (g.nodes[p[i]].pose - g.nodes[p[i - 1]].pose).norm();
+    }
+    EXPECT_GE(len, prev - 1e-9);  // no merge: route lengths are the path lengths
+    prev = len;
+  }
+  // search = all: the cap is reported instead.
+  o.method = eu::SearchMethod::All;
+  const auto capped = eu::searchPaths(g, 0, 59, o);
+  EXPECT_TRUE(capped.capped);
+  EXPECT_FALSE(capped.fell_back);
+  // Rails 0.2 m apart and a 0.5 m merge radius: one corridor, one route.
+  for (int i = 30; i < 60; ++i) xy[i].second = 0.2;
+  const auto corridor = graphAt(xy, chain, closures);
+  o.method = eu::SearchMethod::Auto;
+  const auto one = eu::searchPaths(corridor, 0, 59, o);
+  EXPECT_FALSE(one.fell_back);
+  EXPECT_LE(one.paths.size(), 3u);
+}
+
+
+TEST(PathSearch, PenaltyRoutesReachTheDetourYensVariantsMiss) {
+  // A ladder 0..9 / 10..19 (rails 1 m apart: no merge) and a long detour 0-20..27-9 below.
+  std::vector<std::pair<double, double>> xy;
+  for (int i = 0; i < 10; ++i) xy.emplace_back(i, 0);
+  for (int i = 0; i < 10; ++i) xy.emplace_back(i, 1);
+  for (auto [x, y] : {std::pair{0.0, -1.0}, {0, -3}, {0, -5}, {3, -5}, {6, -5}, {9, -5}, {9, -3},
+                      {9, -1}})
+    xy.emplace_back(x, y);
+  std::vector<std::pair<int, int>> chain, closures;
+  for (int i = 0; i + 1 < 10; ++i) {
+    chain.emplace_back(i, i + 1);
+    chain.emplace_back(10 + i, 11 + i);
+  }
+  chain.emplace_back(0, 20);
+  for (int i = 20; i < 27; ++i) chain.emplace_back(i, i + 1);
+  chain.emplace_back(27, 9);
+  for (int i = 0; i < 10; ++i) closures.emplace_back(i, 10 + i);
+  const auto g = graphAt(xy, chain, closures);
+  auto detour = [](const std::vector<NodeId>& p) {
+    return std::find(p.begin(), p.end(), NodeId{24}) != p.end();
+  };
+  eu::PathSearchOptions o;
+  o.method = eu::SearchMethod::Yen;
+  o.merge_radius = 0.5;
+  o.k_paths = 10;
+  o.diverse_paths = 0;
+  const auto yen = eu::searchPaths(g, 0, 9, o);
+  EXPECT_EQ(yen.paths.size(), 10u);
+  EXPECT_TRUE(std::none_of(yen.paths.begin(), yen.paths.end(), detour));
+  o.diverse_paths = 10;
+  const auto both = eu::searchPaths(g, 0, 9, o);
+  EXPECT_GT(both.diverse_added, 0u);
+  EXPECT_TRUE(std::any_of(both.paths.begin(), both.paths.end(), detour));
+  std::set<std::vector<NodeId>> distinct(both.paths.begin(), both.paths.end());
+  EXPECT_EQ(distinct.size(), both.paths.size());
+  for (const auto& p : both.paths) {
+    EXPECT_TRUE(simple(p));
+    for (std::size_t i = 1; i < p.size(); ++i) EXPECT_TRUE(adjacent(g, p[i - 1], p[i]));
+  }
+  // The first route of the penalty method is the shortest path.
+  std::vector<eu::WeightedEdge> we{{0, 1, 1.0}, {1, 2, 1.0}, {0, 2, 3.0}, {0, 2, 2.5}};
+  const auto d = eu::diversePaths(3, we, 0, 2, 5, 1.0);
+  ASSERT_GE(d.size(), 2u);
+  EXPECT_EQ(d[0], (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(d[1], (std::vector<std::size_t>{3}));  // 2.5 < 2 x 2
+}
+
+
+TEST(PathSearch, NearTiesGoToTheShorterPath) {
+  // 0-1-2 straight (2 m) or 0-3-2 over (1, 1) (2.83 m); sum_dopt of the detour is smaller by
+  // a relative 1e-9: a tie under the default tolerance (the shorter path wins), not at 0.
+  const auto g = graphAt({{0, 0}, {1, 0}, {2, 0}, {1, 1}}, {{0, 1}, {1, 2}, {0, 3}, {3, 2}}, {});
+  asf::Marginals m;
+  for (int i = 0; i < 4; ++i) m.node.push_back(Matrix3d::Identity() * 0.1);
+  m.node[3] *= std::cbrt(1 - 3e-9);
+  asf::PlanRequest req;
+  req.graph = &g;
+  req.marginals = &m;
+  req.start = 0;
+  req.goal = 2;
+  eu::CriterionOptions o;
+  eu::PathSearchOptions search;
+  search.merge_radius = 0;
+  auto r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 1, 2}));
+  o.tie_tolerance = 0;
+  r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 3, 2}));
+  // A real difference is not a tie.
+  m.node[3] *= 0.5;
+  o.tie_tolerance = 1e-6;
+  r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 3, 2}));
 }
 
 // ---------------------------------------------------------------------------------------

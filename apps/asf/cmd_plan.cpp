@@ -103,7 +103,7 @@ int cmdPlan(int argc, char** argv) {
   // to request the cross-covariance blocks its relocalization probability reads.
   const eu::PathSearchOptions search = eu::pathSearchOptionsFrom(pparams);
   const auto t_search = std::chrono::steady_clock::now();
-  const eu::PathSearchResult candidates = eu::allSimplePaths(g, s, t, search);
+  const eu::PathSearchResult candidates = eu::searchPaths(g, s, t, search);
   const double search_s = secondsSince(t_search);
   std::set<std::pair<NodeId, NodeId>> pairs;
   bool cross_skipped = false;
@@ -156,6 +156,10 @@ int cmdPlan(int argc, char** argv) {
   std::string note;
   if (candidates.capped)
     note += "path search capped at " + std::to_string(search.max_paths) + " paths. ";
+  if (candidates.fell_back)
+    note += "enumeration given up past " + std::to_string(search.max_paths) +
+            " simple routes: Yen's " + std::to_string(search.k_paths) +
+            " shortest and the penalty method's routes evaluated. ";
   if (expected.missing_cross)
     note += std::to_string(expected.missing_cross) +
             " relocalization queries on the chosen path lacked a cross-covariance block.";
@@ -184,6 +188,9 @@ int cmdPlan(int argc, char** argv) {
                         {"expected_covariance", ec},
                         {"candidates", candidates.paths.size()},
                         {"capped", candidates.capped},
+                        {"search", eu::searchMethodName(candidates.method)},
+                        {"fell_back", candidates.fell_back},
+                        {"merged_vertices", candidates.merged_vertices},
                         {"reduced_nodes", candidates.reduced_nodes},
                         {"reduced_edges", candidates.reduced_edges},
                         {"cross_blocks", pairs.size()},
@@ -196,9 +203,10 @@ int cmdPlan(int argc, char** argv) {
   } else {
     std::cout << std::setprecision(6) << graph.getValue() << ": " << g.size() << " nodes, "
               << g.edges.size() << " edges; " << candidates.paths.size()
-              << " candidate paths (reduced graph " << candidates.reduced_nodes << " nodes, "
-              << candidates.reduced_edges << " edges" << (candidates.capped ? ", capped" : "")
-              << ")\n"
+              << " candidate paths (" << eu::searchMethodName(candidates.method)
+              << "; search graph " << candidates.reduced_nodes << " vertices, "
+              << candidates.reduced_edges << " edges, " << candidates.merged_vertices
+              << " merged aliases" << (candidates.capped ? ", capped" : "") << ")\n"
               << pinfo->name() << ": " << r.nodes.size() << " nodes: " << joinPath(r.nodes)
               << "\n  " << r.criterion << " = " << r.cost << " (plan " << plan_s
               << " s, marginals " << marginals_s << " s)\n";

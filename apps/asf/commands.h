@@ -32,6 +32,7 @@ int cmdAte(int argc, char** argv);
 int cmdSegment(int argc, char** argv);
 int cmdSegmentEval(int argc, char** argv);
 int cmdPlan(int argc, char** argv);
+int cmdPlanEval(int argc, char** argv);
 int cmdExperiment(int argc, char** argv);
 int cmdMap3d(int argc, char** argv);
 

@@ -50,6 +50,8 @@ const Command kCommands[] = {
      "Score a segmenter on the room segmentation benchmark (precision, recall, MCC, time)"},
     {"plan", asf::app::cmdPlan,
      "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
+    {"plan-eval", asf::app::cmdPlanEval,
+     "Table 3.1 protocol: error rates of planners avoiding a feature-void zone of a SLAM graph"},
     {"experiment", asf::app::cmdExperiment,
      "Replications x policies of an exploration pipeline in parallel: tables, plots, report"},
     {"map3d", asf::app::cmdMap3d,

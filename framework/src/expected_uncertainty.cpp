@@ -17,6 +17,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <queue>
 #include <random>
 #include <set>
 #include <sstream>
@@ -480,6 +481,7 @@ CriterionOptions criterionOptionsFrom(const Params& params, std::uint64_t ctx_se
   if (params.has("prune_below")) o.prune_below = params.getDouble("prune_below");
   if (params.has("seed") && params.getInt("seed") != 0)  // 0: the run's seed
     o.reloc.seed = static_cast<std::uint64_t>(params.getInt("seed"));
+  if (params.has("tie_tolerance")) o.tie_tolerance = params.getDouble("tie_tolerance");
   if (params.has("recognition_samples"))
     o.recognition_samples = static_cast<int>(params.getInt("recognition_samples"));
   if (params.has("recognition_map_radius"))
@@ -577,72 +579,454 @@ ReducedGraph reduceGraph(const PoseGraph& g, NodeId start, NodeId goal) {
   return reduce(simpleAdjacency(g), start, goal, true);
 }
 
-PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
-                                const PathSearchOptions& o) {
+const char* searchMethodName(SearchMethod m) {
+  switch (m) {
+    case SearchMethod::Auto: return "auto";
+    case SearchMethod::All: return "all";
+    case SearchMethod::Yen: return "yen";
+  }
+  return "?";
+}
+
+namespace {
+
+double planarDistance(const PoseGraph& g, NodeId a, NodeId b) {
+  return std::hypot(g.nodes[a].pose.x() - g.nodes[b].pose.x(),
+                    g.nodes[a].pose.y() - g.nodes[b].pose.y());
+}
+
+/// A loop closure for the alias merge: so marked, or joining nodes that are not consecutive
+/// in the trajectory (readG2o marks them so; hand-built graphs may not).
+bool isLoopClosure(const PoseEdge& e) {
+  const NodeId gap = e.from > e.to ? e.from - e.to : e.to - e.from;
+  return e.kind == EdgeKind::LoopClosure || gap > 1;
+}
+
+void checkNodes(const PoseGraph& g, NodeId start, NodeId goal) {
   const std::size_t n = g.size();
   if (start >= n || goal >= n)
     throw Error("node " + std::to_string(start >= n ? start : goal) +
                 " does not exist (the graph has " + std::to_string(n) + " nodes)");
+}
+
+/// Dijkstra over the pose graph (edge length: distance between the estimates) from `start`
+/// to `goal`, moving from v to w only when allowed(v, w). Empty when goal is unreachable.
+/// Ties resolve by node id, so the result is deterministic.
+template <class Allowed>
+std::vector<NodeId> dijkstraNodes(const PoseGraph& g,
+                                  const std::vector<std::vector<NodeId>>& adj, NodeId start,
+                                  NodeId goal, const Allowed& allowed) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::size_t n = g.size();
+  std::vector<double> dist(n, kInf);
+  std::vector<NodeId> prev(n, 0);
+  using Item = std::pair<double, NodeId>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  dist[start] = 0;
+  open.emplace(0.0, start);
+  while (!open.empty()) {
+    const auto [d, v] = open.top();
+    open.pop();
+    if (d > dist[v]) continue;
+    if (v == goal) break;
+    for (NodeId w : adj[v]) {
+      if (!allowed(v, w)) continue;
+      const double nd = d + planarDistance(g, v, w);
+      if (nd < dist[w]) {
+        dist[w] = nd;
+        prev[w] = v;
+        open.emplace(nd, w);
+      }
+    }
+  }
+  std::vector<NodeId> path;
+  if (dist[goal] == kInf) return path;
+  for (NodeId v = goal;; v = prev[v]) {
+    path.push_back(v);
+    if (v == start) break;
+  }
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
+}  // namespace
+
+SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
+                             bool collapse) {
+  checkNodes(g, start, goal);
+  const std::size_t n = g.size();
+  // Clusters with explicit member lists: label[v] is v's cluster, relabelled on merges
+  // (smaller into larger), so a lookup is O(1) and all merges O(n log n).
+  std::vector<NodeId> label(n);
+  std::vector<std::vector<NodeId>> mem(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    label[v] = static_cast<NodeId>(v);
+    mem[v] = {static_cast<NodeId>(v)};
+  }
+  if (merge_radius > 0) {
+    std::vector<std::pair<double, std::size_t>> closures;
+    for (std::size_t i = 0; i < g.edges.size(); ++i) {
+      const PoseEdge& e = g.edges[i];
+      if (e.from == e.to || e.from >= n || e.to >= n || !isLoopClosure(e)) continue;
+      const double d = planarDistance(g, e.from, e.to);
+      if (d <= merge_radius) closures.emplace_back(d, i);
+    }
+    std::sort(closures.begin(), closures.end());
+    for (const auto& [d, i] : closures) {
+      NodeId ca = label[g.edges[i].from], cb = label[g.edges[i].to];
+      if (ca == cb) continue;
+      const NodeId cs = label[start], cg = label[goal];
+      if ((ca == cs && cb == cg) || (ca == cg && cb == cs)) continue;
+      bool close = true;
+      for (NodeId a : mem[ca]) {
+        for (NodeId b : mem[cb])
+          if (planarDistance(g, a, b) > merge_radius) {
+            close = false;
+            break;
+          }
+        if (!close) break;
+      }
+      if (!close) continue;
+      if (mem[ca].size() < mem[cb].size()) std::swap(ca, cb);
+      for (NodeId v : mem[cb]) label[v] = ca;
+      mem[ca].insert(mem[ca].end(), mem[cb].begin(), mem[cb].end());
+      mem[cb].clear();
+    }
+  }
+  // Vertices numbered in the order of their smallest node.
+  SearchGraph sg;
+  sg.vertex_of.assign(n, 0);
+  std::vector<NodeId> vertex_of_label(n, std::numeric_limits<NodeId>::max());
+  for (std::size_t v = 0; v < n; ++v) {
+    NodeId& id = vertex_of_label[label[v]];
+    if (id == std::numeric_limits<NodeId>::max()) {
+      id = static_cast<NodeId>(sg.members.size());
+      sg.members.push_back(mem[label[v]]);
+      std::sort(sg.members.back().begin(), sg.members.back().end());
+    }
+    sg.vertex_of[v] = id;
+  }
+  for (const auto& m : sg.members) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (NodeId v : m) c += Eigen::Vector2d(g.nodes[v].pose.x(), g.nodes[v].pose.y());
+    sg.centre.push_back(c / static_cast<double>(m.size()));
+    if (m.size() > 1) ++sg.merged_vertices;
+  }
+  sg.start = sg.vertex_of[start];
+  sg.goal = sg.vertex_of[goal];
+  std::vector<std::set<NodeId>> s(sg.members.size());
+  for (const auto& e : g.edges) {
+    if (e.from >= n || e.to >= n) continue;
+    const NodeId a = sg.vertex_of[e.from], b = sg.vertex_of[e.to];
+    if (a == b) continue;
+    s[a].insert(b);
+    s[b].insert(a);
+  }
+  std::vector<std::vector<NodeId>> adj(s.size());
+  for (std::size_t v = 0; v < s.size(); ++v) adj[v].assign(s[v].begin(), s[v].end());
+  sg.reduced = reduce(adj, sg.start, sg.goal, collapse);
+  for (const auto& e : sg.reduced.edges) {
+    double len = 0;
+    NodeId prev = e.a;
+    for (NodeId v : e.interior) {
+      len += (sg.centre[v] - sg.centre[prev]).norm();
+      prev = v;
+    }
+    sg.length.push_back(len + (sg.centre[e.b] - sg.centre[prev]).norm());
+  }
+  return sg;
+}
+
+std::vector<NodeId> routeVertices(const SearchGraph& sg,
+                                  const std::vector<std::pair<std::size_t, bool>>& edges) {
+  std::vector<NodeId> seq{sg.start};
+  for (const auto& [i, fwd] : edges) {
+    const auto& e = sg.reduced.edges.at(i);
+    if (seq.back() != (fwd ? e.a : e.b))
+      throw Error("routeVertices: reduced edge " + std::to_string(i) +
+                  " does not continue the route");
+    if (fwd)
+      seq.insert(seq.end(), e.interior.begin(), e.interior.end());
+    else
+      seq.insert(seq.end(), e.interior.rbegin(), e.interior.rend());
+    seq.push_back(fwd ? e.b : e.a);
+  }
+  return seq;
+}
+
+std::vector<NodeId> expandRoute(const PoseGraph& g, const SearchGraph& sg,
+                                const std::vector<NodeId>& vertices, NodeId start, NodeId goal) {
+  checkNodes(g, start, goal);
+  if (sg.vertex_of.size() != g.size())
+    throw Error("expandRoute: the search graph belongs to another pose graph");
+  if (vertices.empty() || vertices.front() != sg.vertex_of[start] ||
+      vertices.back() != sg.vertex_of[goal])
+    throw Error("expandRoute: the route does not run from the start's to the goal's vertex");
+  std::vector<int> pos(sg.members.size(), -1);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (vertices[i] >= sg.members.size() || pos[vertices[i]] >= 0)
+      throw Error("expandRoute: vertex " + std::to_string(vertices[i]) +
+                  " is missing or repeated in the route");
+    pos[vertices[i]] = static_cast<int>(i);
+  }
+  const auto adj = simpleAdjacency(g);
+  const auto path = dijkstraNodes(g, adj, start, goal, [&](NodeId v, NodeId w) {
+    const int pw = pos[sg.vertex_of[w]], pv = pos[sg.vertex_of[v]];
+    return pw >= 0 && (pw == pv || pw == pv + 1);
+  });
+  if (path.empty())
+    throw Error("expandRoute: the route is not realizable in the pose graph (consecutive "
+                "vertices not adjacent)");
+  return path;
+}
+
+std::vector<NodeId> shortestPath(const PoseGraph& g, NodeId start, NodeId goal) {
+  checkNodes(g, start, goal);
+  return dijkstraNodes(g, simpleAdjacency(g), start, goal, [](NodeId, NodeId) { return true; });
+}
+
+std::vector<std::vector<std::size_t>> kShortestSimplePaths(std::size_t n,
+                                                           const std::vector<WeightedEdge>& e,
+                                                           std::uint32_t s, std::uint32_t t,
+                                                           std::size_t k) {
+  using EdgePath = std::vector<std::size_t>;
+  std::vector<std::vector<std::pair<std::uint32_t, std::size_t>>> adj(n);
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    if (e[i].a >= n || e[i].b >= n)
+      throw Error("kShortestSimplePaths: edge " + std::to_string(i) + " names a vertex >= " +
+                  std::to_string(n));
+    if (!(e[i].w >= 0)) throw Error("kShortestSimplePaths: negative or NaN weight");
+    if (e[i].a == e[i].b) continue;  // never on a simple path
+    adj[e[i].a].emplace_back(e[i].b, i);
+    adj[e[i].b].emplace_back(e[i].a, i);
+  }
+  std::vector<EdgePath> A;
+  if (s >= n || t >= n || k == 0) return A;
+  if (s == t) {
+    A.emplace_back();
+    return A;
+  }
+  auto cost = [&](const EdgePath& p) {
+    double c = 0;
+    for (std::size_t i : p) c += e[i].w;
+    return c;
+  };
+  // Dijkstra from src to t avoiding banned vertices and edges; ties by (distance, vertex).
+  std::vector<char> banned_v(n, 0), banned_e(e.size(), 0);
+  auto dijkstra = [&](std::uint32_t src, EdgePath& out) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    std::vector<double> dist(n, kInf);
+    std::vector<std::size_t> via(n, 0);
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+    dist[src] = 0;
+    open.emplace(0.0, src);
+    while (!open.empty()) {
+      const auto [d, v] = open.top();
+      open.pop();
+      if (d > dist[v]) continue;
+      if (v == t) break;
+      for (const auto& [w, i] : adj[v]) {
+        if (banned_v[w] || banned_e[i]) continue;
+        if (d + e[i].w < dist[w]) {
+          dist[w] = d + e[i].w;
+          via[w] = i;
+          open.emplace(dist[w], w);
+        }
+      }
+    }
+    out.clear();
+    if (dist[t] == kInf) return false;
+    for (std::uint32_t v = t; v != src;) {
+      out.push_back(via[v]);
+      v = e[via[v]].a == v ? e[via[v]].b : e[via[v]].a;
+    }
+    std::reverse(out.begin(), out.end());
+    return true;
+  };
+  struct Candidate {
+    double cost;
+    EdgePath path;
+    bool operator<(const Candidate& o) const {
+      if (cost != o.cost) return cost < o.cost;
+      if (path.size() != o.path.size()) return path.size() < o.path.size();
+      return path < o.path;
+    }
+  };
+  EdgePath first;
+  if (!dijkstra(s, first)) return A;
+  A.push_back(first);
+  std::set<EdgePath> seen{first};
+  std::set<Candidate> B;
+  while (A.size() < k) {
+    const EdgePath prev = A.back();
+    std::vector<std::uint32_t> verts{s};
+    for (std::size_t i : prev)
+      verts.push_back(e[i].a == verts.back() ? e[i].b : e[i].a);
+    for (std::size_t i = 0; i < prev.size(); ++i) {
+      // Root: prev's first i edges; spur vertex verts[i]. Ban the root's vertices (simple
+      // paths) and the next edge of every accepted path sharing this root.
+      std::fill(banned_v.begin(), banned_v.end(), 0);
+      std::fill(banned_e.begin(), banned_e.end(), 0);
+      for (std::size_t j = 0; j < i; ++j) banned_v[verts[j]] = 1;
+      for (const EdgePath& p : A)
+        if (p.size() > i && std::equal(p.begin(), p.begin() + static_cast<long>(i), prev.begin()))
+          banned_e[p[i]] = 1;
+      EdgePath spur;
+      if (!dijkstra(verts[i], spur)) continue;
+      EdgePath total(prev.begin(), prev.begin() + static_cast<long>(i));
+      total.insert(total.end(), spur.begin(), spur.end());
+      if (seen.insert(total).second) B.insert({cost(total), std::move(total)});
+    }
+    if (B.empty()) break;
+    A.push_back(B.begin()->path);
+    B.erase(B.begin());
+  }
+  return A;
+}
+
+std::vector<std::vector<std::size_t>> diversePaths(std::size_t n,
+                                                   const std::vector<WeightedEdge>& e,
+                                                   std::uint32_t s, std::uint32_t t,
+                                                   std::size_t count, double penalty) {
+  if (!(penalty > 0)) throw Error("diversePaths: the penalty must be positive");
+  std::vector<WeightedEdge> w = e;
+  std::vector<std::vector<std::size_t>> out;
+  std::set<std::vector<std::size_t>> seen;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto p = kShortestSimplePaths(n, w, s, t, 1);
+    if (p.empty()) break;
+    if (seen.insert(p[0]).second) out.push_back(p[0]);
+    for (std::size_t k : p[0]) w[k].w *= 1 + penalty;
+  }
+  return out;
+}
+
+PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
+                             const PathSearchOptions& o) {
+  checkNodes(g, start, goal);
   PathSearchResult out;
+  out.method = o.method == SearchMethod::Yen ? SearchMethod::Yen : SearchMethod::All;
   if (start == goal) {
     out.paths.push_back({start});
     return out;
   }
-  const ReducedGraph r = reduce(simpleAdjacency(g), start, goal, o.reduce);
-  out.reduced_nodes = r.kept.size();
-  out.reduced_edges = r.edges.size();
-  // Incidence: (edge index, forward?) per kept node.
-  std::vector<std::vector<std::pair<std::size_t, bool>>> inc(n);
-  for (std::size_t i = 0; i < r.edges.size(); ++i) {
-    inc[r.edges[i].a].emplace_back(i, true);
-    inc[r.edges[i].b].emplace_back(i, false);
-  }
-  std::vector<char> on_path(n, 0);
-  std::vector<std::pair<std::size_t, bool>> stack;  // reduced edges taken
-  bool stop = false;
-  const auto t0 = std::chrono::steady_clock::now();
-  std::size_t expansions = 0;
-  std::function<void(NodeId)> dfs = [&](NodeId v) {
-    if (stop) return;
-    // A loopy graph can hide few paths in a huge search tree: the time budget holds here too.
-    if (o.max_seconds > 0 && (++expansions & 4095) == 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
-            o.max_seconds) {
-      out.capped = out.timed_out = true;
-      stop = true;
-      return;
+  const SearchGraph sg = buildSearchGraph(g, start, goal, o.merge_radius, o.reduce);
+  out.reduced_nodes = sg.reduced.kept.size();
+  out.reduced_edges = sg.reduced.edges.size();
+  out.merged_vertices = sg.merged_vertices;
+  const std::size_t nv = sg.members.size();
+  std::vector<std::vector<std::pair<std::size_t, bool>>> routes;  // reduced edges taken
+
+  if (o.method != SearchMethod::Yen) {
+    // Depth-first enumeration of the simple routes. search = auto gives up (for Yen's) once
+    // it has more than max_paths routes or has spent 64 x max_paths expansions: a loopy
+    // graph can hide few routes in a huge search tree.
+    const bool automatic = o.method == SearchMethod::Auto;
+    const std::size_t max_expansions =
+        automatic ? std::max<std::size_t>(64 * o.max_paths, 4096) : 0;
+    std::vector<std::vector<std::pair<std::size_t, bool>>> inc(nv);
+    for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i) {
+      inc[sg.reduced.edges[i].a].emplace_back(i, true);
+      inc[sg.reduced.edges[i].b].emplace_back(i, false);
     }
-    if (v == goal) {
-      if (out.paths.size() >= o.max_paths) {
-        out.capped = true;
+    std::vector<char> on_path(nv, 0);
+    std::vector<std::pair<std::size_t, bool>> stack;
+    bool stop = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t expansions = 0;
+    std::function<void(NodeId)> dfs = [&](NodeId v) {
+      if (stop) return;
+      ++expansions;
+      if (o.max_seconds > 0 && (expansions & 4095) == 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+              o.max_seconds) {
+        out.timed_out = true;
         stop = true;
         return;
       }
-      std::vector<NodeId> p{start};
-      for (const auto& [i, fwd] : stack) {
-        const auto& e = r.edges[i];
-        if (fwd)
-          p.insert(p.end(), e.interior.begin(), e.interior.end());
-        else
-          p.insert(p.end(), e.interior.rbegin(), e.interior.rend());
-        p.push_back(fwd ? e.b : e.a);
+      if (automatic && expansions > max_expansions) {
+        out.fell_back = true;
+        stop = true;
+        return;
       }
+      if (v == sg.goal) {
+        if (routes.size() >= o.max_paths) {
+          if (automatic)
+            out.fell_back = true;
+          else
+            out.capped = true;
+          stop = true;
+          return;
+        }
+        routes.push_back(stack);
+        return;
+      }
+      on_path[v] = 1;
+      for (const auto& [i, fwd] : inc[v]) {
+        const NodeId w = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
+        if (on_path[w]) continue;
+        stack.emplace_back(i, fwd);
+        dfs(w);
+        stack.pop_back();
+        if (stop) break;
+      }
+      on_path[v] = 0;
+    };
+    dfs(sg.start);
+    if (automatic && out.timed_out) out.fell_back = true;
+    if (out.timed_out && !automatic) out.capped = true;
+    if (out.fell_back) {
+      routes.clear();
+      out.timed_out = false;
+    }
+  }
+  if (o.method == SearchMethod::Yen || out.fell_back) {
+    out.method = SearchMethod::Yen;
+    std::vector<WeightedEdge> we;
+    for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i)
+      we.push_back({sg.reduced.edges[i].a, sg.reduced.edges[i].b, sg.length[i]});
+    auto edge_paths = kShortestSimplePaths(nv, we, sg.start, sg.goal, o.k_paths);
+    if (o.diverse_paths > 0) {
+      std::set<std::vector<std::size_t>> have(edge_paths.begin(), edge_paths.end());
+      for (auto& p : diversePaths(nv, we, sg.start, sg.goal, o.diverse_paths, o.diverse_penalty))
+        if (have.insert(p).second) {
+          edge_paths.push_back(std::move(p));
+          ++out.diverse_added;
+        }
+    }
+    for (const auto& p : edge_paths) {
+      std::vector<std::pair<std::size_t, bool>> r;
+      NodeId at = sg.start;
+      for (std::size_t i : p) {
+        const bool fwd = sg.reduced.edges[i].a == at;
+        r.emplace_back(i, fwd);
+        at = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
+      }
+      routes.push_back(std::move(r));
+    }
+  }
+  std::set<std::vector<NodeId>> seen;
+  for (const auto& r : routes) {
+    auto p = expandRoute(g, sg, routeVertices(sg, r), start, goal);
+    if (seen.insert(p).second) out.paths.push_back(std::move(p));
+  }
+  if (o.add_shortest) {
+    auto p = shortestPath(g, start, goal);
+    if (!p.empty() && seen.insert(p).second) {
       out.paths.push_back(std::move(p));
-      return;
+      out.added_shortest = true;
     }
-    on_path[v] = 1;
-    for (const auto& [i, fwd] : inc[v]) {
-      const NodeId w = fwd ? r.edges[i].b : r.edges[i].a;
-      if (on_path[w]) continue;
-      stack.emplace_back(i, fwd);
-      dfs(w);
-      stack.pop_back();
-      if (stop) break;
-    }
-    on_path[v] = 0;
-  };
-  dfs(start);
+  }
   return out;
+}
+
+PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
+                                const PathSearchOptions& o) {
+  PathSearchOptions a = o;
+  a.method = SearchMethod::All;
+  a.add_shortest = false;
+  return searchPaths(g, start, goal, a);
 }
 
 PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions& o,
@@ -665,7 +1049,7 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
                  " needs the node marginal covariances (none given, or not one per node)";
     return res;
   }
-  const PathSearchResult paths = allSimplePaths(g, req.start, req.goal, search);
+  const PathSearchResult paths = searchPaths(g, req.start, req.goal, search);
   if (paths.paths.empty()) {
     res.reason = "node " + std::to_string(req.goal) + " is not connected to node " +
                  std::to_string(req.start);
@@ -675,7 +1059,14 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
   std::size_t missing = 0, evaluated = 0;
   const auto t0 = std::chrono::steady_clock::now();
   bool out_of_time = false;
-  for (const auto& p : paths.paths) {
+  struct Scored {
+    double cost, distance;
+    std::size_t index;
+    std::string label;
+  };
+  std::vector<Scored> scored;
+  for (std::size_t i = 0; i < paths.paths.size(); ++i) {
+    const auto& p = paths.paths[i];
     if (search.max_seconds > 0 && evaluated > 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
             search.max_seconds) {
@@ -686,14 +1077,28 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
     const PathModel model = makePathModel(g, index, needs_marginals ? req.marginals : nullptr, p);
     const PathCost pc = evaluatePath(c, model, o);
     missing += pc.missing_cross;
-    const bool better = !res.found || pc.cost < res.cost ||
-                        (pc.cost == res.cost && p.size() < res.nodes.size());
-    if (better) {
-      res.found = true;
-      res.cost = pc.cost;
-      res.nodes = p;
-      res.criterion = pc.label;
+    double distance = 0;
+    for (std::size_t t = 1; t < model.nodes.size(); ++t) distance += model.motion[t].norm();
+    scored.push_back({pc.cost, distance, i, pc.label});
+  }
+  // The cheapest; costs within tie_tolerance (relative) of it are equally good, and the
+  // shortest of those (metres, then fewer nodes, then the first found) is chosen.
+  if (!scored.empty()) {
+    double best = scored[0].cost;
+    for (const auto& sc : scored) best = std::min(best, sc.cost);
+    const double limit = best + o.tie_tolerance * std::abs(best);
+    const Scored* pick = nullptr;
+    for (const auto& sc : scored) {
+      if (!(sc.cost <= limit)) continue;
+      const auto& p = paths.paths[sc.index];
+      if (!pick || sc.distance < pick->distance ||
+          (sc.distance == pick->distance && p.size() < paths.paths[pick->index].size()))
+        pick = &sc;
     }
+    res.found = true;
+    res.cost = pick->cost;
+    res.nodes = paths.paths[pick->index];
+    res.criterion = pick->label;
   }
   if (note) {
     note->clear();
@@ -702,8 +1107,17 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
                " s) after " + std::to_string(paths.paths.size()) + " paths; the best may be missing. ";
     else if (paths.capped)
       *note += "path search capped at " + std::to_string(search.max_paths) +
-               " paths (reduced graph: " + std::to_string(paths.reduced_nodes) + " nodes, " +
+               " paths (reduced graph: " + std::to_string(paths.reduced_nodes) + " vertices, " +
                std::to_string(paths.reduced_edges) + " edges); the best may be missing. ";
+    else if (paths.fell_back)
+      *note += "enumeration given up past " + std::to_string(search.max_paths) +
+               " simple routes or " +
+               std::to_string(std::max<std::size_t>(64 * search.max_paths, 4096)) +
+               " expansions (reduced graph: " + std::to_string(paths.reduced_nodes) +
+               " vertices, " + std::to_string(paths.reduced_edges) + " edges): Yen's " +
+               std::to_string(search.k_paths) + " shortest routes (and " +
+               std::to_string(paths.diverse_added) +
+               " of the penalty method) evaluated instead. ";
     if (out_of_time)
       *note += "time budget of " + std::to_string(search.max_seconds) + " s spent after " +
                std::to_string(evaluated) + " of " + std::to_string(paths.paths.size()) +
@@ -798,8 +1212,24 @@ void CriterionPlanner::configure(const Params& params, const PluginContext& ctx)
 
 PathSearchOptions pathSearchOptionsFrom(const Params& params) {
   PathSearchOptions o;
+  if (params.has("search")) {
+    const std::string m = params.getString("search");
+    bool ok = false;
+    for (SearchMethod v : {SearchMethod::Auto, SearchMethod::All, SearchMethod::Yen})
+      if (m == searchMethodName(v)) {
+        o.method = v;
+        ok = true;
+      }
+    if (!ok) params.fail("search", "expected auto, all or yen");
+  }
   if (params.has("max_paths")) o.max_paths = static_cast<std::size_t>(params.getInt("max_paths"));
+  if (params.has("k_paths")) o.k_paths = static_cast<std::size_t>(params.getInt("k_paths"));
+  if (params.has("diverse_paths"))
+    o.diverse_paths = static_cast<std::size_t>(params.getInt("diverse_paths"));
+  if (params.has("diverse_penalty")) o.diverse_penalty = params.getDouble("diverse_penalty");
   if (params.has("reduce")) o.reduce = params.getBool("reduce");
+  if (params.has("merge_radius")) o.merge_radius = params.getDouble("merge_radius");
+  if (params.has("add_shortest")) o.add_shortest = params.getBool("add_shortest");
   if (params.has("max_seconds")) o.max_seconds = params.getDouble("max_seconds");
   return o;
 }

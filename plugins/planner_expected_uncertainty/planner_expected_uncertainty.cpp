@@ -38,9 +38,7 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("prune_below", "1e-12",
                    "Drop hypotheses whose probability falls below this (0: exact O(m^2))", 0, 1),
     asf::keyInt("seed", "0", "Seed of the lattice shifts (0: the run's seed)", 0, 9.0e15),
-    asf::eu::keyMaxPaths(),
-    asf::eu::keyReduce(),
-    asf::eu::keyMaxSeconds(),
+    ASF_EU_PATH_SEARCH_KEYS,
 };
 
 }  // namespace

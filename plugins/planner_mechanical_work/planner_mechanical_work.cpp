@@ -12,9 +12,7 @@ class MechanicalWorkPlanner final : public asf::eu::CriterionPlanner {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::eu::keyMaxPaths(),
-    asf::eu::keyReduce(),
-    asf::eu::keyMaxSeconds(),
+    ASF_EU_PATH_SEARCH_KEYS,
 };
 
 }  // namespace

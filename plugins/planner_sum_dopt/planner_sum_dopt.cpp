@@ -14,9 +14,7 @@ class SumDoptPlanner final : public asf::eu::CriterionPlanner {
 const asf::KeySpec kKeys[] = {
     asf::keyEnum("scalar", "det", "det|trace|det_cbrt",
                  "D-optimality of a node covariance: det (thesis), det^(1/3), or trace (A-opt)"),
-    asf::eu::keyMaxPaths(),
-    asf::eu::keyReduce(),
-    asf::eu::keyMaxSeconds(),
+    ASF_EU_PATH_SEARCH_KEYS,
 };
 
 }  // namespace

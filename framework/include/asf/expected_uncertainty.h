@@ -5,7 +5,7 @@
 /// O(m^2) in the path length m), the relocalization probability (Gaussian mass of the
 /// robot->node relative pose inside a window, times a place-recognition probability), the
 /// baseline criteria (mechanical work, sum of D-optimality, distance), and the search over
-/// all simple paths of the reduced graph that every criterion shares.
+/// candidate routes of the reduced, alias-merged graph that every criterion shares.
 ///
 /// Conventions: covariances are 3x3 over additive (x, y, phi) in the map frame, like
 /// Marginals::node; the robot's estimate along a path is the nodes' current estimates, its
@@ -148,11 +148,16 @@ struct CriterionOptions {
   /// Carlo with this many ICP samples each (place_recognition.h); 0: the constant.
   int recognition_samples = 0;
   double recognition_map_radius = 6.0;  ///< local map of the Monte Carlo [m]
+  /// planBest: costs within this relative distance of the cheapest are ties, broken by
+  /// distance. E[C] is the goal's marginal on every path along which the robot surely
+  /// relocalizes near the goal; without it round-off would pick among those.
+  double tie_tolerance = 1e-6;
 };
 
 /// Reads the keys this module defines from a plugin's params, when present: scalar,
 /// window_x, window_y, window_phi_deg, p_recognition, p_recognition_file, qmc_points,
-/// qmc_shifts, use_cross, prune_below, recognition_samples, recognition_map_radius; the seed
+/// qmc_shifts, use_cross, prune_below, tie_tolerance, recognition_samples,
+/// recognition_map_radius; the seed
 /// is ctx_seed unless a `seed` key is non-zero.
 /// Throws ConfigError (naming the key) for a bad scalar or recognition file.
 CriterionOptions criterionOptionsFrom(const Params& params, std::uint64_t ctx_seed);
@@ -175,6 +180,7 @@ PathCost evaluatePath(Criterion c, const PathModel& path, const CriterionOptions
 
 /// Reduced graph: parallel edges merged, self-loops dropped, chains of degree-2 nodes
 /// collapsed into one edge holding its interior nodes (start and goal are always kept).
+/// Also used over the vertices of a SearchGraph (ids are then vertex ids).
 struct ReducedGraph {
   struct Edge {
     NodeId a, b;
@@ -185,10 +191,13 @@ struct ReducedGraph {
 };
 ReducedGraph reduceGraph(const PoseGraph& g, NodeId start, NodeId goal);
 
-/// The path-search keys every criterion planner plugin declares (max_paths, reduce,
-/// max_seconds), one definition for their docs and defaults.
+/// The path-search keys every criterion planner plugin declares, one definition for their
+/// docs and defaults.
 constexpr KeySpec keyMaxPaths() {
-  return keyInt("max_paths", "10000", "Candidate simple paths evaluated at most", 1, 1e9);
+  return keyInt("max_paths", "10000",
+                "Exhaustive enumeration: at most this many simple routes (search = all: the "
+                "cap, reported; search = auto: beyond it, Yen's k_paths shortest instead)",
+                1, 1e9);
 }
 constexpr KeySpec keyReduce() {
   return keyBool("reduce", "true", "Search the reduced graph (degree-2 chains collapsed)");
@@ -199,31 +208,158 @@ constexpr KeySpec keyMaxSeconds() {
                    "candidates; the best found so far is kept (0: no limit) [s]",
                    0, 1e6);
 }
+constexpr KeySpec keySearch() {
+  return keyEnum("search", "auto", "auto|all|yen",
+                 "Candidate routes: all (every simple route, capped at max_paths), yen "
+                 "(Yen's k_paths shortest simple routes), auto (all while at most max_paths, "
+                 "else yen)");
+}
+constexpr KeySpec keyKPaths() {
+  return keyInt("k_paths", "20", "Yen's search: number of shortest simple routes", 1, 1e6);
+}
+constexpr KeySpec keyMergeRadius() {
+  return keyDouble("merge_radius", "1.0",
+                   "Aliased loop closures: nodes tied by loop closures and all within this "
+                   "distance of each other are one vertex of the search graph (0: no merge) [m]",
+                   0, 1e6);
+}
+constexpr KeySpec keyAddShortest() {
+  return keyBool("add_shortest", "true",
+                 "Add the shortest path of the pose graph (Dijkstra, metres) to the candidates");
+}
+
+constexpr KeySpec keyTieTolerance() {
+  return keyDouble("tie_tolerance", "1e-6",
+                   "Candidates whose cost is within this (relative) of the cheapest tie; the "
+                   "shortest of them (metres) is chosen",
+                   0, 1);
+}
+constexpr KeySpec keyDiversePaths() {
+  return keyInt("diverse_paths", "10",
+                "With Yen's search: also this many routes of the penalty method (each route's "
+                "edges get longer by diverse_penalty x, then the next shortest), which reach "
+                "other corridors where Yen's K are variants of one (0: none)",
+                0, 1e6);
+}
+constexpr KeySpec keyDiversePenalty() {
+  return keyDouble("diverse_penalty", "1.0",
+                   "Penalty method: each use multiplies an edge's length by 1 + this", 1e-6, 1e6);
+}
+
+/// Every path-search key above, in the order the criterion planners declare them: put
+/// `ASF_EU_PATH_SEARCH_KEYS` in a plugin's KeySpec table (one list, so the plugins agree).
+#define ASF_EU_PATH_SEARCH_KEYS                                                              \
+  asf::eu::keyMaxPaths(), asf::eu::keyReduce(), asf::eu::keyMaxSeconds(),                    \
+      asf::eu::keySearch(), asf::eu::keyKPaths(), asf::eu::keyTieTolerance(),                 \
+      asf::eu::keyDiversePaths(), asf::eu::keyDiversePenalty(), asf::eu::keyMergeRadius(),    \
+      asf::eu::keyAddShortest()
+
+enum class SearchMethod { Auto, All, Yen };
+const char* searchMethodName(SearchMethod m);  ///< "auto", "all", "yen"
 
 struct PathSearchOptions {
-  std::size_t max_paths = 10000;  ///< stop after this many paths (reported as capped)
-  bool reduce = true;             ///< search the reduced graph (false: the simple graph)
+  SearchMethod method = SearchMethod::Auto;
+  /// All: stop after this many routes (reported as capped). Auto: enumerate while at most
+  /// this many (and at most max(64 x max_paths, 4096) depth-first expansions), else Yen's.
+  std::size_t max_paths = 10000;
+  std::size_t k_paths = 20;       ///< Yen's K
+  /// With Yen's: also this many routes of the penalty method (diversePaths), factor 1 + p.
+  std::size_t diverse_paths = 10;
+  double diverse_penalty = 1.0;
+  bool reduce = true;             ///< collapse degree-2 chains of the search graph
+  /// Merge radius of aliased loop closures [m] (0: the search graph is the pose graph).
+  double merge_radius = 1.0;
+  bool add_shortest = true;       ///< add the pose graph's Dijkstra shortest path
   /// The search and then planBest's evaluation of the candidates each stop after this many
   /// seconds (0: no limit), keeping what they have and saying so in the note: a loopy graph
   /// has more paths than time allows.
   double max_seconds = 0;
 };
-/// The search keys of a planner's params, when present (max_paths, reduce, max_seconds).
+/// The search keys of a planner's params, when present (search, max_paths, k_paths,
+/// diverse_paths, diverse_penalty, reduce, merge_radius, add_shortest, max_seconds).
 PathSearchOptions pathSearchOptionsFrom(const Params& params);
 
-struct PathSearchResult {
-  std::vector<std::vector<NodeId>> paths;  ///< expanded node sequences start..goal
-  bool capped = false;     ///< stopped at max_paths or by the time budget
-  bool timed_out = false;  ///< stopped by max_seconds
-  std::size_t reduced_nodes = 0, reduced_edges = 0;
+/// The graph the candidate routes are searched in (thesis section 3.5). Vertices: clusters of
+/// pose-graph nodes. Nodes tied by a loop closure (an edge of kind LoopClosure or between
+/// ids more than 1 apart) whose estimates all lie within `merge_radius` of each other are
+/// one vertex -- the aliases of one place a SLAM front-end links several times -- formed
+/// greedily, shortest loop closures first; start and goal never share a vertex. Edges: the
+/// pose-graph edges between different vertices, parallel ones merged; then degree-2 chains
+/// are collapsed (`reduced`, over vertex ids). A simple route of vertices expands back to a
+/// simple node path of the pose graph that visits the route's vertices in order
+/// (expandRoute): so the simple routes here are exactly the distinct vertex sequences of
+/// the simple paths of the pose graph that do not re-enter a vertex.
+struct SearchGraph {
+  std::vector<NodeId> vertex_of;             ///< pose-graph node -> vertex
+  std::vector<std::vector<NodeId>> members;  ///< vertex -> its nodes (ascending)
+  std::vector<Eigen::Vector2d> centre;       ///< vertex -> mean position of its nodes
+  NodeId start = 0, goal = 0;                ///< vertices of the start and goal nodes
+  ReducedGraph reduced;                      ///< over vertex ids
+  /// Length of each reduced edge: centre-to-centre distance along its vertex chain [m].
+  std::vector<double> length;
+  std::size_t merged_vertices = 0;           ///< vertices holding more than one node
 };
-/// All simple paths from start to goal (depth-first over the reduced graph, expanded back).
 /// Throws asf::Error for nodes that do not exist.
+SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
+                             bool reduce = true);
+
+/// The vertex sequence of a route given as reduced edges (edge index, traversed a -> b?).
+std::vector<NodeId> routeVertices(const SearchGraph& sg,
+                                  const std::vector<std::pair<std::size_t, bool>>& edges);
+/// A route (vertex sequence, simple, consecutive vertices adjacent, from sg.start to
+/// sg.goal) as a pose-graph node path from `start` to `goal`: the shortest (metres) node
+/// path that stays in the route's vertices and only moves from one vertex to the same or
+/// the next. Throws asf::Error when the route is not realizable.
+std::vector<NodeId> expandRoute(const PoseGraph& g, const SearchGraph& sg,
+                                const std::vector<NodeId>& vertices, NodeId start, NodeId goal);
+
+/// Yen's K shortest simple paths in an undirected multigraph with non-negative weights:
+/// edge index sequences from s to t, by increasing total weight (ties: fewer edges, then
+/// lexicographic edge indices). Fewer than K when there are fewer simple paths.
+struct WeightedEdge {
+  std::uint32_t a, b;
+  double w;
+};
+std::vector<std::vector<std::size_t>> kShortestSimplePaths(std::size_t n,
+                                                           const std::vector<WeightedEdge>& e,
+                                                           std::uint32_t s, std::uint32_t t,
+                                                           std::size_t k);
+
+/// The penalty method for alternative routes: `count` times, the shortest s -> t path under
+/// the current weights, whose edges then get their weight multiplied by (1 + penalty).
+/// Distinct simple paths (edge index sequences) in the order found; the first is the
+/// shortest path.
+std::vector<std::vector<std::size_t>> diversePaths(std::size_t n,
+                                                   const std::vector<WeightedEdge>& e,
+                                                   std::uint32_t s, std::uint32_t t,
+                                                   std::size_t count, double penalty);
+
+/// The shortest node path (metres between estimates; Dijkstra) or empty when disconnected.
+std::vector<NodeId> shortestPath(const PoseGraph& g, NodeId start, NodeId goal);
+
+struct PathSearchResult {
+  std::vector<std::vector<NodeId>> paths;  ///< expanded node sequences start..goal, distinct
+  SearchMethod method = SearchMethod::All;  ///< the one that produced the routes
+  bool capped = false;     ///< search = all: stopped at max_paths or by the time budget
+  bool timed_out = false;  ///< stopped by max_seconds
+  /// search = auto: the enumeration exceeded max_paths (or its expansion limit), Yen's used.
+  bool fell_back = false;
+  bool added_shortest = false;  ///< the Dijkstra path was not among the routes: appended
+  std::size_t diverse_added = 0;  ///< routes of the penalty method not among Yen's
+  std::size_t reduced_nodes = 0, reduced_edges = 0, merged_vertices = 0;
+};
+/// The candidate paths of the criterion planners (see PathSearchOptions and SearchGraph).
+/// Throws asf::Error for nodes that do not exist.
+PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
+                             const PathSearchOptions& o = {});
+/// searchPaths with method = all and add_shortest = false: every simple route of the search
+/// graph (depth-first), expanded; with merge_radius = 0, every simple path of the graph.
 PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
                                 const PathSearchOptions& o = {});
 
 /// The planners' common body: every candidate path evaluated under `c`, the cheapest
-/// returned (ties: fewer nodes, then the first found). Missing graph, marginals (for the
+/// returned (ties, i.e. costs within o.tie_tolerance relative of the cheapest: the shortest
+/// in metres, then fewer nodes, then the first found). Missing graph, marginals (for the
 /// uncertainty criteria) or bad ids give found = false with a reason. `note` receives a
 /// line about the cap or missing cross blocks, if any.
 PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions& o,
@@ -231,7 +367,7 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
 
 /// The planner plugins of this library (expected_uncertainty, mechanical_work, sum_dopt)
 /// differ only in their criterion and key table: each is this class with its criterion.
-/// configure() reads the criterion keys the table declares plus `max_paths` and `reduce`;
+/// configure() reads the criterion keys the table declares plus the search keys;
 /// plan() is planBest(), with the note logged as a warning and errors as found = false.
 class CriterionPlanner : public Planner {
  public:

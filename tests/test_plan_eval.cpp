@@ -1,0 +1,180 @@
+// asf plan-eval (thesis Table 3.1 protocol) end to end: on a synthetic building -- a ring
+// of corridors with a short cut through a feature-void zone -- the expected-uncertainty
+// planner avoids the zone where the shortest path crosses it; config errors name the key;
+// and, when ../shared is here, a subset of the protocol on the Intel CARMEN log's SLAM graph.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("asf_test_plan_eval_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+/// A 12 m x 6 m ring of corridors (nodes every metre, ids 0..35 in driving order, closed
+/// by a loop closure 35 -> 0) and a middle corridor from (0, 3) to (12, 3) (ids 36..46),
+/// precise scan-matching edges everywhere, two loop closures inside the future zone.
+void writeBuilding(const fs::path& g2o) {
+  std::vector<std::pair<double, double>> xy;
+  for (int x = 0; x < 12; ++x) xy.emplace_back(x, 0);   // 0..11   south
+  for (int y = 0; y < 6; ++y) xy.emplace_back(12, y);   // 12..17  east
+  for (int x = 12; x > 0; --x) xy.emplace_back(x, 6);  // 18..29  north
+  for (int y = 6; y > 0; --y) xy.emplace_back(0, y);    // 30..35  west
+  for (int x = 1; x < 12; ++x) xy.emplace_back(x, 3);   // 36..46  middle
+  std::ofstream f(g2o);
+  for (std::size_t i = 0; i < xy.size(); ++i)
+    f << "VERTEX_SE2 " << i << " " << xy[i].first << " " << xy[i].second << " 0\n";
+  auto edge = [&](int a, int b) {
+    const double ixy = 1 / (0.01 * 0.01), iphi = 1 / (0.005 * 0.005);
+    f << "EDGE_SE2 " << a << " " << b << " " << xy[b].first - xy[a].first << " "
+      << xy[b].second - xy[a].second << " 0 " << ixy << " 0 0 " << ixy << " 0 " << iphi << "\n";
+  };
+  for (int i = 0; i < 35; ++i) edge(i, i + 1);
+  edge(35, 0);
+  const int west_mid = 33, east_mid = 15;  // (0, 3) and (12, 3)
+  edge(west_mid, 36);
+  for (int i = 36; i < 46; ++i) edge(i, i + 1);
+  edge(46, east_mid);
+  edge(40, 42);  // loop closures inside the zone: dropped by the protocol
+  edge(41, 43);
+}
+
+std::string writeConfig(const fs::path& dir, const std::string& extra = "") {
+  const fs::path ini = dir / "plan_eval.ini";
+  std::ofstream(ini) << "[plan_eval]\n"
+                        "graph = building.g2o\n"
+                        "zones = 4 2 8 4\n"
+                        "factors = 10 100\n"
+                        "pair_grid = 2\n"
+                        "seed = 3\n"
+                        "progress_every = 10\n"
+                     << extra
+                     << "[expected_uncertainty]\n"
+                        "merge_radius = 0.5\n"
+                        "max_seconds = 0\n"
+                        "[mechanical_work]\n"
+                        "merge_radius = 0.5\n"
+                        "[sum_dopt]\n"
+                        "merge_radius = 0.5\n";
+  return ini.string();
+}
+
+TEST(PlanEval, ExpectedUncertaintyAvoidsTheZoneShortestCrossesIt) {
+  const fs::path dir = tempDir("building");
+  writeBuilding(dir / "building.g2o");
+  const std::string ini = writeConfig(dir);
+  const auto r = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "[A] 10/")) << "progress lines expected\n" << r.out;
+  ASSERT_TRUE(fs::exists(dir / "out" / "plan_eval.md"));
+  std::ifstream jf(dir / "out" / "plan_eval.json");
+  const auto j = nlohmann::json::parse(jf);
+  ASSERT_EQ(j["scenarios"].size(), 2u);
+  for (const auto& s : j["scenarios"]) {
+    const std::string what = "scenario " + s["name"].get<std::string>();
+    EXPECT_EQ(s["zone_nodes"].get<int>(), 5) << what;  // x = 4..8 on the middle corridor
+    EXPECT_EQ(s["dropped_loop_closures"].get<int>(), 2) << what;
+    const std::size_t pairs = s["pairs"].get<std::size_t>();
+    EXPECT_GT(pairs, 50u) << what;
+    EXPECT_EQ(s["pairs_without_avoiding_candidate"].get<int>(), 0) << what;
+    const auto& pl = s["planners"];
+    for (const char* name : {"expected_uncertainty", "mechanical_work", "sum_dopt", "shortest"}) {
+      EXPECT_EQ(pl[name]["found"].get<std::size_t>(), pairs) << what << " " << name;
+      EXPECT_EQ(pl[name]["not_found"].get<int>(), 0) << what << " " << name;
+    }
+    const double eu = pl["expected_uncertainty"]["error_rate"].get<double>();
+    const double shortest = pl["shortest"]["error_rate"].get<double>();
+    // West-east pairs take the short cut when only distance counts (the pairs are all
+    // pairs of a 2 m grid of the ring, most of them on one side of the zone).
+    EXPECT_GT(shortest, 0.05) << what;
+    EXPECT_GE(pl["shortest"]["errors"].get<int>(), 8) << what;
+    EXPECT_EQ(eu, 0.0) << what << ": expected_uncertainty crossed the zone";
+    // Every pair's record agrees with the tally.
+    std::size_t crossed = 0;
+    for (const auto& p : s["pair_results"]) crossed += p["shortest"]["crosses"].get<bool>();
+    EXPECT_EQ(crossed, pl["shortest"]["errors"].get<std::size_t>()) << what;
+    // Zone nodes are not starts or goals.
+    for (const auto& p : s["pair_results"])
+      for (const char* k : {"start", "goal"}) {
+        const int v = p[k].get<int>();
+        EXPECT_FALSE(v >= 39 && v <= 43) << what << ": " << k << " " << v << " is in the zone";
+      }
+  }
+  // The thesis' zone model instead of wheel odometry: scaled own covariances.
+  const auto r2 = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out2").string() +
+                                    " --set plan_eval.zone_covariance=scaled --set "
+                                    "plan_eval.max_pairs=20 --set plan_eval.factors=100");
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  std::ifstream jf2(dir / "out2" / "plan_eval.json");
+  const auto j2 = nlohmann::json::parse(jf2);
+  ASSERT_EQ(j2["scenarios"].size(), 1u);
+  EXPECT_EQ(j2["scenarios"][0]["pairs"].get<int>(), 20);
+}
+
+TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {
+  const fs::path dir = tempDir("errors");
+  writeBuilding(dir / "building.g2o");
+  auto r = asf_test::runHost("plan-eval " + writeConfig(dir, "zone = 1 2 3 4\n"));
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "unknown key 'zone'") && asf_test::has(r.out, "zones"))
+      << r.out;
+  r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set expected_uncertainity.k_paths=3");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "[expected_uncertainity]") &&
+              asf_test::has(r.out, "did you mean [expected_uncertainty]"))
+      << r.out;
+  r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set expected_uncertainty.kpaths=3");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "kpaths") && asf_test::has(r.out, "k_paths")) << r.out;
+  r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set plan_eval.zones=1,2,3");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "zones") && asf_test::has(r.out, "four numbers")) << r.out;
+  r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set plan_eval.zones=50,50,60,60");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "holds no node")) << r.out;
+}
+
+/// The protocol on the real log, on a few pairs: the Intel CARMEN log converted, its graph
+/// SLAM run, then plan-eval with configs/plan_eval_intel.ini pointed at that graph.
+TEST(PlanEval, IntelSubsetRuns) {
+  const fs::path log = fs::path(ASF_TEST_SHARED_DIR) / "datasets/carmen/intel-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "../shared is not available here (" << log << ")";
+  const fs::path dir = tempDir("intel");
+  const std::string src = ASF_TEST_SOURCE_DIR;
+  auto r = asf_test::runHost("carmen2rawlog -q -i " + log.string() + " -o " +
+                             (dir / "intel.rawlog.gz").string() + " --gt " +
+                             (dir / "intel.gt.txt").string() + " --synth-odometry --seed 1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = asf_test::runHost("run " + src + "/configs/slam_intel.ini --out " + (dir / "slam").string() +
+                        " --set rawlog.file=" + (dir / "intel.rawlog.gz").string() +
+                        " --set rawlog.ground_truth=" + (dir / "intel.gt.txt").string());
+  ASSERT_EQ(r.code, 0) << r.out.substr(r.out.size() > 3000 ? r.out.size() - 3000 : 0);
+  r = asf_test::runHost("plan-eval " + src + "/configs/plan_eval_intel.ini --out " +
+                        (dir / "eval").string() + " --set plan_eval.graph=" +
+                        (dir / "slam" / "graph.g2o").string() +
+                        " --set plan_eval.max_pairs=6 --set plan_eval.factors=100");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream jf(dir / "eval" / "plan_eval.json");
+  const auto j = nlohmann::json::parse(jf);
+  ASSERT_EQ(j["scenarios"].size(), 2u);
+  for (const auto& s : j["scenarios"]) {
+    EXPECT_EQ(s["pairs"].get<int>(), 6);
+    EXPECT_GT(s["zone_nodes"].get<int>(), 0);
+    EXPECT_EQ(s["planners"]["expected_uncertainty"]["not_found"].get<int>(), 0);
+  }
+}
+
+}  // namespace
