@@ -267,6 +267,7 @@ struct Pipeline::Impl : public mrpt::system::COutputLogger {
     double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
   } m3;
   std::set<std::string> warned_3d;
+  std::vector<std::pair<Map3d::KeyframeId, NodeId>> keyframes3d;  ///< in id order
 
   /// The grid the policy, navigation, segmenter and coverage use.
   const GridMap& navMap() const {
@@ -403,7 +404,9 @@ void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_befo
                                            "' not used: " + why + " (warned once)");
       continue;
     }
-    map3d->addKeyframe(node.id * kObsPerNode + k++, node.pose, sensor, std::move(pts));
+    const Map3d::KeyframeId id = node.id * kObsPerNode + k++;
+    map3d->addKeyframe(id, node.pose, sensor, std::move(pts));
+    keyframes3d.emplace_back(id, node.id);
     ++m3.keyframes;
   }
   m3.insert_ms += msSince(t0);
@@ -412,10 +415,7 @@ void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_befo
 void Pipeline::Impl::followKeyframes3d() {
   if (!map3d || map3d->numKeyframes() == 0) return;
   std::map<Map3d::KeyframeId, mrpt::poses::CPose2D> poses;
-  // Ids not added are ignored by Map3d: every slot of every node is offered.
-  for (const PoseNode& n : graph.nodes)
-    for (Map3d::KeyframeId k = 0; k < kObsPerNode; ++k)
-      poses.emplace_hint(poses.end(), n.id * kObsPerNode + k, n.pose);
+  for (const auto& [id, node] : keyframes3d) poses.emplace_hint(poses.end(), id, graph.nodes[node].pose);
   map3d->updateKeyframePoses(poses);
 }
 

@@ -22,6 +22,16 @@ using nlohmann::json;
 
 namespace {
 
+/// One output file: a failure is noted in `error` and the next file is still written.
+template <class Fn>
+void writeOrNote(std::string& error, const char* what, Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    error += std::string(error.empty() ? "" : "; ") + what + ": " + e.what();
+  }
+}
+
 void writeAtomically(const std::string& path, const std::string& text) {
   report::writeFileAtomically(path, text);
 }
@@ -84,13 +94,7 @@ void Recorder::decision(long step, double time, const Decision& d, NavStatus pre
 void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmentation& seg,
                       const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
                       const RunSummary& summary, std::string& error) {
-  auto attempt = [&](const char* what, auto&& fn) {
-    try {
-      fn();
-    } catch (const std::exception& e) {
-      error += std::string(error.empty() ? "" : "; ") + what + ": " + e.what();
-    }
-  };
+  auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
   attempt("graph.g2o", [&] { writeG2o(graph, dir_ + "/graph.g2o"); });
   attempt("keyframes.txt", [&] {
     // Absolute times, so `asf ate keyframes.txt GT.txt` evaluates them like any trajectory.
@@ -167,13 +171,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
 
 void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Params& params,
                            const Map3dInfo& info, std::string& error) {
-  auto attempt = [&](const char* what, auto&& fn) {
-    try {
-      fn();
-    } catch (const std::exception& e) {
-      error += std::string(error.empty() ? "" : "; ") + what + ": " + e.what();
-    }
-  };
+  auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
   attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
   attempt("map3d.ot", [&] { map.writeOt(dir_ + "/map3d.ot"); });
   attempt("map3d_grid.png", [&] {
