@@ -4,11 +4,17 @@
 // pairs on intel.g2o (skipped without ../shared/datasets/g2o/intel.g2o): search of the reduced
 // graph plus evaluation of every candidate path, per criterion.
 //
-//   build/bench/bench_expected_uncertainty [--benchmark_filter=Intel]
+// Also the generalized Voronoi graph and its virtual edges (asf/voronoi_graph.h) on the
+// shipped cave world (datasets/cave/cave_filled.png as a 5 cm grid).
+//
+//   build/bench/bench_expected_uncertainty [--benchmark_filter=Intel|Cave]
 #include <asf/backend.h>
 #include <asf/expected_uncertainty.h>
 #include <asf/registry.h>
+#include <asf/voronoi_graph.h>
 #include <benchmark/benchmark.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -208,6 +214,62 @@ BENCHMARK(BM_IntelSweep)
     ->Arg(static_cast<int>(eu::Criterion::Distance))
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+
+/// The cave world as a fully known grid (dark pixels occupied), 0.05 m per pixel, and a
+/// serpentine of pose-graph nodes 1 m apart over its free cells, chained in visiting order
+/// (so graph routes are long and the GVG offers shortcuts).
+struct CaveMap {
+  asf::GridMap map;
+  asf::PoseGraph g;
+  CaveMap() {
+    const cv::Mat img =
+        cv::imread(ASF_BENCH_SOURCE_DIR "/datasets/cave/cave_filled.png", cv::IMREAD_GRAYSCALE);
+    if (img.empty()) throw std::runtime_error("datasets/cave/cave_filled.png not readable");
+    const double res = 0.05;
+    auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(
+        0.f, static_cast<float>(img.cols * res), 0.f, static_cast<float>(img.rows * res),
+        static_cast<float>(res));
+    for (int r = 0; r < img.rows; ++r)
+      for (int c = 0; c < img.cols; ++c)
+        grid->setCell(c, img.rows - 1 - r, img.at<unsigned char>(r, c) > 127 ? 1.0f : 0.0f);
+    map.grid = grid;
+    map.version = 1;
+    bool left = false;
+    for (double y = 0.5; y < img.rows * res; y += 1.0, left = !left)
+      for (int k = 0; k < img.cols * res; ++k) {
+        const double x = left ? img.cols * res - 0.5 - k : 0.5 + k;
+        if (grid->getPos(static_cast<float>(x), static_cast<float>(y)) < 0.9f) continue;
+        const asf::NodeId id = g.addNode(mrpt::poses::CPose2D(x, y, 0));
+        if (id == 0) continue;
+        asf::PoseEdge e;
+        e.from = id - 1;
+        e.to = id;
+        e.mean = g.nodes[id].pose - g.nodes[id - 1].pose;
+        g.addEdge(e);
+      }
+  }
+};
+
+void BM_CaveGvg(benchmark::State& state) {
+  const CaveMap cave;
+  asf::gvg::Gvg gvg;
+  for (auto _ : state) gvg = asf::gvg::computeGvg(cave.map);
+  state.counters["skeleton_cells"] = static_cast<double>(gvg.skeleton_cells);
+  state.counters["vertices"] = static_cast<double>(gvg.vertices.size());
+  state.counters["edges"] = static_cast<double>(gvg.edges.size());
+}
+BENCHMARK(BM_CaveGvg)->Unit(benchmark::kMillisecond);
+
+void BM_CaveVirtualEdges(benchmark::State& state) {
+  const CaveMap cave;
+  asf::gvg::VirtualEdges ve;
+  for (auto _ : state) ve = asf::gvg::computeVirtualEdges(cave.g, cave.map);
+  state.counters["nodes"] = static_cast<double>(cave.g.size());
+  state.counters["attached"] = static_cast<double>(ve.attached);
+  state.counters["candidates"] = static_cast<double>(ve.candidates);
+  state.counters["virtual_edges"] = static_cast<double>(ve.edges.size());
+}
+BENCHMARK(BM_CaveVirtualEdges)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

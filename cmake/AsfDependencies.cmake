@@ -22,8 +22,10 @@ endforeach()
 find_package(Eigen3 3.4 CONFIG QUIET)
 asf_require(Eigen3_FOUND "Eigen >= 3.4" libeigen3-dev)
 
-find_package(OpenCV 4 QUIET COMPONENTS core imgproc imgcodecs)
-asf_require(OpenCV_FOUND "OpenCV 4 (core, imgproc, imgcodecs)" libopencv-dev)
+# ximgproc (opencv_contrib; Debian's libopencv-dev depends on libopencv-contrib-dev): the
+# GVG's thinning (framework/src/voronoi_graph.cpp).
+find_package(OpenCV 4 QUIET COMPONENTS core imgproc imgcodecs ximgproc)
+asf_require(OpenCV_FOUND "OpenCV 4 (core, imgproc, imgcodecs, ximgproc)" libopencv-dev)
 
 find_package(octomap CONFIG QUIET)
 asf_require(octomap_FOUND "OctoMap" liboctomap-dev)

@@ -8,6 +8,8 @@
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 #include <asf/registry.h>
+#include <asf/segmentation_eval.h>
+#include <asf/voronoi_graph.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -65,8 +67,16 @@ int cmdPlan(int argc, char** argv) {
   TCLAP::ValueArg<std::string> image("", "image", "Draw the graph and the path (PNG)", false, "",
                                      "OUT.png", cmd);
   TCLAP::SwitchArg ellipses("", "ellipses", "With --image: 3-sigma marginal ellipses", cmd);
-  TCLAP::ValueArg<std::string> map("", "map", "With --image: background map (row 0 = top, "
-                                   "origin (0, 0))", false, "", "MAP.png", cmd);
+  TCLAP::ValueArg<std::string> map(
+      "", "map",
+      "Occupancy map image (row 0 = top, origin (0, 0), pixels >= 250 free, the rest "
+      "occupied): handed to the planner (voronoi_edges) and drawn under --image",
+      false, "", "MAP.png", cmd);
+  TCLAP::SwitchArg voronoi(
+      "", "voronoi",
+      "Partially explored map: set the planner's voronoi_edges=true (needs --map): virtual "
+      "edges of the map's generalized Voronoi graph join nodes the pose graph does not",
+      cmd);
   TCLAP::ValueArg<double> resolution("", "resolution", "Map resolution [m/pixel]", false, 0.05,
                                      "R", cmd);
   TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
@@ -78,7 +88,20 @@ int cmdPlan(int argc, char** argv) {
   scanPlugins(reg, path.getValue());
   const auto pinfo = reg.find(planner.getValue(), PluginKind::Planner);
   const auto binfo = reg.find(backend.getValue(), PluginKind::Backend);
-  const Params pparams = setOverrides(set.getValue(), pinfo->name(), "planner")
+  std::vector<std::string> overrides = set.getValue();
+  if (voronoi.getValue()) {
+    if (map.getValue().empty()) throw ConfigError("--voronoi needs --map MAP.png");
+    bool declared = false;
+    for (std::size_t i = 0; i < pinfo->descriptor->num_keys; ++i)
+      if (std::string(pinfo->descriptor->keys[i].name) == "voronoi_edges") declared = true;
+    if (!declared)
+      throw ConfigError("--voronoi: planner " + pinfo->name() +
+                        " has no voronoi_edges key (criterion planners: expected_uncertainty, "
+                        "mechanical_work, sum_dopt)");
+    overrides.push_back("voronoi_edges=true");
+  }
+  if (!(resolution.getValue() > 0)) throw ConfigError("--resolution must be > 0");
+  const Params pparams = setOverrides(overrides, pinfo->name(), "planner")
                              .resolve(pinfo->name(), pinfo->descriptor->keys,
                                       pinfo->descriptor->num_keys);
   const Params bparams =
@@ -102,8 +125,21 @@ int cmdPlan(int argc, char** argv) {
   // The candidate paths as the planner sees them (its own search keys when it has them),
   // to request the cross-covariance blocks its relocalization probability reads.
   const eu::PathSearchOptions search = eu::pathSearchOptionsFrom(pparams);
+  GridMap grid;
+  if (!map.getValue().empty())
+    grid = gridFromImage(readGrayImage(map.getValue()), resolution.getValue());
+  // Partially explored map: the planner's virtual edges (the same computation it makes).
+  std::vector<gvg::VirtualEdge> virtual_edges;
+  double voronoi_s = 0;
+  if (search.voronoi_edges) {
+    if (!grid.grid)
+      throw ConfigError("planner key voronoi_edges=true needs --map MAP.png (the occupancy map)");
+    const auto tv = std::chrono::steady_clock::now();
+    virtual_edges = gvg::computeVirtualEdges(g, grid, search.voronoi).edges;
+    voronoi_s = secondsSince(tv);
+  }
   const auto t_search = std::chrono::steady_clock::now();
-  const eu::PathSearchResult candidates = eu::searchPaths(g, s, t, search);
+  const eu::PathSearchResult candidates = eu::searchPaths(g, s, t, search, &virtual_edges);
   const double search_s = secondsSince(t_search);
   std::set<std::pair<NodeId, NodeId>> pairs;
   bool cross_skipped = false;
@@ -131,6 +167,7 @@ int cmdPlan(int argc, char** argv) {
   PlanRequest req;
   req.graph = &g;
   req.marginals = &marginals;
+  if (grid.grid) req.map = &grid;
   req.start = s;
   req.goal = t;
   t0 = std::chrono::steady_clock::now();
@@ -142,7 +179,10 @@ int cmdPlan(int argc, char** argv) {
 
   // The chosen path under every criterion, with the planner's options where it has them.
   const eu::CriterionOptions copt = eu::criterionOptionsFrom(pparams, ctx.seed);
-  const eu::PathModel model = eu::makePathModel(g, &marginals, r.nodes);
+  const eu::PathModel model = eu::makePathModel(g, &marginals, r.nodes, &virtual_edges);
+  std::vector<std::pair<NodeId, NodeId>> virtual_steps;
+  for (std::size_t i = 1; i < r.nodes.size(); ++i)
+    if (model.isVirtual(i)) virtual_steps.emplace_back(r.nodes[i - 1], r.nodes[i]);
   nlohmann::json costs = nlohmann::json::object();
   nlohmann::json labels = nlohmann::json::object();
   eu::PathCost expected;
@@ -194,6 +234,10 @@ int cmdPlan(int argc, char** argv) {
                         {"reduced_nodes", candidates.reduced_nodes},
                         {"reduced_edges", candidates.reduced_edges},
                         {"cross_blocks", pairs.size()},
+                        {"voronoi_edges", search.voronoi_edges},
+                        {"virtual_edges", virtual_edges.size()},
+                        {"virtual_steps", virtual_steps},
+                        {"voronoi_time_s", voronoi_s},
                         {"search_time_s", search_s},
                         {"marginals_time_s", marginals_s},
                         {"plan_time_s", plan_s},
@@ -213,6 +257,12 @@ int cmdPlan(int argc, char** argv) {
     for (const auto& [k, v] : costs.items())
       std::cout << "  " << std::left << std::setw(22) << k << labels[k].get<std::string>()
                 << " = " << v.get<double>() << "\n";
+    if (search.voronoi_edges) {
+      std::cout << "  voronoi: " << virtual_edges.size() << " virtual edges (" << voronoi_s
+                << " s); the path takes " << virtual_steps.size() << ":";
+      for (const auto& [a, b] : virtual_steps) std::cout << " " << a << "-" << b;
+      std::cout << "\n";
+    }
     if (!note.empty()) std::cout << "note: " << note << "\n";
     if (!image.getValue().empty()) std::cout << "wrote " << image.getValue() << "\n";
   }

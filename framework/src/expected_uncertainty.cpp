@@ -110,8 +110,21 @@ struct EdgeIndex {
   }
 };
 
+/// Virtual edges by unordered node pair.
+struct VirtualIndex {
+  std::unordered_map<std::uint64_t, const gvg::VirtualEdge*> by_pair;
+  explicit VirtualIndex(const std::vector<gvg::VirtualEdge>* v) {
+    if (v)
+      for (const auto& e : *v) by_pair.emplace(EdgeIndex::key(e.a, e.b), &e);
+  }
+  const gvg::VirtualEdge* find(NodeId a, NodeId b) const {
+    auto it = by_pair.find(EdgeIndex::key(a, b));
+    return it == by_pair.end() ? nullptr : it->second;
+  }
+};
+
 PathModel makePathModel(const PoseGraph& g, const EdgeIndex& index, const Marginals* m,
-                        const std::vector<NodeId>& path) {
+                        const std::vector<NodeId>& path, const VirtualIndex* virt = nullptr) {
   PathModel p;
   p.nodes = path;
   p.marginals = m;
@@ -133,12 +146,24 @@ PathModel makePathModel(const PoseGraph& g, const EdgeIndex& index, const Margin
     if (t == 0) continue;
     const NodeId a = path[t - 1], b = path[t];
     const auto* edges = index.find(a, b);
-    if (!edges || a == b)
+    const gvg::VirtualEdge* ve = (!edges && virt && a != b) ? virt->find(a, b) : nullptr;
+    if ((!edges && !ve) || a == b)
       throw Error("path: nodes " + std::to_string(a) + " and " + std::to_string(b) +
-                  " are consecutive but share no edge");
+                  " are consecutive but share no edge" + (virt ? " (nor a virtual edge)" : ""));
     CPose2D d = p.pose[t] - p.pose[t - 1];  // b's estimate in a's frame
     d.normalizePhi();
     p.motion[t] = d;
+    if (ve) {
+      // A virtual edge: odometry only, its covariance in the frame of the step's start.
+      if (p.virtual_step.empty()) {
+        p.virtual_step.assign(path.size(), 0);
+        p.virtual_length.assign(path.size(), 0.0);
+      }
+      p.virtual_step[t] = 1;
+      p.virtual_length[t] = ve->length;
+      p.motion_cov[t] = a == ve->a ? ve->covariance_ab : ve->covariance_ba;
+      continue;
+    }
     // Parallel edges are independent measurements of the same motion: add information.
     Mat3 info = Mat3::Zero();
     for (std::size_t i : *edges) {
@@ -260,8 +285,17 @@ BoxProbability gaussianBoxProbability(const Eigen::VectorXd& mean, const Eigen::
 // ---------------------------------------------------------------------------------------
 
 PathModel makePathModel(const PoseGraph& g, const Marginals* marginals,
-                        const std::vector<NodeId>& path) {
-  return makePathModel(g, EdgeIndex(g), marginals, path);
+                        const std::vector<NodeId>& path,
+                        const std::vector<gvg::VirtualEdge>* virtual_edges) {
+  const VirtualIndex vi(virtual_edges);
+  return makePathModel(g, EdgeIndex(g), marginals, path, virtual_edges ? &vi : nullptr);
+}
+
+double pathLength(const PathModel& path) {
+  double d = 0;
+  for (std::size_t t = 1; t < path.nodes.size(); ++t)
+    d += path.isVirtual(t) ? path.virtual_length[t] : path.motion[t].norm();
+  return d;
 }
 
 bool crossCovariance(const Marginals& m, NodeId a, NodeId b, Eigen::Matrix3d& out) {
@@ -308,8 +342,11 @@ ExpectedCovariance expectedCovariance(const PathModel& path, const RelocProbFn& 
     for (Hypothesis& h : H) {
       h.C = symmetric(Ja * h.C * Ja.transpose() + Q);
       h.chain = Ja * h.chain;
-      const double pt = checkedProbability(p(RelocQuery{h.k, t, h.C, h.chain}), h.k, t);
-      ++out.evaluations;
+      double pt = 0;  // no relocalization on a virtual step
+      if (!path.isVirtual(t)) {
+        pt = checkedProbability(p(RelocQuery{h.k, t, h.C, h.chain}), h.k, t);
+        ++out.evaluations;
+      }
       relocalized += h.prob * pt;
       h.prob *= 1 - pt;
       if (prune_below > 0 && h.prob < prune_below) {
@@ -343,7 +380,8 @@ Eigen::Matrix3d expectedCovarianceBruteForce(const PathModel& path, const RelocP
       composeJacobians(path.pose[t - 1], path.motion[t], Ja, Jb);
       C = Ja * C * Ja.transpose() + Jb * path.motion_cov[t] * Jb.transpose();
       chain = Ja * chain;
-      const double pt = checkedProbability(p(RelocQuery{k, t, C, chain}), k, t);
+      const double pt =
+          path.isVirtual(t) ? 0.0 : checkedProbability(p(RelocQuery{k, t, C, chain}), k, t);
       if (mask >> (t - 1) & 1) {
         prob *= pt;
         C = path.sigma[t];
@@ -521,7 +559,7 @@ PathCost evaluatePath(Criterion c, const PathModel& path, const CriterionOptions
       r.label = std::string("sum ") + scalarName(o.scalar) + "(Sigma)";
       break;
     case Criterion::Distance:
-      for (std::size_t t = 1; t <= m; ++t) r.cost += path.motion[t].norm();
+      r.cost = pathLength(path);
       r.label = "distance";
       break;
   }
@@ -651,8 +689,11 @@ std::vector<NodeId> dijkstraNodes(const PoseGraph& g,
 
 }  // namespace
 
-SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
-                             bool collapse) {
+namespace {
+
+/// buildSearchGraph; edges at index >= first_virtual are virtual: never loop closures.
+SearchGraph buildSearchGraphImpl(const PoseGraph& g, NodeId start, NodeId goal,
+                                 double merge_radius, bool collapse, std::size_t first_virtual) {
   checkNodes(g, start, goal);
   const std::size_t n = g.size();
   // Clusters with explicit member lists: label[v] is v's cluster, relabelled on merges
@@ -667,7 +708,8 @@ SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, doub
     std::vector<std::pair<double, std::size_t>> closures;
     for (std::size_t i = 0; i < g.edges.size(); ++i) {
       const PoseEdge& e = g.edges[i];
-      if (e.from == e.to || e.from >= n || e.to >= n || !isLoopClosure(e)) continue;
+      if (i >= first_virtual || e.from == e.to || e.from >= n || e.to >= n || !isLoopClosure(e))
+        continue;
       const double d = planarDistance(g, e.from, e.to);
       if (d <= merge_radius) closures.emplace_back(d, i);
     }
@@ -735,6 +777,14 @@ SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, doub
     sg.length.push_back(len + (sg.centre[e.b] - sg.centre[prev]).norm());
   }
   return sg;
+}
+
+}  // namespace
+
+SearchGraph buildSearchGraph(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
+                             bool collapse) {
+  return buildSearchGraphImpl(g, start, goal, merge_radius, collapse,
+                              std::numeric_limits<std::size_t>::max());
 }
 
 std::vector<NodeId> routeVertices(const SearchGraph& sg,
@@ -902,8 +952,46 @@ std::vector<std::vector<std::size_t>> diversePaths(std::size_t n,
   return out;
 }
 
+namespace {
+
+/// `g` plus the virtual edges as pose-graph edges (mean: the relative pose of the estimates;
+/// information from the a -> b covariance), appended after g's own edges.
+PoseGraph withVirtualEdges(const PoseGraph& g, const std::vector<gvg::VirtualEdge>& v) {
+  PoseGraph a = g;
+  for (const auto& e : v) {
+    if (e.a >= g.size() || e.b >= g.size() || e.a == e.b)
+      throw Error("virtual edge " + std::to_string(e.a) + " - " + std::to_string(e.b) +
+                  ": not two distinct nodes of the graph");
+    PoseEdge pe;
+    pe.from = e.a;
+    pe.to = e.b;
+    pe.mean = g.nodes[e.b].pose - g.nodes[e.a].pose;
+    pe.mean.normalizePhi();
+    pe.information = edgeInformation(pe.mean, e.covariance_ab, Mat3::Identity() * 1e-12);
+    pe.kind = EdgeKind::Odometry;
+    a.edges.push_back(pe);
+  }
+  return a;
+}
+
+PathSearchResult searchPathsImpl(const PoseGraph& g, NodeId start, NodeId goal,
+                                 const PathSearchOptions& o, std::size_t first_virtual);
+
+}  // namespace
+
 PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
-                             const PathSearchOptions& o) {
+                             const PathSearchOptions& o,
+                             const std::vector<gvg::VirtualEdge>* virtual_edges) {
+  if (!virtual_edges || virtual_edges->empty())
+    return searchPathsImpl(g, start, goal, o, std::numeric_limits<std::size_t>::max());
+  checkNodes(g, start, goal);
+  return searchPathsImpl(withVirtualEdges(g, *virtual_edges), start, goal, o, g.edges.size());
+}
+
+namespace {
+
+PathSearchResult searchPathsImpl(const PoseGraph& g, NodeId start, NodeId goal,
+                                 const PathSearchOptions& o, std::size_t first_virtual) {
   checkNodes(g, start, goal);
   PathSearchResult out;
   out.method = o.method == SearchMethod::Yen ? SearchMethod::Yen : SearchMethod::All;
@@ -911,7 +999,8 @@ PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
     out.paths.push_back({start});
     return out;
   }
-  const SearchGraph sg = buildSearchGraph(g, start, goal, o.merge_radius, o.reduce);
+  const SearchGraph sg =
+      buildSearchGraphImpl(g, start, goal, o.merge_radius, o.reduce, first_virtual);
   out.reduced_nodes = sg.reduced.kept.size();
   out.reduced_edges = sg.reduced.edges.size();
   out.merged_vertices = sg.merged_vertices;
@@ -1021,6 +1110,8 @@ PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
   return out;
 }
 
+}  // namespace
+
 PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
                                 const PathSearchOptions& o) {
   PathSearchOptions a = o;
@@ -1049,13 +1140,27 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
                  " needs the node marginal covariances (none given, or not one per node)";
     return res;
   }
-  const PathSearchResult paths = searchPaths(g, req.start, req.goal, search);
+  // Partially explored maps: the virtual edges of the map's GVG.
+  std::vector<gvg::VirtualEdge> virtual_edges;
+  std::string voronoi_note;
+  if (search.voronoi_edges) {
+    if (req.map && req.map->grid) {
+      // How many were found is not a warning: `asf plan --json` reports it (virtual_edges).
+      virtual_edges = gvg::computeVirtualEdges(g, *req.map, search.voronoi).edges;
+    } else {
+      voronoi_note = "voronoi_edges: the request has no map; pose-graph edges only. ";
+    }
+  }
+  const PathSearchResult paths = searchPaths(g, req.start, req.goal, search, &virtual_edges);
   if (paths.paths.empty()) {
     res.reason = "node " + std::to_string(req.goal) + " is not connected to node " +
                  std::to_string(req.start);
     return res;
   }
   const EdgeIndex index(g);
+  const VirtualIndex vindex(&virtual_edges);
+  // Thesis eq. 3.25: with virtual edges, expected uncertainty weighs E[C] by the distance.
+  const bool by_distance = search.voronoi_edges && c == Criterion::ExpectedUncertainty;
   std::size_t missing = 0, evaluated = 0;
   const auto t0 = std::chrono::steady_clock::now();
   bool out_of_time = false;
@@ -1074,11 +1179,15 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
       break;
     }
     ++evaluated;
-    const PathModel model = makePathModel(g, index, needs_marginals ? req.marginals : nullptr, p);
-    const PathCost pc = evaluatePath(c, model, o);
+    const PathModel model =
+        makePathModel(g, index, needs_marginals ? req.marginals : nullptr, p, &vindex);
+    PathCost pc = evaluatePath(c, model, o);
     missing += pc.missing_cross;
-    double distance = 0;
-    for (std::size_t t = 1; t < model.nodes.size(); ++t) distance += model.motion[t].norm();
+    const double distance = pathLength(model);
+    if (by_distance) {
+      pc.cost *= distance;
+      pc.label = "distance*" + pc.label;
+    }
     scored.push_back({pc.cost, distance, i, pc.label});
   }
   // The cheapest; costs within tie_tolerance (relative) of it are equally good, and the
@@ -1101,7 +1210,7 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
     res.criterion = pick->label;
   }
   if (note) {
-    note->clear();
+    *note = voronoi_note;
     if (paths.timed_out)
       *note += "path search stopped by the time budget (" + std::to_string(search.max_seconds) +
                " s) after " + std::to_string(paths.paths.size()) + " paths; the best may be missing. ";
@@ -1231,6 +1340,20 @@ PathSearchOptions pathSearchOptionsFrom(const Params& params) {
   if (params.has("merge_radius")) o.merge_radius = params.getDouble("merge_radius");
   if (params.has("add_shortest")) o.add_shortest = params.getBool("add_shortest");
   if (params.has("max_seconds")) o.max_seconds = params.getDouble("max_seconds");
+  if (params.has("voronoi_edges")) o.voronoi_edges = params.getBool("voronoi_edges");
+  if (params.has("voronoi_free_threshold"))
+    o.voronoi.gvg.free_threshold = params.getDouble("voronoi_free_threshold");
+  if (params.has("voronoi_clearance"))
+    o.voronoi.gvg.clearance = params.getDouble("voronoi_clearance");
+  if (params.has("voronoi_attach_radius"))
+    o.voronoi.attach_radius = params.getDouble("voronoi_attach_radius");
+  if (params.has("voronoi_detour")) o.voronoi.detour = params.getDouble("voronoi_detour");
+  if (params.has("voronoi_cov_scale"))
+    o.voronoi.covariance_scale = params.getDouble("voronoi_cov_scale");
+  if (!(o.voronoi.gvg.free_threshold >= 0 && o.voronoi.gvg.free_threshold < 1))
+    params.fail("voronoi_free_threshold", "expected a value in [0, 1)");
+  if (!(o.voronoi.detour >= 1)) params.fail("voronoi_detour", "expected a value >= 1");
+  if (!(o.voronoi.covariance_scale > 0)) params.fail("voronoi_cov_scale", "expected > 0");
   return o;
 }
 

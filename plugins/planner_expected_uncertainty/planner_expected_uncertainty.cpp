@@ -39,6 +39,7 @@ const asf::KeySpec kKeys[] = {
                    "Drop hypotheses whose probability falls below this (0: exact O(m^2))", 0, 1),
     asf::keyInt("seed", "0", "Seed of the lattice shifts (0: the run's seed)", 0, 9.0e15),
     ASF_EU_PATH_SEARCH_KEYS,
+    ASF_EU_VORONOI_KEYS,
 };
 
 }  // namespace

@@ -13,6 +13,7 @@ class MechanicalWorkPlanner final : public asf::eu::CriterionPlanner {
 
 const asf::KeySpec kKeys[] = {
     ASF_EU_PATH_SEARCH_KEYS,
+    ASF_EU_VORONOI_KEYS,
 };
 
 }  // namespace

@@ -15,6 +15,7 @@ const asf::KeySpec kKeys[] = {
     asf::keyEnum("scalar", "det", "det|trace|det_cbrt",
                  "D-optimality of a node covariance: det (thesis), det^(1/3), or trace (A-opt)"),
     ASF_EU_PATH_SEARCH_KEYS,
+    ASF_EU_VORONOI_KEYS,
 };
 
 }  // namespace

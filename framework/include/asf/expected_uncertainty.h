@@ -14,6 +14,7 @@
 #include <asf/key_spec.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
+#include <asf/voronoi_graph.h>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -59,13 +60,29 @@ struct PathModel {
   std::vector<mrpt::poses::CPose2D> motion;
   std::vector<Eigen::Matrix3d> motion_cov;
   const Marginals* marginals = nullptr;      ///< for cross-covariance blocks
+  /// Virtual steps (partially explored maps, voronoi_graph.h): virtual_step[t] != 0 when
+  /// n_{t-1} -> n_t is a virtual edge of the GVG, not an edge of the pose graph; then
+  /// motion[t] is still the relative pose of the estimates, motion_cov[t] the virtual
+  /// edge's odometry covariance, virtual_length[t] its length through free space, and no
+  /// relocalization is possible on it: expectedCovariance (and the brute force) take p = 0
+  /// at step t without asking the probability function. Empty or all zero: no virtual step.
+  std::vector<char> virtual_step;
+  std::vector<double> virtual_length;
   std::size_t steps() const { return nodes.empty() ? 0 : nodes.size() - 1; }
+  bool isVirtual(std::size_t t) const { return t < virtual_step.size() && virtual_step[t]; }
 };
 
-/// Throws asf::Error when a node does not exist, two consecutive nodes share no edge, or
-/// `marginals` lacks a node block (pass nullptr: sigma is zero, for distance only).
+/// Throws asf::Error when a node does not exist, two consecutive nodes share no edge (nor,
+/// when `virtual_edges` is given, a virtual edge), or `marginals` lacks a node block (pass
+/// nullptr: sigma is zero, for distance only). A pose-graph edge is preferred to a virtual
+/// edge between the same nodes.
 PathModel makePathModel(const PoseGraph& g, const Marginals* marginals,
-                        const std::vector<NodeId>& path);
+                        const std::vector<NodeId>& path,
+                        const std::vector<gvg::VirtualEdge>* virtual_edges = nullptr);
+
+/// Length of the path [m]: the Euclidean steps between the node estimates, except virtual
+/// steps, which count their length through free space (VirtualEdge::length).
+double pathLength(const PathModel& path);
 
 /// Cov(x_a, x_b) from marginals (node block when a == b; cross block (a, b) or the
 /// transpose of (b, a)). Returns false (and zero) when not available.
@@ -169,10 +186,11 @@ struct PathCost {
   std::size_t missing_cross = 0;
 };
 
-/// expected_uncertainty: scalar(E[C]). mechanical_work (Valencia et al.): sum of positive
+/// expected_uncertainty: scalar(E[C]) (planBest with voronoi_edges: pathLength x that, see
+/// PathSearchOptions::voronoi_edges). mechanical_work (Valencia et al.): sum of positive
 /// increments of U_t = det((O_t^-1 + Sigma_t^-1)^-1) = det(Sigma_t) det(O_t) / det(O_t +
 /// Sigma_t), O_t the motion covariance into n_t (n_0 uses O_1). sum_dopt (Carrillo et al.):
-/// sum over the path's nodes of scalar(Sigma_t). distance: sum of Euclidean steps.
+/// sum over the path's nodes of scalar(Sigma_t). distance: pathLength (Euclidean steps).
 PathCost evaluatePath(Criterion c, const PathModel& path, const CriterionOptions& o);
 
 // ---------------------------------------------------------------------------------------
@@ -246,6 +264,44 @@ constexpr KeySpec keyDiversePenalty() {
                    "Penalty method: each use multiplies an edge's length by 1 + this", 1e-6, 1e6);
 }
 
+/// Virtual edges of the generalized Voronoi graph (partially explored maps, thesis 3.6).
+constexpr KeySpec keyVoronoiEdges() {
+  return keyBool("voronoi_edges", "false",
+                 "With a map in the request: also search through virtual edges of the map's "
+                 "generalized Voronoi graph between nodes the pose graph does not join (odometry "
+                 "covariance, no relocalization on them); expected_uncertainty then scores every "
+                 "candidate by distance x scalar(E[C]) (thesis eq. 3.25)");
+}
+constexpr KeySpec keyVoronoiFreeThreshold() {
+  return keyDouble("voronoi_free_threshold", "0.65",
+                   "Voronoi edges: a cell is free when p(free) > this (unknown 0.5 is not)", 0,
+                   0.999);
+}
+constexpr KeySpec keyVoronoiClearance() {
+  return keyDouble("voronoi_clearance", "0.2",
+                   "Voronoi edges: robot clearance, the GVG keeps farther than this from "
+                   "non-free cells [m]",
+                   0, 100);
+}
+constexpr KeySpec keyVoronoiAttachRadius() {
+  return keyDouble("voronoi_attach_radius", "1.0",
+                   "Voronoi edges: a node attaches to the GVG cell nearest along free cells, "
+                   "if within this [m]",
+                   0, 1000);
+}
+constexpr KeySpec keyVoronoiDetour() {
+  return keyDouble("voronoi_detour", "1.5",
+                   "Voronoi edges: only where the pose graph's own route is longer than this x "
+                   "the virtual edge (a shortcut)",
+                   1, 1e6);
+}
+constexpr KeySpec keyVoronoiCovarianceScale() {
+  return keyDouble("voronoi_cov_scale", "1.0",
+                   "Voronoi edges: factor on the odometry covariance of a virtual edge (the "
+                   "default odometry noise model of driving its length)",
+                   1e-9, 1e12);
+}
+
 /// Every path-search key above, in the order the criterion planners declare them: put
 /// `ASF_EU_PATH_SEARCH_KEYS` in a plugin's KeySpec table (one list, so the plugins agree).
 #define ASF_EU_PATH_SEARCH_KEYS                                                              \
@@ -253,6 +309,12 @@ constexpr KeySpec keyDiversePenalty() {
       asf::eu::keySearch(), asf::eu::keyKPaths(), asf::eu::keyTieTolerance(),                 \
       asf::eu::keyDiversePaths(), asf::eu::keyDiversePenalty(), asf::eu::keyMergeRadius(),    \
       asf::eu::keyAddShortest()
+/// The virtual-edge keys (voronoi_*), declared by the criterion planners after
+/// ASF_EU_PATH_SEARCH_KEYS.
+#define ASF_EU_VORONOI_KEYS                                                                   \
+  asf::eu::keyVoronoiEdges(), asf::eu::keyVoronoiFreeThreshold(),                            \
+      asf::eu::keyVoronoiClearance(), asf::eu::keyVoronoiAttachRadius(),                     \
+      asf::eu::keyVoronoiDetour(), asf::eu::keyVoronoiCovarianceScale()
 
 enum class SearchMethod { Auto, All, Yen };
 const char* searchMethodName(SearchMethod m);  ///< "auto", "all", "yen"
@@ -274,9 +336,21 @@ struct PathSearchOptions {
   /// seconds (0: no limit), keeping what they have and saying so in the note: a loopy graph
   /// has more paths than time allows.
   double max_seconds = 0;
+  /// Partially explored maps (thesis section 3.6): when the request has a map, planBest adds
+  /// the virtual edges of its generalized Voronoi graph (gvg::computeVirtualEdges with
+  /// `voronoi`) to the search graph; a chosen path may then step along a virtual edge
+  /// (consecutive nodes without a pose-graph edge). The criterion switch is explicit: with
+  /// voronoi_edges, expected_uncertainty scores every candidate -- with or without virtual
+  /// steps, with or without a map -- by pathLength x scalar(E[C]) (label
+  /// "distance*det(E[C])"), the thesis' eq. 3.25; the other criteria keep their cost, with
+  /// the virtual steps' odometry covariance as their motion covariance.
+  bool voronoi_edges = false;
+  gvg::VirtualEdgeOptions voronoi;
 };
 /// The search keys of a planner's params, when present (search, max_paths, k_paths,
-/// diverse_paths, diverse_penalty, reduce, merge_radius, add_shortest, max_seconds).
+/// diverse_paths, diverse_penalty, reduce, merge_radius, add_shortest, max_seconds, and
+/// voronoi_edges, voronoi_free_threshold, voronoi_clearance, voronoi_attach_radius,
+/// voronoi_detour, voronoi_cov_scale).
 PathSearchOptions pathSearchOptionsFrom(const Params& params);
 
 /// The graph the candidate routes are searched in (thesis section 3.5). Vertices: clusters of
@@ -349,9 +423,12 @@ struct PathSearchResult {
   std::size_t reduced_nodes = 0, reduced_edges = 0, merged_vertices = 0;
 };
 /// The candidate paths of the criterion planners (see PathSearchOptions and SearchGraph).
-/// Throws asf::Error for nodes that do not exist.
+/// With `virtual_edges`, the search graph also has those edges (never loop closures for the
+/// alias merge), and a path may step along them. Throws asf::Error for nodes that do not
+/// exist.
 PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
-                             const PathSearchOptions& o = {});
+                             const PathSearchOptions& o = {},
+                             const std::vector<gvg::VirtualEdge>* virtual_edges = nullptr);
 /// searchPaths with method = all and add_shortest = false: every simple route of the search
 /// graph (depth-first), expanded; with merge_radius = 0, every simple path of the graph.
 PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
@@ -361,7 +438,10 @@ PathSearchResult allSimplePaths(const PoseGraph& g, NodeId start, NodeId goal,
 /// returned (ties, i.e. costs within o.tie_tolerance relative of the cheapest: the shortest
 /// in metres, then fewer nodes, then the first found). Missing graph, marginals (for the
 /// uncertainty criteria) or bad ids give found = false with a reason. `note` receives a
-/// line about the cap or missing cross blocks, if any.
+/// line about the cap or missing cross blocks, if any. With search.voronoi_edges and a map
+/// in the request, the candidates include paths through the map's virtual edges (see
+/// PathSearchOptions::voronoi_edges; the note says how many there were); without a map the
+/// note says so and only the pose graph is searched.
 PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions& o,
                     const PathSearchOptions& search, std::string* note = nullptr);
 
