@@ -73,6 +73,15 @@ void BM_Sim2dStep_Laser1081_Range10m(benchmark::State& s) {
   run(s, {{"laser_max_range", "10"}}, false);
 }
 void BM_Sim2dStep_Laser1081_Recording(benchmark::State& s) { run(s, {}, true); }
+// The tilted laser (181 rays over 180 degrees, 4 m, 20 degrees down) on top of the default
+// run's horizontal laser (541 rays, 270 degrees, 10 m): what a step with both costs, against
+// the same step without it.
+void BM_Sim2dStep_Laser541_Range10m(benchmark::State& s) {
+  run(s, {{"laser_rays", "541"}, {"laser_max_range", "10"}}, false);
+}
+void BM_Sim2dStep_Laser541_Range10m_Tilted(benchmark::State& s) {
+  run(s, {{"laser_rays", "541"}, {"laser_max_range", "10"}, {"tilted_laser", "true"}}, false);
+}
 void BM_Sim2dStep_Laser10Hz_Steps100Hz(benchmark::State& s) {
   run(s, {{"dt", "0.01"}, {"laser_rate", "10"}, {"step_length", "0.005"}}, false);
 }
@@ -84,6 +93,8 @@ void BM_Sim2dStep_MotionOnly(benchmark::State& s) {
 BENCHMARK(BM_Sim2dStep_Laser1081)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 BENCHMARK(BM_Sim2dStep_Laser1081_Range10m)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 BENCHMARK(BM_Sim2dStep_Laser1081_Recording)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+BENCHMARK(BM_Sim2dStep_Laser541_Range10m)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+BENCHMARK(BM_Sim2dStep_Laser541_Range10m_Tilted)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 BENCHMARK(BM_Sim2dStep_Laser10Hz_Steps100Hz)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 BENCHMARK(BM_Sim2dStep_MotionOnly)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 

@@ -821,8 +821,9 @@ TEST(Sim2dTilted, ConfigErrorsNameTheKey) {
   EXPECT_NE(configError(kv).find("obstacle_heights"), std::string::npos);
 }
 
-TEST(Sim2dTilted, CostPerScan) {
-  // The cave, 181 rays over 180 deg, 4 m: the tilted scan against MRPT's horizontal one.
+TEST(Sim2dTilted, CaveScansSeeTheFloorAhead) {
+  // The cave, 181 rays over 180 deg, 4 m, 20 deg down from 0.5 m: the floor is 1.37 m ahead,
+  // so most rays return from almost every free pose (the time per scan: bench_sim2d).
   asf::sim2d::ImageWorldOptions o;
   o.file = ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png";
   o.pad_wall_px = 1;
@@ -836,27 +837,12 @@ TEST(Sim2dTilted, CostPerScan) {
   t.aperture = static_cast<float>(M_PI);
   t.maxRange = 4;
   t.sensorPose = mrpt::poses::CPose3D(0.1, 0, 0.5, 0, 20 * M_PI / 180, 0);
-  mrpt::obs::CObservation2DRangeScan hz = t;
-  hz.sensorPose = mrpt::poses::CPose3D(0.1, 0, 0.3, 0, 0, 0);
-  hz.maxRange = 10;
-  hz.aperture = static_cast<float>(270 * M_PI / 180);
-  using Clock = std::chrono::steady_clock;
   std::size_t valid = 0;
-  const auto t0 = Clock::now();
   for (const auto& p : poses) {
     w.simulateScan3D(t, p, 181);
     for (std::size_t i = 0; i < 181; ++i) valid += t.getScanRangeValidity(i);
   }
-  const auto t1 = Clock::now();
-  for (const auto& p : poses) w.grid().laserScanSimulator(hz, p, 0.5f, 541);
-  const auto t2 = Clock::now();
-  const double us_tilted = std::chrono::duration<double, std::micro>(t1 - t0).count() / poses.size();
-  const double us_hz = std::chrono::duration<double, std::micro>(t2 - t1).count() / poses.size();
-  std::printf("tilted laser (181 rays, 4 m): %.1f us/scan; MRPT horizontal (541 rays, 10 m): "
-              "%.1f us/scan; %zu scans, %.0f%% valid rays\n",
-              us_tilted, us_hz, poses.size(), 100.0 * valid / (181.0 * poses.size()));
   EXPECT_GT(valid, 181 * poses.size() / 2);
-  EXPECT_LT(us_tilted, 5000);  // generous: shared machines; measured ~ tens of us
 }
 
 TEST(Sim2dTilted, LowObstaclesDatasetHasItsClasses) {
