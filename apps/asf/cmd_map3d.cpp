@@ -234,16 +234,7 @@ int cmdMap3d(int argc, char** argv) {
   j["inserted_by_class"] = inserted_by_class;
   j["skipped"] = skipped;
   j["sensor_poses"] = sensor_poses;
-  j["stats"] = {{"occupied_leaves", s.occupied_leaves},
-                {"free_leaves", s.free_leaves},
-                {"occupied_voxels", s.occupied_voxels},
-                {"free_voxels", s.free_voxels},
-                {"memory_bytes", s.memory_bytes},
-                {"known_volume_m3", s.known_volume_m3},
-                {"bytes_per_known_m3", s.known_volume_m3 > 0 ? s.memory_bytes / s.known_volume_m3 : 0.0},
-                {"points_inserted", s.points_inserted},
-                {"points_dropped", s.points_dropped},
-                {"resolution", s.resolution}};
+  j["stats"] = json::parse(s.toJson());
   j["timings_s"] = {{"read", t_read},       {"extract_points", t_extract}, {"insert", t_insert},
                     {"project", t_project}, {"write", t_write},
                     {"total", secondsSince(t_start)}};

@@ -10,6 +10,8 @@
 #include <mrpt/obs/CObservationVelodyneScan.h>
 #include <octomap/OcTree.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -518,6 +520,24 @@ void Map3d::writeBt(const std::string& path) const {
 void Map3d::writeOt(const std::string& path) const {
   const octomap::OcTree& t = *impl_->tree;
   writeAtomically(path, "OctoMap tree (.ot)", [&](const std::string& p) { return t.write(p); });
+}
+
+std::string Map3dStats::toJson() const {
+  const nlohmann::json j = {
+      {"occupied_leaves", occupied_leaves},
+      {"free_leaves", free_leaves},
+      {"occupied_voxels", occupied_voxels},
+      {"free_voxels", free_voxels},
+      {"memory_bytes", memory_bytes},
+      {"known_volume_m3", known_volume_m3},
+      {"bytes_per_known_m3", known_volume_m3 > 0 ? memory_bytes / known_volume_m3 : 0.0},
+      {"resolution", resolution},
+      {"keyframes", keyframes},
+      {"clouds_inserted", clouds_inserted},
+      {"points_inserted", points_inserted},
+      {"points_dropped", points_dropped},
+      {"rebuilds", rebuilds}};
+  return j.dump();
 }
 
 Map3dStats Map3d::stats() const {

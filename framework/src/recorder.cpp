@@ -32,6 +32,16 @@ void writeOrNote(std::string& error, const char* what, Fn&& fn) {
   }
 }
 
+/// Where a grid's image lies: its cells, their size and the lower-left corner (row 0 of the
+/// PNG is the top, y_min + height * resolution).
+json gridGeometry(const mrpt::maps::COccupancyGridMap2D& g) {
+  return {{"x_min", g.getXMin()},
+          {"y_min", g.getYMin()},
+          {"resolution", g.getResolution()},
+          {"width", g.getSizeX()},
+          {"height", g.getSizeY()}};
+}
+
 void writeAtomically(const std::string& path, const std::string& text) {
   report::writeFileAtomically(path, text);
 }
@@ -159,11 +169,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["wall_time_s"] = summary.wall_time_s;
     j["final_chi2"] = graph.chi2();
     if (map.grid)  // the grid of map.png (row 0 = top = y_min + height * resolution)
-      j["map"] = {{"x_min", map.grid->getXMin()},
-                  {"y_min", map.grid->getYMin()},
-                  {"resolution", map.grid->getResolution()},
-                  {"width", map.grid->getSizeX()},
-                  {"height", map.grid->getSizeY()}};
+      j["map"] = gridGeometry(*map.grid);
     if (!error.empty()) j["output_errors"] = error;
     writeAtomically(dir_ + "/summary.json", j.dump(2) + "\n");
   });
@@ -191,25 +197,12 @@ void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Par
     j["observations_not_at_keyframes"] = info.not_keyframes;
     j["observations_unsupported"] = info.unsupported;
     j["observations_over_cap"] = info.over_cap;
-    j["stats"] = {{"occupied_leaves", st.occupied_leaves},
-                  {"free_leaves", st.free_leaves},
-                  {"occupied_voxels", st.occupied_voxels},
-                  {"free_voxels", st.free_voxels},
-                  {"memory_bytes", st.memory_bytes},
-                  {"known_volume_m3", st.known_volume_m3},
-                  {"resolution", st.resolution},
-                  {"points_inserted", st.points_inserted},
-                  {"points_dropped", st.points_dropped},
-                  {"rebuilds", st.rebuilds}};
+    j["stats"] = json::parse(st.toJson());
     j["timings_ms"] = {{"insert", info.insert_ms},
                        {"project", info.project_ms},
                        {"rebuild", info.rebuild_ms}};
     if (projected.grid)
-      j["projected"] = {{"width", projected.grid->getSizeX()},
-                        {"height", projected.grid->getSizeY()},
-                        {"resolution", projected.grid->getResolution()},
-                        {"x_min", projected.grid->getXMin()},
-                        {"y_min", projected.grid->getYMin()}};
+      j["projected"] = gridGeometry(*projected.grid);
     writeAtomically(dir_ + "/map3d.json", j.dump(2) + "\n");
   });
 }

@@ -60,6 +60,9 @@ struct Map3dStats {
   std::size_t points_inserted = 0;  ///< points given to OctoMap (after filtering)
   std::size_t points_dropped = 0;   ///< non-finite, at the origin, or closer than min_range
   std::size_t rebuilds = 0;         ///< completed rebuilds
+  /// Every field above plus bytes_per_known_m3, as a JSON object (the "stats" of
+  /// map3d.json, whoever writes it).
+  std::string toJson() const;
 };
 
 /// A virtual planar laser made from 3D points (what ROS' pointcloud_to_laserscan does), so
