@@ -1,3 +1,4 @@
+#include <asf/params.h>
 #include <asf/reachability.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <opencv2/imgproc.hpp>
@@ -7,6 +8,18 @@
 #include <cstdint>
 
 namespace asf {
+
+ReachabilityOptions reachabilityOptionsFrom(const Params& p) {
+  ReachabilityOptions o;
+  o.robot_radius = p.getDouble("robot_radius");
+  o.occupied_threshold = p.getDouble("occupied_threshold");
+  o.unknown_band = p.getDouble("unknown_band");
+  if (0.5 + o.unknown_band >= o.occupied_threshold)
+    p.fail("unknown_band", "0.5 + unknown_band must stay below occupied_threshold (" +
+                               p.getString("occupied_threshold") +
+                               "), else unknown cells would count as obstacles");
+  return o;
+}
 
 namespace {
 constexpr std::uint8_t kFree = kCellFree, kUnknown = kCellUnknown, kOccupied = kCellOccupied;

@@ -45,18 +45,12 @@ double dist2(const asf::Point2& a, const asf::Point2& b) {
 class FrontierPolicy final : public asf::Policy {
  public:
   void configure(const asf::Params& p, const asf::PluginContext&) override {
-    reach_.robot_radius = p.getDouble("robot_radius");
-    reach_.occupied_threshold = p.getDouble("occupied_threshold");
-    reach_.unknown_band = p.getDouble("unknown_band");
+    reach_ = asf::reachabilityOptionsFrom(p);
     min_frontier_size_ = p.getDouble("min_frontier_size");
     goal_tolerance_ = p.getDouble("goal_tolerance");
     snap_radius_ = p.getDouble("snap_radius");
     blacklist_radius_ = p.getDouble("blacklist_radius");
     max_failures_ = static_cast<int>(p.getInt("max_failures_per_frontier"));
-    if (0.5 + reach_.unknown_band >= reach_.occupied_threshold)
-      p.fail("unknown_band", "0.5 + unknown_band must stay below occupied_threshold (" +
-                                 std::to_string(reach_.occupied_threshold) +
-                                 "), else unknown cells would count as obstacles");
     if (snap_radius_ < reach_.robot_radius)
       p.fail("snap_radius", "must be >= robot_radius (" + std::to_string(reach_.robot_radius) +
                                 "): a frontier along a wall lies within the robot's radius "
@@ -289,14 +283,9 @@ class FrontierPolicy final : public asf::Policy {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyDouble("robot_radius", "0.2",
-                   "Cells closer than this to an obstacle are not drivable [m]", 0, 5),
-    asf::keyDouble("occupied_threshold", "0.65",
-                   "A cell is an obstacle when p(occupied) exceeds this", 0.5, 1),
-    asf::keyDouble("unknown_band", "0.02",
-                   "A cell is unknown when |p - 0.5| is below this (frontier detection, "
-                   "and unknown cells are not drivable)",
-                   0, 0.5),
+    asf::keyRobotRadius("0.2"),
+    asf::keyOccupiedThreshold(),
+    asf::keyUnknownBand(),
     asf::keyDouble("min_frontier_size", "0.5",
                    "Frontiers shorter than this are ignored (length = cells x resolution) [m]",
                    0, 1000),

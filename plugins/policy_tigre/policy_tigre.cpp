@@ -48,9 +48,7 @@ std::string edgeName(const EdgeKey& k) {
 class TigrePolicy final : public asf::Policy {
  public:
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
-    reach_opt_.robot_radius = p.getDouble("robot_radius");
-    reach_opt_.occupied_threshold = p.getDouble("occupied_threshold");
-    reach_opt_.unknown_band = p.getDouble("unknown_band");
+    reach_opt_ = asf::reachabilityOptionsFrom(p);
     tolerance_ = p.getDouble("goal_tolerance");
     region_tolerance_ = p.getDouble("region_tolerance");
     snap_ = p.getDouble("snap_radius");
@@ -375,13 +373,9 @@ class TigrePolicy final : public asf::Policy {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyDouble("robot_radius", "0.25",
-                   "Goals keep this distance from obstacles of the estimated map: the robot's "
-                   "radius and a margin for the map's blur [m]",
-                   0.0, 5.0),
-    asf::keyDouble("occupied_threshold", "0.65", "p(occupied) above this is an obstacle", 0.5,
-                   1.0),
-    asf::keyDouble("unknown_band", "0.02", "|p - 0.5| below this is unknown", 0.0, 0.5),
+    asf::keyRobotRadius("0.25"),
+    asf::keyOccupiedThreshold(),
+    asf::keyUnknownBand(),
     asf::keyDouble("goal_tolerance", "0.3", "A goal is reached within this distance [m]", 0.01,
                    5.0),
     asf::keyDouble("region_tolerance", "0.1",

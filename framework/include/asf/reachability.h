@@ -9,6 +9,7 @@
 /// cells within `robot_radius` of the start that are free are passable, so it can leave.
 #include <asf/geometry.h>
 #include <asf/grid_map.h>
+#include <asf/key_spec.h>
 
 #include <cstdint>
 #include <limits>
@@ -23,6 +24,30 @@ struct ReachabilityOptions {
   double occupied_threshold = 0.65;  ///< p(occupied) above this is an obstacle
   double unknown_band = 0.02;        ///< |p - 0.5| below this is unknown (not passable)
 };
+
+class Params;
+
+/// The keys of a plugin that plans with Reachability, one definition for every policy:
+/// robot_radius (each policy keeps its own default), occupied_threshold, unknown_band.
+constexpr KeySpec keyRobotRadius(const char* def) {
+  return keyDouble("robot_radius", def,
+                   "Cells closer than this to an obstacle of the estimated map are not drivable "
+                   "(the robot's radius and a margin for the map's blur) [m]",
+                   0.0, 5.0);
+}
+constexpr KeySpec keyOccupiedThreshold() {
+  return keyDouble("occupied_threshold", "0.65",
+                   "A cell is an obstacle when p(occupied) exceeds this", 0.5, 1.0);
+}
+constexpr KeySpec keyUnknownBand() {
+  return keyDouble("unknown_band", "0.02",
+                   "A cell is unknown (not drivable; frontiers border it) when |p - 0.5| is "
+                   "below this",
+                   0.0, 0.5);
+}
+/// Reads those three keys; 0.5 + unknown_band reaching occupied_threshold fails naming
+/// unknown_band (unknown cells would count as obstacles).
+ReachabilityOptions reachabilityOptionsFrom(const Params& p);
 
 /// What a cell of the estimated map is, under the thresholds of `options`.
 enum CellState : std::uint8_t { kCellFree = 0, kCellUnknown = 1, kCellOccupied = 2 };

@@ -1,6 +1,7 @@
 // Tests of the tigre policy on hand-made worlds: a fully known free grid cut into regions
 // by a label image, the topological graph built by the framework's TopoBuilder, and a robot
 // that teleports to each goal (the navigation is not under test here).
+#include <asf/errors.h>
 #include <asf/policy.h>
 #include <asf/registry.h>
 #include <asf/topo_builder.h>
@@ -333,3 +334,15 @@ TEST(PolicyTigre, UnreachableEdgeIsGivenUpAfterMaxFailures) {
 }
 
 }  // namespace
+
+TEST(PolicyTigre, UnknownBandReachingTheObstacleThresholdIsAnError) {
+  // Shared with the frontier policy (asf::reachabilityOptionsFrom): unknown cells must not
+  // count as obstacles.
+  try {
+    make({{"occupied_threshold", "0.6"}, {"unknown_band", "0.1"}});
+    FAIL() << "no error";
+  } catch (const asf::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown_band"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(make({{"occupied_threshold", "0.6"}, {"unknown_band", "0.05"}}));
+}
