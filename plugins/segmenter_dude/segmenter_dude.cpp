@@ -4,6 +4,7 @@
 // Incremental mode (thesis Algorithm 3): only regions touching the changed free space are
 // merged with it and decomposed again; the others keep their cells, and so their ids.
 #include "dude.h"
+#include "dude_thesis.h"
 
 #include <asf/errors.h>
 #include <asf/segmenter.h>
@@ -49,6 +50,8 @@ class DudeSegmenter final : public asf::Segmenter {
     incremental_ = p.getBool("incremental");
     merge_concavity_ = p.getDouble("merge_concavity");
     merge_min_border_ = p.getDouble("merge_min_border");
+    thesis_ = p.getString("variant") == "thesis";
+    thesis_options_.max_concavity = options_.max_concavity;
     state_ = State{};
   }
 
@@ -96,9 +99,15 @@ class DudeSegmenter final : public asf::Segmenter {
       // labels lie entirely inside it, so the steps that look at whole regions only
       // consider fresh ones in an update.
       cv::Mat lab_w = labels(work).clone(), free_w = free(work).clone();
-      completeLabels(free_w, lab_w, &next_label);
-      mergeSmallRegions(lab_w, next_label, f.resolution, first_fresh);
-      mergeConvexNeighbours(lab_w, next_label, first_fresh, f);
+      // The thesis variant keeps every piece DuDe makes, however small; only free components
+      // below min_component_area are left out (the rooms variant drops small regions later).
+      const int min_new_cells =
+          thesis_ ? static_cast<int>(std::ceil(min_component_area_ / (f.resolution * f.resolution))) : 0;
+      completeLabels(free_w, lab_w, &next_label, min_new_cells);
+      if (!thesis_) {  // the published algorithm has no post-processing
+        mergeSmallRegions(lab_w, next_label, f.resolution, first_fresh);
+        mergeConvexNeighbours(lab_w, next_label, first_fresh, f);
+      }
       lab_w.copyTo(labels(work));
     }
 
@@ -108,7 +117,7 @@ class DudeSegmenter final : public asf::Segmenter {
       std::copy(row, row + f.width, L.labels.begin() + static_cast<std::size_t>(cy) * f.width);
     }
     out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version,
-                                 min_component_area_);
+                                 thesis_ ? 0.0 : min_component_area_);
     if (incremental_) saveState(out, free, proc, f);
     else state_ = State{};
     MRPT_LOG_DEBUG_STREAM("dude: " << out.regions.size() << " regions ("
@@ -188,7 +197,9 @@ class DudeSegmenter final : public asf::Segmenter {
     std::vector<cv::Vec4i> hierarchy;
     cv::findContours(sub, contours, hierarchy, cv::RETR_TREE, cv::CHAIN_APPROX_SIMPLE);
     const double res = f.resolution;
-    const double eps_px = simplify_tolerance_ / res;
+    // The thesis variant takes the contours as traced (the reference simplifies them itself,
+    // through its feature points); CHAIN_APPROX_SIMPLE only drops collinear cells.
+    const double eps_px = thesis_ ? 0.0 : simplify_tolerance_ / res;
     const double min_px = min_component_area_ / (res * res);
     auto toMetres = [&](const std::vector<cv::Point>& c) {
       std::vector<cv::Point> s;
@@ -217,7 +228,8 @@ class DudeSegmenter final : public asf::Segmenter {
       asf::dude::Shape shape;
       shape.outer = toMetres(contours[i]);
       for (int c = hierarchy[i][2]; c >= 0; c = hierarchy[c][0]) shape.holes.push_back(toMetres(contours[c]));
-      const asf::dude::Result r = asf::dude::decompose(shape, options_);
+      const asf::dude::Result r = thesis_ ? asf::dude::thesis::decompose(shape, thesis_options_)
+                                          : asf::dude::decompose(shape, options_);
       warnings += r.warnings.size();
       if (!r.warnings.empty() && first_warning.empty()) first_warning = r.warnings.front();
       for (const asf::dude::Shape& piece : r.pieces) {
@@ -259,8 +271,10 @@ class DudeSegmenter final : public asf::Segmenter {
 
   /// Every free cell gets a label: cells left out by the polygons (simplification, grown
   /// obstacles, one-cell corridors) join the nearest labelled cell through free space;
-  /// free components with no labelled cell at all become regions of their own.
-  static void completeLabels(const cv::Mat& free, cv::Mat& labels, int* next_label) {
+  /// free components with no labelled cell at all become regions of their own, when they
+  /// have at least `min_new_cells` cells (else they stay unlabelled).
+  static void completeLabels(const cv::Mat& free, cv::Mat& labels, int* next_label,
+                             int min_new_cells = 0) {
     const int W = free.cols, H = free.rows;
     std::deque<int> queue;
     for (int y = 0; y < H; ++y) {
@@ -291,12 +305,33 @@ class DudeSegmenter final : public asf::Segmenter {
       }
     };
     bfs();
+    std::vector<int> component;
     for (int i = 0; i < W * H; ++i)
       if (F[i] && L[i] == 0) {
         L[i] = (*next_label)++;
         queue.push_back(i);
-        bfs();
+        component.clear();
+        while (!queue.empty()) {  // the bfs above, remembering the cells
+          const int c = queue.front();
+          queue.pop_front();
+          component.push_back(c);
+          const int x = c % W, y = c / W;
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int nx = x + dx, ny = y + dy;
+              if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+              const int j = ny * W + nx;
+              if (F[j] && L[j] == 0) {
+                L[j] = L[c];
+                queue.push_back(j);
+              }
+            }
+        }
+        if (static_cast<int>(component.size()) < min_new_cells)
+          for (int c : component) L[c] = -1;  // too small: unlabelled (restored below)
       }
+    for (int i = 0; i < W * H; ++i)
+      if (L[i] < 0) L[i] = 0;
   }
 
   /// Regions below min_region_area join the neighbour they share the longest border with.
@@ -605,11 +640,17 @@ class DudeSegmenter final : public asf::Segmenter {
   double merge_concavity_ = 1.0, merge_min_border_ = 1.2;
   int first_fresh_ = 1;  ///< first provisional label of the current incremental update
   asf::dude::Options options_;
+  bool thesis_ = false;  ///< variant = thesis: the reference's cuts, no post-processing
+  asf::dude::thesis::Options thesis_options_;
   asf::RegionId max_issued_ = 0;
   State state_;
 };
 
 const asf::KeySpec kKeys[] = {
+    asf::keyEnum("variant", "rooms", "rooms|thesis",
+                 "thesis: DuDe as published and as the thesis ran it (the reference's pocket "
+                 "minima, Delaunay diagonals, cut sets and knapsack selection; no "
+                 "post-processing); rooms: asf's heuristic cuts plus the room layer (README)"),
     asf::keyDouble("max_concavity", "2.5",
                    "DuDe's one parameter: boundary points deeper than this below the convex "
                    "hull (through the bridge hierarchy) are resolved by cuts [m]",

@@ -290,6 +290,94 @@ TEST(SegmenterDude, IncrementalFollowsAGrowingGrid) {
   EXPECT_EQ(s2.labels.atPoint(3, 3), s1.labels.atPoint(3, 3));
 }
 
+// ---- variant = thesis (the published DuDe, no post-processing) -----------------------------
+
+asf::PluginHandle<asf::Segmenter> makeThesis(std::map<std::string, std::string> kv = {}) {
+  kv["variant"] = "thesis";
+  return make(kv);
+}
+
+TEST(SegmenterDudeThesis, EmptyMapsAndAConvexRoom) {
+  auto seg = makeThesis();
+  EXPECT_TRUE(seg->segment(asf::GridMap{}, nullptr).regions.empty());
+  auto walls = unknownGrid(4, 3);
+  walls->fill(kWall);
+  const auto w = seg->segment(mapOf(walls, 1), nullptr);  // no free cell at all
+  EXPECT_TRUE(w.regions.empty());
+  checkConsistency(w, *walls);
+  auto g = unknownGrid(8, 6);
+  room(*g, 1, 1, 7, 5);
+  const auto s = seg->segment(mapOf(g, 2), nullptr);
+  ASSERT_EQ(s.regions.size(), 1u);
+  EXPECT_NEAR(s.regions[0].area, 24, 1e-6);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+}
+
+// "One L-shaped corridor is always segmented (as a minimum) in two regions" (thesis 4.5.1).
+TEST(SegmenterDudeThesis, LShapedCorridorGivesTwoRegions) {
+  auto seg = makeThesis();
+  auto g = unknownGrid(12, 12);
+  g->fill(kWall);
+  setBox(*g, 1, 1, 11, 3, kFree);
+  setBox(*g, 1, 1, 3, 11, kFree);
+  const auto s = seg->segment(mapOf(g), nullptr);
+  ASSERT_EQ(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  EXPECT_NE(s.labels.atPoint(10.5, 2), s.labels.atPoint(2, 10.5));
+}
+
+TEST(SegmenterDudeThesis, RoomsJoinedByADoorAreTwoRegions) {
+  auto seg = makeThesis();
+  auto g = twoRoomsWithDoor();
+  const auto s = seg->segment(mapOf(g), nullptr);
+  ASSERT_EQ(s.regions.size(), 2u);
+  EXPECT_NE(s.labels.atPoint(3, 3), s.labels.atPoint(9, 3));
+  for (const auto& r : s.regions) EXPECT_NEAR(r.area, 25, 0.3);
+  checkConsistency(s, *g);
+}
+
+TEST(SegmenterDudeThesis, RoomWithALargeObstacleIsSplitAroundIt) {
+  auto seg = makeThesis();
+  auto g = unknownGrid(22, 22);
+  room(*g, 1, 1, 21, 21);
+  setBox(*g, 7, 7, 15, 15, kWall);
+  const auto s = seg->segment(mapOf(g), nullptr);
+  EXPECT_GE(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  for (const auto& r : s.regions) EXPECT_TRUE(r.holes.empty());
+}
+
+TEST(SegmenterDudeThesis, IncrementalOnAFixedMapEqualsBatch) {
+  auto batch = makeThesis({{"incremental", "false"}});
+  auto inc = makeThesis({{"incremental", "true"}});
+  auto g = twoRoomsWithDoor();
+  setBox(*g, 2, 2, 3, 3, kWall);
+  const auto b = batch->segment(mapOf(g, 1), nullptr);
+  const auto i1 = inc->segment(mapOf(g, 1), nullptr);
+  const auto i2 = inc->segment(mapOf(g, 2), &i1);
+  EXPECT_EQ(b.labels.labels, i1.labels.labels);
+  EXPECT_EQ(b.labels.labels, i2.labels.labels);
+}
+
+TEST(SegmenterDudeThesis, OnePixelCorridorsAndDiagonalChainsDoNotBreakIt) {
+  auto seg = makeThesis({{"gap_closing", "0"}});
+  auto g = unknownGrid(14, 12);
+  room(*g, 1, 1, 5, 10);
+  room(*g, 9, 1, 13, 10);
+  setBox(*g, 5, 3, 9, 3.05, kFree);
+  setBox(*g, 2, 2, 2.05, 2.05, kWall);
+  const auto s = seg->segment(mapOf(g), nullptr);
+  EXPECT_GE(s.regions.size(), 2u);
+  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+  checkConsistency(s, *g);
+  auto d = unknownGrid(6, 6);
+  for (int k = 0; k < 60; ++k) d->setCell(20 + k % 40, 20 + k % 40, kFree);
+  checkConsistency(seg->segment(mapOf(d, 2), nullptr), *d);
+}
+
 // ---- the benchmark (skipped without ../shared) ------------------------------------------
 
 TEST(SegmenterDude, OfficeMapOfTheBenchmarkIsSegmentedIntoRooms) {

@@ -1,0 +1,608 @@
+// One round of DuDe 2D on one piece, as the reference (c_dude::build) computes it: bridges,
+// pockets and their recursive decomposition, pocket minima, hole minima, feature points,
+// diagonals from two constrained Delaunay triangulations, cut sets per pocket minimum.
+#include "dude_thesis_round.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace asf::dude::thesis::detail {
+namespace {
+
+constexpr int kMaxPocketDepth = 12;
+
+/// Bridge-pocket (reference c_BPC): the outer ring's chain s..e (ring order) outside the hull.
+struct Bpc {
+  int s = -1, e = -1;
+  std::vector<int> kids;         ///< sub-bridges directly below this one
+  std::vector<int> bridge_ends;  ///< ends of every sub-bridge found in the pocket
+  std::vector<int> concavities;  ///< pocket minima
+};
+
+struct OuterRing {
+  std::vector<int> ids;
+  std::map<int, int> pos;  // vertex id -> position in ids
+  int n() const { return static_cast<int>(ids.size()); }
+  int dist(int a, int b) const { return ((pos.at(b) - pos.at(a)) % n() + n()) % n(); }
+  /// u in the chain a.next .. b (inclusive)?
+  bool inChain(int a, int b, int u) const {
+    const auto it = pos.find(u);
+    if (it == pos.end()) return false;
+    const int du = dist(a, u);
+    return du > 0 && du <= dist(a, b);
+  }
+  std::vector<int> chain(int a, int b) const {  // a .. b inclusive
+    std::vector<int> c;
+    for (int i = pos.at(a);; i = (i + 1) % n()) {
+      c.push_back(ids[i]);
+      if (ids[i] == b || static_cast<int>(c.size()) > n()) break;
+    }
+    return c;
+  }
+};
+
+struct Builder {
+  const Poly& P;
+  double tau;
+  int depth;
+  RoundState& st;
+  OuterRing outer;
+  std::vector<Bpc> bpcs;
+  std::vector<int> top;  // top-level bridges
+
+  double chainArea(const std::vector<int>& c) const { return signedAreaIds(P, c); }
+
+  /// Kid bridges of a pocket: the cuts DuDe finds in the pocket polygon (reference
+  /// decompose_bridge), nested by containment (reorganize_kids / insert2tree).
+  void decomposePocket(int b) {
+    const std::vector<int> chain = outer.chain(bpcs[b].s, bpcs[b].e);
+    double deepest = 0;
+    for (int v : chain) deepest = std::max(deepest, dist2Seg(P.p[bpcs[b].s], P.p[bpcs[b].e], P.p[v]));
+    // A pocket shallower than tau can hold no pocket minimum at any level (the minima are
+    // finally measured against this bridge): its sub-bridges are not computed.
+    if (deepest < tau || depth >= kMaxPocketDepth || chain.size() < 4) return;
+    Poly pocket;
+    Ring r;
+    std::vector<int> map_back;
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      r.push_back(P.p[*it]);
+      map_back.push_back(*it);
+    }
+    pocket.addRing(r);
+    RoundState sub;
+    const auto cuts = roundCuts(pocket, tau, false, depth + 1, &sub);
+    std::vector<std::pair<int, int>> ranges;  // (start pos, end pos) from s
+    std::vector<int> kid_ids;
+    for (const auto& [x, y] : cuts) {
+      int a = map_back[x], c = map_back[y];
+      if (outer.dist(bpcs[b].s, a) > outer.dist(bpcs[b].s, c)) std::swap(a, c);
+      if (P.nx[a] == c || a == c) continue;
+      if (std::abs(chainArea(outer.chain(a, c))) <= 1e-10) continue;
+      Bpc kid;
+      kid.s = a;
+      kid.e = c;
+      bpcs[b].bridge_ends.push_back(a);
+      bpcs[b].bridge_ends.push_back(c);
+      bpcs.push_back(kid);
+      kid_ids.push_back(static_cast<int>(bpcs.size()) - 1);
+    }
+    // Smallest pockets first, each inserted under the deepest bridge containing it.
+    std::stable_sort(kid_ids.begin(), kid_ids.end(), [&](int x, int y) {
+      return outer.dist(bpcs[x].s, bpcs[x].e) < outer.dist(bpcs[y].s, bpcs[y].e);
+    });
+    for (int k : kid_ids) insertKid(b, k);
+  }
+
+  bool contains(int outer_b, int inner_b) const {
+    const int s = bpcs[outer_b].s;
+    const int a0 = outer.dist(s, bpcs[inner_b].s), a1 = outer.dist(s, bpcs[inner_b].e);
+    return a0 >= 0 && a1 <= outer.dist(s, bpcs[outer_b].e) && a0 <= a1;
+  }
+
+  void insertKid(int parent, int k) {
+    std::vector<int> keep;
+    for (int c : bpcs[parent].kids) {
+      if (contains(c, k)) {
+        insertKid(c, k);
+        return;
+      }
+    }
+    for (int c : bpcs[parent].kids) {
+      if (contains(k, c)) bpcs[k].kids.push_back(c);
+      else keep.push_back(c);
+    }
+    keep.push_back(k);
+    bpcs[parent].kids = keep;
+  }
+
+  /// Pocket minima of bridge b (reference determineConcavity): salient vertices of the hull of
+  /// the pocket (sub-pockets with minima excluded) at least tau from the bridge, filtered.
+  void concavity(int b) {
+    Bpc& B = bpcs[b];
+    std::vector<int> pms;
+    std::set<int> kid_interior, kid_ends_with_pm, kid_ends;
+    for (int k : B.kids) {
+      concavity(k);
+      for (int v : bpcs[k].concavities) pms.push_back(v);
+      kid_ends.insert(bpcs[k].s);
+      kid_ends.insert(bpcs[k].e);
+      if (bpcs[k].concavities.empty()) continue;
+      kid_ends_with_pm.insert(bpcs[k].s);
+      kid_ends_with_pm.insert(bpcs[k].e);
+      const auto c = outer.chain(bpcs[k].s, bpcs[k].e);
+      for (std::size_t i = 1; i + 1 < c.size(); ++i) kid_interior.insert(c[i]);
+    }
+    std::vector<int> vlist;
+    for (int v : outer.chain(B.s, B.e))
+      if (!kid_interior.count(v) || v == B.s || v == B.e) vlist.push_back(v);
+    std::vector<Vec2> pts;
+    for (int v : vlist) pts.push_back(P.p[v]);
+    std::vector<int> hull = hullPositions(pts);
+    if (hull.empty() || hull.front() != 0) hull.insert(hull.begin(), 0);
+    if (hull.back() != static_cast<int>(vlist.size()) - 1) hull.push_back(static_cast<int>(vlist.size()) - 1);
+    std::vector<Vec2> hpts;
+    for (int h : hull) hpts.push_back(pts[h]);
+    for (int a : approximate(hpts, tau - tau / 4)) {
+      const int v = vlist[hull[a]];
+      if (v == B.s || v == B.e || kid_ends_with_pm.count(v)) continue;
+      if (dist2Seg(P.p[B.s], P.p[B.e], P.p[v]) < tau) continue;
+      st.info[v].bpc = b;
+      pms.push_back(v);
+    }
+    // Minima of this bridge too close to the line through their neighbouring features are
+    // dropped (reference: distance to the segment of the features around it > tau / 2).
+    std::set<int> flagged(kid_ends.begin(), kid_ends.end());
+    flagged.insert(pms.begin(), pms.end());
+    std::vector<int> features{B.s};
+    for (int v : outer.chain(B.s, B.e))
+      if (v != B.s && v != B.e && flagged.count(v)) features.push_back(v);
+    features.push_back(B.e);
+    for (std::size_t i = 1; i + 1 < features.size(); ++i) {
+      const int v = features[i];
+      if (st.info[v].bpc < 0) continue;
+      if (st.info[v].bpc != b) {
+        B.concavities.push_back(v);
+      } else if (dist2Seg(P.p[features[i - 1]], P.p[features[i + 1]], P.p[v]) > tau / 2) {
+        B.concavities.push_back(v);
+      }
+    }
+  }
+
+  void buildOuter() {
+    outer.ids = P.ring(P.heads[0]);
+    for (int i = 0; i < outer.n(); ++i) outer.pos[outer.ids[i]] = i;
+    if (outer.n() <= 3) return;
+    std::vector<Vec2> pts;
+    for (int v : outer.ids) pts.push_back(P.p[v]);
+    const std::vector<int> hull = hullPositions(pts);
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+      const int s = outer.ids[hull[i]], e = outer.ids[hull[(i + 1) % hull.size()]];
+      if (s == e || P.nx[s] == e) continue;
+      if (std::abs(chainArea(outer.chain(s, e))) <= 1e-10) continue;
+      Bpc b;
+      b.s = s;
+      b.e = e;
+      bpcs.push_back(b);
+      const int id = static_cast<int>(bpcs.size()) - 1;
+      top.push_back(id);
+      decomposePocket(id);
+      concavity(id);
+      // determine_PM: the minima's concavity is their distance to this (hull) bridge.
+      std::vector<int> kept;
+      for (int v : bpcs[id].concavities) {
+        const double c = dist2Seg(P.p[s], P.p[e], P.p[v]);
+        if (c < tau) continue;
+        st.info[v].concavity = c;
+        kept.push_back(v);
+      }
+      bpcs[id].concavities = kept;
+    }
+  }
+
+  /// Holes (reference decompose_hole, convex case): the diameter pair are the hole's minima,
+  /// with the diameter as concavity; a hole narrower than tau is dropped.
+  void buildHole(int head, std::vector<int>* pms, std::set<int>* features) {
+    const std::vector<int> ids = P.ring(head);
+    std::vector<Vec2> pts;
+    for (int v : ids) pts.push_back(P.p[v]);
+    const std::vector<int> hull = hullPositions(pts);
+    double diam = -1;
+    int m1 = -1, m2 = -1;
+    for (std::size_t i = 0; i < hull.size(); ++i)
+      for (std::size_t j = i + 1; j < hull.size(); ++j) {
+        const double d = std::hypot(pts[hull[i]].x - pts[hull[j]].x, pts[hull[i]].y - pts[hull[j]].y);
+        if (d > diam) {
+          diam = d;
+          m1 = hull[i];
+          m2 = hull[j];
+        }
+      }
+    if (m1 < 0 || diam < tau) {
+      st.ignored_holes.push_back(head);
+      return;
+    }
+    const int n = static_cast<int>(ids.size());
+    const int a = ids[m1], c = ids[m2];
+    for (int v : {a, c}) {
+      st.info[v].concavity = diam;
+      st.info[v].hole = head;
+      pms->push_back(v);
+      features->insert(v);
+    }
+    int added = 2;
+    double far = -1;
+    int far_v = -1;
+    for (auto [from, to] : {std::pair<int, int>{m1, m2}, std::pair<int, int>{m2, m1}}) {
+      std::vector<int> chain;
+      for (int i = from;; i = (i + 1) % n) {
+        chain.push_back(i);
+        if (i == to) break;
+      }
+      std::vector<Vec2> cp;
+      for (int i : chain) cp.push_back(pts[i]);
+      for (int k : approximate(cp, tau)) {
+        const int v = ids[chain[k]];
+        if (v == a || v == c) continue;
+        const double conc = dist2Seg(P.p[a], P.p[c], P.p[v]);
+        st.info[v].concavity = conc;
+        st.info[v].hole = head;
+        if (conc > tau) pms->push_back(v);
+        features->insert(v);
+        ++added;
+      }
+      for (int i : chain) {
+        const double d = dist2Seg(P.p[a], P.p[c], pts[i]);
+        if (d > far) {
+          far = d;
+          far_v = ids[i];
+        }
+      }
+    }
+    if (added < 3 && far_v >= 0) features->insert(far_v);
+  }
+
+  /// Feature points of the outer ring outside the pockets (reference collectConvexFeatPnts /
+  /// collectOutConvexFeatPnts).
+  void outerFeatures(std::set<int>* features) {
+    for (int b : top) {
+      features->insert(bpcs[b].s);
+      features->insert(bpcs[b].e);
+      for (int v : bpcs[b].concavities) features->insert(v);
+      for (int v : bpcs[b].bridge_ends) features->insert(v);
+    }
+    auto addApprox = [&](const std::vector<int>& chain, double tol) {
+      std::vector<Vec2> cp;
+      for (int v : chain) cp.push_back(P.p[v]);
+      for (int k : approximate(cp, tol)) features->insert(chain[k]);
+    };
+    if (top.empty()) {  // convex outer ring with holes: its diameter pair and approximations
+      const std::vector<int> hull = hullPositions([&] {
+        std::vector<Vec2> pts;
+        for (int v : outer.ids) pts.push_back(P.p[v]);
+        return pts;
+      }());
+      double diam = -1;
+      int a = -1, c = -1;
+      for (std::size_t i = 0; i < hull.size(); ++i)
+        for (std::size_t j = i + 1; j < hull.size(); ++j) {
+          const double d = std::hypot(P.p[outer.ids[hull[i]]].x - P.p[outer.ids[hull[j]]].x,
+                                      P.p[outer.ids[hull[i]]].y - P.p[outer.ids[hull[j]]].y);
+          if (d > diam) {
+            diam = d;
+            a = outer.ids[hull[i]];
+            c = outer.ids[hull[j]];
+          }
+        }
+      if (a < 0) return;
+      addApprox(outer.chain(a, c), tau);
+      addApprox(outer.chain(c, a), tau);
+      return;
+    }
+    std::vector<int> sorted = top;
+    std::sort(sorted.begin(), sorted.end(), [&](int x, int y) {
+      return outer.pos.at(bpcs[x].s) < outer.pos.at(bpcs[y].s);
+    });
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const int from = bpcs[sorted[i]].e, to = bpcs[sorted[(i + 1) % sorted.size()]].s;
+      const std::vector<int> run = outer.chain(from, to);
+      if (run.size() > 2) addApprox(run, tau - tau / 4);
+      else features->insert(run.begin(), run.end());
+    }
+  }
+};
+
+/// Reference is_bridge_breaking: a diagonal must leave the pocket of its end's bridge.
+bool breaksBridge(const RoundState& st, const OuterRing& outer, const std::vector<Bpc>& bpcs, int u, int v) {
+  const VertexInfo &a = st.info[u], &b = st.info[v];
+  if (a.bpc < 0 && b.bpc < 0 && a.hole < 0 && b.hole < 0) return false;
+  if (a.bpc == b.bpc && a.hole == b.hole) return false;
+  if (a.bpc >= 0 && b.bpc < 0 && outer.inChain(bpcs[a.bpc].s, bpcs[a.bpc].e, v)) return false;
+  if (a.bpc < 0 && b.bpc >= 0 && outer.inChain(bpcs[b.bpc].s, bpcs[b.bpc].e, u)) return false;
+  return true;
+}
+
+/// Reference isHoleDiagonalValid: from a hole feature, not to a vertex of the same hole between
+/// it and its neighbouring features.
+bool holeDiagonalValid(const RoundState& st, int u, int v) {
+  int m = -1, o = -1;
+  if (st.info[u].hole >= 0 && st.info[u].feature) m = u, o = v;
+  else if (st.info[v].hole >= 0 && st.info[v].feature) m = v, o = u;
+  if (m < 0) return true;
+  const Poly& P = *st.P;
+  for (int w = P.pv[m]; w != m; w = P.pv[w]) {
+    if (w == o) return false;
+    if (w == st.info[m].pre_feature) break;
+  }
+  for (int w = P.nx[m]; w != m; w = P.nx[w]) {
+    if (w == o) return false;
+    if (w == st.info[m].next_feature) break;
+  }
+  return true;
+}
+
+double cutsetWeight(const RoundState& st, const CutSet& c) {
+  const auto conc = [&](int x) { return st.info[x].concavity; };
+  const auto len = [&](const std::pair<int, int>& d) {
+    return std::hypot(st.P->p[d.first].x - st.P->p[d.second].x, st.P->p[d.first].y - st.P->p[d.second].y);
+  };
+  const double my = conc(c.v);
+  const int o1 = c.diagonals.front().second;
+  const double l1 = len(c.diagonals.front());
+  if (c.diagonals.size() == 1) {
+    if (c.resolves == 2) return (my + conc(o1)) / l1;
+    if (c.resolves == 1) return (my + (c.type == CutSet::SinglePM ? conc(o1) / 2 : 0)) / l1;
+    return (my / 2 + (c.type == CutSet::SinglePM ? conc(o1) / 2 : 0)) / l1;  // resolves 0
+  }
+  const int o2 = c.diagonals.back().second;
+  const double l = l1 + len(c.diagonals.back());
+  if (c.resolves == 3) return ((my + conc(o1)) + (my + conc(o2))) / l;
+  if (c.resolves == 2) {
+    double w = my;
+    if (st.info[o1].isPM() && resolves(st, o1, c.v)) {
+      w += conc(o1);
+      if (c.type == CutSet::DoublePMPM) w += conc(o2) / 2;
+    } else {
+      w += conc(o2);
+      if (c.type == CutSet::DoublePMPM) w += conc(o1) / 2;
+    }
+    return w / l;
+  }
+  double w = my;
+  if (c.type == CutSet::DoublePMPM) w += conc(o1) / 2 + conc(o2) / 2;
+  else if (c.type == CutSet::DoublePMTip) w += (st.info[o1].isPM() ? conc(o1) : conc(o2)) / 2;
+  return w / l;
+}
+
+/// Two diagonals (v,o1), (v,o2) together resolve v (reference is_resolving with two cuts).
+bool resolvesPair(const RoundState& st, int v, int o1, int o2) {
+  if (!st.info[v].isPM()) return true;
+  const Poly& P = *st.P;
+  const Vec2 v0 = P.p[v], v1 = P.p[st.info[v].pre_feature], v2 = P.p[st.info[v].next_feature];
+  const Vec2 a = P.p[o1], b = P.p[o2];
+  const double a1 = angleAt(v1, v0, a), a2 = angleAt(a, v0, b), a3 = angleAt(b, v0, v2);
+  if (a1 < M_PI && a2 < M_PI && a3 < M_PI) return true;
+  if (a1 >= M_PI && dist2Seg(v1, a, v0) > st.tau) return false;
+  if (a2 >= M_PI && dist2Seg(a, b, v0) > st.tau) return false;
+  if (a3 >= M_PI && dist2Seg(b, v2, v0) > st.tau) return false;
+  return true;
+}
+
+/// Cut sets of pocket minimum v (reference build_cutsets, residual-concavity version).
+void buildCutsets(RoundState& st, int v) {
+  const Poly& P = *st.P;
+  const VertexInfo& I = st.info[v];
+  const Vec2 start = P.p[I.pre_feature], end = P.p[I.next_feature], at = P.p[v];
+  const double total = angleAt(start, at, end);
+  std::vector<std::pair<double, int>> ang;
+  for (int o : st.diagonals[v]) {
+    const double a = angleAt(start, at, P.p[o]);
+    if (a <= total) ang.push_back({a, o});
+  }
+  std::sort(ang.begin(), ang.end());
+  const auto len = [&](int o) { return std::hypot(P.p[o].x - at.x, P.p[o].y - at.y); };
+  auto make = [&](std::vector<int> others) {
+    CutSet c;
+    c.v = v;
+    for (int o : others) c.diagonals.push_back({v, o});
+    const bool pm1 = st.info[others.front()].isPM();
+    if (others.size() == 1) {
+      c.type = pm1 ? CutSet::SinglePM : CutSet::SingleTip;
+      c.resolves = pm1 && resolves(st, others[0], v) ? 2 : 1;
+    } else {
+      const bool pm2 = st.info[others.back()].isPM();
+      c.type = pm1 && pm2 ? CutSet::DoublePMPM : (pm1 || pm2 ? CutSet::DoublePMTip : CutSet::DoubleTipTip);
+      if (c.type == CutSet::DoublePMPM) {
+        const bool r1 = resolves(st, others[0], v), r2 = resolves(st, others[1], v);
+        c.resolves = r1 && r2 ? 3 : (r1 || r2 ? 2 : 1);
+      } else if (c.type == CutSet::DoublePMTip) {
+        const int pm = pm1 ? others[0] : others[1];
+        c.resolves = resolves(st, pm, v) ? 2 : 1;
+      }
+    }
+    c.weight = cutsetWeight(st, c);
+    return c;
+  };
+  const int n = static_cast<int>(ang.size());
+  std::vector<char> single(n, 0);
+  std::vector<CutSet> out;
+  CutSet best_tip;
+  double shortest_tip = 1e300;
+  for (int i = 0; i < n; ++i) {
+    const int o = ang[i].second;
+    if (!resolves(st, v, o) || !holeDiagonalValid(st, v, o)) continue;
+    single[i] = 1;
+    CutSet c = make({o});
+    if (c.type == CutSet::SinglePM) out.push_back(c);
+    else if (len(o) < shortest_tip) shortest_tip = len(o), best_tip = c;
+  }
+  if (best_tip.v >= 0) out.push_back(best_tip);
+  CutSet best_pmtip, best_tiptip;
+  double short_pmtip = 1e300, short_tiptip = 1e300;
+  for (int i = 0; i < n; ++i) {
+    if (single[i]) continue;
+    for (int j = i + 1; j < n; ++j) {
+      if (single[j]) continue;
+      const int o1 = ang[i].second, o2 = ang[j].second;
+      if (!resolvesPair(st, v, o1, o2)) continue;
+      CutSet c = make({o1, o2});
+      const double l = len(o1) + len(o2);
+      if (c.type == CutSet::DoublePMPM) out.push_back(c);
+      else if (c.type == CutSet::DoublePMTip) {
+        if (c.resolves == 2) out.push_back(c);
+        else if (l < short_pmtip) short_pmtip = l, best_pmtip = c;
+      } else if (l < short_tiptip) short_tiptip = l, best_tiptip = c;
+    }
+  }
+  if (best_pmtip.v >= 0) out.push_back(best_pmtip);
+  if (best_tiptip.v >= 0) out.push_back(best_tiptip);
+  if (out.empty()) {  // nothing resolves v: the best single diagonal, credited one less
+    CutSet best;
+    double best_w = -1e300;
+    for (int i = 0; i < n; ++i) {
+      CutSet c = make({ang[i].second});
+      c.resolves -= 1;
+      c.weight = cutsetWeight(st, c);
+      if (c.weight > best_w) best_w = c.weight, best = c;
+    }
+    if (best.v >= 0) out.push_back(best);
+  }
+  st.cutsets[v] = out;
+  st.all_cutsets.insert(st.all_cutsets.end(), out.begin(), out.end());
+}
+
+bool adjacent(const Poly& P, int a, int b) { return P.nx[a] == b || P.nx[b] == a; }
+
+/// Reference checkCutSkinny: the ends are close along the boundary (2 tau one way, 3 tau back).
+bool skinny(const Poly& P, int a, int b, double tau) {
+  if (a == b) return true;
+  for (auto [from, to, limit] : {std::tuple<int, int, double>{a, b, 2 * tau}, {b, a, 3 * tau}}) {
+    double acc = 0;
+    int cur = from;
+    for (std::size_t guard = 0; acc < limit && guard <= P.p.size(); ++guard) {
+      const int nxt = P.nx[cur];
+      acc += std::hypot(P.p[nxt].x - P.p[cur].x, P.p[nxt].y - P.p[cur].y);
+      if (nxt == to) return true;
+      cur = nxt;
+    }
+  }
+  return false;
+}
+
+/// Reference resolveIntersectedCuts: a cut that crosses the boundary is moved to the nearer end
+/// of the first edge it crosses; then cuts between neighbours, repeated and skinny cuts go.
+void clipCuts(const Poly& P, const std::vector<std::vector<int>>& rings, double tau,
+              std::vector<std::pair<int, int>>* cuts) {
+  for (auto& [a, b] : *cuts) {
+    const Vec2 A = P.p[a], B = P.p[b];
+    double da = 1e300, db = 1e300;
+    int ea = -1, eb = -1;
+    Vec2 xa{}, xb{};
+    for (const auto& r : rings)
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        const int u = r[i], w = r[(i + 1) % r.size()];
+        Vec2 x;
+        if (!segmentsIntersect(A, B, P.p[u], P.p[w], &x)) continue;
+        const double dA = std::hypot(x.x - A.x, x.y - A.y), dB = std::hypot(x.x - B.x, x.y - B.y);
+        if (dA < 1e-8 || dB < 1e-8) continue;
+        if (dA < da) da = dA, ea = u, xa = x;
+        if (dB < db) db = dB, eb = u, xb = x;
+      }
+    if (ea < 0) continue;
+    auto nearerEnd = [&](int u, Vec2 from) {
+      const int w = P.nx[u];
+      return std::hypot(P.p[u].x - from.x, P.p[u].y - from.y) <= std::hypot(P.p[w].x - from.x, P.p[w].y - from.y) ? u : w;
+    };
+    const bool a_in = insidePolygon(P, rings, {(xa.x + A.x) / 2, (xa.y + A.y) / 2});
+    const bool b_in = insidePolygon(P, rings, {(xb.x + B.x) / 2, (xb.y + B.y) / 2});
+    if (a_in && (!b_in || da > db)) b = nearerEnd(ea, A);
+    else if (b_in) a = nearerEnd(eb, B);
+  }
+  std::vector<std::pair<int, int>> kept;
+  for (const auto& [a, b] : *cuts) {
+    if (a == b || adjacent(P, a, b) || skinny(P, a, b, tau)) continue;
+    const bool dup = std::any_of(kept.begin(), kept.end(), [&](const auto& k) {
+      return (k.first == a && k.second == b) || (k.first == b && k.second == a);
+    });
+    if (!dup) kept.push_back({a, b});
+  }
+  *cuts = kept;
+}
+
+}  // namespace
+
+bool resolves(const RoundState& st, int v, int o) {
+  if (!st.info[v].isPM()) return true;
+  const Poly& P = *st.P;
+  const Vec2 v0 = P.p[v], v1 = P.p[st.info[v].pre_feature], v2 = P.p[st.info[v].next_feature];
+  const Vec2 q = P.p[o];
+  const double a1 = angleAt(v1, v0, q), a2 = angleAt(q, v0, v2);
+  if (a1 < M_PI && a2 < M_PI) return true;
+  if (a1 >= M_PI && dist2Seg(v1, q, v0) > st.tau) return false;
+  if (a2 >= M_PI && dist2Seg(v2, q, v0) > st.tau) return false;
+  return true;
+}
+
+std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool clip, int depth,
+                                           RoundState* stp) {
+  RoundState& st = *stp;
+  st = RoundState{};
+  st.P = &P;
+  st.tau = tau;
+  st.info.assign(P.p.size(), VertexInfo{});
+  st.diagonals.assign(P.p.size(), {});
+  st.cutsets.assign(P.p.size(), {});
+  if (P.heads.empty()) return {};
+  Builder b{P, tau, depth, st, {}, {}, {}};
+  b.buildOuter();
+  if (b.top.empty() && P.heads.size() == 1) return {};  // convex enough
+  std::set<int> features;
+  std::vector<int> hole_pms;
+  for (std::size_t h = 1; h < P.heads.size(); ++h) b.buildHole(P.heads[h], &hole_pms, &features);
+  b.outerFeatures(&features);
+  std::set<int> pm_set(hole_pms.begin(), hole_pms.end());
+  for (int t : b.top) pm_set.insert(b.bpcs[t].concavities.begin(), b.bpcs[t].concavities.end());
+  st.pms.assign(pm_set.begin(), pm_set.end());
+  if (st.pms.empty()) return {};
+
+  // Simplified polygon (feature points only) and the reduced one (all vertices); rings with
+  // fewer than three features are left out of both, as in the reference.
+  std::vector<std::vector<int>> simplified, reduced, kept_rings;
+  for (int head : P.heads) {
+    if (std::find(st.ignored_holes.begin(), st.ignored_holes.end(), head) != st.ignored_holes.end()) continue;
+    const std::vector<int> ring = P.ring(head);
+    kept_rings.push_back(ring);
+    std::vector<int> s;
+    for (int v : ring)
+      if (features.count(v)) s.push_back(v);
+    if (s.size() < 3) continue;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      st.info[s[i]].feature = true;
+      st.info[s[i]].pre_feature = s[(i + s.size() - 1) % s.size()];
+      st.info[s[i]].next_feature = s[(i + 1) % s.size()];
+    }
+    simplified.push_back(s);
+    reduced.push_back(ring);
+  }
+  if (simplified.empty()) return {};
+  for (const auto* rings : {&simplified, &reduced}) {
+    for (const auto& [u, v] : cdtFreeEdges(P, *rings)) {
+      if (!holeDiagonalValid(st, u, v) || !breaksBridge(st, b.outer, b.bpcs, u, v)) continue;
+      const Vec2 mid{(P.p[u].x + P.p[v].x) / 2, (P.p[u].y + P.p[v].y) / 2};
+      if (!insidePolygon(P, *rings, mid)) continue;
+      for (auto [x, y] : {std::pair<int, int>{u, v}, std::pair<int, int>{v, u}}) {
+        auto& d = st.diagonals[x];
+        if (std::find(d.begin(), d.end(), y) == d.end()) d.push_back(y);
+      }
+    }
+  }
+  for (int v : st.pms)
+    if (!st.diagonals[v].empty() && st.info[v].feature) buildCutsets(st, v);
+  std::vector<std::pair<int, int>> cuts = selectCuts(st);
+  if (clip) clipCuts(P, kept_rings, tau, &cuts);
+  return cuts;
+}
+
+}  // namespace asf::dude::thesis::detail
