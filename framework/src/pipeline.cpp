@@ -506,6 +506,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     double frontend = 0, backend = 0, map = 0, segment = 0, policy = 0;
   } stage;
   std::vector<double> decision_ms, segment_ms;
+  SegmentationLog seg_log;
   auto msSince = [](Clock::time_point t) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
   };
@@ -529,6 +530,9 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     r.regions = m.seg.regions.size();
     r.decisions = sum.decisions;
     r.ms = {stage.frontend, stage.backend, stage.map, stage.segment, stage.policy};
+    r.segmentations = seg_log.total;
+    r.incremental_segmentations = seg_log.incremental;
+    r.changed_cells = seg_log.takeChangedSinceRow();
     rec.series(r);
     stage = {};
   };
@@ -653,6 +657,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
         const double ms = msSince(t_stage);
         stage.segment += ms;
         segment_ms.push_back(ms);
+        seg_log.add(m.seg, ms);
       }
       const mrpt::poses::CPose2D est = m.frontend->currentPose(m.graph);
       m.topo.observeRobot(est.x(), est.y(), frame->timestamp - t0);
@@ -728,6 +733,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
       sum.segment_ms_median = v[v.size() / 2];
     }
+    seg_log.summarize(sum);
     if (m.policy) sum.policy = m.cfg.slots.at("policy")->name();
     sum.seed = static_cast<long>(m.cfg.pipeline.getInt("seed"));
     seriesRow(err_n ? std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) : -1);

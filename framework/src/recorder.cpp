@@ -1,10 +1,12 @@
 #include "recorder.h"
 
+#include <algorithm>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
 
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -51,6 +53,36 @@ using render::renderGrid;
 
 }  // namespace
 
+void SegmentationLog::add(const Segmentation& s, double ms) {
+  ++total;
+  if (s.mode == Segmentation::Mode::Incremental) ++incremental, ms_incremental_.push_back(ms);
+  if (s.mode == Segmentation::Mode::Full) ++full, ms_full_.push_back(ms);
+  if (s.changed_cells >= 0) {
+    changed_.push_back(static_cast<double>(s.changed_cells));
+    changed_since_row_ = std::max<std::int64_t>(changed_since_row_, 0) + s.changed_cells;
+  }
+}
+
+std::int64_t SegmentationLog::takeChangedSinceRow() {
+  const std::int64_t c = changed_since_row_;
+  changed_since_row_ = -1;
+  return c;
+}
+
+void SegmentationLog::summarize(RunSummary& sum) const {
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return -1.0;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  sum.segmentations = total;
+  sum.segmentations_incremental = incremental;
+  sum.segmentations_full = full;
+  sum.segment_ms_median_incremental = median(ms_incremental_);
+  sum.segment_ms_median_full = median(ms_full_);
+  sum.changed_cells_median = median(changed_);
+}
+
 Recorder::Recorder(const std::string& out_dir, const ResolvedConfig& cfg) : dir_(out_dir) {
   fs::create_directories(dir_);
   writeAtomically(dir_ + "/config.ini", cfg.toIni());
@@ -61,7 +93,8 @@ Recorder::Recorder(const std::string& out_dir, const ResolvedConfig& cfg) : dir_
   decisions_ << "step,time_s,previous_status,decision,goal_x,goal_y,reason\n";
   series_.open(dir_ + "/timeseries.csv");
   series_ << "step,time_s,distance_m,coverage,explored_area_m2,pose_error_m,loop_closures,nodes,"
-             "edges,regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms\n";
+             "edges,regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms,"
+             "segmentations,incremental_segmentations,changed_cells\n";
   if (!traj_ || !decisions_ || !series_) throw Error(dir_ + ": cannot write the run's files");
 }
 
@@ -85,6 +118,8 @@ void Recorder::series(const SeriesRow& r) {
   series_ << ',' << r.loop_closures << ',' << r.nodes << ',' << r.edges << ',' << r.regions << ','
           << r.decisions << std::setprecision(4);
   for (double v : r.ms) series_ << ',' << v;
+  series_ << ',' << r.segmentations << ',' << r.incremental_segmentations << ',';
+  if (r.changed_cells >= 0) series_ << r.changed_cells;
   series_ << '\n';
   series_.flush();
 }
@@ -153,6 +188,17 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["decision_ms_mean"] = summary.decision_ms_mean;
     j["decision_ms_max"] = summary.decision_ms_max;
     j["segment_ms_median"] = summary.segment_ms_median;
+    auto orNull = [](double v) { return v < 0 ? json(nullptr) : json(v); };
+    j["segmentations"] = summary.segmentations;
+    j["segmentations_incremental"] = summary.segmentations_incremental;
+    j["segmentations_full"] = summary.segmentations_full;
+    j["incremental_share"] = summary.segmentations == 0
+                                 ? json(nullptr)
+                                 : json(static_cast<double>(summary.segmentations_incremental) /
+                                        static_cast<double>(summary.segmentations));
+    j["segment_ms_median_incremental"] = orNull(summary.segment_ms_median_incremental);
+    j["segment_ms_median_full"] = orNull(summary.segment_ms_median_full);
+    j["changed_cells_median"] = orNull(summary.changed_cells_median);
     j["steps"] = summary.steps;
     j["distance_m"] = summary.distance_m;
     j["nodes"] = summary.nodes;

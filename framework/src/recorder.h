@@ -3,11 +3,30 @@
 #include <asf/map3d.h>
 #include <asf/pipeline.h>
 
+#include <asf/segmentation.h>
+
 #include <array>
+#include <cstdint>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace asf {
+
+/// The run's segmentations: how many were incremental or full (Segmentation::Mode), their
+/// times and changed cells; rows of timeseries.csv and the summary read it.
+class SegmentationLog {
+ public:
+  std::size_t total = 0, incremental = 0, full = 0;
+  void add(const Segmentation& s, double ms);
+  /// Changed cells summed over the segmentations since the previous call; -1 if none knew.
+  std::int64_t takeChangedSinceRow();
+  void summarize(RunSummary& sum) const;
+
+ private:
+  std::vector<double> ms_incremental_, ms_full_, changed_;
+  std::int64_t changed_since_row_ = -1;
+};
 
 class Recorder {
  public:
@@ -28,6 +47,8 @@ class Recorder {
     std::size_t loop_closures = 0, nodes = 0, edges = 0, regions = 0;
     int decisions = 0;
     std::array<double, 5> ms{};  ///< frontend, backend, map, segment, policy
+    std::size_t segmentations = 0, incremental_segmentations = 0;  ///< so far
+    std::int64_t changed_cells = -1;  ///< summed over the segmentations since the last row
   };
   void series(const SeriesRow& r);
   void decision(long step, double time, const Decision& d, NavStatus previous);

@@ -177,6 +177,11 @@ const KeyInfo kSummaryKeys[] = {
     {"decision_ms_mean", "decision time, mean (ms)"},
     {"decision_ms_max", "decision time, max (ms)"},
     {"segment_ms_median", "segmentation time, median (ms)"},
+    {"segmentations", "segmentations"},
+    {"incremental_share", "incremental segmentations (share)"},
+    {"segment_ms_median_incremental", "incremental segmentation, median (ms)"},
+    {"segment_ms_median_full", "full segmentation, median (ms)"},
+    {"changed_cells_median", "changed cells per segmentation, median"},
     {"wall_time_s", "wall time (s)"},
     {"steps", "steps"},
     {"nodes", "nodes"},
@@ -199,7 +204,7 @@ std::string fmtValue(const std::string& key, const json& v) {
   if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
   if (v.is_number()) {
     const double d = v.get<double>();
-    if (key == "coverage") return fmtNumber(100 * d) + " %";
+    if (key == "coverage" || key == "incremental_share") return fmtNumber(100 * d) + " %";
     return fmtNumber(d);
   }
   if (v.is_string()) return v.get<std::string>();

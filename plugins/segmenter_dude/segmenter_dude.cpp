@@ -48,6 +48,7 @@ class DudeSegmenter final : public asf::Segmenter {
     min_region_area_ = p.getDouble("min_region_area");
     min_component_area_ = p.getDouble("min_component_area");
     incremental_ = p.getBool("incremental");
+    rebuild_full_fraction_ = p.getDouble("rebuild_full_fraction");
     merge_concavity_ = p.getDouble("merge_concavity");
     merge_min_border_ = p.getDouble("merge_min_border");
     thesis_ = p.getString("variant") == "thesis";
@@ -84,8 +85,16 @@ class DudeSegmenter final : public asf::Segmenter {
     int next_label = 1;
     const cv::Rect full(0, 0, f.width, f.height);
     cv::Rect work = full;  // where labels may change
-    const bool can_update = incremental_ && state_.valid && !map.rebuilt && previous &&
-                            previous->map_version == state_.version && alignState(f);
+    bool can_update = incremental_ && state_.valid && previous &&
+                      previous->map_version == state_.version && alignState(f);
+    // Cells whose free state changed since the last call (all cells without a comparable one).
+    const std::int64_t changed =
+        can_update ? cv::countNonZero(free != state_.free) : static_cast<std::int64_t>(f.width) * f.height;
+    // A rebuilt map (loop closure: keyframes moved) stays incremental while the change is
+    // local: regions far from it keep their cells.
+    if (can_update && map.rebuilt &&
+        changed > rebuild_full_fraction_ * std::max(1, cv::countNonZero(free)))
+      can_update = false;
     if (can_update) {
       labels = updateIncrementally(free, obstacle, f, &next_label, &proc, &work);
     } else {
@@ -118,6 +127,8 @@ class DudeSegmenter final : public asf::Segmenter {
     }
     out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version,
                                  thesis_ ? 0.0 : min_component_area_);
+    out.mode = can_update ? asf::Segmentation::Mode::Incremental : asf::Segmentation::Mode::Full;
+    out.changed_cells = changed;
     if (incremental_) saveState(out, free, proc, f);
     else state_ = State{};
     MRPT_LOG_DEBUG_STREAM("dude: " << out.regions.size() << " regions ("
@@ -637,6 +648,7 @@ class DudeSegmenter final : public asf::Segmenter {
   double gap_closing_ = 0.1, obstacle_dilation_ = 0.0, simplify_tolerance_ = 0.1;
   double min_region_area_ = 1.0, min_component_area_ = 0.25;
   bool incremental_ = true;
+  double rebuild_full_fraction_ = 0.25;
   double merge_concavity_ = 1.0, merge_min_border_ = 1.2;
   int first_fresh_ = 1;  ///< first provisional label of the current incremental update
   asf::dude::Options options_;
@@ -696,7 +708,12 @@ const asf::KeySpec kKeys[] = {
                    0.0, 1e6),
     asf::keyBool("incremental", "true",
                  "Re-decompose only the regions touching changed free space (thesis Algorithm "
-                 "3); a rebuilt map (loop closure) is always segmented in full"),
+                 "3)"),
+    asf::keyDouble("rebuild_full_fraction", "0.25",
+                   "After a rebuilt map (a loop closure moved keyframes) the update stays "
+                   "incremental unless more than this fraction of the free cells changed "
+                   "state; 0: always segment a rebuilt map in full",
+                   0.0, 1.0),
 };
 
 }  // namespace

@@ -47,6 +47,7 @@ class FreeComponentsSegmenter final : public asf::Segmenter {
       for (int cx = 0; cx < W; ++cx)
         L.labels[static_cast<std::size_t>(cy) * W + cx] = comp.at<int>(cy, cx);
     out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
+    out.mode = asf::Segmentation::Mode::Full;  // always the whole map
     MRPT_LOG_DEBUG_STREAM("free_components: " << out.regions.size() << " regions ("
                                               << (n - 1 - static_cast<int>(out.regions.size()))
                                               << " components below min_area)");

@@ -80,7 +80,9 @@ class VoronoiSegmenter final : public asf::Segmenter {
                                                  << st.cuts << " cuts, " << st.components
                                                  << " components, " << st.regions << " regions");
     }
-    return asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
+    out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
+    out.mode = asf::Segmentation::Mode::Full;  // always the whole map
+    return out;
   }
 
  private:

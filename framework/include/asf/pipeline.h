@@ -76,6 +76,10 @@ struct RunSummary {
   std::size_t loop_closures = 0;  ///< loop-closure edges in the final graph
   double decision_ms_mean = 0, decision_ms_max = 0;  ///< policy decide() compute time
   double segment_ms_median = 0;   ///< segmenter + topological graph update, per update
+  /// Segmentations of the run and how the segmenter made them (Segmentation::Mode).
+  std::size_t segmentations = 0, segmentations_incremental = 0, segmentations_full = 0;
+  double segment_ms_median_incremental = -1, segment_ms_median_full = -1;  ///< -1: none
+  double changed_cells_median = -1;  ///< of the segmentations that report it; -1: none
   std::string policy;             ///< plugin name, empty without a policy
   long seed = 0;
   bool finished = false;       ///< the policy said done, or the passive source ended

@@ -34,6 +34,14 @@ struct Segmentation {
   std::vector<Region> regions;
   LabelImage labels;
   std::uint64_t map_version = 0;  ///< version of the GridMap it was computed from
+  /// How the segmenter computed it, for the run's statistics: Full (the whole map),
+  /// Incremental (only the part touching the change, thesis Algorithm 3), or Unknown (the
+  /// segmenter does not say).
+  enum class Mode : std::uint8_t { Unknown, Full, Incremental };
+  Mode mode = Mode::Unknown;
+  /// Cells whose input (free / not free) changed since the segmenter's previous call; the
+  /// number of cells of the map when there was no comparable previous call; -1: not known.
+  std::int64_t changed_cells = -1;
   const Region* find(RegionId id) const;
 };
 

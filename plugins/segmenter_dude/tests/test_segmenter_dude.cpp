@@ -268,10 +268,57 @@ TEST(SegmenterDude, RegionIdsPersistAcrossUnrelatedUpdates) {
   EXPECT_NE(c, a);
   EXPECT_NE(c, b);
 
-  // A loop closure (rebuilt) re-segments everything and still reuses ids by overlap.
+  // A loop closure (rebuilt) that changed no cell stays incremental: same labels, same ids.
   const auto s3 = seg->segment(mapOf(g2, 3, /*rebuilt=*/true), &s2);
   EXPECT_EQ(s3.labels.labels, s2.labels.labels);
   EXPECT_EQ(s3.labels.atPoint(4, 4), a);
+  EXPECT_EQ(s1.mode, asf::Segmentation::Mode::Full);
+  EXPECT_EQ(s1.changed_cells, static_cast<std::int64_t>(g->getSizeX() * g->getSizeY()));
+  EXPECT_EQ(s2.mode, asf::Segmentation::Mode::Incremental);
+  EXPECT_GT(s2.changed_cells, 0);
+  EXPECT_EQ(s3.mode, asf::Segmentation::Mode::Incremental);
+  EXPECT_EQ(s3.changed_cells, 0);
+}
+
+// A loop closure that moves keyframes by a few centimetres changes a few cells: the update
+// stays incremental and the regions far from the change keep their cells and ids; a rebuilt
+// map that changed most cells, or rebuild_full_fraction = 0, is segmented in full.
+TEST(SegmenterDude, LoopClosureWithALocalChangeStaysIncremental) {
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = unknownGrid(30, 10);
+    room(*g, 1, 1, 7, 7);    // A
+    room(*g, 12, 1, 18, 7);  // B
+    const auto s1 = seg->segment(mapOf(g, 1), nullptr);
+    const asf::RegionId a = s1.labels.atPoint(4, 4);
+    // B's east wall moves one cell (5 cm) east: a column of new free cells, the wall shifted.
+    auto g2 = std::make_shared<Grid>(*g);
+    setBox(*g2, 18, 1, 18.05, 7, kFree);
+    setBox(*g2, 18.05, 0.9, 18.15, 7.1, kWall);
+    int changed = 0;
+    for (unsigned cy = 0; cy < g->getSizeY(); ++cy)
+      for (unsigned cx = 0; cx < g->getSizeX(); ++cx) changed += isFree(*g, cx, cy) != isFree(*g2, cx, cy);
+    ASSERT_GT(changed, 0);
+    const auto s2 = seg->segment(mapOf(g2, 2, /*rebuilt=*/true), &s1);
+    checkConsistency(s2, *g2);
+    EXPECT_EQ(s2.mode, asf::Segmentation::Mode::Incremental);
+    EXPECT_EQ(s2.changed_cells, changed);
+    EXPECT_EQ(s2.labels.atPoint(4, 4), a);
+    const asf::Region *ra1 = s1.find(a), *ra2 = s2.find(a);
+    ASSERT_TRUE(ra1 && ra2);
+    EXPECT_DOUBLE_EQ(ra1->area, ra2->area);
+    for (unsigned cy = 0; cy < g->getSizeY(); ++cy)  // A's cells are exactly A's cells
+      for (unsigned cx = 0; cx < g->getSizeX(); ++cx)
+        EXPECT_EQ(s1.labels.at(cx, cy) == a, s2.labels.at(cx, cy) == a);
+
+    auto full = make({{"variant", variant}, {"rebuild_full_fraction", "0"}});
+    const auto f1 = full->segment(mapOf(g, 1), nullptr);
+    EXPECT_EQ(full->segment(mapOf(g2, 2, true), &f1).mode, asf::Segmentation::Mode::Full);
+    auto g3 = unknownGrid(30, 10);  // a different building: most cells changed
+    room(*g3, 2, 2, 28, 9);
+    EXPECT_EQ(seg->segment(mapOf(g3, 3, true), &s2).mode, asf::Segmentation::Mode::Full);
+  }
 }
 
 TEST(SegmenterDude, IncrementalFollowsAGrowingGrid) {
