@@ -16,6 +16,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <map>
+#include <sstream>
 #include <set>
 #include <string>
 
@@ -89,12 +90,47 @@ asf::PluginHandle<asf::Segmenter> makeFreeComponents(
   return h;
 }
 
+std::string readText(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 nlohmann::json readJson(const fs::path& p) {
   std::ifstream f(p);
   return nlohmann::json::parse(f);
 }
 
 }  // namespace
+
+// The thesis' scoring on a 13 x 7 map, worked by hand: a wall at column 6 splits two rooms.
+// Eroded once (the image border counts as wall) and dilated back, the rooms are columns
+// 0-5 and 7-12 (42 px each); column 6 belongs to none. Segments: 1 = columns 0-3, 2 = 4-9,
+// 3 = 10-12. Per room (thesis "precision"): left 28/42 = 66.7 -> 66 %, right 21/42 = 50 %.
+// Per segment (thesis "recall"), on pixels that are in a room: 28/28, 21/35 (column 6 does not
+// count), 21/21 -> 100, 60, 100 %.
+TEST(SegmentationEvalThesis, ScoresAsTheAuthorsCodeDoes) {
+  asf::GrayImage gt;
+  gt.width = 13;
+  gt.height = 7;
+  gt.pixels.assign(13 * 7, 255);
+  for (int r = 0; r < 7; ++r) gt.pixels[r * 13 + 6] = 0;
+  asf::LabelRaster seg;
+  seg.width = 13;
+  seg.height = 7;
+  seg.labels.resize(13 * 7);
+  for (int r = 0; r < 7; ++r)
+    for (int c = 0; c < 13; ++c) seg.labels[r * 13 + c] = c <= 3 ? 1 : (c <= 9 ? 2 : 3);
+  const asf::ThesisProtocolScore s = asf::scoreThesisProtocol(seg, gt);
+  EXPECT_EQ(s.rooms, 2);
+  EXPECT_EQ(s.segments, 3);
+  EXPECT_NEAR(s.precision, (0.66 + 0.50) / 2, 1e-12);
+  EXPECT_NEAR(s.recall, (1.0 + 0.60 + 1.0) / 3, 1e-12);
+  asf::LabelRaster small = seg;
+  small.width = 12;
+  EXPECT_THROW(asf::scoreThesisProtocol(small, gt), asf::Error);
+}
 
 TEST(SegmentationEvalScore, HandComputedExample) {
   // GT rooms (3 x 2 image):   segmentation:
@@ -474,6 +510,47 @@ TEST(SegmentationEvalCommand, ScoresEveryMapAsTheProtocolSays) {
   const auto topo = runHost(evalArgs(d, false) + " --set topology.min_border_width=1");
   EXPECT_EQ(topo.code, 1);
   EXPECT_TRUE(has(topo.out, "no topological graph here")) << topo.out;
+}
+
+// segment-report: the thesis' Table 4.1 beside every report, both protocols, and the figures.
+TEST(SegmentReportCommand, TableAndFiguresFromTwoReports) {
+  const fs::path d = writeDataset("report41");
+  const auto r = runHost(evalArgs(d) + " --incremental --json " + (d / "a.json").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(has(r.out, "summary plain thesis protocol")) << r.out;
+  const auto ev = readJson(d / "a.json");
+  // b is segmented perfectly under the thesis' protocol too.
+  EXPECT_DOUBLE_EQ(ev["maps"][2]["thesis_protocol"]["precision"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(ev["maps"][2]["thesis_protocol"]["recall"].get<double>(), 1.0);
+  EXPECT_FALSE(ev["maps"][0]["incremental"]["update_ms"].empty());
+  const auto rep = runHost("segment-report " + (d / "a.json").string() + " " +
+                           (d / "a.json").string() + " -l one -l two -o " + (d / "rep").string());
+  ASSERT_EQ(rep.code, 0) << rep.out;
+  const auto t = readJson(d / "rep/table_4_1.json");
+  ASSERT_EQ(t["rows"].size(), 4u);
+  for (const auto& row : t["rows"]) {
+    EXPECT_EQ(row["thesis"]["dude_batch"].size(), 2u);  // mean, std
+    ASSERT_EQ(row["asf"].size(), 2u);
+    EXPECT_EQ(row["asf"][1]["label"], "two");
+    for (const char* k : {"thesis_protocol", "roomseg"}) EXPECT_EQ(row["asf"][0][k].size(), 2u) << k;
+    // Incremental runs exist for the plain maps only.
+    EXPECT_EQ(row["asf"][0]["thesis_protocol_incremental"].is_null(), row["scenario"] == "furnished");
+  }
+  // The plain recall row of the thesis is 86.3 +- 9.7 (Table 4.1).
+  EXPECT_DOUBLE_EQ(t["rows"][0]["thesis"]["dude_batch"][0].get<double>(), 86.3);
+  const std::string md = readText(d / "rep/table_4_1.md");
+  EXPECT_TRUE(has(md, "| no furniture | recall (per segment) | 95.0 ± 2.3 | 86.3 ± 9.7 | 87.5 ± 10.7 |")) << md;
+  for (const char* f : {"fig4_1_precision.svg", "fig4_1_recall.svg", "fig4_2_batch_time.svg",
+                        "fig4_2_incremental_time.svg"})
+    EXPECT_TRUE(has(readText(d / "rep" / f), "<svg")) << f;
+  // Bad input: named, non-zero exit.
+  std::ofstream(d / "bad.json") << "{not json";
+  const auto bad = runHost("segment-report " + (d / "bad.json").string() + " -o " + (d / "x").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(has(bad.out, "bad.json")) << bad.out;
+  const auto labels = runHost("segment-report " + (d / "a.json").string() + " -l a -l b -o " + (d / "x").string());
+  EXPECT_EQ(labels.code, 1);
+  EXPECT_TRUE(has(labels.out, "--label")) << labels.out;
 }
 
 TEST(SegmentationEvalCommand, AMissingFileIsNamedAndEarlierMapsAreKept) {

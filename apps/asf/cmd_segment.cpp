@@ -158,10 +158,16 @@ namespace {
 struct MapResult {
   std::string name, variant;
   SegmentationScore score;
+  ThesisProtocolScore thesis;  // the thesis' own scoring (Table 4.1)
   double time_ms = 0;
   bool incremental = false;
   IncrementalResult inc;  // update_ms and final_score when `incremental`
+  ThesisProtocolScore inc_thesis;
 };
+
+json thesisJson(const ThesisProtocolScore& t) {
+  return {{"precision", t.precision}, {"recall", t.recall}, {"rooms", t.rooms}, {"segments", t.segments}};
+}
 
 json scoreJson(const SegmentationScore& s) {
   return {{"precision", s.precision},
@@ -173,9 +179,11 @@ json scoreJson(const SegmentationScore& s) {
           {"rooms", s.rooms}};
 }
 
-json incrementalJson(const IncrementalResult& r) {
+json incrementalJson(const IncrementalResult& r, const ThesisProtocolScore& t) {
   json j = scoreJson(r.final_score);
+  j["thesis_protocol"] = thesisJson(t);
   j["updates"] = r.update_ms.size();
+  j["update_ms"] = r.update_ms;
   j["median_ms"] = percentile(r.update_ms, 50);
   j["p95_ms"] = percentile(r.update_ms, 95);
   j["max_ms"] = percentile(r.update_ms, 100);
@@ -198,7 +206,11 @@ json summaryJson(const std::vector<MapResult>& all, const std::string& variant) 
     v["mcc"].push_back(m.score.mcc);
     v["segments"].push_back(m.score.segments);
     v["time_ms"].push_back(m.time_ms);
+    v["thesis_precision"].push_back(m.thesis.precision);
+    v["thesis_recall"].push_back(m.thesis.recall);
     if (!m.incremental) continue;
+    inc["thesis_precision"].push_back(m.inc_thesis.precision);
+    inc["thesis_recall"].push_back(m.inc_thesis.recall);
     inc["precision"].push_back(m.inc.final_score.precision);
     inc["recall"].push_back(m.inc.final_score.recall);
     inc["precision_pooled"].push_back(m.inc.final_score.precision_pooled);
@@ -246,7 +258,8 @@ json reportJson(const std::vector<MapResult>& all, const std::string& segmenter,
     e["name"] = m.name;
     e["variant"] = m.variant;
     e["time_ms"] = m.time_ms;
-    if (m.incremental) e["incremental"] = incrementalJson(m.inc);
+    e["thesis_protocol"] = thesisJson(m.thesis);
+    if (m.incremental) e["incremental"] = incrementalJson(m.inc, m.inc_thesis);
     j["maps"].push_back(e);
   }
   json summary;
@@ -297,6 +310,15 @@ void printReport(const std::vector<MapResult>& all) {
               << ", recall " << pm("recall") << ", precision_pooled " << pm("precision_pooled")
               << ", recall_pooled " << pm("recall_pooled") << ", mcc " << pm("mcc")
               << ", segments " << pm("segments", 1) << ", time_ms " << pm("time_ms", 1) << "\n";
+    std::cout << "summary " << v << " thesis protocol: precision (per room) "
+              << pm("thesis_precision") << ", recall (per segment) " << pm("thesis_recall");
+    if (s.contains("incremental"))
+      std::cout << "; incremental final: precision "
+                << fmt(s["incremental"]["thesis_precision_mean"].get<double>()) << " +- "
+                << fmt(s["incremental"]["thesis_precision_std"].get<double>()) << ", recall "
+                << fmt(s["incremental"]["thesis_recall_mean"].get<double>()) << " +- "
+                << fmt(s["incremental"]["thesis_recall_std"].get<double>());
+    std::cout << "\n";
     if (s.contains("incremental")) {
       const json& i = s["incremental"];
       auto ipm = [&](const std::string& k) {
@@ -444,6 +466,8 @@ int cmdSegmentEval(int argc, char** argv) {
         r.variant = variant;
         const LabelRaster labels = rasterOf(s, image, file);
         r.score = scoreSegmentation(labels, rooms);
+        const GrayImage gt_image = readGrayImage(gt_file);
+        r.thesis = scoreThesisProtocol(labels, gt_image);
         if (!images.getValue().empty()) {
           writeSegmentationOverlay(imagePath(n, variant), map, s, nullptr, &rooms);
           writeLabelImage(imagePath(n, variant + "_labels"), labels);
@@ -464,6 +488,7 @@ int cmdSegmentEval(int argc, char** argv) {
                           << fmt(100 * coverage, 0) << "% explored\n";
               });
           r.incremental = true;
+          r.inc_thesis = scoreThesisProtocol(rasterOf(r.inc.final_segmentation, image, file), gt_image);
           if (!images.getValue().empty())
             writeSegmentationOverlay(imagePath(n, "incremental"), r.inc.final_map,
                                      r.inc.final_segmentation, nullptr, &rooms);

@@ -31,6 +31,7 @@ int cmdRawlogNormalize(int argc, char** argv);
 int cmdAte(int argc, char** argv);
 int cmdSegment(int argc, char** argv);
 int cmdSegmentEval(int argc, char** argv);
+int cmdSegmentReport(int argc, char** argv);
 int cmdPlan(int argc, char** argv);
 int cmdPlanEval(int argc, char** argv);
 int cmdExperiment(int argc, char** argv);

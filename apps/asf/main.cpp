@@ -48,6 +48,8 @@ const Command kCommands[] = {
      "Segment one map image into regions: 16-bit label PNG, topological graph, overlay"},
     {"segment-eval", asf::app::cmdSegmentEval,
      "Score a segmenter on the room segmentation benchmark (precision, recall, MCC, time)"},
+    {"segment-report", asf::app::cmdSegmentReport,
+     "segment-eval reports side by side: thesis Table 4.1, Figs. 4.1 and 4.2 (MD, JSON, SVG)"},
     {"plan", asf::app::cmdPlan,
      "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
     {"plan-eval", asf::app::cmdPlanEval,

@@ -100,6 +100,25 @@ struct SegmentationScore {
 SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const LabelRaster& rooms,
                                     int min_pixels = kBenchmarkMinRegionPixels);
 
+/// The thesis' own scoring (read from the author's evaluation code, Incremental_DuDe_ROS
+/// src/evaluation.cpp), which Table 4.1 and Fig. 4.1 report; it differs from roomseg-eval.md:
+/// - rooms: pixels of the ground truth > 250, eroded once (3 x 3), 8-connected components of
+///   any size, the labels dilated once (3 x 3; where two rooms meet the larger label wins);
+/// - only pixels that have both a room and a segment label count (unlabelled pixels are
+///   ignored), and no region is filtered by size;
+/// - the thesis' "precision" is, per room, the best overlap over the room's counted pixels
+///   (Bormann's recall), its "recall" is, per segment, the best overlap over the segment's
+///   counted pixels (Bormann's precision); both are means over the map's rooms / segments of
+///   per-region values truncated to whole percent (the author's code divides integers).
+/// Field names follow the thesis.
+struct ThesisProtocolScore {
+  double precision = 0;  ///< mean over rooms of best overlap / counted room pixels
+  double recall = 0;     ///< mean over segments of best overlap / counted segment pixels
+  int rooms = 0, segments = 0;  ///< with at least one counted pixel
+};
+/// `segmentation` (image orientation) and `gt` must have the same size (else Error).
+ThesisProtocolScore scoreThesisProtocol(const LabelRaster& segmentation, const GrayImage& gt);
+
 /// Mean and population standard deviation (divides by n); 0, 0 for no values.
 struct MeanStd {
   double mean = 0, std = 0;
