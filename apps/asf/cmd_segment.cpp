@@ -130,7 +130,12 @@ int cmdSegment(int argc, char** argv) {
   const GridMap map = gridFromImage(image, res.getValue(), threshold.getValue());
   auto seg = setup.create();
   const auto t0 = std::chrono::steady_clock::now();
-  const Segmentation s = seg->segment(map, nullptr);
+  Segmentation s;
+  try {
+    s = seg->segment(map, nullptr);
+  } catch (const InputError& e) {  // name the file the map came from
+    throw InputError(map_arg.getValue() + ": " + e.what());
+  }
   const double ms = msSince(t0);
   writeLabelImage(out.getValue(), rasterOf(s, image, map_arg.getValue()));
 

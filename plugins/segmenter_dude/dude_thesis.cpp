@@ -108,46 +108,76 @@ struct Selector {
     const int M = static_cast<int>(sets.size());
     int N = 1;
     for (const CutSet& c : sets) N += static_cast<int>(c.diagonals.size());
-    std::vector<std::vector<Cell>> table(N, std::vector<Cell>(M));
+    // A set has at most two cuts, so row n reads rows n, n-1 and n-2 only: three rows kept.
+    std::vector<std::vector<Cell>> rows(3, std::vector<Cell>(M));
+    auto row = [&](int n) -> std::vector<Cell>& { return rows[n % 3]; };
     int last = 0;
     for (int n = 1; n < N; ++n) {
       last = n;
+      row(n).assign(M, Cell{});
       bool stable = true;
       int iteration = 0;
       do {
         stable = true;
         for (int m = 0; m < M; ++m) {
-          const double old = table[n][m].score;
-          update(table, n, m, iteration);
-          if (table[n][m].score != old) stable = false;
+          const double old = row(n)[m].score;
+          update(row, n, m, iteration);
+          if (row(n)[m].score != old) stable = false;
         }
         ++iteration;
-      } while ((!stable || iteration < 3) && iteration < 64);
-      if (n >= 3 && table[n][M - 1].score == table[n - 1][M - 1].score &&
-          table[n][M - 1].score == table[n - 2][M - 1].score)
+        // The reference makes at least three passes; a pass after the first that changes
+        // nothing leaves the next one the same input, so the third would change nothing.
+      } while ((!stable || iteration < 2) && iteration < 64);
+      if (n >= 3 && row(n)[M - 1].score == row(n - 1)[M - 1].score &&
+          row(n)[M - 1].score == row(n - 2)[M - 1].score)
         break;
     }
-    return table[last][M - 1];
+    return row(last)[M - 1];
   }
 
-  void update(std::vector<std::vector<Cell>>& table, int n, int m, int iteration) const {
+  /// Score and cut count of `c` plus set m, as add() would compute them (same summation
+  /// order, so comparisons are unchanged), without building the cell.
+  void evaluate(const Cell& c, int m, double* score, int* cuts) const {
+    ++pass;
+    double sc = sets[m].weight;
+    int n = 0;
+    for (int d : diag_ids[m])
+      if (stamp[d] != pass) stamp[d] = pass, ++n;
+    for (int i : c.sets) {
+      if (conflicts[i][m]) continue;
+      sc += sets[i].weight;
+      for (int d : diag_ids[i])
+        if (stamp[d] != pass) stamp[d] = pass, ++n;
+    }
+    *score = sc;
+    *cuts = n;
+  }
+
+  template <class Rows>
+  void update(Rows& row, int n, int m, int iteration) const {
     const int size = static_cast<int>(sets[m].diagonals.size());
     if (m == 0 && iteration == 0) {
-      if (n >= size) add(table[n][0], m);
+      if (n >= size) add(row(n)[0], m);
       return;
     }
     const int M = static_cast<int>(sets.size());
     const int m1 = m > 0 ? m - 1 : M - 1;
     double best_score = -1e300;
-    Cell best;
+    int best_k = -1;
     for (int k = n; k >= std::max(0, n - size); --k) {
-      Cell tmp = table[k][m1];
-      add(tmp, m);
-      if (tmp.cuts > n) continue;
-      if (tmp.score > best_score) best_score = tmp.score, best = tmp;
+      double score;
+      int cuts;
+      evaluate(row(k)[m1], m, &score, &cuts);
+      if (cuts > n) continue;
+      if (score > best_score) best_score = score, best_k = k;
     }
-    if (table[n][m1].score > best_score) best = table[n][m1];
-    table[n][m] = best;
+    if (row(n)[m1].score > best_score) {
+      row(n)[m] = row(n)[m1];
+    } else {
+      Cell c = row(best_k)[m1];
+      add(c, m);
+      row(n)[m] = std::move(c);
+    }
   }
 
   /// Pocket minima a set resolves (reference collect_resolvable_vertex).

@@ -49,6 +49,7 @@ class DudeSegmenter final : public asf::Segmenter {
     min_component_area_ = p.getDouble("min_component_area");
     incremental_ = p.getBool("incremental");
     rebuild_full_fraction_ = p.getDouble("rebuild_full_fraction");
+    max_cells_ = p.getInt("max_cells");
     merge_concavity_ = p.getDouble("merge_concavity");
     merge_min_border_ = p.getDouble("merge_min_border");
     thesis_ = p.getString("variant") == "thesis";
@@ -64,6 +65,13 @@ class DudeSegmenter final : public asf::Segmenter {
     Frame f;
     f.width = static_cast<int>(grid.getSizeX());
     f.height = static_cast<int>(grid.getSizeY());
+    // Checked before anything is allocated: the working images take ~12 bytes per cell.
+    const std::int64_t cells = static_cast<std::int64_t>(f.width) * f.height;
+    if (cells > max_cells_)
+      throw asf::InputError("dude: the map has " + std::to_string(f.width) + " x " +
+                            std::to_string(f.height) + " = " + std::to_string(cells) +
+                            " cells, more than max_cells = " + std::to_string(max_cells_) +
+                            " (raise [dude] max_cells, or use a coarser map)");
     f.resolution = grid.getResolution();
     f.origin_x = grid.getXMin();
     f.origin_y = grid.getYMin();
@@ -291,13 +299,27 @@ class DudeSegmenter final : public asf::Segmenter {
     for (int y = 0; y < H; ++y) {
       const unsigned char* fr = free.ptr<unsigned char>(y);
       int* lr = labels.ptr<int>(y);
-      for (int x = 0; x < W; ++x) {
+      for (int x = 0; x < W; ++x)
         if (!fr[x]) lr[x] = 0;
-        else if (lr[x] > 0) queue.push_back(y * W + x);
-      }
     }
     int* L = labels.ptr<int>(0);
     const unsigned char* F = free.ptr<unsigned char>(0);
+    // Seeds: labelled cells with an unlabelled free neighbour, in row-major order (the other
+    // labelled cells would expand nothing: the result is that of seeding every one).
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const int i = y * W + x;
+        if (!F[i] || L[i] <= 0) continue;
+        bool open = false;
+        for (int dy = -1; dy <= 1 && !open; ++dy)
+          for (int dx = -1; dx <= 1 && !open; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+            const int j = ny * W + nx;
+            open = F[j] && L[j] == 0;
+          }
+        if (open) queue.push_back(i);
+      }
     auto bfs = [&]() {
       while (!queue.empty()) {
         const int i = queue.front();
@@ -649,6 +671,7 @@ class DudeSegmenter final : public asf::Segmenter {
   double min_region_area_ = 1.0, min_component_area_ = 0.25;
   bool incremental_ = true;
   double rebuild_full_fraction_ = 0.25;
+  std::int64_t max_cells_ = 100000000;
   double merge_concavity_ = 1.0, merge_min_border_ = 1.2;
   int first_fresh_ = 1;  ///< first provisional label of the current incremental update
   asf::dude::Options options_;
@@ -714,6 +737,10 @@ const asf::KeySpec kKeys[] = {
                    "incremental unless more than this fraction of the free cells changed "
                    "state; 0: always segment a rebuilt map in full",
                    0.0, 1.0),
+    asf::keyInt("max_cells", "100000000",
+                "Largest map segmented (cells; about 12 bytes each while segmenting): a larger "
+                "one is an input error naming its size (1e8: 500 m x 500 m at 5 cm)",
+                1, 2e9),
 };
 
 }  // namespace

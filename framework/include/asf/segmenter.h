@@ -8,6 +8,8 @@
 /// - `previous` (may be null) is the segmentation of an earlier version of the same map; an
 ///   incremental segmenter keeps the ids of regions that did not change.
 /// - A map without free cells yields no regions.
+/// - A map larger than the segmenter can handle (a documented limit) throws asf::InputError
+///   naming its size; it never crashes or exhausts memory.
 #include <asf/grid_map.h>
 #include <asf/plugin.h>
 #include <asf/segmentation.h>

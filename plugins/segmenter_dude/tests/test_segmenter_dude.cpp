@@ -126,6 +126,24 @@ TEST(SegmenterDude, EmptyMapGivesNoRegions) {
   EXPECT_TRUE(seg->segment(mapOf(walls, 2), nullptr).regions.empty());
 }
 
+// A map above max_cells is an input error naming its size, thrown before anything is
+// allocated (a 20000 x 20000 px map would need about 5 GB of working images).
+TEST(SegmenterDude, AMapAboveMaxCellsIsAnInputErrorNamingItsSize) {
+  for (const char* variant : {"rooms", "thesis"}) {
+    auto seg = make({{"variant", variant}, {"max_cells", "1000"}});
+    auto g = unknownGrid(2, 2);  // 40 x 40 cells
+    room(*g, 0.5, 0.5, 1.5, 1.5);
+    try {
+      seg->segment(mapOf(g), nullptr);
+      FAIL() << "expected an InputError";
+    } catch (const asf::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("40 x 40"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("max_cells"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(make({{"variant", variant}})->segment(mapOf(g), nullptr).regions.size(), 1u);
+  }
+}
+
 TEST(SegmenterDude, ConvexRoomIsOneRegion) {
   auto seg = make();
   auto g = unknownGrid(8, 6);
