@@ -151,36 +151,30 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
                               json{{"rows", rows}}.dump(2) + "\n");
 }
 
-/// Share of the values >= x (a survival staircase): "95 % of the maps score above ...".
-plot::Series atLeast(std::string label, std::vector<double> v, bool dashed) {
+/// A staircase over sorted values: with `at_least`, the share of values >= x ("95 % of the
+/// maps score above ..."), else the share <= x ("95 % of the maps within ... ms"); values are
+/// scaled by `scale` on x.
+plot::Series staircase(std::string label, std::vector<double> v, bool dashed, bool at_least,
+                       double scale) {
   std::sort(v.begin(), v.end());
   plot::Series s;
   s.label = std::move(label);
   s.dashed = dashed;
   const double n = static_cast<double>(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) {
-    s.x.push_back(100 * v[k]);
-    s.y.push_back(100 * (n - k) / n);
-    s.x.push_back(100 * v[k]);
-    s.y.push_back(100 * (n - k - 1) / n);
+    const double before = at_least ? (n - k) / n : k / n, after = at_least ? (n - k - 1) / n : (k + 1) / n;
+    s.x.push_back(scale * v[k]);
+    s.y.push_back(100 * before);
+    s.x.push_back(scale * v[k]);
+    s.y.push_back(100 * after);
   }
   return s;
 }
-
-/// Share of the values <= x (a cumulative staircase): "95 % of the maps within ... ms".
+plot::Series atLeast(std::string label, std::vector<double> v, bool dashed) {
+  return staircase(std::move(label), std::move(v), dashed, true, 100);
+}
 plot::Series within(std::string label, std::vector<double> v, bool dashed) {
-  std::sort(v.begin(), v.end());
-  plot::Series s;
-  s.label = std::move(label);
-  s.dashed = dashed;
-  const double n = static_cast<double>(v.size());
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    s.x.push_back(v[k]);
-    s.y.push_back(100 * k / n);
-    s.x.push_back(v[k]);
-    s.y.push_back(100 * (k + 1) / n);
-  }
-  return s;
+  return staircase(std::move(label), std::move(v), dashed, false, 1);
 }
 
 std::vector<double> mapValues(const Run& r, const std::string& scenario, const std::string& key,

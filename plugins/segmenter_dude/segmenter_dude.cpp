@@ -320,10 +320,13 @@ class DudeSegmenter final : public asf::Segmenter {
           }
         if (open) queue.push_back(i);
       }
-    auto bfs = [&]() {
+    // Grows the queued cells' labels over unlabelled free cells; `visited` (if given) gets
+    // every cell taken from the queue.
+    auto bfs = [&](std::vector<int>* visited) {
       while (!queue.empty()) {
         const int i = queue.front();
         queue.pop_front();
+        if (visited) visited->push_back(i);
         const int x = i % W, y = i / W;
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
@@ -337,29 +340,14 @@ class DudeSegmenter final : public asf::Segmenter {
           }
       }
     };
-    bfs();
+    bfs(nullptr);
     std::vector<int> component;
     for (int i = 0; i < W * H; ++i)
       if (F[i] && L[i] == 0) {
         L[i] = (*next_label)++;
         queue.push_back(i);
         component.clear();
-        while (!queue.empty()) {  // the bfs above, remembering the cells
-          const int c = queue.front();
-          queue.pop_front();
-          component.push_back(c);
-          const int x = c % W, y = c / W;
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int nx = x + dx, ny = y + dy;
-              if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-              const int j = ny * W + nx;
-              if (F[j] && L[j] == 0) {
-                L[j] = L[c];
-                queue.push_back(j);
-              }
-            }
-        }
+        bfs(&component);
         if (static_cast<int>(component.size()) < min_new_cells)
           for (int c : component) L[c] = -1;  // too small: unlabelled (restored below)
       }

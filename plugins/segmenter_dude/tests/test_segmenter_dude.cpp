@@ -115,15 +115,18 @@ TEST(SegmenterDude, BadConfigurationNamesTheKey) {
 }
 
 TEST(SegmenterDude, EmptyMapGivesNoRegions) {
-  auto seg = make();
-  EXPECT_TRUE(seg->segment(asf::GridMap{}, nullptr).regions.empty());
-  auto g = unknownGrid(4, 3);
-  const auto s = seg->segment(mapOf(g), nullptr);
-  EXPECT_TRUE(s.regions.empty());
-  checkConsistency(s, *g);
-  auto walls = unknownGrid(4, 3);
-  walls->fill(kWall);
-  EXPECT_TRUE(seg->segment(mapOf(walls, 2), nullptr).regions.empty());
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    EXPECT_TRUE(seg->segment(asf::GridMap{}, nullptr).regions.empty());
+    auto g = unknownGrid(4, 3);
+    const auto s = seg->segment(mapOf(g), nullptr);
+    EXPECT_TRUE(s.regions.empty());
+    checkConsistency(s, *g);
+    auto walls = unknownGrid(4, 3);
+    walls->fill(kWall);
+    EXPECT_TRUE(seg->segment(mapOf(walls, 2), nullptr).regions.empty());
+  }
 }
 
 // A map above max_cells is an input error naming its size, thrown before anything is
@@ -145,54 +148,66 @@ TEST(SegmenterDude, AMapAboveMaxCellsIsAnInputErrorNamingItsSize) {
 }
 
 TEST(SegmenterDude, ConvexRoomIsOneRegion) {
-  auto seg = make();
-  auto g = unknownGrid(8, 6);
-  room(*g, 1, 1, 7, 5);
-  const auto s = seg->segment(mapOf(g, 3), nullptr);
-  EXPECT_EQ(s.map_version, 3u);
-  ASSERT_EQ(s.regions.size(), 1u);
-  EXPECT_NEAR(s.regions[0].area, 24, 1e-6);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = unknownGrid(8, 6);
+    room(*g, 1, 1, 7, 5);
+    const auto s = seg->segment(mapOf(g, 3), nullptr);
+    EXPECT_EQ(s.map_version, 3u);
+    ASSERT_EQ(s.regions.size(), 1u);
+    EXPECT_NEAR(s.regions[0].area, 24, 1e-6);
+    EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+    checkConsistency(s, *g);
+  }
 }
 
 TEST(SegmenterDude, LShapedCorridorGivesTwoRegions) {
-  auto seg = make();
-  auto g = unknownGrid(12, 12);
-  g->fill(kWall);
-  setBox(*g, 1, 1, 11, 3, kFree);   // horizontal arm, 2 m wide
-  setBox(*g, 1, 1, 3, 11, kFree);   // vertical arm
-  const auto s = seg->segment(mapOf(g), nullptr);
-  ASSERT_EQ(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  // The far ends of both arms are in different regions.
-  EXPECT_NE(s.labels.atPoint(10.5, 2), s.labels.atPoint(2, 10.5));
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = unknownGrid(12, 12);
+    g->fill(kWall);
+    setBox(*g, 1, 1, 11, 3, kFree);   // horizontal arm, 2 m wide
+    setBox(*g, 1, 1, 3, 11, kFree);   // vertical arm
+    const auto s = seg->segment(mapOf(g), nullptr);
+    ASSERT_EQ(s.regions.size(), 2u);
+    EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+    checkConsistency(s, *g);
+    // The far ends of both arms are in different regions.
+    EXPECT_NE(s.labels.atPoint(10.5, 2), s.labels.atPoint(2, 10.5));
+  }
 }
 
 TEST(SegmenterDude, RoomWithALargeObstacleIsSplitAroundIt) {
-  auto seg = make();
-  auto g = unknownGrid(22, 22);
-  room(*g, 1, 1, 21, 21);
-  setBox(*g, 7, 7, 15, 15, kWall);  // an 8 m block in the middle: a hole wider than tau
-  const auto s = seg->segment(mapOf(g), nullptr);
-  EXPECT_GE(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  for (const auto& r : s.regions)  // no region reaches into the block
-    EXPECT_FALSE(r.centroid.x > 7.5 && r.centroid.x < 14.5 && r.centroid.y > 7.5 &&
-                 r.centroid.y < 14.5);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = unknownGrid(22, 22);
+    room(*g, 1, 1, 21, 21);
+    setBox(*g, 7, 7, 15, 15, kWall);  // an 8 m block in the middle: a hole wider than tau
+    const auto s = seg->segment(mapOf(g), nullptr);
+    EXPECT_GE(s.regions.size(), 2u);
+    EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+    checkConsistency(s, *g);
+    for (const auto& r : s.regions)  // no region reaches into the block
+      EXPECT_FALSE(r.centroid.x > 7.5 && r.centroid.x < 14.5 && r.centroid.y > 7.5 &&
+                   r.centroid.y < 14.5);
+  }
 }
 
 TEST(SegmenterDude, SmallPillarDoesNotSplitARoom) {
-  auto seg = make();
-  auto g = unknownGrid(10, 8);
-  room(*g, 1, 1, 9, 7);
-  setBox(*g, 4.5, 3.5, 5.5, 4.5, kWall);
-  const auto s = seg->segment(mapOf(g), nullptr);
-  ASSERT_EQ(s.regions.size(), 1u);
-  EXPECT_FALSE(s.regions[0].holes.empty());
-  checkConsistency(s, *g);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = unknownGrid(10, 8);
+    room(*g, 1, 1, 9, 7);
+    setBox(*g, 4.5, 3.5, 5.5, 4.5, kWall);
+    const auto s = seg->segment(mapOf(g), nullptr);
+    ASSERT_EQ(s.regions.size(), 1u);
+    EXPECT_FALSE(s.regions[0].holes.empty());
+    checkConsistency(s, *g);
+  }
 }
 
 /// Two 5 x 5 rooms side by side, 0.1 m wall between them with a 1 m door 1 m from a
@@ -206,48 +221,57 @@ std::shared_ptr<Grid> twoRoomsWithDoor() {
 }
 
 TEST(SegmenterDude, RoomsJoinedByADoorAreTwoRegions) {
-  auto seg = make();
-  auto g = twoRoomsWithDoor();
-  const auto s = seg->segment(mapOf(g), nullptr);
-  ASSERT_EQ(s.regions.size(), 2u);
-  EXPECT_NE(s.labels.atPoint(3, 3), s.labels.atPoint(9, 3));
-  for (const auto& r : s.regions) EXPECT_NEAR(r.area, 25, 0.3);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}});
+    auto g = twoRoomsWithDoor();
+    const auto s = seg->segment(mapOf(g), nullptr);
+    ASSERT_EQ(s.regions.size(), 2u);
+    EXPECT_NE(s.labels.atPoint(3, 3), s.labels.atPoint(9, 3));
+    for (const auto& r : s.regions) EXPECT_NEAR(r.area, 25, 0.3);
+    EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+    checkConsistency(s, *g);
+  }
 }
 
 TEST(SegmenterDude, OnePixelCorridorsAndSpecksAreLabelled) {
-  auto seg = make({{"gap_closing", "0"}});
-  auto g = unknownGrid(14, 12);
-  room(*g, 1, 1, 5, 10);
-  room(*g, 9, 1, 13, 10);
-  setBox(*g, 5, 3, 9, 3.05, kFree);  // one cell wide, 4 m long
-  setBox(*g, 2, 2, 2.05, 2.05, kWall);  // a one-cell speck in a room
-  const auto s = seg->segment(mapOf(g), nullptr);
-  EXPECT_GE(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  // Diagonal one-cell chain (8-connected only).
-  auto d = unknownGrid(6, 6);
-  for (int k = 0; k < 60; ++k) d->setCell(20 + k % 40, 20 + k % 40, kFree);
-  const auto sd = seg->segment(mapOf(d, 2), nullptr);
-  checkConsistency(sd, *d);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto seg = make({{"variant", variant}, {"gap_closing", "0"}});
+    auto g = unknownGrid(14, 12);
+    room(*g, 1, 1, 5, 10);
+    room(*g, 9, 1, 13, 10);
+    setBox(*g, 5, 3, 9, 3.05, kFree);  // one cell wide, 4 m long
+    setBox(*g, 2, 2, 2.05, 2.05, kWall);  // a one-cell speck in a room
+    const auto s = seg->segment(mapOf(g), nullptr);
+    EXPECT_GE(s.regions.size(), 2u);
+    EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
+    checkConsistency(s, *g);
+    // Diagonal one-cell chain (8-connected only).
+    auto d = unknownGrid(6, 6);
+    for (int k = 0; k < 60; ++k) d->setCell(20 + k % 40, 20 + k % 40, kFree);
+    const auto sd = seg->segment(mapOf(d, 2), nullptr);
+    checkConsistency(sd, *d);
+  }
 }
 
 TEST(SegmenterDude, IncrementalOnAFixedMapEqualsBatch) {
-  auto batch = make({{"incremental", "false"}});
-  auto inc = make({{"incremental", "true"}});
-  auto g = twoRoomsWithDoor();
-  setBox(*g, 2, 2, 3, 3, kWall);
-  const auto b = batch->segment(mapOf(g, 1), nullptr);
-  const auto i1 = inc->segment(mapOf(g, 1), nullptr);
-  const auto i2 = inc->segment(mapOf(g, 2), &i1);
-  const auto i3 = inc->segment(mapOf(g, 3), &i2);
-  EXPECT_EQ(b.labels.labels, i1.labels.labels);
-  EXPECT_EQ(b.labels.labels, i2.labels.labels);
-  EXPECT_EQ(b.labels.labels, i3.labels.labels);
-  ASSERT_EQ(b.regions.size(), i3.regions.size());
-  for (std::size_t k = 0; k < b.regions.size(); ++k) EXPECT_EQ(b.regions[k].id, i3.regions[k].id);
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto batch = make({{"variant", variant}, {"incremental", "false"}});
+    auto inc = make({{"variant", variant}, {"incremental", "true"}});
+    auto g = twoRoomsWithDoor();
+    setBox(*g, 2, 2, 3, 3, kWall);
+    const auto b = batch->segment(mapOf(g, 1), nullptr);
+    const auto i1 = inc->segment(mapOf(g, 1), nullptr);
+    const auto i2 = inc->segment(mapOf(g, 2), &i1);
+    const auto i3 = inc->segment(mapOf(g, 3), &i2);
+    EXPECT_EQ(b.labels.labels, i1.labels.labels);
+    EXPECT_EQ(b.labels.labels, i2.labels.labels);
+    EXPECT_EQ(b.labels.labels, i3.labels.labels);
+    ASSERT_EQ(b.regions.size(), i3.regions.size());
+    for (std::size_t k = 0; k < b.regions.size(); ++k) EXPECT_EQ(b.regions[k].id, i3.regions[k].id);
+  }
 }
 
 TEST(SegmenterDude, RegionIdsPersistAcrossUnrelatedUpdates) {
@@ -353,94 +377,6 @@ TEST(SegmenterDude, IncrementalFollowsAGrowingGrid) {
   checkConsistency(s2, *g2);
   EXPECT_EQ(s2.regions.size(), 2u);
   EXPECT_EQ(s2.labels.atPoint(3, 3), s1.labels.atPoint(3, 3));
-}
-
-// ---- variant = thesis (the published DuDe, no post-processing) -----------------------------
-
-asf::PluginHandle<asf::Segmenter> makeThesis(std::map<std::string, std::string> kv = {}) {
-  kv["variant"] = "thesis";
-  return make(kv);
-}
-
-TEST(SegmenterDudeThesis, EmptyMapsAndAConvexRoom) {
-  auto seg = makeThesis();
-  EXPECT_TRUE(seg->segment(asf::GridMap{}, nullptr).regions.empty());
-  auto walls = unknownGrid(4, 3);
-  walls->fill(kWall);
-  const auto w = seg->segment(mapOf(walls, 1), nullptr);  // no free cell at all
-  EXPECT_TRUE(w.regions.empty());
-  checkConsistency(w, *walls);
-  auto g = unknownGrid(8, 6);
-  room(*g, 1, 1, 7, 5);
-  const auto s = seg->segment(mapOf(g, 2), nullptr);
-  ASSERT_EQ(s.regions.size(), 1u);
-  EXPECT_NEAR(s.regions[0].area, 24, 1e-6);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-}
-
-// "One L-shaped corridor is always segmented (as a minimum) in two regions" (thesis 4.5.1).
-TEST(SegmenterDudeThesis, LShapedCorridorGivesTwoRegions) {
-  auto seg = makeThesis();
-  auto g = unknownGrid(12, 12);
-  g->fill(kWall);
-  setBox(*g, 1, 1, 11, 3, kFree);
-  setBox(*g, 1, 1, 3, 11, kFree);
-  const auto s = seg->segment(mapOf(g), nullptr);
-  ASSERT_EQ(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  EXPECT_NE(s.labels.atPoint(10.5, 2), s.labels.atPoint(2, 10.5));
-}
-
-TEST(SegmenterDudeThesis, RoomsJoinedByADoorAreTwoRegions) {
-  auto seg = makeThesis();
-  auto g = twoRoomsWithDoor();
-  const auto s = seg->segment(mapOf(g), nullptr);
-  ASSERT_EQ(s.regions.size(), 2u);
-  EXPECT_NE(s.labels.atPoint(3, 3), s.labels.atPoint(9, 3));
-  for (const auto& r : s.regions) EXPECT_NEAR(r.area, 25, 0.3);
-  checkConsistency(s, *g);
-}
-
-TEST(SegmenterDudeThesis, RoomWithALargeObstacleIsSplitAroundIt) {
-  auto seg = makeThesis();
-  auto g = unknownGrid(22, 22);
-  room(*g, 1, 1, 21, 21);
-  setBox(*g, 7, 7, 15, 15, kWall);
-  const auto s = seg->segment(mapOf(g), nullptr);
-  EXPECT_GE(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  for (const auto& r : s.regions) EXPECT_TRUE(r.holes.empty());
-}
-
-TEST(SegmenterDudeThesis, IncrementalOnAFixedMapEqualsBatch) {
-  auto batch = makeThesis({{"incremental", "false"}});
-  auto inc = makeThesis({{"incremental", "true"}});
-  auto g = twoRoomsWithDoor();
-  setBox(*g, 2, 2, 3, 3, kWall);
-  const auto b = batch->segment(mapOf(g, 1), nullptr);
-  const auto i1 = inc->segment(mapOf(g, 1), nullptr);
-  const auto i2 = inc->segment(mapOf(g, 2), &i1);
-  EXPECT_EQ(b.labels.labels, i1.labels.labels);
-  EXPECT_EQ(b.labels.labels, i2.labels.labels);
-}
-
-TEST(SegmenterDudeThesis, OnePixelCorridorsAndDiagonalChainsDoNotBreakIt) {
-  auto seg = makeThesis({{"gap_closing", "0"}});
-  auto g = unknownGrid(14, 12);
-  room(*g, 1, 1, 5, 10);
-  room(*g, 9, 1, 13, 10);
-  setBox(*g, 5, 3, 9, 3.05, kFree);
-  setBox(*g, 2, 2, 2.05, 2.05, kWall);
-  const auto s = seg->segment(mapOf(g), nullptr);
-  EXPECT_GE(s.regions.size(), 2u);
-  EXPECT_EQ(unlabelledFreeCells(s, *g), 0);
-  checkConsistency(s, *g);
-  auto d = unknownGrid(6, 6);
-  for (int k = 0; k < 60; ++k) d->setCell(20 + k % 40, 20 + k % 40, kFree);
-  checkConsistency(seg->segment(mapOf(d, 2), nullptr), *d);
 }
 
 // ---- the benchmark (skipped without ../shared) ------------------------------------------
