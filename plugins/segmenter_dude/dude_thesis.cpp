@@ -378,7 +378,8 @@ Result decompose(const Shape& shape, const Options& options) {
     std::vector<Poly> next;
     for (const Poly& piece : todo) {
       RoundState st;
-      const auto cuts = roundCuts(piece, options.max_concavity, /*clip=*/true, 0, &st);
+      const auto cuts = roundCuts(piece, options.max_concavity,
+                                  options.approximation == Approximation::Chains, /*clip=*/true, 0, &st);
       Poly kept = piece;
       if (!st.ignored_holes.empty()) {  // the reference drops holes narrower than tau
         kept = Poly{};
@@ -407,13 +408,13 @@ Result decompose(const Shape& shape, const Options& options) {
   return result;
 }
 
-RoundReport analyzeRound(const Shape& shape, double max_concavity) {
+RoundReport analyzeRound(const Shape& shape, double max_concavity, Approximation approximation) {
   using namespace detail;
   RoundReport rep;
   Poly P;
   if (!fromShape(shape, &P)) return rep;
   RoundState st;
-  const auto cuts = roundCuts(P, max_concavity, true, 0, &st);
+  const auto cuts = roundCuts(P, max_concavity, approximation == Approximation::Chains, true, 0, &st);
   for (int v : st.pms) {
     rep.pocket_minima.push_back(P.p[v]);
     rep.concavities.push_back(st.info[v].concavity);

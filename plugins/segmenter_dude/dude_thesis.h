@@ -19,9 +19,17 @@
 
 namespace asf::dude::thesis {
 
+/// How boundary chains are simplified into feature points (both are the reference's; it uses
+/// Chains unless told otherwise).
+enum class Approximation {
+  Chains,         ///< its default `approximate`: chains grown around the farthest vertices
+  DouglasPeucker  ///< its `dp_approximate`
+};
+
 struct Options {
   /// tau: the maximum concavity a piece may keep [same unit as the input].
   double max_concavity = 2.5;
+  Approximation approximation = Approximation::Chains;
   /// Safety limits: a shape that reaches them is returned in its current pieces with a warning.
   int max_rounds = 200;
   int max_pieces = 20000;
@@ -47,6 +55,7 @@ struct RoundReport {
   std::vector<Diagonal> diagonals;  ///< candidate cuts (both triangulations, deduplicated)
   std::vector<Cut> cuts;            ///< selected
 };
-RoundReport analyzeRound(const Shape& shape, double max_concavity);
+RoundReport analyzeRound(const Shape& shape, double max_concavity,
+                         Approximation approximation = Approximation::Chains);
 
 }  // namespace asf::dude::thesis

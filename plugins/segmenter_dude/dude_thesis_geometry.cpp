@@ -105,13 +105,17 @@ std::vector<int> hullPositions(const std::vector<Vec2>& pts) {
   return h;
 }
 
+namespace {
+std::vector<int> allPositions(int n) {
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  return all;
+}
+}  // namespace
+
 std::vector<int> approximate(const std::vector<Vec2>& pts, double tolerance) {
   const int n = static_cast<int>(pts.size());
-  if (n <= 2) {
-    std::vector<int> all(n);
-    for (int i = 0; i < n; ++i) all[i] = i;
-    return all;
-  }
+  if (n <= 2) return allPositions(n);
   std::vector<char> keep(n, 0);
   keep[0] = keep[n - 1] = 1;
   std::vector<std::pair<int, int>> stack{{0, n - 1}};
@@ -137,6 +141,147 @@ std::vector<int> approximate(const std::vector<Vec2>& pts, double tolerance) {
   for (int i = 0; i < n; ++i)
     if (keep[i]) out.push_back(i);
   return out;
+}
+
+namespace {
+
+/// Distance from q to the line through s and t (the reference measures to the line).
+double dist2Line(Vec2 s, Vec2 t, Vec2 q) {
+  const double vx = s.x - t.x, vy = s.y - t.y, n = std::hypot(vx, vy);
+  if (n == 0) return 0;
+  return std::abs(vy * (q.x - t.x) - vx * (q.y - t.y)) / n;
+}
+
+/// The position in [a, b] farthest from line a-b (strictly positive), else b.
+int farthest(const std::vector<Vec2>& p, int a, int b) {
+  double best = 0;
+  int at = b;
+  for (int i = a; i <= b; ++i) {
+    const double d = dist2Line(p[a], p[b], p[i]);
+    if (d > best) best = d, at = i;
+  }
+  return at;
+}
+
+struct Chain {
+  int pm = 0, s = 0, e = 0;
+  double dist = 0, nx = 0, ny = 0;  ///< distance so far; unit normal of its segment
+  int pre = -1, next = -1;          ///< neighbouring chains
+  double distance(const std::vector<Vec2>& p, int q) const {
+    return std::abs((p[pm].x - p[q].x) * nx + (p[pm].y - p[q].y) * ny);
+  }
+};
+
+/// Grows chain c by one vertex (reference `expand`); false when it cannot grow.
+bool grow(const std::vector<Vec2>& p, std::vector<Chain>& ch, int c) {
+  Chain& C = ch[c];
+  const int n = static_cast<int>(p.size());
+  const int t1 = C.s - 1, t2 = C.e + 1 < n ? C.e + 1 : -1;
+  if (t1 < 0 && t2 < 0) return false;
+  double d1 = 1e300, d2 = 1e300;
+  bool up1 = false, up2 = false;
+  if (t1 >= 0) {
+    d1 = C.distance(p, t1);
+    up1 = true;
+    if (C.pre >= 0 && ch[C.pre].e == C.s) {  // touching the previous chain: take its end?
+      const Chain& P = ch[C.pre];
+      const double old_score = C.distance(p, P.e) + P.distance(p, P.e);
+      const double new_score = C.distance(p, t1) + P.distance(p, t1);
+      if (!(new_score < old_score) || P.e == P.pm) up1 = false;
+    }
+  }
+  if (t2 >= 0) {
+    d2 = C.distance(p, t2);
+    up2 = true;
+    if (C.next >= 0 && ch[C.next].s == C.e) {
+      const Chain& N = ch[C.next];
+      const double old_score = C.distance(p, N.s) + N.distance(p, N.s);
+      const double new_score = C.distance(p, t2) + N.distance(p, t2);
+      if (!(new_score < old_score) || N.s == N.pm) up2 = false;
+    }
+  }
+  if (up1 && up2) (d1 < d2 ? up2 : up1) = false;
+  if (up1) {
+    if (C.pre >= 0 && ch[C.pre].e == C.s) {  // the previous chain gives up its end
+      Chain& P = ch[C.pre];
+      P.e = P.e - 1;
+      P.dist = std::max(P.distance(p, P.s), P.distance(p, P.e));
+    }
+    C.dist = d1;
+    C.s = t1;
+    return true;
+  }
+  if (up2) {
+    if (C.next >= 0 && ch[C.next].s == C.e) {
+      Chain& N = ch[C.next];
+      N.s = N.s + 1;
+      N.dist = std::max(N.distance(p, N.s), N.distance(p, N.e));
+    }
+    C.dist = d2;
+    C.e = t2;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<int> approximateChains(const std::vector<Vec2>& pts, double tolerance) {
+  const int n = static_cast<int>(pts.size());
+  if (n <= 2) return allPositions(n);
+  std::vector<int> approx{0, n - 1};
+  for (int round = 0; round < n; ++round) {
+    // The vertex farthest from its segment joins the approximation.
+    double max_d = -1;
+    int max_v = -1, at = -1;
+    for (std::size_t k = 0; k + 1 < approx.size(); ++k) {
+      const int seed = farthest(pts, approx[k], approx[k + 1]);
+      if (seed == approx[k] || seed == approx[k + 1]) continue;
+      const double d = dist2Line(pts[approx[k]], pts[approx[k + 1]], pts[seed]);
+      if (d > max_d) max_d = d, max_v = seed, at = static_cast<int>(k) + 1;
+    }
+    if (max_v >= 0) approx.insert(approx.begin() + at, max_v);
+    std::vector<Chain> ch;
+    for (std::size_t k = 0; k + 1 < approx.size(); ++k) {
+      Chain c;
+      c.pm = c.s = c.e = farthest(pts, approx[k], approx[k + 1]);
+      const double vx = pts[approx[k + 1]].x - pts[approx[k]].x, vy = pts[approx[k + 1]].y - pts[approx[k]].y;
+      const double len = std::hypot(vx, vy);
+      c.nx = len > 0 ? vy / len : 0;
+      c.ny = len > 0 ? -vx / len : 0;
+      c.pre = static_cast<int>(ch.size()) - 1;
+      if (c.pre >= 0) ch[c.pre].next = static_cast<int>(ch.size());
+      ch.push_back(c);
+    }
+    // Grow the chain of least distance first (a min-heap, rebuilt after every growth as the
+    // neighbours' distances change); a chain that cannot grow leaves the heap.
+    std::vector<int> open(ch.size());
+    for (std::size_t k = 0; k < ch.size(); ++k) open[k] = static_cast<int>(k);
+    auto greater = [&](int a, int b) { return ch[a].dist > ch[b].dist; };
+    std::make_heap(open.begin(), open.end(), greater);
+    for (long guard = 0; !open.empty() && guard < 16L * n * static_cast<long>(ch.size()) + 64; ++guard) {
+      std::pop_heap(open.begin(), open.end(), greater);
+      const int best = open.back();
+      open.pop_back();
+      if (grow(pts, ch, best)) {
+        open.push_back(best);
+        std::make_heap(open.begin(), open.end(), greater);
+      }
+    }
+    std::vector<int> next{ch.front().s};
+    double error = 0;
+    for (const Chain& c : ch) {
+      next.push_back(c.e);
+      error = std::max(error, c.dist);
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    approx = next;
+    if (error < tolerance) break;
+  }
+  if (approx.front() != 0) approx.insert(approx.begin(), 0);
+  if (approx.back() != n - 1) approx.push_back(n - 1);
+  return approx;
 }
 
 std::vector<std::pair<int, int>> cdtFreeEdges(const Poly& P, const std::vector<std::vector<int>>& rings) {

@@ -43,6 +43,14 @@ std::vector<int> hullPositions(const std::vector<Vec2>& pts);
 /// Douglas-Peucker on an open polyline: kept positions (first and last always), ascending.
 std::vector<int> approximate(const std::vector<Vec2>& pts, double tolerance);
 
+/// The reference's default approximation of an open polyline (DuDe 2D's `approximate`): the
+/// vertex farthest from its current segment is added, then every segment gets a "chain"
+/// seeded at its farthest vertex and parallel to it; the chains grow over the neighbouring
+/// vertices, nearest first, until they meet (a shared vertex goes to the chain it fits
+/// better), and the approximation is the chains' ends. Repeats until the largest chain
+/// distance is below `tolerance`. Kept positions, ascending (first and last always).
+std::vector<int> approximateChains(const std::vector<Vec2>& pts, double tolerance);
+
 /// Unconstrained edges of the constrained Delaunay triangulation (CGAL) of the rings, as
 /// pairs of the ids given in `rings` (edges at constructed intersection points are dropped).
 std::vector<std::pair<int, int>> cdtFreeEdges(const Poly& P, const std::vector<std::vector<int>>& rings);

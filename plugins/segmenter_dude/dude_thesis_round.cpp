@@ -47,6 +47,7 @@ struct OuterRing {
 struct Builder {
   const Poly& P;
   double tau;
+  bool chains;  ///< approximation: the reference's chains, else Douglas-Peucker
   int depth;
   RoundState& st;
   OuterRing outer;
@@ -54,6 +55,9 @@ struct Builder {
   std::vector<int> top;  // top-level bridges
 
   double chainArea(const std::vector<int>& c) const { return signedAreaIds(P, c); }
+  std::vector<int> approx(const std::vector<Vec2>& pts, double tolerance) const {
+    return chains ? approximateChains(pts, tolerance) : approximate(pts, tolerance);
+  }
 
   /// Kid bridges of a pocket: the cuts DuDe finds in the pocket polygon (reference
   /// decompose_bridge), nested by containment (reorganize_kids / insert2tree).
@@ -73,7 +77,7 @@ struct Builder {
     }
     pocket.addRing(r);
     RoundState sub;
-    const auto cuts = roundCuts(pocket, tau, false, depth + 1, &sub);
+    const auto cuts = roundCuts(pocket, tau, chains, false, depth + 1, &sub);
     std::vector<std::pair<int, int>> ranges;  // (start pos, end pos) from s
     std::vector<int> kid_ids;
     for (const auto& [x, y] : cuts) {
@@ -145,7 +149,7 @@ struct Builder {
     if (hull.back() != static_cast<int>(vlist.size()) - 1) hull.push_back(static_cast<int>(vlist.size()) - 1);
     std::vector<Vec2> hpts;
     for (int h : hull) hpts.push_back(pts[h]);
-    for (int a : approximate(hpts, tau - tau / 4)) {
+    for (int a : approx(hpts, tau - tau / 4)) {
       const int v = vlist[hull[a]];
       if (v == B.s || v == B.e || kid_ends_with_pm.count(v)) continue;
       if (dist2Seg(P.p[B.s], P.p[B.e], P.p[v]) < tau) continue;
@@ -243,7 +247,7 @@ struct Builder {
       }
       std::vector<Vec2> cp;
       for (int i : chain) cp.push_back(pts[i]);
-      for (int k : approximate(cp, tau)) {
+      for (int k : approx(cp, tau)) {
         const int v = ids[chain[k]];
         if (v == a || v == c) continue;
         const double conc = dist2Seg(P.p[a], P.p[c], P.p[v]);
@@ -276,7 +280,7 @@ struct Builder {
     auto addApprox = [&](const std::vector<int>& chain, double tol) {
       std::vector<Vec2> cp;
       for (int v : chain) cp.push_back(P.p[v]);
-      for (int k : approximate(cp, tol)) features->insert(chain[k]);
+      for (int k : approx(cp, tol)) features->insert(chain[k]);
     };
     if (top.empty()) {  // convex outer ring with holes: its diameter pair and approximations
       const std::vector<int> hull = hullPositions([&] {
@@ -545,8 +549,8 @@ bool resolves(const RoundState& st, int v, int o) {
   return true;
 }
 
-std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool clip, int depth,
-                                           RoundState* stp) {
+std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool chains, bool clip,
+                                           int depth, RoundState* stp) {
   RoundState& st = *stp;
   st = RoundState{};
   st.P = &P;
@@ -555,7 +559,7 @@ std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool clip,
   st.diagonals.assign(P.p.size(), {});
   st.cutsets.assign(P.p.size(), {});
   if (P.heads.empty()) return {};
-  Builder b{P, tau, depth, st, {}, {}, {}};
+  Builder b{P, tau, chains, depth, st, {}, {}, {}};
   b.buildOuter();
   if (b.top.empty() && P.heads.size() == 1) return {};  // convex enough
   std::set<int> features;

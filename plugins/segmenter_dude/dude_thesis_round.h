@@ -43,9 +43,10 @@ struct RoundState {
 
 /// Runs one round: fills `st` and returns the selected cuts (vertex id pairs of P).
 /// `clip` (the reference's isInitPolygon): cuts crossing the boundary are shortened.
-/// `depth` bounds the recursion into pockets.
-std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool clip, int depth,
-                                           RoundState* st);
+/// `depth` bounds the recursion into pockets. `chains`: the reference's chain approximation
+/// (else Douglas-Peucker) for the feature points.
+std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool chains, bool clip,
+                                           int depth, RoundState* st);
 
 /// Reference selection (c_knapsack::build + getOptimalCuts) over st.all_cutsets.
 std::vector<std::pair<int, int>> selectCuts(RoundState& st);

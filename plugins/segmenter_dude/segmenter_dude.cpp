@@ -54,6 +54,9 @@ class DudeSegmenter final : public asf::Segmenter {
     merge_min_border_ = p.getDouble("merge_min_border");
     thesis_ = p.getString("variant") == "thesis";
     thesis_options_.max_concavity = options_.max_concavity;
+    thesis_options_.approximation = p.getString("approximation") == "douglas_peucker"
+                                        ? asf::dude::thesis::Approximation::DouglasPeucker
+                                        : asf::dude::thesis::Approximation::Chains;
     state_ = State{};
   }
 
@@ -678,6 +681,10 @@ const asf::KeySpec kKeys[] = {
                    "DuDe's one parameter: boundary points deeper than this below the convex "
                    "hull (through the bridge hierarchy) are resolved by cuts [m]",
                    0.01, 1e6),
+    asf::keyEnum("approximation", "chains", "chains|douglas_peucker",
+                 "variant = thesis: how boundary chains are simplified into feature points: "
+                 "the reference's default (chains grown around the farthest vertices) or its "
+                 "Douglas-Peucker option"),
     asf::keyDouble("free_threshold", "0.4",
                    "A cell is free when its occupancy probability (1 - MRPT cell value) is below this",
                    0.0, 1.0),

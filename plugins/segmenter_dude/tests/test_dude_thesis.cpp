@@ -2,6 +2,7 @@
 // answers worked out by hand and a brute-force oracle for the candidate diagonals.
 #include <dude.h>
 #include <dude_thesis.h>
+#include <dude_thesis_geometry.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -273,6 +274,43 @@ TEST(DudeThesis, CandidateDiagonalsEqualABruteForceEnumeration) {
   for (const auto& d : rep.diagonals) got.insert(key(d.a, d.b));
   EXPECT_FALSE(expected.empty());
   EXPECT_EQ(got, expected);
+}
+
+// --- The reference's two approximations ---------------------------------------------------
+
+// Both keep the ends, return sorted positions, keep nothing else on a straight line and keep
+// a vertex of a hill higher than the tolerance.
+TEST(DudeThesisApproximation, PropertiesOfBothMethods) {
+  namespace d = asf::dude::thesis::detail;
+  const std::vector<Vec2> line{{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}};
+  const std::vector<Vec2> hill{{0, 0}, {1, 0.1}, {2, 3}, {3, 3.1}, {4, 3}, {5, 0.1}, {6, 0}};
+  for (auto fn : {&d::approximate, &d::approximateChains}) {
+    EXPECT_EQ(fn(line, 0.5), (std::vector<int>{0, 4}));
+    const std::vector<int> h = fn(hill, 1.0);
+    EXPECT_TRUE(std::is_sorted(h.begin(), h.end()));
+    EXPECT_EQ(h.front(), 0);
+    EXPECT_EQ(h.back(), 6);
+    EXPECT_TRUE(std::any_of(h.begin(), h.end(), [&](int i) { return hill[i].y >= 3; }));
+    EXPECT_EQ(fn({{0, 0}, {1, 1}}, 1.0), (std::vector<int>{0, 1}));
+  }
+  // Chains, traced by hand: the summit 3 joins [0, 6]; the chains of (0,3) and (3,6) are
+  // seeded at 1 and 4 (first of two equally far vertices, 0.649 m), grow nearest first and
+  // meet at 3; the first then takes 4 from the second (0.139 m from its line, a better fit)
+  // and the second ends at 6 (0.649 m). Ends: 0, 4, 6; largest distance 0.649 < 1.
+  EXPECT_EQ(d::approximateChains(hill, 1.0), (std::vector<int>{0, 4, 6}));
+  // Douglas-Peucker keeps the summit and nothing else.
+  EXPECT_EQ(d::approximate(hill, 1.0), (std::vector<int>{0, 3, 6}));
+}
+
+// The hand-worked shapes give the same cuts with either approximation.
+TEST(DudeThesisApproximation, HandWorkedShapesAgree) {
+  Shape L;
+  L.outer = {{0, 0}, {10, 0}, {10, 4}, {4, 4}, {4, 10}, {0, 10}};
+  for (auto a : {th::Approximation::Chains, th::Approximation::DouglasPeucker}) {
+    const auto rep = th::analyzeRound(L, 2.5, a);
+    ASSERT_EQ(rep.cuts.size(), 1u);
+    EXPECT_TRUE(sameCut(rep.cuts[0], {4, 4}, {0, 0}));
+  }
 }
 
 // --- Bad geometry -----------------------------------------------------------------------
