@@ -448,7 +448,8 @@ int cmdSegmentEval(int argc, char** argv) {
           "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + n;
       const std::string gt_file = (fs::path(gt.getValue()) / (n + "_gt_segmentation.png")).string();
       current = n + " (ground truth)";
-      const LabelRaster rooms = groundTruthRooms(readGrayImage(gt_file));
+      const GrayImage gt_image = readGrayImage(gt_file);
+      const LabelRaster rooms = groundTruthRooms(gt_image);
       if (std::none_of(rooms.labels.begin(), rooms.labels.end(),
                        [](std::int32_t l) { return l > 0; }))
         throw InputError(gt_file + ": no ground-truth room (no 8-connected component of pixels "
@@ -471,7 +472,6 @@ int cmdSegmentEval(int argc, char** argv) {
         r.variant = variant;
         const LabelRaster labels = rasterOf(s, image, file);
         r.score = scoreSegmentation(labels, rooms);
-        const GrayImage gt_image = readGrayImage(gt_file);
         r.thesis = scoreThesisProtocol(labels, gt_image);
         if (!images.getValue().empty()) {
           writeSegmentationOverlay(imagePath(n, variant), map, s, nullptr, &rooms);
