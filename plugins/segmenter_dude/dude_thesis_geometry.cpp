@@ -312,17 +312,35 @@ std::vector<std::pair<int, int>> cdtFreeEdges(const Poly& P, const std::vector<s
   return out;
 }
 
-bool insidePolygon(const Poly& P, const std::vector<std::vector<int>>& rings, Vec2 q) {
-  const Pt Q = pt(q);
-  for (std::size_t r = 0; r < rings.size(); ++r) {
+struct InsideTest::Rings {
+  std::vector<std::vector<Pt>> rings;
+};
+
+InsideTest::InsideTest(const Poly& P, const std::vector<std::vector<int>>& rings)
+    : rings_(std::make_unique<Rings>()) {
+  for (const auto& r : rings) {
     std::vector<Pt> ring;
-    ring.reserve(rings[r].size());
-    for (int id : rings[r]) ring.push_back(pt(P.p[id]));
+    ring.reserve(r.size());
+    for (int id : r) ring.push_back(pt(P.p[id]));
+    rings_->rings.push_back(std::move(ring));
+  }
+}
+
+InsideTest::~InsideTest() = default;
+
+bool InsideTest::operator()(Vec2 q) const {
+  const Pt Q = pt(q);
+  for (std::size_t r = 0; r < rings_->rings.size(); ++r) {
+    const auto& ring = rings_->rings[r];
     const CGAL::Bounded_side side = CGAL::bounded_side_2(ring.begin(), ring.end(), Q, K());
     if (r == 0 && side != CGAL::ON_BOUNDED_SIDE) return false;
     if (r > 0 && side != CGAL::ON_UNBOUNDED_SIDE) return false;
   }
   return true;
+}
+
+bool insidePolygon(const Poly& P, const std::vector<std::vector<int>>& rings, Vec2 q) {
+  return InsideTest(P, rings)(q);
 }
 
 bool segmentsIntersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d, Vec2* at) {

@@ -4,6 +4,7 @@
 // predicates. Not installed; no CGAL types in here.
 #include "dude.h"
 
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -57,6 +58,18 @@ std::vector<std::pair<int, int>> cdtFreeEdges(const Poly& P, const std::vector<s
 
 /// q strictly inside the polygon made of rings[0] (outer) minus the others (holes) (CGAL).
 bool insidePolygon(const Poly& P, const std::vector<std::vector<int>>& rings, Vec2 q);
+
+/// The same test for many points against one polygon: the rings are converted once.
+class InsideTest {
+ public:
+  InsideTest(const Poly& P, const std::vector<std::vector<int>>& rings);
+  ~InsideTest();
+  bool operator()(Vec2 q) const;
+
+ private:
+  struct Rings;
+  std::unique_ptr<Rings> rings_;
+};
 
 /// Proper or touching intersection of segments ab and cd; *at receives the point.
 bool segmentsIntersect(Vec2 a, Vec2 b, Vec2 c, Vec2 d, Vec2* at);

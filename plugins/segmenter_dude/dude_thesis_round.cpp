@@ -103,7 +103,7 @@ struct Builder {
   bool contains(int outer_b, int inner_b) const {
     const int s = bpcs[outer_b].s;
     const int a0 = outer.dist(s, bpcs[inner_b].s), a1 = outer.dist(s, bpcs[inner_b].e);
-    return a0 >= 0 && a1 <= outer.dist(s, bpcs[outer_b].e) && a0 <= a1;
+    return a1 <= outer.dist(s, bpcs[outer_b].e) && a0 <= a1;
   }
 
   void insertKid(int parent, int k) {
@@ -499,6 +499,7 @@ bool skinny(const Poly& P, int a, int b, double tau) {
 /// of the first edge it crosses; then cuts between neighbours, repeated and skinny cuts go.
 void clipCuts(const Poly& P, const std::vector<std::vector<int>>& rings, double tau,
               std::vector<std::pair<int, int>>* cuts) {
+  const InsideTest inside(P, rings);
   for (auto& [a, b] : *cuts) {
     const Vec2 A = P.p[a], B = P.p[b];
     double da = 1e300, db = 1e300;
@@ -519,8 +520,8 @@ void clipCuts(const Poly& P, const std::vector<std::vector<int>>& rings, double 
       const int w = P.nx[u];
       return std::hypot(P.p[u].x - from.x, P.p[u].y - from.y) <= std::hypot(P.p[w].x - from.x, P.p[w].y - from.y) ? u : w;
     };
-    const bool a_in = insidePolygon(P, rings, {(xa.x + A.x) / 2, (xa.y + A.y) / 2});
-    const bool b_in = insidePolygon(P, rings, {(xb.x + B.x) / 2, (xb.y + B.y) / 2});
+    const bool a_in = inside({(xa.x + A.x) / 2, (xa.y + A.y) / 2});
+    const bool b_in = inside({(xb.x + B.x) / 2, (xb.y + B.y) / 2});
     if (a_in && (!b_in || da > db)) b = nearerEnd(ea, A);
     else if (b_in) a = nearerEnd(eb, B);
   }
@@ -592,10 +593,11 @@ std::vector<std::pair<int, int>> roundCuts(const Poly& P, double tau, bool chain
   }
   if (simplified.empty()) return {};
   for (const auto* rings : {&simplified, &reduced}) {
+    const InsideTest inside(P, *rings);
     for (const auto& [u, v] : cdtFreeEdges(P, *rings)) {
       if (!holeDiagonalValid(st, u, v) || !breaksBridge(st, b.outer, b.bpcs, u, v)) continue;
       const Vec2 mid{(P.p[u].x + P.p[v].x) / 2, (P.p[u].y + P.p[v].y) / 2};
-      if (!insidePolygon(P, *rings, mid)) continue;
+      if (!inside(mid)) continue;
       for (auto [x, y] : {std::pair<int, int>{u, v}, std::pair<int, int>{v, u}}) {
         auto& d = st.diagonals[x];
         if (std::find(d.begin(), d.end(), y) == d.end()) d.push_back(y);
