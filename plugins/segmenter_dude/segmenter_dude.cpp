@@ -4,6 +4,7 @@
 // Incremental mode (thesis Algorithm 3): only regions touching the changed free space are
 // merged with it and decomposed again; the others keep their cells, and so their ids.
 #include "dude.h"
+#include "dude_raster.h"
 #include "dude_thesis.h"
 
 #include <asf/errors.h>
@@ -78,72 +79,20 @@ class DudeSegmenter final : public asf::Segmenter {
     f.resolution = grid.getResolution();
     f.origin_x = grid.getXMin();
     f.origin_y = grid.getYMin();
-    out.labels.width = f.width;
-    out.labels.height = f.height;
-    out.labels.resolution = f.resolution;
-    out.labels.origin_x = f.origin_x;
-    out.labels.origin_y = f.origin_y;
-    out.labels.labels.assign(static_cast<std::size_t>(f.width) * f.height, 0);
     if (f.width == 0 || f.height == 0) {
       state_ = State{};
+      out.labels = emptyLabels(f);
       return out;
     }
-
-    cv::Mat free, obstacle;
-    thresholdGrid(grid, free, obstacle);
-
-    cv::Mat labels, proc;  // provisional labels (CV_32S), decomposed free space
-    int next_label = 1;
-    const cv::Rect full(0, 0, f.width, f.height);
-    cv::Rect work = full;  // where labels may change
-    bool can_update = incremental_ && state_.valid && previous &&
-                      previous->map_version == state_.version && alignState(f);
-    // Cells whose free state changed since the last call (all cells without a comparable one).
-    const std::int64_t changed =
-        can_update ? cv::countNonZero(free != state_.free) : static_cast<std::int64_t>(f.width) * f.height;
-    // A rebuilt map (loop closure: keyframes moved) stays incremental while the change is
-    // local: regions far from it keep their cells.
-    if (can_update && map.rebuilt &&
-        changed > rebuild_full_fraction_ * std::max(1, cv::countNonZero(free)))
-      can_update = false;
-    if (can_update) {
-      labels = updateIncrementally(free, obstacle, f, &next_label, &proc, &work);
-    } else {
-      proc = preprocess(free, obstacle, f.resolution);
-      labels = cv::Mat(f.height, f.width, CV_32S, cv::Scalar(0));
-      decomposeInto(proc, full, f, labels, &next_label);
-    }
-    const int first_fresh = can_update ? first_fresh_ : 1;
-    if (work.area() > 0) {
-      // Post-processing on the changed window only (the whole map in batch mode). Fresh
-      // labels lie entirely inside it, so the steps that look at whole regions only
-      // consider fresh ones in an update.
-      cv::Mat lab_w = labels(work).clone(), free_w = free(work).clone();
-      // The thesis variant keeps every piece DuDe makes, however small; only free components
-      // below min_component_area are left out (the rooms variant drops small regions later).
-      const int min_new_cells =
-          thesis_ ? static_cast<int>(std::ceil(min_component_area_ / (f.resolution * f.resolution))) : 0;
-      completeLabels(free_w, lab_w, &next_label, min_new_cells);
-      if (!thesis_) {  // the published algorithm has no post-processing
-        mergeSmallRegions(lab_w, next_label, f.resolution, first_fresh);
-        mergeConvexNeighbours(lab_w, next_label, first_fresh, f);
+    if (incremental_ && state_.valid && previous && previous->map_version == state_.version) {
+      try {
+        if (update(map, grid, f, out)) return out;
+      } catch (...) {
+        state_ = State{};  // half-updated: the next call starts afresh
+        throw;
       }
-      lab_w.copyTo(labels(work));
     }
-
-    asf::LabelImage& L = out.labels;
-    for (int cy = 0; cy < f.height; ++cy) {
-      const int* row = labels.ptr<int>(cy);
-      std::copy(row, row + f.width, L.labels.begin() + static_cast<std::size_t>(cy) * f.width);
-    }
-    out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version,
-                                 thesis_ ? 0.0 : min_component_area_);
-    out.mode = can_update ? asf::Segmentation::Mode::Incremental : asf::Segmentation::Mode::Full;
-    out.changed_cells = changed;
-    if (incremental_) saveState(out, free, proc, f);
-    else state_ = State{};
-    MRPT_LOG_DEBUG_STREAM("dude: " << out.regions.size() << " regions ("
-                                   << (can_update ? "incremental" : "full") << ")");
+    segmentFull(map, grid, f, previous, out);
     return out;
   }
 
@@ -152,15 +101,87 @@ class DudeSegmenter final : public asf::Segmenter {
     bool valid = false;
     std::uint64_t version = 0;
     Frame frame;
-    cv::Mat free, proc, ids;  ///< masks (CV_8U) and final region ids (CV_32S)
-    std::map<int, cv::Rect> boxes;  ///< cell bounding box of every region
+    cv::Mat free, obstacle, proc;  ///< masks (CV_8U) of the last call
+    asf::Segmentation last;         ///< its result: labels hold the final region ids
+    asf::RegionBoxes boxes;         ///< cell box of every region of `last`
     int max_id = 0;
   };
 
-  void thresholdGrid(const Grid& grid, cv::Mat& free, cv::Mat& obstacle) const {
-    const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
-    free = cv::Mat(H, W, CV_8U, cv::Scalar(0));
-    obstacle = cv::Mat(H, W, CV_8U, cv::Scalar(0));
+  static asf::LabelImage emptyLabels(const Frame& f) {
+    asf::LabelImage L;
+    L.width = f.width;
+    L.height = f.height;
+    L.resolution = f.resolution;
+    L.origin_x = f.origin_x;
+    L.origin_y = f.origin_y;
+    L.labels.assign(static_cast<std::size_t>(f.width) * f.height, 0);
+    return L;
+  }
+
+  /// The whole map: thresholds, pre-processing, decomposition, post-processing.
+  void segmentFull(const asf::GridMap& map, const Grid& grid, const Frame& f,
+                   const asf::Segmentation* previous, asf::Segmentation& out) {
+    const cv::Rect full(0, 0, f.width, f.height);
+    cv::Mat free, obstacle;
+    thresholdGrid(grid, full, free, obstacle);
+    // Cells whose free state changed since the last call (all cells without a comparable one).
+    const bool comparable = state_.valid && previous && previous->map_version == state_.version &&
+                            state_.frame.width == f.width && state_.frame.height == f.height;
+    const std::int64_t changed = comparable ? cv::countNonZero(free != state_.free)
+                                            : static_cast<std::int64_t>(f.width) * f.height;
+    cv::Mat proc = preprocess(free, obstacle, f.resolution);
+    cv::Mat labels(f.height, f.width, CV_32S, cv::Scalar(0));
+    int next_label = 1;
+    decomposeInto(proc, cv::Point(0, 0), f, labels, &next_label);
+    postProcess(free, labels, &next_label, 1, f.resolution);
+    out.labels = emptyLabels(f);
+    std::copy(labels.ptr<int>(0), labels.ptr<int>(0) + out.labels.labels.size(),
+              out.labels.labels.begin());
+    asf::RegionBoxes boxes;
+    out = asf::regionsFromLabels(std::move(out.labels), previous, &max_issued_, map.version,
+                                 thesis_ ? 0.0 : min_component_area_, &boxes);
+    out.mode = asf::Segmentation::Mode::Full;
+    out.changed_cells = changed;
+    if (!incremental_) {
+      state_ = State{};
+      return;
+    }
+    state_.valid = true;
+    state_.version = map.version;
+    state_.frame = f;
+    state_.free = free;
+    state_.obstacle = obstacle;
+    state_.proc = proc;
+    state_.last = out;
+    state_.boxes = std::move(boxes);
+    state_.max_id = out.regions.empty() ? 0 : out.regions.back().id;
+  }
+
+  /// Post-processing of a window of provisional labels (the whole map in batch mode). In
+  /// an update fresh labels (>= first_fresh) lie entirely inside the window, so the steps
+  /// that look at whole regions only consider fresh ones.
+  void postProcess(const cv::Mat& free, cv::Mat& labels, int* next_label, int first_fresh,
+                   double res) const {
+    // The thesis variant keeps every piece DuDe makes, however small; only free components
+    // below min_component_area are left out (the rooms variant drops small regions later).
+    const int min_new_cells =
+        thesis_ ? static_cast<int>(std::ceil(min_component_area_ / (res * res))) : 0;
+    asf::dude::raster::completeLabels(free, labels, next_label, min_new_cells);
+    if (thesis_) return;  // the published algorithm has no post-processing
+    asf::dude::raster::mergeSmallRegions(labels, *next_label, res, first_fresh, min_region_area_);
+    asf::dude::raster::RoomLayerOptions room;
+    room.merge_concavity = merge_concavity_;
+    room.merge_min_border = merge_min_border_;
+    room.simplify_tolerance = simplify_tolerance_;
+    room.min_hole_extent =
+        options_.min_hole_extent < 0 ? options_.max_concavity : options_.min_hole_extent;
+    asf::dude::raster::mergeConvexNeighbours(labels, *next_label, first_fresh, res, room);
+  }
+
+  /// Free and obstacle masks (CV_8U, 0/1) of the cells in `box`.
+  void thresholdGrid(const Grid& grid, cv::Rect box, cv::Mat& free, cv::Mat& obstacle) const {
+    free = cv::Mat(box.height, box.width, CV_8U, cv::Scalar(0));
+    obstacle = cv::Mat(box.height, box.width, CV_8U, cv::Scalar(0));
     // MRPT cells hold p(free): occupancy = 1 - cell. A table over the raw log-odds cells
     // avoids a conversion per cell (the 8-bit cell type has 256 values).
     using Cell = Grid::cellType;
@@ -172,11 +193,11 @@ class DudeSegmenter final : public asf::Segmenter {
         lut[static_cast<unsigned char>(v)] =
             (occ < free_threshold_ ? 1 : 0) | (occ > occupied_threshold_ ? 2 : 0);
       }
-    for (int cy = 0; cy < H; ++cy) {
-      const Cell* row = grid.getRow(cy);
-      unsigned char* fr = free.ptr<unsigned char>(cy);
-      unsigned char* ob = obstacle.ptr<unsigned char>(cy);
-      for (int cx = 0; cx < W; ++cx) {
+    for (int y = 0; y < box.height; ++y) {
+      const Cell* row = grid.getRow(box.y + y) + box.x;
+      unsigned char* fr = free.ptr<unsigned char>(y);
+      unsigned char* ob = obstacle.ptr<unsigned char>(y);
+      for (int cx = 0; cx < box.width; ++cx) {
         unsigned char c;
         if (table) {
           c = lut[static_cast<unsigned char>(row[cx])];
@@ -194,7 +215,7 @@ class DudeSegmenter final : public asf::Segmenter {
   /// closed (closing of the obstacle mask), then obstacles grown by obstacle_dilation.
   cv::Mat preprocess(const cv::Mat& free, const cv::Mat& obstacle, double res) const {
     cv::Mat proc = free.clone();
-    cv::Mat blocked = obstacle;
+    cv::Mat blocked = obstacle.clone();  // its own buffer: the closing below writes into it
     const int gap_px = static_cast<int>(std::lround(gap_closing_ / res));
     if (gap_px >= 1) {
       const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(gap_px + 1, gap_px + 1));
@@ -210,11 +231,12 @@ class DudeSegmenter final : public asf::Segmenter {
     return proc;
   }
 
-  /// Decomposes every connected component of `mask` inside `roi` and paints its pieces into
-  /// `labels` (same size as mask) with fresh labels, on cells of `mask` only.
-  void decomposeInto(const cv::Mat& mask, cv::Rect roi, const Frame& f, cv::Mat& labels,
+  /// Decomposes every connected component of `mask` and paints its pieces into `labels`
+  /// (same size as mask) with fresh labels, on cells of `mask` only. Both are the window of
+  /// the frame whose top-left cell is `roi`.
+  void decomposeInto(const cv::Mat& mask, cv::Point roi, const Frame& f, cv::Mat& labels,
                      int* next_label) {
-    cv::Mat sub = mask(roi).clone();
+    const cv::Mat& sub = mask;
     std::vector<std::vector<cv::Point>> contours;
     std::vector<cv::Vec4i> hierarchy;
     cv::findContours(sub, contours, hierarchy, cv::RETR_TREE, cv::CHAIN_APPROX_SIMPLE);
@@ -276,14 +298,14 @@ class DudeSegmenter final : public asf::Segmenter {
             const cv::Rect cell(q.x >> 8, q.y >> 8, 2, 2);
             pb = pb.area() == 0 ? cell : (pb | cell);
           }
-        pb &= cv::Rect(0, 0, roi.width, roi.height);
+        pb &= cv::Rect(0, 0, mask.cols, mask.rows);
         if (pb.area() == 0) continue;
         for (auto& poly : polys)
           for (cv::Point& q : poly) q -= cv::Point(pb.x * 256, pb.y * 256);
         piece_mask = cv::Mat::zeros(pb.size(), CV_8U);
         cv::fillPoly(piece_mask, polys, cv::Scalar(1), cv::LINE_8, 8);
         piece_mask &= sub(pb);
-        labels(roi)(pb).setTo(label, piece_mask);
+        labels(pb).setTo(label, piece_mask);
       }
     }
     if (warnings > 0)
@@ -291,370 +313,169 @@ class DudeSegmenter final : public asf::Segmenter {
                                     << first_warning);
   }
 
-  /// Every free cell gets a label: cells left out by the polygons (simplification, grown
-  /// obstacles, one-cell corridors) join the nearest labelled cell through free space;
-  /// free components with no labelled cell at all become regions of their own, when they
-  /// have at least `min_new_cells` cells (else they stay unlabelled).
-  static void completeLabels(const cv::Mat& free, cv::Mat& labels, int* next_label,
-                             int min_new_cells = 0) {
-    const int W = free.cols, H = free.rows;
-    std::deque<int> queue;
-    for (int y = 0; y < H; ++y) {
-      const unsigned char* fr = free.ptr<unsigned char>(y);
-      int* lr = labels.ptr<int>(y);
-      for (int x = 0; x < W; ++x)
-        if (!fr[x]) lr[x] = 0;
-    }
-    int* L = labels.ptr<int>(0);
-    const unsigned char* F = free.ptr<unsigned char>(0);
-    // Seeds: labelled cells with an unlabelled free neighbour, in row-major order (the other
-    // labelled cells would expand nothing: the result is that of seeding every one).
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int i = y * W + x;
-        if (!F[i] || L[i] <= 0) continue;
-        bool open = false;
-        for (int dy = -1; dy <= 1 && !open; ++dy)
-          for (int dx = -1; dx <= 1 && !open; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-            const int j = ny * W + nx;
-            open = F[j] && L[j] == 0;
-          }
-        if (open) queue.push_back(i);
-      }
-    // Grows the queued cells' labels over unlabelled free cells; `visited` (if given) gets
-    // every cell taken from the queue.
-    auto bfs = [&](std::vector<int>* visited) {
-      while (!queue.empty()) {
-        const int i = queue.front();
-        queue.pop_front();
-        if (visited) visited->push_back(i);
-        const int x = i % W, y = i / W;
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int nx = x + dx, ny = y + dy;
-            if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-            const int j = ny * W + nx;
-            if (F[j] && L[j] == 0) {
-              L[j] = L[i];
-              queue.push_back(j);
-            }
-          }
-      }
-    };
-    bfs(nullptr);
-    std::vector<int> component;
-    for (int i = 0; i < W * H; ++i)
-      if (F[i] && L[i] == 0) {
-        L[i] = (*next_label)++;
-        queue.push_back(i);
-        component.clear();
-        bfs(&component);
-        if (static_cast<int>(component.size()) < min_new_cells)
-          for (int c : component) L[c] = -1;  // too small: unlabelled (restored below)
-      }
-    for (int i = 0; i < W * H; ++i)
-      if (L[i] < 0) L[i] = 0;
-  }
-
-  /// Regions below min_region_area join the neighbour they share the longest border with.
-  void mergeSmallRegions(cv::Mat& labels, int next_label, double res, int first_fresh) const {
-    if (min_region_area_ <= 0) return;
-    const double cell = res * res;
-    std::vector<long> count(next_label, 0);
-    const int W = labels.cols, H = labels.rows;
-    int* L = labels.ptr<int>(0);
-    for (int i = 0; i < W * H; ++i) ++count[L[i]];
-    std::vector<char> small(next_label, 0);
-    bool any = false;
-    for (int l = first_fresh; l < next_label; ++l)
-      if (count[l] > 0 && count[l] * cell < min_region_area_) small[l] = any = 1;
-    if (!any) return;
-    // Border lengths between a small region and its neighbours (4-neighbourhood).
-    std::unordered_map<long long, long> border;
-    auto touch = [&](int a, int b) {
-      if (a == b || a == 0 || b == 0) return;
-      if (small[a]) ++border[static_cast<long long>(a) * next_label + b];
-      if (small[b]) ++border[static_cast<long long>(b) * next_label + a];
-    };
-    for (int y = 0; y < H; ++y)
-      for (int x = 0; x < W; ++x) {
-        const int a = L[y * W + x];
-        if (x + 1 < W) touch(a, L[y * W + x + 1]);
-        if (y + 1 < H) touch(a, L[(y + 1) * W + x]);
-      }
-    std::vector<std::vector<std::pair<int, long>>> nb(next_label);
-    for (const auto& [key, n] : border) nb[key / next_label].push_back({static_cast<int>(key % next_label), n});
-    std::vector<int> parent(next_label);
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int a) {
-      while (parent[a] != a) a = parent[a] = parent[parent[a]];
-      return a;
-    };
-    std::vector<int> order;
-    for (int l = 1; l < next_label; ++l)
-      if (small[l]) order.push_back(l);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return count[a] < count[b]; });
-    std::vector<long> size(count.begin(), count.end());
-    for (int l : order) {
-      const int root = find(l);
-      if (size[root] * cell >= min_region_area_) continue;  // grew by earlier merges
-      std::map<int, long> by_root;  // ordered: deterministic ties
-      for (const auto& [m, n] : nb[l]) {
-        const int r = find(m);
-        if (r != root) by_root[r] += n;
-      }
-      int best = -1;
-      long best_n = 0;
-      for (const auto& [r, n] : by_root)
-        if (n > best_n) best = r, best_n = n;
-      if (best < 0) continue;
-      parent[root] = best;
-      size[best] += size[root];
-    }
-    for (int i = 0; i < W * H; ++i)
-      if (L[i] > 0) L[i] = find(L[i]);
-  }
-
-  /// Room layer: neighbouring pieces whose union DuDe would not cut again (no reflex vertex
-  /// deeper than merge_concavity, no hole wider than min_hole_extent) are merged, cheapest
-  /// union first. Undoes cuts that were chosen for a pocket minimum resolved elsewhere
-  /// (furniture corners). Only labels >= first_fresh are considered: regions kept by an
-  /// incremental update keep their cells.
-  void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, const Frame& f) const {
-    if (merge_concavity_ <= 0) return;
-    const int W = labels.cols, H = labels.rows;
-    std::vector<cv::Rect> box(next_label);
-    std::vector<char> present(next_label, 0);
-    for (int y = 0; y < H; ++y) {
-      const int* l = labels.ptr<int>(y);
-      for (int x = 0; x < W; ++x) {
-        const int v = l[x];
-        if (v <= 0) continue;
-        if (!present[v]) box[v] = cv::Rect(x, y, 1, 1), present[v] = 1;
-        else box[v] |= cv::Rect(x, y, 1, 1);
-      }
-    }
-    // Border lengths between labels (4-neighbourhood), kept up to date through merges.
-    std::map<int, std::map<int, int>> adj;
-    for (int y = 0; y < H; ++y) {
-      const int* l = labels.ptr<int>(y);
-      const int* below = y + 1 < H ? labels.ptr<int>(y + 1) : nullptr;
-      for (int x = 0; x < W; ++x) {
-        const int a = l[x];
-        if (a <= 0) continue;
-        if (x + 1 < W && l[x + 1] > 0 && l[x + 1] != a) ++adj[a][l[x + 1]], ++adj[l[x + 1]][a];
-        if (below && below[x] > 0 && below[x] != a) ++adj[a][below[x]], ++adj[below[x]][a];
-      }
-    }
-    const double res = f.resolution;
-    // Pieces meeting along less than this are joined by a doorway-sized opening: kept apart
-    // without the (costly) union test.
-    const int min_border_px = std::max(3, static_cast<int>(std::lround(merge_min_border_ / res)));
-    const double eps_px = simplify_tolerance_ / res;
-    const double hole_px = (options_.min_hole_extent < 0 ? options_.max_concavity : options_.min_hole_extent) / res;
-    // Concavity of the union of a and b (infinity: must stay apart).
-    auto unionConcavity = [&](int a, int b) {
-      const cv::Rect r = (box[a] | box[b]) + cv::Size(2, 2) - cv::Point(1, 1);
-      cv::Mat m(r.size(), CV_8U, cv::Scalar(0));
-      for (int y = 0; y < r.height; ++y) {
-        const int yy = y + r.y;
-        if (yy < 0 || yy >= H) continue;
-        const int* l = labels.ptr<int>(yy);
-        unsigned char* o = m.ptr<unsigned char>(y);
-        for (int x = 0; x < r.width; ++x) {
-          const int xx = x + r.x;
-          if (xx >= 0 && xx < W && (l[xx] == a || l[xx] == b)) o[x] = 1;
-        }
-      }
-      std::vector<std::vector<cv::Point>> contours;
-      std::vector<cv::Vec4i> hierarchy;
-      cv::findContours(m, contours, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
-      int outer = -1;
-      double best = -1;
-      for (int i = 0; i < static_cast<int>(contours.size()); ++i)
-        if (hierarchy[i][3] < 0) {
-          const double area = std::abs(cv::contourArea(contours[i]));
-          if (area > best) best = area, outer = i;
-        } else {
-          const cv::Rect hb = cv::boundingRect(contours[i]);
-          if (std::hypot(hb.width, hb.height) >= hole_px) return std::numeric_limits<double>::infinity();
-        }
-      if (outer < 0) return std::numeric_limits<double>::infinity();
-      std::vector<cv::Point> poly;
-      cv::approxPolyDP(contours[outer], poly, std::max(eps_px, 0.5), true);
-      asf::dude::Ring ring;
-      for (const cv::Point& p : poly) ring.push_back({p.x * res, p.y * res});
-      ring = asf::dude::cleanRing(ring, true);
-      if (ring.empty()) return std::numeric_limits<double>::infinity();
-      return asf::dude::maxReflexConcavity(ring);
-    };
-    // Candidate pairs, evaluated lazily and kept sorted by union concavity.
-    std::set<std::tuple<double, int, int>> queue;
-    std::map<std::pair<int, int>, double> score;
-    auto evaluate = [&](int a) {
-      for (const auto& [b, n] : adj[a]) {
-        if (n < min_border_px || a < first_fresh || b < first_fresh) continue;
-        const auto key = std::minmax(a, b);
-        if (score.count(key)) continue;
-        const double c = unionConcavity(key.first, key.second);
-        score[key] = c;
-        if (c <= merge_concavity_) queue.insert({c, key.first, key.second});
-      }
-    };
-    for (int a = 1; a < next_label; ++a)
-      if (present[a]) evaluate(a);
-    while (!queue.empty()) {
-      const auto [c, a, b] = *queue.begin();
-      queue.erase(queue.begin());
-      if (!present[a] || !present[b]) continue;
-      // a absorbs b (the smaller label stays: kept ids win over fresh ones).
-      const cv::Rect r = box[b];
-      for (int y = r.y; y < r.y + r.height; ++y) {
-        int* l = labels.ptr<int>(y);
-        for (int x = r.x; x < r.x + r.width; ++x)
-          if (l[x] == b) l[x] = a;
-      }
-      box[a] |= box[b];
-      present[b] = 0;
-      for (const auto& [c, n] : adj[b]) {
-        adj[c].erase(b);
-        if (c == a) continue;
-        adj[a][c] += n;
-        adj[c][a] += n;
-      }
-      adj.erase(b);
-      adj[a].erase(b);
-      // Pairs involving a or b changed: drop their scores and evaluate a's again.
-      for (auto it = score.begin(); it != score.end();)
-        if (it->first.first == a || it->first.second == a || it->first.first == b || it->first.second == b) {
-          queue.erase({it->second, it->first.first, it->first.second});
-          it = score.erase(it);
-        } else {
-          ++it;
-        }
-      evaluate(a);
-    }
-  }
-
-  // ---- incremental mode ---------------------------------------------------------------
+  // ---- incremental mode (thesis Algorithm 3) ------------------------------------------
 
   /// Brings the stored state into frame f (same resolution; the grid may have grown or
-  /// moved by whole cells). False when that is impossible.
-  bool alignState(const Frame& f) {
+  /// moved by whole cells, keeping every old cell). False when that is impossible; *moved
+  /// says whether the frame changed.
+  bool alignState(const Frame& f, bool* moved) {
     const Frame& o = state_.frame;
+    *moved = false;
     if (std::abs(o.resolution - f.resolution) > 1e-9 * f.resolution) return false;
     const double sx = (o.origin_x - f.origin_x) / f.resolution;
     const double sy = (o.origin_y - f.origin_y) / f.resolution;
     const int dx = static_cast<int>(std::lround(sx)), dy = static_cast<int>(std::lround(sy));
     if (std::abs(sx - dx) > 1e-3 || std::abs(sy - dy) > 1e-3) return false;
     if (dx == 0 && dy == 0 && o.width == f.width && o.height == f.height) return true;
-    const cv::Rect old_in_new = cv::Rect(dx, dy, o.width, o.height) & cv::Rect(0, 0, f.width, f.height);
+    const cv::Rect old_in_new(dx, dy, o.width, o.height);
+    if ((old_in_new & cv::Rect(0, 0, f.width, f.height)) != old_in_new) return false;
+    *moved = true;
     auto move = [&](cv::Mat& m) {
       cv::Mat n(f.height, f.width, m.type(), cv::Scalar(0));
-      if (old_in_new.area() > 0)
-        m(old_in_new - cv::Point(dx, dy)).copyTo(n(old_in_new));
+      m.copyTo(n(old_in_new));
       m = n;
     };
     move(state_.free);
+    move(state_.obstacle);
     move(state_.proc);
-    move(state_.ids);
+    asf::LabelImage& L = state_.last.labels;
+    asf::LabelImage shifted = emptyLabels(f);
+    for (int y = 0; y < o.height; ++y)
+      std::copy(L.labels.begin() + static_cast<std::size_t>(y) * o.width,
+                L.labels.begin() + static_cast<std::size_t>(y + 1) * o.width,
+                shifted.labels.begin() + static_cast<std::size_t>(y + dy) * f.width + dx);
+    L = std::move(shifted);
+    for (auto& [id, box] : state_.boxes) box.x += dx, box.y += dy;
     state_.frame = f;
     return true;
   }
 
-  void saveState(const asf::Segmentation& s, const cv::Mat& free, const cv::Mat& proc,
-                 const Frame& f) {
-    state_.valid = true;
-    state_.version = s.map_version;
-    state_.frame = f;
-    state_.free = free;
-    state_.proc = proc;
-    state_.ids = cv::Mat(f.height, f.width, CV_32S);
-    for (int cy = 0; cy < f.height; ++cy)
-      std::copy(s.labels.labels.begin() + static_cast<std::size_t>(cy) * f.width,
-                s.labels.labels.begin() + static_cast<std::size_t>(cy + 1) * f.width,
-                state_.ids.ptr<int>(cy));
-    // Region boxes from their outlines (through border cell centres), one cell of slack.
-    state_.boxes.clear();
-    state_.max_id = 0;
-    const cv::Rect full(0, 0, f.width, f.height);
-    for (const asf::Region& r : s.regions) {
-      state_.max_id = std::max(state_.max_id, static_cast<int>(r.id));
-      double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-      for (const asf::Point2& p : r.outer)
-        x0 = std::min(x0, p.x), y0 = std::min(y0, p.y), x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
-      if (r.outer.empty()) {
-        state_.boxes[r.id] = full;  // unknown extent: the whole map
-        continue;
-      }
-      const int cx0 = static_cast<int>(std::floor((x0 - f.origin_x) / f.resolution)) - 1;
-      const int cy0 = static_cast<int>(std::floor((y0 - f.origin_y) / f.resolution)) - 1;
-      const int cx1 = static_cast<int>(std::floor((x1 - f.origin_x) / f.resolution)) + 2;
-      const int cy1 = static_cast<int>(std::floor((y1 - f.origin_y) / f.resolution)) + 2;
-      state_.boxes[r.id] = cv::Rect(cv::Point(cx0, cy0), cv::Point(cx1 + 1, cy1 + 1)) & full;
-    }
+  static cv::Rect grow(cv::Rect r, int by, const cv::Rect& limit) {
+    return (r + cv::Size(2 * by, 2 * by) - cv::Point(by, by)) & limit;
   }
 
   /// Algorithm 3: the regions touching the changed free space (contact by a one-cell
-  /// dilation) are merged with it and decomposed again; the others keep their cells.
-  /// Works in windows around the change; *work receives the window whose labels changed.
-  cv::Mat updateIncrementally(const cv::Mat& free, const cv::Mat& obstacle, const Frame& f,
-                              int* next_label, cv::Mat* proc_out, cv::Rect* work) {
+  /// dilation) are merged with it and decomposed again; the others keep their cells. Every
+  /// step works in windows around the change: thresholds (the map's `changed` box when it is
+  /// the next version), pre-processing, decomposition, post-processing and the region
+  /// measures (asf::regionsFromLabelsInWindow). False: segment the whole map instead.
+  bool update(const asf::GridMap& map, const Grid& grid, const Frame& f, asf::Segmentation& out) {
+    bool moved = false;
+    if (!alignState(f, &moved)) return false;
     const cv::Rect full(0, 0, f.width, f.height);
-    // Provisional labels: kept regions keep their previous id (ids above them are fresh).
-    *next_label = state_.max_id + 1;
-    first_fresh_ = *next_label;
-    cv::Mat labels = state_.ids.clone();
-    *work = cv::Rect();
-    cv::Mat raw_diff = free != state_.free;
-    cv::Mat& proc = *proc_out;
-    proc = state_.proc.clone();
-    if (cv::countNonZero(raw_diff) == 0) return labels;
-    // Pre-processing again around the change only: the morphology reaches `margin` cells.
+    cv::Rect dirty = full;  // cells whose grid value may have changed
+    // The map's `changed` box, when it is the next version (an empty box says nothing).
+    if (!moved && !map.rebuilt && map.version == state_.version + 1 && !map.changed.empty()) {
+      auto cell = [&](double x, double y) {
+        return cv::Point(static_cast<int>(std::floor((x - f.origin_x) / f.resolution)),
+                         static_cast<int>(std::floor((y - f.origin_y) / f.resolution)));
+      };
+      const cv::Point lo = cell(map.changed.min_x, map.changed.min_y);
+      const cv::Point hi = cell(map.changed.max_x, map.changed.max_y) + cv::Point(1, 1);
+      dirty = grow(cv::Rect(lo, hi), 1, full);
+      // A box off the grid changed nothing: one cell keeps the steps below non-empty.
+      if (dirty.area() == 0) dirty = cv::Rect(0, 0, 1, 1);
+    }
+    cv::Mat free_d, obstacle_d;
+    thresholdGrid(grid, dirty, free_d, obstacle_d);
+    const cv::Mat free_diff = free_d != state_.free(dirty);
+    const cv::Mat input_diff = free_diff | (obstacle_d != state_.obstacle(dirty));
+    const std::int64_t changed = cv::countNonZero(free_diff);
+    // A rebuilt map (loop closure: keyframes moved) stays incremental while the change is
+    // local: regions far from it keep their cells. (A rebuilt map is thresholded in full.)
+    if (map.rebuilt && changed > rebuild_full_fraction_ * std::max(1, cv::countNonZero(free_d)))
+      return false;
+    free_d.copyTo(state_.free(dirty));
+    obstacle_d.copyTo(state_.obstacle(dirty));
+
+    int next_label = state_.max_id + 1;  // provisional: kept regions keep their ids
+    const int first_fresh = next_label;
+    cv::Rect work;  // where labels change
+    cv::Mat lab_w;
+    const cv::Rect raw_box = cv::boundingRect(input_diff) + dirty.tl();
+    if (raw_box.area() > 0) {
+      work = redecompose(f, free_diff, dirty, raw_box, &next_label, &lab_w);
+      if (work.area() > 0) postProcess(state_.free(work).clone(), lab_w, &next_label, first_fresh, f.resolution);
+    }
+    asf::LabelImage L = state_.last.labels;
+    for (int y = 0; y < work.height; ++y)
+      std::copy(lab_w.ptr<int>(y), lab_w.ptr<int>(y) + work.width,
+                L.labels.begin() + static_cast<std::size_t>(work.y + y) * f.width + work.x);
+    out = asf::regionsFromLabelsInWindow(std::move(L), state_.last, state_.boxes,
+                                         {work.x, work.y, work.width, work.height}, &max_issued_,
+                                         map.version, thesis_ ? 0.0 : min_component_area_);
+    out.mode = asf::Segmentation::Mode::Incremental;
+    out.changed_cells = changed;
+    state_.version = map.version;
+    state_.last.regions = out.regions;
+    state_.last.labels.labels = out.labels.labels;  // same size: no allocation
+    state_.last.map_version = map.version;
+    state_.max_id = out.regions.empty() ? 0 : out.regions.back().id;
+    return true;
+  }
+
+  /// Pre-processes around the input change `raw_box`, finds the regions touching the
+  /// changed free space, clears them and decomposes them with the change. Returns the
+  /// window whose labels changed (empty: none) and its provisional labels in *lab_w.
+  cv::Rect redecompose(const Frame& f, const cv::Mat& free_diff, const cv::Rect& dirty,
+                       const cv::Rect& raw_box, int* next_label, cv::Mat* lab_w) {
+    const cv::Rect full(0, 0, f.width, f.height);
+    // The morphology reaches `margin` cells.
     const int margin = static_cast<int>(std::lround(gap_closing_ / f.resolution)) +
                        static_cast<int>(std::lround(obstacle_dilation_ / f.resolution)) + 2;
-    const cv::Rect raw_box = cv::boundingRect(raw_diff);
-    const cv::Rect pre_box = (raw_box + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & full;
-    const cv::Rect ext_box = (pre_box + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) & full;
-    const cv::Mat local = preprocess(free(ext_box), obstacle(ext_box), f.resolution);
-    local(pre_box - ext_box.tl()).copyTo(proc(pre_box));
-    cv::Mat diff = raw_diff.clone();
-    diff(pre_box) |= (proc(pre_box) != state_.proc(pre_box));
-    const cv::Rect touch_box = (pre_box + cv::Size(2, 2) - cv::Point(1, 1)) & full;
-    cv::Mat contact;
-    cv::dilate(diff(touch_box), contact, cv::Mat::ones(3, 3, CV_8U));
-    std::vector<char> affected(*next_label, 0);
-    cv::Rect mod_box = cv::boundingRect(diff(pre_box)) + pre_box.tl();
+    const cv::Rect pre_box = grow(raw_box, margin, full);
+    const cv::Rect ext_box = grow(pre_box, margin, full);
+    const cv::Mat local = preprocess(state_.free(ext_box), state_.obstacle(ext_box), f.resolution);
+    const cv::Mat proc_pre = local(pre_box - ext_box.tl());
+    // Changed cells: free state or pre-processed free state.
+    cv::Mat diff = proc_pre != state_.proc(pre_box);
+    const cv::Rect fd = (raw_box & dirty) - dirty.tl();
+    diff(fd + dirty.tl() - pre_box.tl()) |= free_diff(fd);
+    proc_pre.copyTo(state_.proc(pre_box));
+    const cv::Rect diff_box = cv::boundingRect(diff);
+    if (diff_box.area() == 0) return cv::Rect();
+    const cv::Rect touch_box = grow(diff_box + pre_box.tl(), 1, full);
+    cv::Mat diff_touch(touch_box.size(), CV_8U, cv::Scalar(0)), contact;
+    diff(diff_box).copyTo(diff_touch(diff_box + pre_box.tl() - touch_box.tl()));
+    cv::dilate(diff_touch, contact, cv::Mat::ones(3, 3, CV_8U));
+    const asf::LabelImage& ids = state_.last.labels;
+    std::unordered_map<int, char> affected;
+    cv::Rect mod_box = diff_box + pre_box.tl();
     for (int y = 0; y < touch_box.height; ++y) {
       const unsigned char* c = contact.ptr<unsigned char>(y);
-      const int* id = state_.ids.ptr<int>(y + touch_box.y) + touch_box.x;
+      const asf::RegionId* id = ids.labels.data() + static_cast<std::size_t>(y + touch_box.y) * f.width + touch_box.x;
       for (int x = 0; x < touch_box.width; ++x)
-        if (c[x] && id[x] > 0 && !affected[id[x]]) {
-          affected[id[x]] = 1;
+        if (c[x] && id[x] > 0 && affected.emplace(id[x], 1).second) {
           const auto it = state_.boxes.find(id[x]);
-          mod_box |= it != state_.boxes.end() ? it->second : full;
+          mod_box |= it != state_.boxes.end()
+                         ? cv::Rect(it->second.x, it->second.y, it->second.width, it->second.height)
+                         : full;
         }
     }
     mod_box &= full;
     // Modifiable: the changed cells plus the cells of the affected regions.
-    cv::Mat modifiable(f.height, f.width, CV_8U, cv::Scalar(0));
-    for (int y = mod_box.y; y < mod_box.y + mod_box.height; ++y) {
-      int* l = labels.ptr<int>(y);
-      unsigned char* m = modifiable.ptr<unsigned char>(y);
-      const unsigned char* d = diff.ptr<unsigned char>(y);
-      for (int x = mod_box.x; x < mod_box.x + mod_box.width; ++x)
-        if ((l[x] > 0 && affected[l[x]]) || d[x]) {
-          m[x] = 1;
+    *lab_w = cv::Mat(mod_box.size(), CV_32S);
+    cv::Mat mod_proc(mod_box.size(), CV_8U, cv::Scalar(0));
+    for (int y = 0; y < mod_box.height; ++y) {
+      const asf::RegionId* src = ids.labels.data() + static_cast<std::size_t>(y + mod_box.y) * f.width + mod_box.x;
+      int* l = lab_w->ptr<int>(y);
+      unsigned char* m = mod_proc.ptr<unsigned char>(y);
+      const unsigned char* p = state_.proc.ptr<unsigned char>(y + mod_box.y) + mod_box.x;
+      const int yd = y + mod_box.y - pre_box.y;
+      const unsigned char* d = yd >= 0 && yd < pre_box.height ? diff.ptr<unsigned char>(yd) : nullptr;
+      for (int x = 0; x < mod_box.width; ++x) {
+        const int xd = x + mod_box.x - pre_box.x;
+        const bool changed_cell = d && xd >= 0 && xd < pre_box.width && d[xd];
+        if ((src[x] > 0 && affected.count(src[x])) || changed_cell) {
           l[x] = 0;
+          m[x] = p[x];
+        } else {
+          l[x] = src[x];
         }
+      }
     }
-    cv::Mat mod_proc(f.height, f.width, CV_8U, cv::Scalar(0));
-    mod_proc(mod_box) = modifiable(mod_box) & proc(mod_box);
-    decomposeInto(mod_proc, mod_box, f, labels, next_label);
-    *work = mod_box;
-    return labels;
+    decomposeInto(mod_proc, mod_box.tl(), f, *lab_w, next_label);
+    return mod_box;
   }
 
   double free_threshold_ = 0.4, occupied_threshold_ = 0.6;

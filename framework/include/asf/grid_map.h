@@ -19,7 +19,9 @@ struct GridMap {
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> grid;
   /// Incremented on every change; 0 = no map yet.
   std::uint64_t version = 0;
-  /// Map-frame box of what changed since version-1 (whole map after a rebuild).
+  /// Map-frame box of what changed since version-1 (whole map after a rebuild). It must
+  /// cover every cell whose value changed: an incremental segmenter given version k after
+  /// version k-1 reads the grid only inside it (dude); an empty box says nothing.
   Box2 changed;
   /// True when known structure moved (loop closure -> rebuild), not only new cells.
   bool rebuilt = false;

@@ -4,6 +4,7 @@
 #include <asf/geometry.h>
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace asf {
@@ -30,6 +31,16 @@ struct LabelImage {
   RegionId atPoint(double x, double y) const;
 };
 
+/// Rectangle of cells [x, x + width) x [y, y + height) of a LabelImage.
+struct CellBox {
+  int x = 0, y = 0, width = 0, height = 0;
+  bool empty() const { return width <= 0 || height <= 0; }
+};
+
+/// Cell bounding box of every region of a segmentation, by id (all of its cells, not only
+/// the piece its outline describes).
+using RegionBoxes = std::unordered_map<RegionId, CellBox>;
+
 struct Segmentation {
   std::vector<Region> regions;
   LabelImage labels;
@@ -55,8 +66,22 @@ struct Segmentation {
 ///   centres of the border cells) are computed per region; regions are sorted by id.
 /// `labels` must have width * height entries; cells of one provisional label need not be
 /// connected (a region's outer boundary is then that of its largest piece).
+/// `boxes` (may be null) receives the cell bounding box of every region.
 Segmentation regionsFromLabels(LabelImage labels, const Segmentation* previous,
                                RegionId* max_issued, std::uint64_t map_version,
-                               double min_area = 0);
+                               double min_area = 0, RegionBoxes* boxes = nullptr);
+
+/// The same result as regionsFromLabels(labels, &previous, max_issued, map_version,
+/// min_area, &boxes), in time proportional to `window` and the regions with cells in it
+/// rather than to the image, for an update that only changed the cells inside `window`.
+/// Preconditions: outside `window`, `labels` holds exactly previous.labels (a provisional
+/// label there is the previous region's id; fresh labels are not ids of `previous` and lie
+/// inside the window), and `boxes` holds the cell boxes of previous' regions (as filled by
+/// either function); on return it holds those of the result. When the rasters differ or a
+/// box is missing, it falls back to regionsFromLabels.
+Segmentation regionsFromLabelsInWindow(LabelImage labels, const Segmentation& previous,
+                                       RegionBoxes& boxes, CellBox window,
+                                       RegionId* max_issued, std::uint64_t map_version,
+                                       double min_area = 0);
 
 }  // namespace asf

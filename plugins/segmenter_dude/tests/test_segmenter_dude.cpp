@@ -2,6 +2,7 @@
 // on one map of the room segmentation benchmark.
 #include <asf/errors.h>
 #include <asf/registry.h>
+#include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -255,6 +256,59 @@ TEST(SegmenterDude, OnePixelCorridorsAndSpecksAreLabelled) {
   }
 }
 
+/// A floor plan drawn as an image (255 free, 0 wall): three rooms off a corridor, one with
+/// a pillar.
+asf::GrayImage floorPlan() {
+  asf::GrayImage img;
+  img.width = 240;
+  img.height = 160;
+  img.pixels.assign(static_cast<std::size_t>(img.width) * img.height, 0);
+  auto fill = [&](int c0, int r0, int c1, int r1, std::uint8_t v) {
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) img.pixels[static_cast<std::size_t>(r) * img.width + c] = v;
+  };
+  fill(4, 4, 236, 36, 255);     // corridor
+  fill(4, 44, 76, 156, 255);    // room 1
+  fill(84, 44, 156, 156, 255);  // room 2
+  fill(164, 44, 236, 156, 255); // room 3
+  fill(110, 90, 126, 106, 0);   // pillar in room 2
+  for (int c : {30, 110, 190}) fill(c, 36, c + 18, 44, 255);  // doors
+  return img;
+}
+
+// The update reads only the map's `changed` box when the map is the next version. Fed the
+// same exploration with and without that box (then every cell is read again), the results
+// must be the same at every step: nothing outside the box may be stale.
+TEST(SegmenterDude, ChangedBoxUpdateEqualsWholeMapUpdateThroughAnExploration) {
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto boxed = make({{"variant", variant}});
+    auto whole = make({{"variant", variant}});
+    asf::ExplorationOptions opt;
+    opt.sensor_range = 3.0;
+    asf::ExplorationSimulator sim(floorPlan(), 0.05, opt);
+    asf::Segmentation a, b;
+    int steps = 0, incremental = 0;
+    while (sim.step()) {
+      asf::GridMap m = sim.map();
+      ASSERT_FALSE(m.changed.empty());
+      asf::GridMap m_whole = m;
+      m_whole.changed = asf::Box2{};
+      a = boxed->segment(m, steps ? &a : nullptr);
+      b = whole->segment(m_whole, steps ? &b : nullptr);
+      ++steps;
+      incremental += a.mode == asf::Segmentation::Mode::Incremental;
+      ASSERT_EQ(a.labels.labels, b.labels.labels) << "step " << steps;
+      ASSERT_EQ(a.regions.size(), b.regions.size()) << "step " << steps;
+      for (std::size_t k = 0; k < a.regions.size(); ++k) ASSERT_EQ(a.regions[k].id, b.regions[k].id);
+      EXPECT_EQ(a.changed_cells, b.changed_cells) << "step " << steps;
+    }
+    EXPECT_GT(steps, 20);
+    EXPECT_EQ(incremental, steps - 1);
+    EXPECT_GE(a.regions.size(), 4u);
+  }
+}
+
 TEST(SegmenterDude, IncrementalOnAFixedMapEqualsBatch) {
   for (const char* variant : {"rooms", "thesis"}) {
     SCOPED_TRACE(variant);
@@ -271,6 +325,56 @@ TEST(SegmenterDude, IncrementalOnAFixedMapEqualsBatch) {
     EXPECT_EQ(b.labels.labels, i3.labels.labels);
     ASSERT_EQ(b.regions.size(), i3.regions.size());
     for (std::size_t k = 0; k < b.regions.size(); ++k) EXPECT_EQ(b.regions[k].id, i3.regions[k].id);
+  }
+}
+
+/// True when a and b group the cells the same way (ids aside).
+bool samePartition(const asf::LabelImage& a, const asf::LabelImage& b) {
+  if (a.labels.size() != b.labels.size()) return false;
+  std::map<asf::RegionId, asf::RegionId> ab, ba;
+  for (std::size_t i = 0; i < a.labels.size(); ++i) {
+    const asf::RegionId x = a.labels[i], y = b.labels[i];
+    if ((x > 0) != (y > 0)) return false;
+    if (x <= 0) continue;
+    if (ab.emplace(x, y).first->second != y) return false;
+    if (ba.emplace(y, x).first->second != x) return false;
+  }
+  return true;
+}
+
+// An obstacle that appears in unknown space changes no free cell, but it can close a gap
+// (gap_closing) and so change the free space DuDe decomposes: the update must see it. A
+// room and a closet (2 m deep: too shallow to be cut off) joined by a 0.2 m gap in their
+// 0.3 m thick shared wall; the cells beside the gap are unknown (a 0.4 m gap between
+// obstacles: it stays open, one region), then become wall (gap_closing = 0.3 m closes the
+// 0.2 m gap: the closet is a component of its own). The incremental
+// result must group the cells as a batch segmentation of the new map does.
+TEST(SegmenterDude, AnObstacleInUnknownSpaceThatClosesAGapIsSeen) {
+  for (const char* variant : {"rooms", "thesis"}) {
+    SCOPED_TRACE(variant);
+    auto g = unknownGrid(10, 6);
+    setBox(*g, 0.4, 0.4, 9.6, 5.6, kWall);
+    setBox(*g, 0.5, 2.8, 9.5, 5.5, kFree);   // room
+    setBox(*g, 4.0, 0.5, 5.5, 2.5, kFree);   // closet
+    setBox(*g, 4.6, 2.5, 4.8, 2.8, kFree);   // the gap
+    setBox(*g, 4.8, 2.5, 5.0, 2.8, 0.5f);    // unknown beside it: the gap stays open
+    auto g2 = std::make_shared<Grid>(*g);
+    setBox(*g2, 4.8, 2.5, 5.0, 2.8, kWall);  // seen: the gap closes
+    auto inc = make({{"variant", variant}, {"gap_closing", "0.3"}});
+    auto batch = make({{"variant", variant}, {"gap_closing", "0.3"}, {"incremental", "false"}});
+    const auto s1 = inc->segment(mapOf(g, 1), nullptr);
+    asf::GridMap m2 = mapOf(g2, 2);
+    m2.changed.extend(4.8, 2.5);
+    m2.changed.extend(5.0, 2.8);
+    const auto s2 = inc->segment(m2, &s1);
+    const auto b2 = batch->segment(mapOf(g2, 1), nullptr);
+    const auto b1 = batch->segment(mapOf(g, 1), nullptr);
+    ASSERT_FALSE(samePartition(b1.labels, b2.labels))
+        << "the case must change the batch result: " << b1.regions.size() << " / " << b2.regions.size();
+    EXPECT_EQ(s2.mode, asf::Segmentation::Mode::Incremental);
+    EXPECT_EQ(s2.changed_cells, 0);  // no free cell changed
+    EXPECT_TRUE(samePartition(s2.labels, b2.labels));
+    checkConsistency(s2, *g2);
   }
 }
 
