@@ -20,6 +20,7 @@
 #include <unordered_map>
 
 #include "region_render.h"
+#include "reveal_map.h"
 
 namespace asf {
 
@@ -576,24 +577,14 @@ struct ExplorationSimulator::State {
   }
 
   void publish(const std::vector<int>& revealed) {
-    auto g = grid ? std::make_shared<Grid>(*grid) : nullptr;  // published grids never change
-    if (!g) {
-      g = std::make_shared<Grid>(0.f, static_cast<float>(W * res), 0.f,
-                                 static_cast<float>(H * res), static_cast<float>(res));
-      g->fill(0.5f);
-    }
     Box2 changed;
     for (int i : revealed) {
       const int c = col(i), cy = H - 1 - row(i);
-      g->setCell(c, cy, known[i] == 0 ? 1.0f : 0.0f);
       changed.extend(c * res, cy * res);
       changed.extend((c + 1) * res, (cy + 1) * res);
     }
-    grid = g;
-    map.grid = g;
-    ++map.version;
-    map.changed = changed;
-    map.rebuilt = false;
+    detail::publishReveal(grid, map, W, H, res, revealed, [&](int i) { return known[i] == 0; },
+                          changed);
   }
 };
 
@@ -680,38 +671,48 @@ double ExplorationSimulator::coverage() const {
   return s_->component_size ? static_cast<double>(s_->component_revealed) / s_->component_size : 0;
 }
 
-IncrementalResult evaluateIncremental(Segmenter& segmenter, const GrayImage& image,
-                                      const LabelRaster& rooms, double resolution,
-                                      const ExplorationOptions& options,
+IncrementalResult evaluateIncremental(Segmenter& segmenter, MapReveal& reveal,
+                                      const LabelRaster& rooms,
                                       const std::function<void(std::size_t, double)>& progress) {
-  ExplorationSimulator sim(image, resolution, options);
   IncrementalResult out;
   bool have_previous = false;
-  while (sim.step()) {
+  while (reveal.step()) {
     const auto t0 = std::chrono::steady_clock::now();
     Segmentation s =
-        segmenter.segment(sim.map(), have_previous ? &out.final_segmentation : nullptr);
+        segmenter.segment(reveal.map(), have_previous ? &out.final_segmentation : nullptr);
     out.update_ms.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     out.final_segmentation = std::move(s);
     have_previous = true;
-    if (progress) progress(out.update_ms.size(), sim.coverage());
+    if (progress) progress(out.update_ms.size(), reveal.coverage());
   }
-  out.final_map = sim.map();
-  out.coverage = sim.coverage();
-  out.path_length_m = sim.pathLength();
+  out.final_map = reveal.map();
+  out.coverage = reveal.coverage();
+  out.path_length_m = reveal.pathLength();
   LabelRaster labels = toRaster(out.final_segmentation.labels);
   if (labels.labels.empty()) {  // no update at all, or a segmenter that labelled nothing
     labels.width = rooms.width;
     labels.height = rooms.height;
     labels.labels.assign(rooms.labels.size(), 0);
   }
-  if (labels.width != image.width || labels.height != image.height)
+  if (labels.width != rooms.width || labels.height != rooms.height)
     throw Error("the segmenter returned a " + std::to_string(labels.width) + " x " +
                 std::to_string(labels.height) + " label image for a " +
-                std::to_string(image.width) + " x " + std::to_string(image.height) + " map");
+                std::to_string(rooms.width) + " x " + std::to_string(rooms.height) + " map");
   out.final_score = scoreSegmentation(labels, rooms);
   return out;
+}
+
+IncrementalResult evaluateIncremental(Segmenter& segmenter, const GrayImage& image,
+                                      const LabelRaster& rooms, double resolution,
+                                      const ExplorationOptions& options,
+                                      const std::function<void(std::size_t, double)>& progress) {
+  if (rooms.width != image.width || rooms.height != image.height)
+    throw Error("evaluateIncremental: the rooms are " + std::to_string(rooms.width) + " x " +
+                std::to_string(rooms.height) + " px, the map " + std::to_string(image.width) +
+                " x " + std::to_string(image.height));
+  ExplorationSimulator sim(image, resolution, options);
+  return evaluateIncremental(segmenter, sim, rooms, progress);
 }
 
 }  // namespace asf

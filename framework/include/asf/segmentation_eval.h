@@ -139,6 +139,22 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map,
 /// midpoint [x, y], width_m, traversals [{forward, time_s}]}]; b = -1 is the unexplored node.
 std::string topologyJson(const TopoGraph& topo);
 
+/// A known map revealed step by step, for timing incremental segmentation
+/// (evaluateIncremental). Deterministic.
+class MapReveal {
+ public:
+  virtual ~MapReveal() = default;
+  /// Publishes the next map and returns true, or returns false (map unchanged) at the end.
+  /// Every published map: unknown cells 0.5, revealed ones 1 (free) / 0 (occupied), version
+  /// + 1, `changed` covering every cell revealed by this step, rebuilt = false.
+  virtual bool step() = 0;
+  virtual const GridMap& map() const = 0;
+  /// Revealed free pixels / free pixels this protocol can reveal.
+  virtual double coverage() const = 0;
+  /// Metres travelled (0 when the protocol has no robot).
+  virtual double pathLength() const { return 0; }
+};
+
 /// Simulated exploration of a known map with perfect localization: a point robot with a
 /// 360-degree range sensor goes to the nearest frontier (a revealed free cell with an unknown
 /// 4-neighbour; BFS over the free cells revealed so far, 8-connected without cutting corners),
@@ -152,7 +168,7 @@ struct ExplorationOptions {
   std::size_t max_scans = 200000;  ///< safety stop
 };
 
-class ExplorationSimulator {
+class ExplorationSimulator final : public MapReveal {
  public:
   /// `image` is the true map (free = pixel >= free_threshold). The start is the free pixel
   /// farthest from any obstacle (first in row-major order on ties) in the largest
@@ -171,13 +187,46 @@ class ExplorationSimulator {
   /// reached. Every scan that returns true publishes a new GridMap: unknown cells 0.5,
   /// revealed ones 1 (free) / 0 (occupied), version + 1, `changed` = box of the cells revealed
   /// by this scan, rebuilt = false.
-  bool step();
-  const GridMap& map() const;
+  bool step() override;
+  const GridMap& map() const override;
   Point2 robot() const;          ///< map frame, centre of the robot's cell
-  double pathLength() const;     ///< m travelled so far
+  double pathLength() const override;  ///< m travelled so far
   std::size_t scans() const;
   /// Revealed free pixels / free pixels of the start's 4-connected free component.
-  double coverage() const;
+  double coverage() const override;
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+};
+
+/// The incremental protocol of the thesis' evaluation (the author's Incremental_DuDe_ROS,
+/// src/evaluation.cpp, read, not copied): disks of `radius_px` pixels are revealed, whatever
+/// walls lie between, at centres stepping `step_px` along rows: centre k = ((step_px * k) mod
+/// width, step_px * floor(step_px * k / width)); the last centre is the first one below the
+/// image. After a disk, a map is published (and segmented) once more than `min_free_px` free
+/// pixels are revealed in all, also when the disk revealed nothing new. At 0.05 m per pixel
+/// the defaults are a 5 m disk every 2.5 m.
+struct RasterDiskOptions {
+  int radius_px = 100;
+  int step_px = 50;
+  std::size_t min_free_px = 160;
+};
+
+class RasterDiskReveal final : public MapReveal {
+ public:
+  /// `image` is the true map (free = pixel >= free_threshold). Throws Error when an option is
+  /// out of range (radius < 0, step < 1) or the resolution is not > 0.
+  RasterDiskReveal(const GrayImage& image, double resolution, const RasterDiskOptions& options = {},
+                   int free_threshold = kBenchmarkFreeThreshold);
+  ~RasterDiskReveal() override;
+  RasterDiskReveal(const RasterDiskReveal&) = delete;
+  RasterDiskReveal& operator=(const RasterDiskReveal&) = delete;
+
+  bool step() override;  ///< `changed`: the disk's box (clipped to the map)
+  const GridMap& map() const override;
+  double coverage() const override;  ///< of all free pixels of the image
+  std::size_t disks() const;         ///< disks revealed so far (published or not)
 
  private:
   struct State;
@@ -193,7 +242,14 @@ struct IncrementalResult {
   double coverage = 0, path_length_m = 0;
 };
 
-/// Runs ExplorationSimulator on `image` and calls `segmenter.segment(map, previous)` after
+/// Calls `segmenter.segment(map, previous)` after every step of `reveal` and scores the last
+/// segmentation against `rooms` (its label image must have the rooms' size). `progress` (may
+/// be empty) is called after every update with the number of updates and the coverage.
+IncrementalResult evaluateIncremental(
+    Segmenter& segmenter, MapReveal& reveal, const LabelRaster& rooms,
+    const std::function<void(std::size_t, double)>& progress = {});
+
+/// The same on an ExplorationSimulator of `image`: calls segment() after
 /// every scan; scores the last segmentation against `rooms`. `progress` (may be empty) is
 /// called after every update with the number of updates and the coverage.
 IncrementalResult evaluateIncremental(

@@ -1,0 +1,114 @@
+// asf::RasterDiskReveal: the thesis' incremental protocol (disks revealed along a raster).
+#include <asf/errors.h>
+#include <asf/segmentation_eval.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <algorithm>
+
+#include "reveal_map.h"
+
+namespace asf {
+
+using Grid = mrpt::maps::COccupancyGridMap2D;
+
+struct RasterDiskReveal::State {
+  RasterDiskOptions opt;
+  int W = 0, H = 0;
+  double res = 0;
+  std::vector<std::uint8_t> truth_free;  // image orientation, 1 = free
+  std::vector<std::uint8_t> known;       // 1 = revealed
+  std::size_t free_total = 0, free_revealed = 0, disks = 0;
+  bool finished = false;
+  std::shared_ptr<Grid> grid;
+  GridMap map;
+
+  /// Reveals the disk centred on pixel (cx, cy); returns the box of the disk on the image
+  /// (empty when it misses the image) and appends the newly revealed pixels.
+  void reveal(int cx, int cy, std::vector<int>& revealed, int box[4]) {
+    const int r = opt.radius_px;
+    const long r2 = static_cast<long>(r) * r;
+    const int y0 = std::max(0, cy - r), y1 = std::min(H - 1, cy + r);
+    const int x0 = std::max(0, cx - r), x1 = std::min(W - 1, cx + r);
+    box[0] = x0, box[1] = y0, box[2] = x1, box[3] = y1;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const long dx = x - cx, dy = y - cy;
+        if (dx * dx + dy * dy > r2) continue;
+        const std::size_t i = static_cast<std::size_t>(y) * W + x;
+        if (known[i]) continue;
+        known[i] = 1;
+        free_revealed += truth_free[i];
+        revealed.push_back(static_cast<int>(i));
+      }
+  }
+
+  void publish(const std::vector<int>& revealed, const int box[4]) {
+    Box2 changed;
+    if (box[0] <= box[2] && box[1] <= box[3]) {  // grid rows run bottom-up
+      changed.extend(box[0] * res, (H - 1 - box[3]) * res);
+      changed.extend((box[2] + 1) * res, (H - box[1]) * res);
+    }
+    detail::publishReveal(grid, map, W, H, res, revealed, [&](int i) { return truth_free[i] != 0; },
+                          changed);
+  }
+};
+
+RasterDiskReveal::RasterDiskReveal(const GrayImage& image, double resolution,
+                                   const RasterDiskOptions& options, int free_threshold)
+    : s_(std::make_unique<State>()) {
+  State& s = *s_;
+  if (!(resolution > 0)) throw Error("RasterDiskReveal: resolution must be > 0");
+  if (options.radius_px < 0) throw Error("RasterDiskReveal: radius_px must be >= 0");
+  if (options.step_px < 1) throw Error("RasterDiskReveal: step_px must be >= 1");
+  s.opt = options;
+  s.W = image.width;
+  s.H = image.height;
+  s.res = resolution;
+  const std::size_t N = static_cast<std::size_t>(s.W) * s.H;
+  s.truth_free.assign(N, 0);
+  s.known.assign(N, 0);
+  for (int r = 0; r < s.H; ++r)
+    for (int c = 0; c < s.W; ++c)
+      if (image.at(c, r) >= free_threshold) {
+        s.truth_free[static_cast<std::size_t>(r) * s.W + c] = 1;
+        ++s.free_total;
+      }
+  s.finished = s.W == 0 || s.H == 0;
+}
+
+RasterDiskReveal::~RasterDiskReveal() = default;
+
+bool RasterDiskReveal::step() {
+  State& s = *s_;
+  // Pixels revealed since the last published map, and the union of their disks' boxes (the
+  // disks that revealed too few free pixels in all were not published).
+  std::vector<int> revealed;
+  int pending[4] = {s.W, s.H, -1, -1};
+  while (!s.finished) {
+    const long along = static_cast<long>(s.opt.step_px) * static_cast<long>(s.disks);
+    const int x = static_cast<int>(along % s.W);
+    const long y = static_cast<long>(s.opt.step_px) * (along / s.W);
+    int box[4];
+    s.reveal(x, static_cast<int>(std::min<long>(y, s.H + s.opt.radius_px + 1)), revealed, box);
+    if (box[0] <= box[2] && box[1] <= box[3]) {
+      pending[0] = std::min(pending[0], box[0]), pending[1] = std::min(pending[1], box[1]);
+      pending[2] = std::max(pending[2], box[2]), pending[3] = std::max(pending[3], box[3]);
+    }
+    ++s.disks;
+    // The author's loop stops after the first centre below the image (x is always inside).
+    if (y > s.H) s.finished = true;
+    if (s.free_revealed > s.opt.min_free_px) {
+      s.publish(revealed, pending);
+      return true;
+    }
+  }
+  return false;
+}
+
+const GridMap& RasterDiskReveal::map() const { return s_->map; }
+double RasterDiskReveal::coverage() const {
+  return s_->free_total ? static_cast<double>(s_->free_revealed) / s_->free_total : 0;
+}
+std::size_t RasterDiskReveal::disks() const { return s_->disks; }
+
+}  // namespace asf
