@@ -215,8 +215,9 @@ struct RasterDiskOptions {
 
 class RasterDiskReveal final : public MapReveal {
  public:
-  /// `image` is the true map (free = pixel >= free_threshold). Throws Error when an option is
-  /// out of range (radius < 0, step < 1) or the resolution is not > 0.
+  /// `image` is the true map (free = pixel >= free_threshold, as everywhere in asf's
+  /// benchmark; the author's code takes > 250). Throws Error when an option is out of range
+  /// (radius < 0, step < 1) or the resolution is not > 0.
   RasterDiskReveal(const GrayImage& image, double resolution, const RasterDiskOptions& options = {},
                    int free_threshold = kBenchmarkFreeThreshold);
   ~RasterDiskReveal() override;
