@@ -398,8 +398,8 @@ int cmdSegmentEval(int argc, char** argv) {
                                       "images <name>_<variant>_labels.png into this folder",
                                       false, "", "DIR", cmd);
   TCLAP::SwitchArg incremental("", "incremental",
-                               "Also time incremental segmentation on a simulated exploration "
-                               "of every plain map",
+                               "Also time incremental segmentation while each map is revealed "
+                               "step by step (--exploration, --incremental-on)",
                                cmd);
   std::vector<std::string> explorations{"frontier", "raster_disks"};
   TCLAP::ValuesConstraint<std::string> exploration_values(explorations);
@@ -461,11 +461,11 @@ int cmdSegmentEval(int argc, char** argv) {
 
   std::vector<MapResult> results;
   std::string error, current;  // current: the map and variant being scored, for errors
+  const std::string protocol = incremental.getValue() ? exploration.getValue() : "";
   auto save = [&] {
     if (!json_out.getValue().empty())
       writeTextAtomically(json_out.getValue(),
-                          reportJson(results, name, setup,
-                                     incremental.getValue() ? exploration.getValue() : "", error).dump(2) + "\n");
+                          reportJson(results, name, setup, protocol, error).dump(2) + "\n");
   };
   auto imagePath = [&](const std::string& map, const std::string& what) {
     return (fs::path(images.getValue()) / (map + "_" + what + ".png")).string();
@@ -535,7 +535,8 @@ int cmdSegmentEval(int argc, char** argv) {
                                      r.inc.final_map,
                                      r.inc.final_segmentation, nullptr, &rooms);
           std::cerr << prefix << " " << variant << " incremental: " << r.inc.update_ms.size()
-                    << " updates, mean " << fmt(meanStd(r.inc.update_ms).mean, 1) << " ms, median " << fmt(percentile(r.inc.update_ms, 50), 1)
+                    << " updates, mean " << fmt(meanStd(r.inc.update_ms).mean, 1)
+                    << " ms, median " << fmt(percentile(r.inc.update_ms, 50), 1)
                     << " ms, p95 " << fmt(percentile(r.inc.update_ms, 95), 1)
                     << " ms; final precision " << fmt(r.inc.final_score.precision)
                     << ", recall " << fmt(r.inc.final_score.recall) << ", "

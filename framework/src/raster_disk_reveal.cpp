@@ -22,14 +22,16 @@ struct RasterDiskReveal::State {
   std::shared_ptr<Grid> grid;
   GridMap map;
 
-  /// Reveals the disk centred on pixel (cx, cy); returns the box of the disk on the image
-  /// (empty when it misses the image) and appends the newly revealed pixels.
-  void reveal(int cx, int cy, std::vector<int>& revealed, int box[4]) {
+  /// Reveals the disk centred on pixel (cx, cy): appends the newly revealed pixels and
+  /// extends `changed` by the map-frame box of the disk's part on the image (if any).
+  void reveal(int cx, int cy, std::vector<int>& revealed, Box2& changed) {
     const int r = opt.radius_px;
     const long r2 = static_cast<long>(r) * r;
     const int y0 = std::max(0, cy - r), y1 = std::min(H - 1, cy + r);
     const int x0 = std::max(0, cx - r), x1 = std::min(W - 1, cx + r);
-    box[0] = x0, box[1] = y0, box[2] = x1, box[3] = y1;
+    if (x0 > x1 || y0 > y1) return;
+    changed.extend(x0 * res, (H - 1 - y1) * res);  // grid rows run bottom-up
+    changed.extend((x1 + 1) * res, (H - y0) * res);
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const long dx = x - cx, dy = y - cy;
@@ -42,15 +44,6 @@ struct RasterDiskReveal::State {
       }
   }
 
-  void publish(const std::vector<int>& revealed, const int box[4]) {
-    Box2 changed;
-    if (box[0] <= box[2] && box[1] <= box[3]) {  // grid rows run bottom-up
-      changed.extend(box[0] * res, (H - 1 - box[3]) * res);
-      changed.extend((box[2] + 1) * res, (H - box[1]) * res);
-    }
-    detail::publishReveal(grid, map, W, H, res, revealed, [&](int i) { return truth_free[i] != 0; },
-                          changed);
-  }
 };
 
 RasterDiskReveal::RasterDiskReveal(const GrayImage& image, double resolution,
@@ -81,24 +74,20 @@ RasterDiskReveal::~RasterDiskReveal() = default;
 bool RasterDiskReveal::step() {
   State& s = *s_;
   // Pixels revealed since the last published map, and the union of their disks' boxes (the
-  // disks that revealed too few free pixels in all were not published).
+  // disks before it may have revealed too few free pixels in all to be published).
   std::vector<int> revealed;
-  int pending[4] = {s.W, s.H, -1, -1};
+  Box2 changed;
   while (!s.finished) {
     const long along = static_cast<long>(s.opt.step_px) * static_cast<long>(s.disks);
     const int x = static_cast<int>(along % s.W);
     const long y = static_cast<long>(s.opt.step_px) * (along / s.W);
-    int box[4];
-    s.reveal(x, static_cast<int>(std::min<long>(y, s.H + s.opt.radius_px + 1)), revealed, box);
-    if (box[0] <= box[2] && box[1] <= box[3]) {
-      pending[0] = std::min(pending[0], box[0]), pending[1] = std::min(pending[1], box[1]);
-      pending[2] = std::max(pending[2], box[2]), pending[3] = std::max(pending[3], box[3]);
-    }
+    s.reveal(x, static_cast<int>(std::min<long>(y, s.H + s.opt.radius_px + 1)), revealed, changed);
     ++s.disks;
     // The author's loop stops after the first centre below the image (x is always inside).
     if (y > s.H) s.finished = true;
     if (s.free_revealed > s.opt.min_free_px) {
-      s.publish(revealed, pending);
+      detail::publishReveal(s.grid, s.map, s.W, s.H, s.res, revealed,
+                            [&](int i) { return s.truth_free[i] != 0; }, changed);
       return true;
     }
   }
