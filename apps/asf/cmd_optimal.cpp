@@ -2,14 +2,19 @@
 // (D, A, E, T or any p <= 1), with the efficiency of traversing every edge once.
 #include <asf/abi.h>
 #include <asf/errors.h>
+#include <asf/graph_drawing.h>
 #include <asf/graph_information.h>
 #include <asf/pose_graph.h>
+#include <asf/pose_graph_information.h>
 #include <tclap/CmdLine.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -23,19 +28,32 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// The pose graph of a g2o file as a multigraph: one node per vertex, one edge per measurement.
-graph::Multigraph fromG2o(const std::string& path) {
-  const PoseGraph pg = readG2o(path);
+// The graph `asf optimal` works on, with node positions for --draw and, for pose graphs, the
+// pose graph and its bounded-noise model.
+struct LoadedGraph {
   graph::Multigraph g;
-  g.n = static_cast<int>(pg.size());
-  for (const auto& e : pg.edges)
-    g.edges.push_back({static_cast<int>(e.from), static_cast<int>(e.to), 1.0});
-  return g;
+  std::vector<Eigen::Vector2d> positions;  // empty: laid out for drawing
+  int line = 0;                            // graph lists: the line read
+  std::optional<PoseGraph> pose_graph;
+  std::optional<BoundedNoise> noise;
+};
+
+// A g2o file (or a run directory's graph.g2o): one node per pose, one edge per measurement,
+// edge information alpha_j from the bounded-noise model unless `unit` (every alpha_j = 1).
+LoadedGraph fromG2o(const std::string& path, bool unit, NoiseReference reference) {
+  LoadedGraph l;
+  l.pose_graph = readG2o(path);
+  const PoseGraph& pg = *l.pose_graph;
+  if (pg.edges.empty()) throw InputError(path + ": the pose graph has no edges");
+  l.noise = boundedNoise(pg, reference);
+  l.g = poseGraphAsMultigraph(pg, unit ? std::vector<double>{} : l.noise->alpha);
+  for (const auto& n : pg.nodes) l.positions.emplace_back(n.pose.x(), n.pose.y());
+  return l;
 }
 
 // The topological graph of a run or of `asf segment --graph` (topology.json): one node per
 // region, one edge per region border; frontier edges and the unexplored node are left out.
-graph::Multigraph fromTopologyJson(const std::string& path) {
+LoadedGraph fromTopologyJson(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot be read");
   nlohmann::json j;
@@ -46,12 +64,21 @@ graph::Multigraph fromTopologyJson(const std::string& path) {
   }
   if (!j.contains("nodes") || !j.contains("edges"))
     throw InputError(path + ": no \"nodes\" and \"edges\" (expected a topology.json)");
-  graph::Multigraph g;
+  LoadedGraph l;
+  graph::Multigraph& g = l.g;
   std::map<long, int> index;
+  bool centroids = true;
   for (const auto& n : j["nodes"]) {
     const long r = n.at("region").get<long>();
-    if (r > 0) index.emplace(r, static_cast<int>(index.size()));
+    if (r <= 0) continue;
+    index.emplace(r, static_cast<int>(index.size()));
+    const auto c = n.find("centroid");
+    if (c != n.end() && c->is_array() && c->size() == 2)
+      l.positions.emplace_back((*c)[0].get<double>(), (*c)[1].get<double>());
+    else
+      centroids = false;
   }
+  if (!centroids) l.positions.clear();
   g.n = static_cast<int>(index.size());
   for (const auto& e : j["edges"]) {
     if (e.value("frontier", false)) continue;
@@ -60,7 +87,7 @@ graph::Multigraph fromTopologyJson(const std::string& path) {
       throw InputError(path + ": edge " + e.dump() + " names a region that is not a node");
     g.edges.push_back({a->second, b->second, 1.0});
   }
-  return g;
+  return l;
 }
 
 std::vector<double> parseCriteria(const std::string& list) {
@@ -73,93 +100,40 @@ std::vector<double> parseCriteria(const std::string& list) {
   return out;
 }
 
-}  // namespace
-
-int cmdOptimal(int argc, char** argv) {
-  TCLAP::CmdLine cmd(
-      "Certified optimal edge weights of a graph (thesis ch. 5): maximizes the normalised "
-      "information ||L(x)||_p (power mean of the n-1 non-zero Laplacian eigenvalues) over the "
-      "simplex sum x = 1, x >= 0, and proves it with a dual upper bound. Prints the optimum "
-      "(= the best information rate), the gap, the weights and the efficiency of traversing "
-      "every edge once (uniform weights). GRAPH is a graph-list file (one graph per line, "
-      "'n m u1-v1 u2-v2 ...', 1-based ids; the first graph, or the one on line --index), a "
-      "g2o file (.g2o: one node per vertex, one edge per measurement) or a topological graph "
-      "(.json, as asf run and asf segment --graph write it: regions and their borders). "
-      "--walks D also searches every traversal of 1..D edges exhaustively (thesis figs. "
-      "5.6-5.10) and --plot draws best information and information rate vs d.",
-      ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> file("graph", "Graph-list or g2o file", true, "",
-                                             "GRAPH", cmd);
-  TCLAP::ValueArg<std::string> criteria(
-      "c", "criteria", "Comma-separated criteria: T, D, A, E or numbers p <= 1", false, "D,A,E",
-      "LIST", cmd);
-  TCLAP::ValueArg<int> index("i", "index", "Line number (1-based) of the graph in a graph list",
-                             false, 0, "K", cmd);
-  TCLAP::ValueArg<double> tolerance(
-      "t", "tolerance", "Target relative gap (default 5e-7 smooth criteria, 5e-6 for E)", false,
-      0.0, "TOL", cmd);
-  TCLAP::SwitchArg json("j", "json",
-                        "Print one JSON object: file, index, n, m, connected, optimum, "
-                        "upper_bound, gap, relative_gap, converged, weights, efficiency.uniform, "
-                        "iterations, time_ms (each keyed by criterion name)",
-                        cmd);
-  TCLAP::ValueArg<int> walks("w", "walks",
-                             "Exhaustive search of every traversal of d = 1..D edges", false, 0,
-                             "D", cmd);
-  std::vector<std::string> kinds{"walk", "closed", "multiset"};
-  TCLAP::ValuesConstraint<std::string> kind_c(kinds);
-  TCLAP::ValueArg<std::string> kind(
-      "", "walk-kind",
-      "walk: edge sequences of walks (figs 5.8-5.10); closed: walks back to their start; "
-      "multiset: any d edges (figs 5.6, 5.7)",
-      false, "walk", &kind_c, cmd);
-  TCLAP::ValueArg<int> start("", "start", "Walks start at this node (1-based; default any)",
-                             false, 0, "NODE", cmd);
-  TCLAP::ValueArg<std::string> plot("p", "plot",
-                                    "SVG of the exhaustive search: information and rate vs d, "
-                                    "with the relaxed optima dashed",
-                                    false, "", "FILE.svg", cmd);
-  cmd.setExceptionHandling(false);
-  cmd.parse(argc, argv);
-  if (plot.isSet() && walks.getValue() <= 0)
-    throw InputError("--plot draws the exhaustive search: give --walks D too");
-
-  const auto ps = parseCriteria(criteria.getValue());
-  const std::string path = file.getValue();
-  graph::Multigraph g;
-  int line = 0;
-  if (endsWith(path, ".g2o")) {
-    if (index.isSet()) throw InputError(path + ": --index applies to graph lists only");
-    g = fromG2o(path);
-  } else if (endsWith(path, ".json")) {
-    if (index.isSet()) throw InputError(path + ": --index applies to graph lists only");
-    g = fromTopologyJson(path);
-  } else {
-    const auto list = graph::readGraphList(path);
-    if (list.empty()) throw InputError(path + ": no graph in the file");
-    const graph::ListedGraph* pick = &list.front();
-    if (index.isSet()) {
-      pick = nullptr;
-      for (const auto& lg : list)
-        if (lg.line == index.getValue()) pick = &lg;
-      if (!pick)
-        throw InputError(path + ":" + std::to_string(index.getValue()) +
-                         ": no graph on that line");
-    }
-    g = pick->graph;
-    line = pick->line;
+LoadedGraph loadGraph(const std::string& path_in, bool has_index, int index, bool unit,
+                      NoiseReference reference) {
+  std::string path = path_in;
+  if (std::filesystem::is_directory(path)) {
+    path = (std::filesystem::path(path) / "graph.g2o").string();
+    if (!std::filesystem::exists(path))
+      throw InputError(path_in + ": a directory without graph.g2o (expected an asf run output)");
   }
+  const bool g2o = endsWith(path, ".g2o"), topo = endsWith(path, ".json");
+  if ((g2o || topo) && has_index) throw InputError(path + ": --index applies to graph lists only");
+  if (g2o) return fromG2o(path, unit, reference);
+  if (topo) return fromTopologyJson(path);
+  const auto list = graph::readGraphList(path);
+  if (list.empty()) throw InputError(path + ": no graph in the file");
+  const graph::ListedGraph* pick = &list.front();
+  if (has_index) {
+    pick = nullptr;
+    for (const auto& lg : list)
+      if (lg.line == index) pick = &lg;
+    if (!pick) throw InputError(path + ":" + std::to_string(index) + ": no graph on that line");
+  }
+  LoadedGraph l;
+  l.g = pick->graph;
+  l.line = pick->line;
+  return l;
+}
 
+// The optimum of each criterion, as text and into j; returns the weights per criterion.
+std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vector<double>& ps,
+                                     double tolerance, nlohmann::json& j, std::ostream& text) {
   graph::DesignOptions opt;
-  opt.tolerance = tolerance.getValue();
+  opt.tolerance = tolerance;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(g.m());
-  nlohmann::json j = {{"file", path},       {"index", line ? nlohmann::json(line) : nullptr},
-                      {"n", g.n},           {"m", g.m()},
-                      {"connected", g.connected()}};
-  std::ostringstream text;
-  text << std::setprecision(8) << path << (line ? ":" + std::to_string(line) : "") << ": " << g.n
-       << " nodes, " << g.m() << " edges, " << (g.connected() ? "connected" : "NOT connected")
-       << "\n";
+  std::vector<Eigen::VectorXd> out;
   for (double p : ps) {
     const std::string name = graph::criterionName(p);
     const graph::OptimalDesign r = graph::optimalDesign(g, p, opt);
@@ -181,48 +155,211 @@ int cmdOptimal(int argc, char** argv) {
          << "  weights:" << std::setprecision(6);
     for (int e = 0; e < r.weights.size(); ++e) text << " " << r.weights[e];
     text << "\n" << std::setprecision(8);
+    out.push_back(r.weights);
   }
-  if (walks.getValue() > 0) {
-    graph::ExhaustiveOptions eo;
-    eo.max_d = walks.getValue();
-    eo.kind = kind.getValue() == "multiset" ? graph::TraversalKind::Multiset
-              : kind.getValue() == "closed" ? graph::TraversalKind::ClosedWalk
-                                            : graph::TraversalKind::Walk;
-    if (start.isSet()) {
-      if (start.getValue() < 1 || start.getValue() > g.n)
-        throw InputError("--start " + std::to_string(start.getValue()) + ": nodes are 1.." +
-                         std::to_string(g.n));
-      eo.start = start.getValue() - 1;
+  return out;
+}
+
+// The bounded-noise model of a pose graph (eqs. 5.52-5.53): Sigma^-1 and the alpha_j.
+void describeNoise(const LoadedGraph& l, bool unit, NoiseReference reference, nlohmann::json& j,
+                   std::ostream& text) {
+  const BoundedNoise& b = *l.noise;
+  std::vector<double> a = b.alpha, sh = b.sharpness;
+  std::sort(a.begin(), a.end());
+  std::sort(sh.begin(), sh.end());
+  const Eigen::Vector3d ref = b.reference.diagonal();
+  j["edge_information"] = {{"model", unit ? "unit" : "bounded"},
+                           {"reference", noiseReferenceName(reference)},
+                           {"sigma_inverse", {ref[0], ref[1], ref[2]}},
+                           {"alpha", b.alpha},
+                           {"alpha_min", a.front()},
+                           {"alpha_median", a[a.size() / 2]},
+                           {"alpha_max", a.back()},
+                           {"sharpness_median", sh[sh.size() / 2]}};
+  text << "edge information: " << (unit ? "unit (every alpha_j = 1)" : "bounded noise (eq. 5.53)")
+       << ", Sigma^-1 = diag(" << ref[0] << ", " << ref[1] << ", " << ref[2] << ") ("
+       << noiseReferenceName(reference) << "); alpha min " << a.front() << " median "
+       << a[a.size() / 2] << " max " << a.back() << "; sharpness median " << sh[sh.size() / 2]
+       << "\n";
+}
+
+// Theorem 5.2.1 and eq. 5.54 on the pose graph: exact information, edge sum, bound.
+void theoremTable(const LoadedGraph& l, const std::vector<double>& ps, nlohmann::json& j,
+                  std::ostream& text) {
+  text << "theorem 5.2.1 / eq. 5.54: ||J^T Omega J||_p (exact), ||sum E_j (x) Sigma_j^-1||_p "
+          "(edge sum), ||L_alpha||_p ||Sigma^-1||_p (bound)\n";
+  for (double p : ps) {
+    const std::string name = graph::criterionName(p);
+    try {
+      const TheoremCheck c = checkTheorem(*l.pose_graph, *l.noise, p);
+      j["theorem"][name] = {{"exact", c.exact}, {"edge_sum", c.edge_sum}, {"bound", c.bound}};
+      text << "  " << name << ": exact " << c.exact << "  edge sum " << c.edge_sum << "  bound "
+           << c.bound << "  (edge sum / bound " << c.edge_sum / c.bound << ", exact / edge sum "
+           << c.exact / c.edge_sum << ")\n";
+    } catch (const InputError& e) {
+      j["theorem"][name] = nullptr;
+      text << "  " << name << ": skipped (" << e.what() << ")\n";
     }
-    eo.criteria = ps;
-    const graph::ExhaustiveResult ex = graph::exhaustiveSearch(g, eo);
-    nlohmann::json jx;
-    jx["kind"] = kind.getValue();
-    jx["d"] = ex.d;
-    jx["candidates"] = ex.candidates;
-    text << "exhaustive search (" << kind.getValue() << "s), best information / rate per d:\n"
-         << std::setprecision(5);
-    for (std::size_t c = 0; c < ex.criteria.size(); ++c) {
-      const std::string name = graph::criterionName(ex.criteria[c]);
-      std::vector<double> info, rate;
-      for (std::size_t i = 0; i < ex.d.size(); ++i) {
-        info.push_back(ex.information(static_cast<int>(i), static_cast<int>(c)));
-        rate.push_back(ex.rate(static_cast<int>(i), static_cast<int>(c)));
-      }
-      jx["information"][name] = info;
-      jx["rate"][name] = rate;
-      text << "  " << name << ":";
-      for (std::size_t i = 0; i < ex.d.size(); ++i)
-        text << "  d=" << ex.d[i] << " " << info[i] << "/" << rate[i];
-      text << "\n";
+  }
+}
+
+void exhaustive(const graph::Multigraph& g, const std::vector<double>& ps, int max_d,
+                const std::string& kind, std::optional<int> start, const std::string& plot,
+                const std::string& title, nlohmann::json& j, std::ostream& text) {
+  graph::ExhaustiveOptions eo;
+  eo.max_d = max_d;
+  eo.kind = kind == "multiset" ? graph::TraversalKind::Multiset
+            : kind == "closed" ? graph::TraversalKind::ClosedWalk
+                               : graph::TraversalKind::Walk;
+  if (start) {
+    if (*start < 1 || *start > g.n)
+      throw InputError("--start " + std::to_string(*start) + ": nodes are 1.." + std::to_string(g.n));
+    eo.start = *start - 1;
+  }
+  eo.criteria = ps;
+  const graph::ExhaustiveResult ex = graph::exhaustiveSearch(g, eo);
+  nlohmann::json jx;
+  jx["kind"] = kind;
+  jx["d"] = ex.d;
+  jx["candidates"] = ex.candidates;
+  text << "exhaustive search (" << kind << "s), best information / rate per d:\n"
+       << std::setprecision(5);
+  for (std::size_t c = 0; c < ex.criteria.size(); ++c) {
+    const std::string name = graph::criterionName(ex.criteria[c]);
+    std::vector<double> info, rate;
+    for (std::size_t i = 0; i < ex.d.size(); ++i) {
+      info.push_back(ex.information(static_cast<int>(i), static_cast<int>(c)));
+      rate.push_back(ex.rate(static_cast<int>(i), static_cast<int>(c)));
     }
-    j["exhaustive"] = jx;
-    if (plot.isSet()) {
-      std::vector<double> optimum;
-      for (double p : ex.criteria) optimum.push_back(j["optimum"][graph::criterionName(p)].get<double>());
-      graph::writeExhaustiveSvg(ex, plot.getValue(), path, optimum);
-      text << "plot: " << plot.getValue() << "\n";
-    }
+    jx["information"][name] = info;
+    jx["rate"][name] = rate;
+    text << "  " << name << ":";
+    for (std::size_t i = 0; i < ex.d.size(); ++i)
+      text << "  d=" << ex.d[i] << " " << info[i] << "/" << rate[i];
+    text << "\n";
+  }
+  j["exhaustive"] = jx;
+  if (!plot.empty()) {
+    std::vector<double> optimum;
+    for (double p : ex.criteria)
+      optimum.push_back(j["optimum"][graph::criterionName(p)].get<double>());
+    graph::writeExhaustiveSvg(ex, plot, title, optimum);
+    text << "plot: " << plot << "\n";
+  }
+}
+
+}  // namespace
+
+int cmdOptimal(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Certified optimal edge weights of a graph (thesis ch. 5): maximizes the normalised "
+      "information ||L(x)||_p (power mean of the n-1 non-zero eigenvalues of L(x) = sum_j "
+      "x_j alpha_j E_j) over the simplex sum x = 1, x >= 0, and proves it with a dual upper "
+      "bound. Prints the optimum (= the best information rate), the gap, the weights and the "
+      "efficiency of traversing every edge once (uniform weights). GRAPH is a graph-list file "
+      "(one graph per line, 'n m u1-v1 u2-v2 ...', 1-based ids; the first graph, or the one "
+      "on line --index; alpha_j = 1), a g2o file (.g2o) or an asf run directory (its "
+      "graph.g2o): one node per pose, one edge per measurement, alpha_j from the edge's "
+      "information by the bounded-noise model (eqs. 5.52-5.54); or a topological graph (.json, "
+      "as asf run and asf segment --graph write it: regions and their borders; alpha_j = 1). "
+      "--theorem compares, on a pose graph, the exact information J^T Omega J with Theorem "
+      "5.2.1's edge sum and the bound of eq. 5.54. --walks D also searches every traversal of "
+      "1..D edges exhaustively (thesis figs. 5.6-5.10) and --plot draws best information and "
+      "information rate vs d. --draw draws the optimal weights on the graph (figs. 5.11-5.13).",
+      ' ', ASF_VERSION_STRING);
+  TCLAP::UnlabeledValueArg<std::string> file("graph", "Graph list, g2o file, run directory or topology.json",
+                                             true, "", "GRAPH", cmd);
+  TCLAP::ValueArg<std::string> criteria(
+      "c", "criteria", "Comma-separated criteria: T, D, A, E or numbers p <= 1", false, "D,A,E",
+      "LIST", cmd);
+  TCLAP::ValueArg<int> index("i", "index", "Line number (1-based) of the graph in a graph list",
+                             false, 0, "K", cmd);
+  TCLAP::ValueArg<double> tolerance(
+      "t", "tolerance", "Target relative gap (default 5e-7 smooth criteria, 5e-6 for E)", false,
+      0.0, "TOL", cmd);
+  TCLAP::SwitchArg json("j", "json",
+                        "Print one JSON object: file, index, n, m, connected, optimum, "
+                        "upper_bound, gap, relative_gap, converged, weights, efficiency.uniform, "
+                        "iterations, time_ms (each keyed by criterion name); pose graphs add "
+                        "edge_information and, with --theorem, theorem",
+                        cmd);
+  std::vector<std::string> models{"bounded", "unit"};
+  TCLAP::ValuesConstraint<std::string> model_c(models);
+  TCLAP::ValueArg<std::string> model(
+      "", "edge-information",
+      "Pose graphs: bounded (alpha_j from each edge's information, eq. 5.53) or unit (every "
+      "alpha_j = 1, as if all edges had the same noise: Corollary 5.2.2)",
+      false, "bounded", &model_c, cmd);
+  std::vector<std::string> refs{"median", "identity"};
+  TCLAP::ValuesConstraint<std::string> ref_c(refs);
+  TCLAP::ValueArg<std::string> reference(
+      "", "noise-reference",
+      "The common Sigma^-1 of eq. 5.52, diag(a, a, c): median (a, c the medians of the edges' "
+      "translation and rotation information) or identity (a = c, eq. 5.55)",
+      false, "median", &ref_c, cmd);
+  TCLAP::SwitchArg theorem("", "theorem",
+                           "Pose graphs: ||.||_p of the exact information, of Theorem 5.2.1's "
+                           "edge sum and of the bound of eq. 5.54 (D at any size, other "
+                           "criteria up to 1000 poses)",
+                           cmd);
+  TCLAP::ValueArg<int> walks("w", "walks",
+                             "Exhaustive search of every traversal of d = 1..D edges", false, 0,
+                             "D", cmd);
+  std::vector<std::string> kinds{"walk", "closed", "multiset"};
+  TCLAP::ValuesConstraint<std::string> kind_c(kinds);
+  TCLAP::ValueArg<std::string> kind(
+      "", "walk-kind",
+      "walk: edge sequences of walks (figs 5.8-5.10); closed: walks back to their start; "
+      "multiset: any d edges (figs 5.6, 5.7)",
+      false, "walk", &kind_c, cmd);
+  TCLAP::ValueArg<int> start("", "start", "Walks start at this node (1-based; default any)",
+                             false, 0, "NODE", cmd);
+  TCLAP::ValueArg<std::string> plot("p", "plot",
+                                    "SVG of the exhaustive search: information and rate vs d, "
+                                    "with the relaxed optima dashed",
+                                    false, "", "FILE.svg", cmd);
+  TCLAP::ValueArg<std::string> draw(
+      "", "draw",
+      "SVG of the optimal weights on the graph, one panel per criterion, edge width "
+      "proportional to the weight (figs. 5.11-5.13); nodes at their poses or region centroids, "
+      "else laid out by stress majorization",
+      false, "", "FILE.svg", cmd);
+  cmd.setExceptionHandling(false);
+  cmd.parse(argc, argv);
+  if (plot.isSet() && walks.getValue() <= 0)
+    throw InputError("--plot draws the exhaustive search: give --walks D too");
+
+  const auto ps = parseCriteria(criteria.getValue());
+  const std::string path = file.getValue();
+  const bool unit = model.getValue() == "unit";
+  const NoiseReference ref = parseNoiseReference(reference.getValue(), "--noise-reference");
+  const LoadedGraph l = loadGraph(path, index.isSet(), index.getValue(), unit, ref);
+  if (theorem.isSet() && !l.pose_graph)
+    throw InputError(path + ": --theorem needs a pose graph (a .g2o file or a run directory)");
+  const graph::Multigraph& g = l.g;
+  const int line = l.line;
+  nlohmann::json j = {{"file", path},       {"index", line ? nlohmann::json(line) : nullptr},
+                      {"n", g.n},           {"m", g.m()},
+                      {"connected", g.connected()}};
+  std::ostringstream text;
+  text << std::setprecision(8) << path << (line ? ":" + std::to_string(line) : "") << ": " << g.n
+       << " nodes, " << g.m() << " edges, " << (g.connected() ? "connected" : "NOT connected")
+       << "\n";
+  if (l.noise) describeNoise(l, unit, ref, j, text);
+  const auto weights = designs(g, ps, tolerance.getValue(), j, text);
+  if (theorem.isSet()) theoremTable(l, ps, j, text);
+  if (walks.getValue() > 0)
+    exhaustive(g, ps, walks.getValue(), kind.getValue(),
+               start.isSet() ? std::optional<int>(start.getValue()) : std::nullopt, plot.getValue(), path,
+               j, text);
+  if (draw.isSet()) {
+    std::vector<graph::WeightPanel> panels;
+    for (std::size_t c = 0; c < ps.size(); ++c)
+      panels.push_back({graph::criterionName(ps[c]) + "-optimal weights", weights[c]});
+    const auto pos = l.positions.empty() ? graph::stressLayout(g) : l.positions;
+    graph::writeWeightsSvg(g, pos, panels, path + (line ? ":" + std::to_string(line) : ""),
+                           draw.getValue());
+    text << "drawing: " << draw.getValue() << "\n";
   }
   if (json.getValue())
     std::cout << j.dump(2) << "\n";

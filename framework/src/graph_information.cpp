@@ -15,6 +15,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 #include <unordered_set>
 
@@ -31,7 +32,15 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void checkEdgeInformation(const Multigraph& g, const char* what) {
+  for (int j = 0; j < g.m(); ++j)
+    if (!(g.edges[j].information > 0) || !std::isfinite(g.edges[j].information))
+      throw InputError(std::string(what) + ": information of edge " + std::to_string(j) +
+                       " is not a positive finite number");
+}
+
 void checkWeights(const Multigraph& g, const VectorXd& x, const char* what) {
+  checkEdgeInformation(g, what);
   if (x.size() != g.m())
     throw InputError(std::string(what) + ": " + std::to_string(x.size()) +
                      " weights for a graph of " + std::to_string(g.m()) + " edges");
@@ -57,6 +66,7 @@ struct Design {
   int N = 0;  // matrix size
   int m = 0;
   std::vector<int> u, v;  // graph mode
+  VectorXd s;             // graph mode: a_j = s_j (e_u - e_v), s_j = sqrt(edge information)
   MatrixXd A;             // dense mode (m x N)
 
   int k() const { return graph ? N - 1 : N; }
@@ -74,7 +84,7 @@ struct Design {
   MatrixXd rows(const MatrixXd& X) const {
     if (!graph) return A * X;
     MatrixXd W(m, X.cols());
-    for (int j = 0; j < m; ++j) W.row(j) = X.row(u[j]) - X.row(v[j]);
+    for (int j = 0; j < m; ++j) W.row(j) = s[j] * (X.row(u[j]) - X.row(v[j]));
     return W;
   }
   // R = [a_j^T X a_l] (X symmetric).
@@ -83,7 +93,7 @@ struct Design {
   MatrixXd quadRows(const MatrixXd& W) const {
     if (!graph) return W * A.transpose();
     MatrixXd R(m, m);
-    for (int l = 0; l < m; ++l) R.col(l) = W.col(u[l]) - W.col(v[l]);
+    for (int l = 0; l < m; ++l) R.col(l) = s[l] * (W.col(u[l]) - W.col(v[l]));
     return R;
   }
   // X sum_j w_j a_j a_j^T (graphs: two columns per edge, O(rows(X) m)).
@@ -92,7 +102,7 @@ struct Design {
     MatrixXd Y = MatrixXd::Zero(X.rows(), N);
     VectorXd c(X.rows());
     for (int j = 0; j < m; ++j) {
-      c = w[j] * (X.col(u[j]) - X.col(v[j]));
+      c = (w[j] * s[j] * s[j]) * (X.col(u[j]) - X.col(v[j]));
       Y.col(u[j]) += c;
       Y.col(v[j]) -= c;
     }
@@ -113,7 +123,7 @@ struct Design {
       return d;
     }
     for (int j = 0; j < m; ++j)
-      d[j] = X(u[j], u[j]) + X(v[j], v[j]) - X(u[j], v[j]) - X(v[j], u[j]);
+      d[j] = s[j] * s[j] * (X(u[j], u[j]) + X(v[j], v[j]) - X(u[j], v[j]) - X(v[j], u[j]));
     return d;
   }
   // sum_j w_j a_j a_j^T.
@@ -121,10 +131,11 @@ struct Design {
     if (!graph) return A.transpose() * w.asDiagonal() * A;
     MatrixXd L = MatrixXd::Zero(N, N);
     for (int j = 0; j < m; ++j) {
-      L(u[j], u[j]) += w[j];
-      L(v[j], v[j]) += w[j];
-      L(u[j], v[j]) -= w[j];
-      L(v[j], u[j]) -= w[j];
+      const double wj = w[j] * s[j] * s[j];
+      L(u[j], u[j]) += wj;
+      L(v[j], v[j]) += wj;
+      L(u[j], v[j]) -= wj;
+      L(v[j], u[j]) -= wj;
     }
     return L;
   }
@@ -152,6 +163,8 @@ Design graphDesign(const Multigraph& g, std::vector<int>& kept) {
     d.v.push_back(g.edges[j].v);
   }
   d.m = static_cast<int>(kept.size());
+  d.s.resize(d.m);
+  for (int a = 0; a < d.m; ++a) d.s[a] = std::sqrt(g.edges[kept[a]].information);
   return d;
 }
 
@@ -716,10 +729,11 @@ MatrixXd laplacian(const Multigraph& g, const VectorXd& x) {
   for (int j = 0; j < g.m(); ++j) {
     const auto& e = g.edges[j];
     if (e.u == e.v) continue;
-    L(e.u, e.u) += x[j];
-    L(e.v, e.v) += x[j];
-    L(e.u, e.v) -= x[j];
-    L(e.v, e.u) -= x[j];
+    const double w = x[j] * e.information;
+    L(e.u, e.u) += w;
+    L(e.v, e.v) += w;
+    L(e.u, e.v) -= w;
+    L(e.v, e.u) -= w;
   }
   return L;
 }
@@ -798,9 +812,61 @@ double efficiency(const Multigraph& g, const VectorXd& counts, double p, double 
   return information(g, counts, p).rate / optimum;
 }
 
+namespace {
+
+// Parallel edges add information only through sum_j x_j alpha_j over the pair, so on the
+// simplex a pair's weight is best spent on its most informative edge(s): the optimum is found
+// on one edge per node pair (the largest alpha) and shared equally among that pair's ties.
+// Without this, the Newton steps move weight along directions of zero curvature.
+struct ParallelReduction {
+  Multigraph reduced;
+  std::vector<std::vector<int>> ties;  // reduced edge -> original edges sharing its weight
+};
+
+ParallelReduction reduceParallelEdges(const Multigraph& g) {
+  ParallelReduction r;
+  r.reduced.n = g.n;
+  std::map<std::pair<int, int>, int> pair_index;
+  for (int j = 0; j < g.m(); ++j) {
+    const auto& e = g.edges[j];
+    if (e.u == e.v) continue;
+    const auto key = std::minmax(e.u, e.v);
+    const auto [it, added] = pair_index.emplace(key, r.reduced.m());
+    if (added) {
+      r.reduced.edges.push_back(e);
+      r.ties.push_back({j});
+      continue;
+    }
+    Edge& rep = r.reduced.edges[it->second];
+    auto& tie = r.ties[it->second];
+    if (e.information > rep.information * (1 + 1e-12)) {
+      rep = e;
+      tie = {j};
+    } else if (e.information >= rep.information * (1 - 1e-12)) {
+      tie.push_back(j);
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
 OptimalDesign optimalDesign(const Multigraph& g, double p, const DesignOptions& opt) {
   if (std::isnan(p) || p > 1) throw InputError("optimal design: criterion p must be <= 1");
   const auto t0 = std::chrono::steady_clock::now();
+  checkEdgeInformation(g, "optimal design");
+  {
+    ParallelReduction pr = reduceParallelEdges(g);
+    if (pr.reduced.m() < g.m()) {
+      OptimalDesign r = optimalDesign(pr.reduced, p, opt);
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(g.m());
+      for (int a = 0; a < pr.reduced.m(); ++a)
+        for (int j : pr.ties[a]) w[j] = r.weights[a] / pr.ties[a].size();
+      r.weights = w;
+      r.time_ms = msSince(t0);
+      return r;
+    }
+  }
   OptimalDesign r;
   r.p = p;
   std::vector<int> kept;
@@ -817,7 +883,16 @@ OptimalDesign optimalDesign(const Multigraph& g, double p, const DesignOptions& 
   const double tol = opt.tolerance > 0 ? opt.tolerance : (isE ? 5e-6 : 5e-7);
   const int k = g.n - 1;
   if (p == 1.0) {
-    r.value = r.upper_bound = 2.0 / k;
+    // T = trace(L(x)) / k = 2 sum_j x_j alpha_j / k: linear, so the optimum puts all weight
+    // on the most informative edges (shared equally among ties).
+    double best = 0;
+    for (int j : kept) best = std::max(best, g.edges[j].information);
+    std::vector<int> top;
+    for (int j : kept)
+      if (g.edges[j].information >= best * (1 - 1e-12)) top.push_back(j);
+    r.weights.setZero();
+    for (int j : top) r.weights[j] = 1.0 / top.size();
+    r.value = r.upper_bound = 2.0 * best / k;
   } else if (isE) {
     const EResult e = solveE(D, tol, opt.max_iterations);
     for (std::size_t a = 0; a < kept.size(); ++a) r.weights[kept[a]] = e.x[a];
@@ -888,7 +963,12 @@ double certificateBound(const Multigraph& g, const VectorXd& x, double p, double
   for (int a = 0; a < D.m; ++a) y[a] = x[kept[a]];
   y /= y.sum();
   const int k = g.n - 1;
-  if (p == 1.0) return 2.0 / k;
+  if (p == 1.0) {
+    double best = 0;
+    for (const auto& e : g.edges)
+      if (e.u != e.v) best = std::max(best, e.information);
+    return 2.0 * best / k;
+  }
   if (p != kCriterionE) {
     const SmoothEval ev = evalSmooth(D, y, p, true);
     if (!ev.ok) return 0;

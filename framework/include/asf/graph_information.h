@@ -4,13 +4,16 @@
 ///
 /// Conventions (the thesis', eq. 5.57 and 5.61):
 /// - Edge j = (u, v) of a Multigraph has E_j = (e_u - e_v)(e_u - e_v)^T; the weighted
-///   Laplacian is L(x) = sum_j x_j E_j. Self-loops contribute nothing; parallel edges add.
+///   Laplacian is L(x) = sum_j x_j alpha_j E_j, alpha_j = Edge::information (1 unless the
+///   edges carry different information: the bounded-noise model, eq. 5.53, see
+///   pose_graph_information.h). Self-loops contribute nothing; parallel edges add.
 /// - mu_2 <= ... <= mu_n are the n-1 eigenvalues of L(x) on the subspace orthogonal to the
 ///   all-ones vector (the "non-zero" eigenvalues when the support of x is connected).
 /// - ||L||_p is their *normalised* power mean: ((1/(n-1)) sum mu_i^p)^(1/p) for p != 0,
 ///   (prod mu_i)^(1/(n-1)) for p = 0, mu_2 for p = -inf. p = 1 is T (mean degree / ...),
 ///   0 is D (spanning trees), -1 is A (Kirchhoff index), -inf is E (algebraic connectivity).
-///   So ||L||_p <= 2 sum(x) / (n-1) for every p <= 1, with equality for K_n and uniform x.
+///   So ||L||_p <= 2 sum(x alpha) / (n-1) for every p <= 1, with equality for K_n and uniform x
+///   and alpha.
 /// - The information rate of x is ||L(x)||_p / sum(x) (scale invariant); the optimum of a
 ///   criterion is the maximum of ||L(x)||_p over the simplex sum x = 1, x >= 0, which is also
 ///   the best information rate; the efficiency of a walk is its rate divided by the optimum.
@@ -71,7 +74,9 @@ struct OptimalDesign {
   double upper_bound = 0;     ///< from the dual certificate: optimum <= upper_bound
   double gap = 0;             ///< upper_bound - value >= 0
   double relative_gap = 0;    ///< gap / upper_bound (0 when upper_bound = 0)
-  Eigen::VectorXd weights;    ///< x on the simplex (self-loops get 0)
+  /// x on the simplex. Self-loops get 0; of parallel edges only those of the pair's largest
+  /// information get weight (equal shares): the pair's information is sum x_j alpha_j.
+  Eigen::VectorXd weights;
   /// E only: the dual matrix W (n x n, PSD, W 1 = 0, trace 1) with upper_bound =
   /// max_j <W, E_j>. Empty for the other criteria, whose certificate is the gradient:
   /// upper_bound = value * max_j g_j / sum_j x_j g_j, g_j = a_j^T L^(p-1) a_j.
@@ -96,7 +101,8 @@ struct DesignOptions {
 /// equivalence theorem, a Hoelder inequality between ||.||_p and its polar). E: primal-dual
 /// interior point method (HKM direction, Mehrotra predictor-corrector) on the SDP
 /// max t s.t. L(x) >= t (I - 11^T/n), sum x = 1, x >= 0, whose dual gives W.
-/// p = 1 is constant on the simplex (2/(n-1)): uniform weights are returned.
+/// p = 1 is linear on the simplex (2 sum x_j alpha_j / (n-1)): all weight goes to the edges
+/// of largest information (uniform weights when every alpha_j = 1).
 /// A graph with fewer than 2 nodes, no non-loop edge or not connected: connected = false,
 /// value = upper_bound = 0, uniform weights over the non-loop edges. Throws InputError for
 /// p > 1 or NaN. Deterministic.

@@ -12,6 +12,10 @@ namespace asf::graph {
 struct Edge {
   int u = 0, v = 0;
   double length = 1;  ///< traversal cost (metres, or 1 for unweighted graphs)
+  /// Information one traversal adds, relative to a common Sigma^-1: the alpha_j of the
+  /// thesis' bounded-noise model (eq. 5.53), so that L_w = sum_j alpha_j E_j. 1 for graphs
+  /// whose edges all carry the same information (Corollary 5.2.2). Must be > 0 and finite.
+  double information = 1;
 };
 
 struct Multigraph {
