@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <sstream>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -106,4 +107,68 @@ TEST(Host, ConformanceByNameAndByFile) {
   r = asf("conformance nosuchplugin");
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(has(r.out, "unknown plugin 'nosuchplugin'; available:")) << r.out;
+}
+
+namespace {
+
+// The value of `key = value` in an INI's text ("" if absent).
+std::string iniValue(const std::string& text, const std::string& key) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto eq = line.find('=');
+    if (line.empty() || line[0] == ';' || eq == std::string::npos) continue;
+    std::string k = line.substr(0, eq);
+    k.erase(k.find_last_not_of(" \t") + 1);
+    if (k != key) continue;
+    std::string v = line.substr(eq + 1);
+    v.erase(0, v.find_first_not_of(" \t"));
+    return v;
+  }
+  return "";
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep)) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Every shipped configuration is valid as shipped: pipeline INIs pass `asf config` (unknown
+// keys, bad values and missing plugins are errors there), and each experiment INI's pipeline
+// does with every policy it names and its overrides applied.
+TEST(Host, ShippedConfigsAreValid) {
+  const fs::path dir = fs::path(ASF_TEST_SOURCE_DIR) / "configs";
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".ini") continue;
+    std::ifstream in(entry.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    SCOPED_TRACE(entry.path().string());
+    if (has(text, "[plan_eval]")) continue;  // checked by test_plan_eval
+    if (!has(text, "[experiment]")) {
+      const auto r = asf("config " + entry.path().string());
+      EXPECT_EQ(r.code, 0) << r.out;
+      ++checked;
+      continue;
+    }
+    const fs::path pipeline = dir / iniValue(text, "pipeline");
+    ASSERT_TRUE(fs::exists(pipeline)) << pipeline;
+    std::string sets;
+    for (const auto& o : split(iniValue(text, "overrides"), ';')) sets += " --set " + o;
+    for (const auto& policy : split(iniValue(text, "policies"), ',')) {
+      const auto r = asf("config " + pipeline.string() + " --set pipeline.policy=" + policy + sets);
+      EXPECT_EQ(r.code, 0) << policy << ": " << r.out;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 10);
 }
