@@ -40,6 +40,8 @@ double parseCriterion(const std::string& text);
 /// "T", "D", "A", "E" for those orders, else "p=<value>".
 std::string criterionName(double p);
 
+/// True when the edges with x_j > 0 (self-loops aside) connect all n >= 2 nodes.
+bool supportConnected(const Multigraph& g, const Eigen::VectorXd& x);
 /// Dense n x n weighted Laplacian. x has one entry per edge (size checked: InputError).
 Eigen::MatrixXd laplacian(const Multigraph& g, const Eigen::VectorXd& x);
 /// The n-1 eigenvalues of L(x) on the complement of the all-ones vector, ascending.
