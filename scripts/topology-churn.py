@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """How much an exploration run's topological graph changes once the map is complete: per run,
-the distance driven, the distance at 99 % coverage, how often the number of regions changes
-after that, the final graph's edges and their traversals; then means +- std over the runs and
+the distance driven, the distance at which coverage reached 99 % of the run's final coverage
+(the map is complete), how often the number of regions changes after that, the final graph's edges and their traversals; then means +- std over the runs and
 the correlation between the changes and the distance driven after 99 % coverage.
 
 Usage: scripts/topology-churn.py RUN_DIR [RUN_DIR ...]   (folders written by asf run)
@@ -14,9 +14,10 @@ import sys
 
 def churn(run, complete=0.99):
     with open(f"{run}/timeseries.csv") as f:
-        rows = list(csv.DictReader(f))
+        rows = [r for r in csv.DictReader(f) if r["coverage"]]
     total = float(rows[-1]["distance_m"])
-    after = [r for r in rows if float(r["coverage"]) >= complete]
+    final = float(rows[-1]["coverage"])
+    after = [r for r in rows if float(r["coverage"]) >= complete * final]
     at = float(after[0]["distance_m"]) if after else float("nan")
     regions = [int(r["regions"]) for r in after]
     changes = sum(1 for a, b in zip(regions, regions[1:]) if a != b)
@@ -35,13 +36,13 @@ def main(runs):
     for run in runs:
         r = churn(run)
         rows.append(r)
-        print(f"{run}: {r['distance']:.1f} m, 99 % coverage at {r['at_complete']:.1f} m, "
+        print(f"{run}: {r['distance']:.1f} m, complete at {r['at_complete']:.1f} m, "
               f"{r['changes']} region-count changes after it, {r['edges']} edges, "
               f"{r['traversals']} traversals")
     def ms(k):
         v = [r[k] for r in rows]
         return f"{st.mean(v):.1f} +- {st.pstdev(v):.1f}"
-    print(f"{len(rows)} runs: distance {ms('distance')} m, 99 % coverage at {ms('at_complete')} m, "
+    print(f"{len(rows)} runs: distance {ms('distance')} m, complete at {ms('at_complete')} m, "
           f"changes {ms('changes')}, edges {ms('edges')}, traversals {ms('traversals')}")
     if len(rows) > 2:
         x = [r["changes"] for r in rows]
@@ -50,7 +51,7 @@ def main(runs):
         den = (sum((a - mx) ** 2 for a in x) * sum((b - my) ** 2 for b in y)) ** 0.5
         if den > 0:
             r = sum((a - mx) * (b - my) for a, b in zip(x, y)) / den
-            print(f"Pearson r (changes, distance after 99 % coverage) = {r:.2f}")
+            print(f"Pearson r (changes, distance after the map is complete) = {r:.2f}")
 
 
 if __name__ == "__main__":

@@ -98,6 +98,29 @@ TEST(Host, RunWritesResultsAndSaysWhere) {
   fs::remove_all(out);
 }
 
+// [pipeline] snapshot_distances (thesis fig. 6.1): the map, regions and graph as they stood
+// when the robot had driven each distance; one not reached writes nothing; a bad list is a
+// configuration error naming the key.
+TEST(Host, RunWritesSnapshotsAtTheDistancesAsked) {
+  const fs::path out = fs::temp_directory_path() / "asf_host_snapshots";
+  fs::remove_all(out);
+  const std::string run = "run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " +
+                          out.string() + " --set pipeline.max_steps=200 -v WARN";
+  auto r = asf(run + " --set pipeline.snapshot_distances=2.5,0.5,1000");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* d : {"0.5", "2.5"})
+    for (const char* f : {"map.png", "regions.png", "topology.svg"})
+      EXPECT_TRUE(fs::exists(out / "snapshots" / ("at_" + std::string(d) + "m_" + f))) << d << f;
+  EXPECT_FALSE(fs::exists(out / "snapshots" / "at_1000m_map.png"));
+  // The two snapshots differ: the map grew in between.
+  EXPECT_NE(fs::file_size(out / "snapshots/at_0.5m_map.png"),
+            fs::file_size(out / "snapshots/at_2.5m_map.png"));
+  r = asf(run + " --set pipeline.snapshot_distances=2,x");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(has(r.out, "snapshot_distances")) << r.out;
+  fs::remove_all(out);
+}
+
 TEST(Host, ConformanceByNameAndByFile) {
   auto r = asf("conformance waypoints --gtest_brief=1");
   EXPECT_EQ(r.code, 0) << r.out;

@@ -53,6 +53,10 @@ const KeySpec kPipelineKeys[] = {
             "Grid the policy, navigation, segmenter and coverage use: the 2D scans' ([map]), "
             "the 3D map's projection, or both merged (an obstacle in either is one)"),
     keyDouble("progress_interval", "2.0", "Seconds between progress lines (0: none)", 0),
+    keyDoubleList("snapshot_distances", "",
+                  "Distances driven [m] at which the map, its regions and the topological graph "
+                  "are saved to snapshots/ (thesis fig. 6.1; empty: none)",
+                  0),
     keyEnum("verbosity", "INFO", "DEBUG|INFO|WARN|ERROR", "Log level of the host and plugins"),
 };
 
@@ -489,6 +493,9 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
   const long segment_every = static_cast<long>(P.getInt("segment_every"));
   const int max_failed = static_cast<int>(P.getInt("max_failed_goals"));
   const double progress_interval = P.getDouble("progress_interval");
+  std::vector<double> snapshots = P.getDoubleList("snapshot_distances");
+  std::sort(snapshots.begin(), snapshots.end());
+  std::size_t next_snapshot = 0;
   const bool exploring = m.policy && m.source->isActive();
 
   std::optional<mrpt::poses::CPose2D> gt0, last_truth;
@@ -681,6 +688,9 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       m.path.push_back(est);
       rec.step({sum.steps, frame->timestamp - t0, est, truth, m.graph.size(),
                 m.graph.edges.size(), sum.distance_m});
+      for (; next_snapshot < snapshots.size() && sum.distance_m >= snapshots[next_snapshot];
+           ++next_snapshot)
+        rec.snapshot(snapshots[next_snapshot], m.graph, m.navMap(), m.seg, m.topo.graph(), m.path);
       if (map_changed) seriesRow(truth ? std::hypot(truth->x() - est.x(), truth->y() - est.y()) : -1);
       progress(false);
     }

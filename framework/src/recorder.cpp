@@ -7,7 +7,9 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <iomanip>
 #include <sstream>
 #include <nlohmann/json.hpp>
@@ -136,6 +138,47 @@ void Recorder::decision(long step, double time, const Decision& d, NavStatus pre
   decisions_.flush();
 }
 
+void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph,
+                             const GridMap& map, const Segmentation& seg, const TopoGraph& topo,
+                             const std::vector<mrpt::poses::CPose2D>& path) {
+  if (!map.grid) return;
+  MapImage m = renderGrid(*map.grid);
+  auto drawPath = [&](MapImage& img) {
+    for (std::size_t i = 1; i < path.size(); ++i)
+      cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()),
+               img.px(path[i].x(), path[i].y()), {200, 80, 0}, 1, cv::LINE_AA);
+  };
+  if (!seg.labels.labels.empty()) {
+    MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
+    render::drawRegions(regions, seg.labels);
+    // topology.svg: the regions as the background, graph and trajectory as vectors.
+    std::vector<Point2> pts;
+    pts.reserve(path.size());
+    for (const auto& p : path) pts.push_back({p.x(), p.y()});
+    writeAtomically(prefix + "topology.svg", render::topologySvg(regions, regions.img, topo, pts));
+    drawPath(regions);
+    render::drawTopology(regions, topo);
+    if (!cv::imwrite(prefix + "regions.png", regions.img))
+      throw Error(prefix + "regions.png: cannot write");
+  }
+  drawPath(m);
+  for (const auto& n : graph.nodes) cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
+  if (!cv::imwrite(prefix + "map.png", m.img)) throw Error(prefix + "map.png: cannot write");
+}
+
+void Recorder::snapshot(double distance, const PoseGraph& graph, const GridMap& map,
+                        const Segmentation& seg, const TopoGraph& topo,
+                        const std::vector<mrpt::poses::CPose2D>& path) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/snapshots/at_%gm_", distance);
+  try {
+    std::filesystem::create_directories(dir_ + "/snapshots");
+    writeMapViews(dir_ + name, graph, map, seg, topo, path);
+  } catch (const std::exception& e) {
+    std::cerr << "asf run: snapshot at " << distance << " m not written: " << e.what() << "\n";
+  }
+}
+
 void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmentation& seg,
                       const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
                       const RunSummary& summary, std::string& error) {
@@ -150,30 +193,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
       os << n.timestamp << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi() << '\n';
     writeAtomically(dir_ + "/keyframes.txt", os.str());
   });
-  attempt("map.png", [&] {
-    if (!map.grid) return;
-    MapImage m = renderGrid(*map.grid);
-    auto drawPath = [&](MapImage& img) {
-      for (std::size_t i = 1; i < path.size(); ++i)
-        cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()),
-                 img.px(path[i].x(), path[i].y()), {200, 80, 0}, 1, cv::LINE_AA);
-    };
-    if (!seg.labels.labels.empty()) {
-      MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
-      render::drawRegions(regions, seg.labels);
-      // topology.svg: the regions as the background, graph and trajectory as vectors.
-      std::vector<Point2> pts;
-      pts.reserve(path.size());
-      for (const auto& p : path) pts.push_back({p.x(), p.y()});
-      writeAtomically(dir_ + "/topology.svg", render::topologySvg(regions, regions.img, topo, pts));
-      drawPath(regions);
-      render::drawTopology(regions, topo);
-      if (!cv::imwrite(dir_ + "/regions.png", regions.img)) throw Error("cannot write");
-    }
-    drawPath(m);
-    for (const auto& n : graph.nodes) cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
-    if (!cv::imwrite(dir_ + "/map.png", m.img)) throw Error("cannot write");
-  });
+  attempt("map.png", [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;

@@ -57,6 +57,11 @@ class Recorder {
   void finish(const PoseGraph& graph, const GridMap& map, const Segmentation& seg,
               const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
               const RunSummary& summary, std::string& error);
+  /// snapshots/at_<d>m_{map.png, regions.png, topology.svg}: the run as it stands after d
+  /// metres ([pipeline] snapshot_distances). Never throws: a failure is logged to stderr.
+  void snapshot(double distance, const PoseGraph& graph, const GridMap& map,
+                const Segmentation& seg, const TopoGraph& topo,
+                const std::vector<mrpt::poses::CPose2D>& path);
   /// [pipeline] map3d: map3d.bt, map3d.ot, map3d_grid.png (the projection) and map3d.json
   /// (parameters, statistics, counts, timings). Never throws.
   struct Map3dInfo {
@@ -69,6 +74,11 @@ class Recorder {
                    const Map3dInfo& info, std::string& error);
 
  private:
+  /// PREFIXmap.png (map, trajectory, keyframes), PREFIXregions.png and PREFIXtopology.svg
+  /// (regions, graph, trajectory; only with a segmentation). Throws on a write failure.
+  void writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
+                     const Segmentation& seg, const TopoGraph& topo,
+                     const std::vector<mrpt::poses::CPose2D>& path);
   std::string dir_;
   std::ofstream traj_, decisions_, series_;
   std::map<std::string, std::string> slots_;
