@@ -469,7 +469,7 @@ SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivat
                       bool gradient_only = false) {
   SmoothEval r;
   derivatives = derivatives || gradient_only;
-  const int N = D.N, k = D.k(), m = D.m;
+  const int k = D.k(), m = D.m;
   MatrixXd L = D.sumOuter(x);
   if (p == 0.0 || p == -1.0) {
     MatrixXd Lp = L;
