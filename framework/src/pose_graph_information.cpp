@@ -223,6 +223,11 @@ TheoremCheck checkTheorem(const PoseGraph& g, const BoundedNoise& b, double p,
   c.p = p;
   // A graph that does not connect every pose has zero information under every criterion.
   if (!poseGraphAsMultigraph(g, {}).connected()) return c;
+  if (p != graph::kCriterionD && 3 * g.size() > max_dense)
+    throw InputError("checkTheorem: criterion " + graph::criterionName(p) + " needs a dense " +
+                     std::to_string(3 * g.size()) + "x" + std::to_string(3 * g.size()) +
+                     " eigen-decomposition (limit " + std::to_string(max_dense) +
+                     "); only D is computed at any size");
   const Eigen::SparseMatrix<double> exact = fisherInformation(g);
   const Eigen::SparseMatrix<double> sum = edgeSumInformation(g);
   if (p == graph::kCriterionD) {
@@ -236,11 +241,6 @@ TheoremCheck checkTheorem(const PoseGraph& g, const BoundedNoise& b, double p,
     c.bound = dOptimality(boundInformation(g, b), K);
     return c;
   }
-  if (3 * g.size() > max_dense)
-    throw InputError("checkTheorem: criterion " + graph::criterionName(p) + " needs a dense " +
-                     std::to_string(3 * g.size()) + "x" + std::to_string(3 * g.size()) +
-                     " eigen-decomposition (limit " + std::to_string(max_dense) +
-                     "); only D is computed at any size");
   const graph::Multigraph m = poseGraphAsMultigraph(g, b.alpha);
   c.bound = graph::information(m, Eigen::VectorXd::Ones(m.m()), p).value *
             graph::powerMean(b.reference.diagonal(), p);
