@@ -98,6 +98,20 @@ TEST(Host, RunWritesResultsAndSaysWhere) {
   fs::remove_all(out);
 }
 
+// An asf::Error thrown inside a plugin reaches the host's error message intact: the
+// registry unloads the plugin while the exception unwinds, and the exception's vtable and type
+// information must not live in the unloaded file (they used to: SIGSEGV, empty message).
+TEST(Host, AnErrorThrownInsideAPluginIsPrinted) {
+  const fs::path out = fs::temp_directory_path() / "asf_host_plugin_error";
+  fs::remove_all(out);
+  const auto r = asf("run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " +
+                     out.string() + " --set dense_gn.max_nodes=10 -v WARN");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, "exceeds max_nodes = 10")) << r.out;
+  EXPECT_TRUE(fs::exists(out / "config.ini")) << "what the run wrote before the error is kept";
+  fs::remove_all(out);
+}
+
 // [pipeline] snapshot_distances (thesis fig. 6.1): the map, regions and graph as they stood
 // when the robot had driven each distance; one not reached writes nothing; a bad list is a
 // configuration error naming the key.
