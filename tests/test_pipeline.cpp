@@ -1,6 +1,8 @@
 // The pipeline end to end with the reference plugins: configuration errors, outputs of a
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
+#include <asf/occupancy_io.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <asf/pipeline.h>
 #include <asf/trajectory_eval.h>
 #include <gtest/gtest.h>
@@ -142,6 +144,12 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
     EXPECT_NEAR(kf[i].pose.x(), g.nodes[i].pose.x(), 1e-5) << "keyframe " << i;
   const auto topo = readJson(out / "topology.json");
   EXPECT_GE(topo["nodes"].size(), 2u) << "regions + the unexplored node";
+  // The bare grid in its frame: every keyframe stands on a free cell of occupancy.yaml.
+  const asf::GridMap occ = asf::readOccupancyMap((out / "occupancy.yaml").string());
+  ASSERT_TRUE(occ.grid);
+  for (const auto& n : g.nodes)
+    EXPECT_GT(occ.grid->getPos(n.pose.x(), n.pose.y()), 0.5)
+        << "node at (" << n.pose.x() << ", " << n.pose.y() << ") not on a free cell";
 
   // Same seed, same run: deterministic to the last digit.
   const fs::path out2 = tempDir("default2");

@@ -5,6 +5,7 @@
 #include <asf/place_recognition.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <cmath>
@@ -87,6 +88,45 @@ TEST(PlaceRecognition, SeededPerNodeAndDegenerateCases) {
   noscan.nodes[1].scan.reset();
   EXPECT_EQ(asf::recognitionProbability(noscan, 1, o), 0.0);
   EXPECT_EQ(asf::recognitionProbability(r, 999, o), 0.0);
+}
+
+TEST(PlaceRecognition, TrialHoldsTheSamplesBehindTheProbability) {
+  asf::RecognitionMcOptions o;
+  o.samples = 16;
+  const asf::PoseGraph c = corridor();
+  const asf::RecognitionTrial t = asf::recognitionTrial(c, 6, o);
+  EXPECT_EQ(t.p, asf::recognitionProbability(c, 6, o)) << "the same draws";
+  ASSERT_EQ(t.samples.size(), 16u);
+  std::size_t ok = 0;
+  for (const auto& s : t.samples) {
+    ok += s.success;
+    // Every guess inside the window around the node; a success within the thresholds.
+    const auto& n = c.nodes[6].pose;
+    if (s.aligned) {
+      EXPECT_LE(std::abs(s.guess.x() - n.x()), o.half_x + 1e-12);
+      EXPECT_LE(std::abs(s.guess.y() - n.y()), o.half_y + 1e-12);
+      EXPECT_LE(std::abs(s.guess.phi() - n.phi()), o.half_phi + 1e-12);
+    }
+    const double dxy = std::hypot(s.result.x() - n.x(), s.result.y() - n.y());
+    EXPECT_EQ(s.success, dxy <= o.success_xy &&
+                             std::abs(mrpt::math::wrapToPi(s.result.phi() - n.phi())) <=
+                                 o.success_phi);
+  }
+  EXPECT_DOUBLE_EQ(t.p, static_cast<double>(ok) / 16);
+  EXPECT_FALSE(t.map_points.empty());
+  EXPECT_FALSE(t.scan_points.empty());
+  // The figure: one dot per sample in the error panel, the title, the probability.
+  const std::string svg = asf::recognitionScatterSvg(t, c.nodes[6], o, "corridor node 6");
+  EXPECT_NE(svg.find("corridor node 6"), std::string::npos);
+  EXPECT_NE(svg.find("p_recognition = " + std::to_string(ok) + " / 16"), std::string::npos);
+  std::size_t dots = 0;
+  for (std::size_t at = 0; (at = svg.find("r='3'", at)) != std::string::npos; ++at) ++dots;
+  EXPECT_EQ(dots, 16u);
+  // Thread count does not change the values.
+  const auto one = asf::recognitionProbabilities(c, o, 1);
+  const auto two = asf::recognitionProbabilities(c, o, 2);
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(one[6], t.p);
 }
 
 TEST(PlaceRecognition, WrittenFileReadsBack) {

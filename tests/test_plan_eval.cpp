@@ -2,9 +2,15 @@
 // of corridors with a short cut through a feature-void zone -- the expected-uncertainty
 // planner avoids the zone where the shortest path crosses it; config errors name the key;
 // and, when ../shared is here, a subset of the protocol on the Intel CARMEN log's SLAM graph.
+#include <asf/expected_uncertainty.h>
+#include <asf/rawlog_io.h>
+#include <asf/sensor_frame.h>
 #include <gtest/gtest.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -61,6 +67,7 @@ std::string writeConfig(const fs::path& dir, const std::string& extra = "") {
                         "pair_grid = 2\n"
                         "seed = 3\n"
                         "progress_every = 10\n"
+                        "zone_covariance = odometry\n"
                      << extra
                      << "[expected_uncertainty]\n"
                         "merge_radius = 0.5\n"
@@ -145,6 +152,107 @@ TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {
   r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set plan_eval.zones=50,50,60,60");
   EXPECT_NE(r.code, 0);
   EXPECT_TRUE(asf_test::has(r.out, "holds no node")) << r.out;
+  // The thesis' zone needs the run's log for its wheel odometry.
+  r = asf_test::runHost("plan-eval " + writeConfig(dir) +
+                        " --set plan_eval.zone_covariance=wheel_odometry");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "zone_covariance") && asf_test::has(r.out, "rawlog")) << r.out;
+}
+
+/// The building's run: keyframes.txt (node i at t = 10 + i) and its log, one frame per node,
+/// odometry 1 m ahead, a 181-ray scan of the corridor walls 1 m to each side (nodes
+/// `without_scan` get none).
+void writeBuildingRun(const fs::path& dir, const std::vector<int>& without_scan = {}) {
+  std::ofstream kf(dir / "keyframes.txt");
+  asf::RawlogWriter w((dir / "building.rawlog").string());
+  for (int i = 0; i < 47; ++i) {
+    kf << 10 + i << " 0 0 0\n";
+    asf::SensorFrame f;
+    f.timestamp = 10 + i;
+    f.odometry = mrpt::poses::CPose2D(1, 0, 0);
+    f.odometry_cov = Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal();
+    if (std::find(without_scan.begin(), without_scan.end(), i) == without_scan.end()) {
+      auto s = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+      s->aperture = static_cast<float>(M_PI);
+      s->maxRange = 8;
+      s->resizeScan(181);
+      for (std::size_t k = 0; k < 181; ++k) {
+        const double a = -M_PI / 2 + M_PI * static_cast<double>(k) / 180;
+        const double r = std::min(8.0, 1.0 / std::max(1e-3, std::abs(std::sin(a))));
+        s->setScanRange(k, static_cast<float>(r));
+        s->setScanRangeValidity(k, r < 8);
+      }
+      f.scan = s;
+    }
+    w.write(f);
+  }
+}
+
+TEST(PlanEval, WithTheRunsLogTheZonesScansAreIgnoredAndRecognitionIsMonteCarlo) {
+  const fs::path dir = tempDir("with_log");
+  writeBuilding(dir / "building.g2o");
+  writeBuildingRun(dir);
+  const std::string ini = writeConfig(dir, "rawlog = building.rawlog\nrecognition_samples = 4\n"
+                                           "max_pairs = 6\nfactors = 100\n");
+  auto r = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out").string() +
+                             " --set plan_eval.zone_covariance=wheel_odometry");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream jf(dir / "out" / "plan_eval.json");
+  const auto j = nlohmann::json::parse(jf);
+  ASSERT_EQ(j["scenarios"].size(), 1u);
+  const auto& s = j["scenarios"][0];
+  EXPECT_EQ(s["zone_nodes"].get<int>(), 5);
+  EXPECT_EQ(s["scans_removed"].get<int>(), 5);
+  EXPECT_EQ(s["scaled_edges"].get<int>(), 6);  // 38-39 ... 43-44: consecutive, touching
+  EXPECT_EQ(s["dropped_loop_closures"].get<int>(), 2);
+  ASSERT_FALSE(s["recognition"].is_null());
+  EXPECT_EQ(s["recognition"]["nodes"].get<int>(), 42);
+  // The planners' recognition file: the zone at 0, every other node a Monte Carlo value.
+  std::ifstream rf(dir / "out" / "recognition_A.txt");
+  std::string line;
+  int rows = 0;
+  while (std::getline(rf, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream is(line);
+    int v;
+    double p;
+    is >> v >> p;
+    ++rows;
+    if (v >= 39 && v <= 43) EXPECT_EQ(p, 0.0) << "zone node " << v;
+    EXPECT_TRUE(p >= 0 && p <= 1) << line;
+  }
+  EXPECT_EQ(rows, 47);
+  // A log whose zone frames have no scans: nothing to ignore, a clear error.
+  writeBuildingRun(dir, {39, 40, 41, 42, 43});
+  r = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out2").string() +
+                        " --set plan_eval.zone_covariance=wheel_odometry");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "zones") && asf_test::has(r.out, "has a scan in")) << r.out;
+  // Another run's keyframes: the log has no frame at their times.
+  std::ofstream(dir / "keyframes.txt") << "0.5 0 0 0\n";
+  r = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out3").string() +
+                        " --set plan_eval.zone_covariance=wheel_odometry");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "keyframes.txt") && asf_test::has(r.out, "47 nodes")) << r.out;
+}
+
+TEST(Recognition, CommandWritesEveryNodesProbabilityAndTheScatterAsked) {
+  const fs::path dir = tempDir("recognition");
+  writeBuilding(dir / "building.g2o");
+  writeBuildingRun(dir, {40});
+  const std::string base = "recognition " + (dir / "building.g2o").string() + " -r " +
+                           (dir / "building.rawlog").string() + " -n 4 -j 2 -o ";
+  auto r = asf_test::runHost(base + (dir / "out").string() + " -s 3 -s 45");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "46 nodes with a scan")) << r.out;
+  const auto back = asf::eu::readRecognitionProbabilities((dir / "out/recognition.txt").string());
+  ASSERT_EQ(back.size(), 47u);
+  EXPECT_EQ(back.at(40), 0.0) << "no scan, no recognition";
+  for (const char* f : {"scatter_3.svg", "scatter_45.svg", "recognition.json"})
+    EXPECT_TRUE(fs::exists(dir / "out" / f)) << f;
+  r = asf_test::runHost(base + (dir / "out2").string() + " -s 47");
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(asf_test::has(r.out, "--scatter 47") && asf_test::has(r.out, "0..46")) << r.out;
 }
 
 /// The protocol on the real log, on a few pairs: the Intel CARMEN log converted, its graph
@@ -165,7 +273,9 @@ TEST(PlanEval, IntelSubsetRuns) {
   r = asf_test::runHost("plan-eval " + src + "/configs/plan_eval_intel.ini --out " +
                         (dir / "eval").string() + " --set plan_eval.graph=" +
                         (dir / "slam" / "graph.g2o").string() +
-                        " --set plan_eval.max_pairs=6 --set plan_eval.factors=100");
+                        " --set plan_eval.rawlog=" + (dir / "intel.rawlog.gz").string() +
+                        " --set plan_eval.max_pairs=6 --set plan_eval.factors=100"
+                        " --set plan_eval.recognition_samples=4");
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream jf(dir / "eval" / "plan_eval.json");
   const auto j = nlohmann::json::parse(jf);
@@ -174,6 +284,8 @@ TEST(PlanEval, IntelSubsetRuns) {
     EXPECT_EQ(s["pairs"].get<int>(), 6);
     EXPECT_GT(s["zone_nodes"].get<int>(), 0);
     EXPECT_EQ(s["planners"]["expected_uncertainty"]["not_found"].get<int>(), 0);
+    EXPECT_EQ(s["scans_removed"], s["zone_nodes"]) << "every keyframe of the log has a scan";
+    EXPECT_FALSE(s["recognition"].is_null());
   }
 }
 

@@ -6,6 +6,7 @@
 // and `asf plan --voronoi`.
 #include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
+#include <asf/occupancy_io.h>
 #include <asf/voronoi_graph.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -220,6 +221,41 @@ TEST(VoronoiEdges, CorridorsJoinedOnlyThroughAMappedRoomGetAVirtualEdge) {
   EXPECT_EQ(gvg::computeVirtualEdges(w.g, w.canvas.map(), strict).edges.size(), 0u);
 }
 
+TEST(VoronoiEdges, DriveInIncrementsComposesTheModelPerIncrement) {
+  TwoCorridors w;
+  gvg::VirtualEdgeOptions o;
+  o.odometry_step = 0.5;
+  const gvg::VirtualEdges ve = gvg::computeVirtualEdges(w.g, w.canvas.map(), o);
+  ASSERT_EQ(ve.edges.size(), 1u);
+  const gvg::VirtualEdge& e = ve.edges[0];
+  // n equal increments, the turn (here a half turn: B is driven west) spread over them.
+  // Heading variances add: n x the increment's, exactly. The position variances add up
+  // (each increment's turned into the drive's frame, a rotation keeps the trace) plus the
+  // lever arms of the heading errors: the trace is at least n x the increment's.
+  const double n = std::ceil(e.length / 0.5);
+  CPose2D d = w.g.nodes[e.b].pose - w.g.nodes[e.a].pose;
+  d.normalizePhi();
+  const Matrix3d ci = o.odometry.covariance(CPose2D(e.length / n, 0, d.phi() / n));
+  const double bearing = std::atan2(d.y(), d.x());
+  Matrix3d R = Matrix3d::Identity();
+  R.topLeftCorner<2, 2>() << std::cos(bearing), -std::sin(bearing), std::sin(bearing),
+      std::cos(bearing);
+  const Matrix3d own = R.transpose() * e.covariance_ab * R;  // back in the drive's frame
+  EXPECT_NEAR(own(2, 2), n * ci(2, 2), 1e-12);
+  EXPECT_GT(own(0, 0) + own(1, 1), n * (ci(0, 0) + ci(1, 1)));
+  // Far below the one-increment drive of the same length (the model's std grows with the
+  // increment): the heading variance by about n.
+  const gvg::VirtualEdges one = gvg::computeVirtualEdges(w.g, w.canvas.map());
+  ASSERT_EQ(one.edges.size(), 1u);
+  EXPECT_LT(e.covariance_ab(2, 2), one.edges[0].covariance_ab(2, 2) / (0.5 * n));
+  // An increment longer than the drive is the one-increment drive.
+  o.odometry_step = 100;
+  const gvg::VirtualEdges big = gvg::computeVirtualEdges(w.g, w.canvas.map(), o);
+  EXPECT_EQ(big.edges[0].covariance_ab, one.edges[0].covariance_ab);
+  o.odometry_step = -1;
+  EXPECT_THROW(gvg::computeVirtualEdges(w.g, w.canvas.map(), o), asf::Error);
+}
+
 TEST(VoronoiEdges, NoVirtualEdgeThroughOccupiedOrUnknownCells) {
   for (float room : {0.0f, 0.5f}) {  // the room occupied, then unknown
     TwoCorridors w(room);
@@ -415,6 +451,28 @@ TEST(VoronoiEdges, AsfPlanVoronoi) {
   EXPECT_EQ(j["criterion"], "distance*det(E[C])") << r.out;
   EXPECT_EQ(j["virtual_edges"], 1) << r.out;
   EXPECT_EQ(j["virtual_steps"].size(), 1u) << r.out;
+  // Table 3.2: the best path along the graph and the shortest through unexplored space,
+  // each with length, det E[C] and their product; the chosen one is the cheaper here.
+  const auto& cmp = j["comparison"];
+  ASSERT_FALSE(cmp["graph"].is_null()) << r.out;
+  ASSERT_FALSE(cmp["unexplored"].is_null()) << r.out;
+  for (const char* k : {"graph", "unexplored"})
+    EXPECT_DOUBLE_EQ(cmp[k]["cost"].get<double>(), cmp[k]["distance"].get<double>() *
+                                                       cmp[k]["expected_uncertainty"].get<double>())
+        << k;
+  EXPECT_EQ(cmp["graph"]["virtual_steps"], 0);
+  EXPECT_EQ(cmp["unexplored"]["path"], j["path"]);
+  EXPECT_LT(cmp["unexplored"]["cost"].get<double>(), cmp["graph"]["cost"].get<double>());
+  EXPECT_EQ(cmp["graph"]["path"].size(), w.driven.size());
+  EXPECT_NEAR(cmp["graph"]["distance"].get<double>(), 38, 1.0) << "A east, C north, B west";
+  // The same map as a map_server YAML: resolution and origin from it, the same plan.
+  {
+    asf::GridMap m = w.canvas.map();
+    asf::writeOccupancyMap(m, (dir / "occ").string());
+  }
+  r = asf_test::runHost(base + " --map " + (dir / "occ.yaml").string() + " --voronoi", false);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["path"], j["path"]) << r.out;
   // The same through --set, and errors naming what is missing.
   r = asf_test::runHost(base + " --map " + map + " --resolution 0.1 --set voronoi_edges=true",
                         false);

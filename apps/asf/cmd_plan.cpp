@@ -5,6 +5,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
+#include <asf/occupancy_io.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 #include <asf/registry.h>
@@ -13,6 +14,7 @@
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cctype>
 #include <chrono>
 #include <iomanip>
@@ -34,6 +36,36 @@ std::string joinPath(const std::vector<NodeId>& p) {
 }
 
 }  // namespace
+
+/// Thesis Table 3.2: the two alternatives of a partially explored map, each with its length,
+/// det E[C] and their product (eq. 3.25): along the graph, the cheapest candidate without a
+/// virtual step (the planner's choice without virtual edges); through unexplored space, the
+/// shortest candidate with one (the shortcut the GVG offers; the cheapest of equally short
+/// ones). Null for a kind without candidates.
+nlohmann::json pathComparison(const PoseGraph& g, const Marginals& marginals,
+                              const std::vector<std::vector<NodeId>>& paths,
+                              const std::vector<gvg::VirtualEdge>& virtual_edges,
+                              const eu::CriterionOptions& copt) {
+  nlohmann::json best{{"graph", nullptr}, {"unexplored", nullptr}};
+  for (const auto& p : paths) {
+    const eu::PathModel model = eu::makePathModel(g, &marginals, p, &virtual_edges);
+    std::size_t steps = 0;
+    for (std::size_t i = 1; i < p.size(); ++i) steps += model.isVirtual(i);
+    const double distance = eu::pathLength(model);
+    const double det =
+        eu::evaluatePath(eu::Criterion::ExpectedUncertainty, model, copt).cost;
+    auto& slot = best[steps ? "unexplored" : "graph"];
+    if (!slot.is_null()) {
+      const double d0 = slot["distance"].get<double>(), c0 = slot["cost"].get<double>();
+      const bool better = steps ? distance < d0 || (distance == d0 && distance * det < c0)
+                                : distance * det < c0;
+      if (!better) continue;
+    }
+    slot = {{"path", p}, {"distance", distance}, {"expected_uncertainty", det},
+            {"cost", distance * det}, {"virtual_steps", steps}};
+  }
+  return best;
+}
 
 int cmdPlan(int argc, char** argv) {
   TCLAP::CmdLine cmd(
@@ -69,9 +101,11 @@ int cmdPlan(int argc, char** argv) {
   TCLAP::SwitchArg ellipses("", "ellipses", "With --image: 3-sigma marginal ellipses", cmd);
   TCLAP::ValueArg<std::string> map(
       "", "map",
-      "Occupancy map image (row 0 = top, origin (0, 0), pixels >= 250 free, the rest "
-      "occupied): handed to the planner (voronoi_edges) and drawn under --image",
-      false, "", "MAP.png", cmd);
+      "Occupancy map: a map_server YAML (e.g. a run's occupancy.yaml: resolution, origin and "
+      "thresholds from it), or an image (row 0 = top, origin (0, 0), pixels >= 250 free, "
+      "the rest occupied, --resolution); handed to the planner (voronoi_edges) and drawn "
+      "under --image",
+      false, "", "MAP.yaml|MAP.png", cmd);
   TCLAP::SwitchArg voronoi(
       "", "voronoi",
       "Partially explored map: set the planner's voronoi_edges=true (needs --map): virtual "
@@ -126,7 +160,12 @@ int cmdPlan(int argc, char** argv) {
   // to request the cross-covariance blocks its relocalization probability reads.
   const eu::PathSearchOptions search = eu::pathSearchOptionsFrom(pparams);
   GridMap grid;
-  if (!map.getValue().empty())
+  const bool yaml = map.getValue().size() > 5 &&
+                    (map.getValue().substr(map.getValue().size() - 5) == ".yaml" ||
+                     map.getValue().substr(map.getValue().size() - 4) == ".yml");
+  if (yaml)
+    grid = readOccupancyMap(map.getValue());
+  else if (!map.getValue().empty())
     grid = gridFromImage(readGrayImage(map.getValue()), resolution.getValue());
   // Partially explored map: the planner's virtual edges (the same computation it makes).
   std::vector<gvg::VirtualEdge> virtual_edges;
@@ -193,6 +232,10 @@ int cmdPlan(int argc, char** argv) {
     labels[eu::criterionName(c)] = pc.label;
     if (c == eu::Criterion::ExpectedUncertainty) expected = pc;
   }
+  const nlohmann::json comparison =
+      search.voronoi_edges
+          ? pathComparison(g, marginals, candidates.paths, virtual_edges, copt)
+          : nlohmann::json(nullptr);
   std::string note;
   if (candidates.capped)
     note += "path search capped at " + std::to_string(search.max_paths) + " paths. ";
@@ -209,6 +252,14 @@ int cmdPlan(int argc, char** argv) {
     ro.ellipses = ellipses.getValue();
     ro.map_png = map.getValue();
     ro.map_resolution = resolution.getValue();
+    if (yaml) {  // the YAML's image, in the YAML's frame
+      const OccupancyMapInfo info = readOccupancyYaml(map.getValue());
+      ro.map_png =
+          (std::filesystem::path(map.getValue()).parent_path() / info.image).string();
+      ro.map_resolution = info.resolution;
+      ro.map_origin_x = info.origin_x;
+      ro.map_origin_y = info.origin_y;
+    }
     eu::renderPlan(image.getValue(), g, &marginals, r.nodes, ro);
   }
 
@@ -237,6 +288,7 @@ int cmdPlan(int argc, char** argv) {
                         {"voronoi_edges", search.voronoi_edges},
                         {"virtual_edges", virtual_edges.size()},
                         {"virtual_steps", virtual_steps},
+                        {"comparison", comparison},
                         {"voronoi_time_s", voronoi_s},
                         {"search_time_s", search_s},
                         {"marginals_time_s", marginals_s},
@@ -261,7 +313,17 @@ int cmdPlan(int argc, char** argv) {
       std::cout << "  voronoi: " << virtual_edges.size() << " virtual edges (" << voronoi_s
                 << " s); the path takes " << virtual_steps.size() << ":";
       for (const auto& [a, b] : virtual_steps) std::cout << " " << a << "-" << b;
-      std::cout << "\n";
+      std::cout << "\n  thesis Table 3.2: distance [m], det(E[C]), product -- the best path along "
+                   "the graph, the shortest through unexplored space\n";
+      for (const char* kind : {"graph", "unexplored"}) {
+        const auto& c = comparison[kind];
+        std::cout << "    " << std::left << std::setw(11) << kind;
+        if (c.is_null())
+          std::cout << "no candidate\n";
+        else
+          std::cout << c["distance"].get<double>() << "  " << c["expected_uncertainty"].get<double>()
+                    << "  " << c["cost"].get<double>() << "\n";
+      }
     }
     if (!note.empty()) std::cout << "note: " << note << "\n";
     if (!image.getValue().empty()) std::cout << "wrote " << image.getValue() << "\n";

@@ -34,6 +34,7 @@ int cmdSegmentEval(int argc, char** argv);
 int cmdSegmentReport(int argc, char** argv);
 int cmdPlan(int argc, char** argv);
 int cmdPlanEval(int argc, char** argv);
+int cmdRecognition(int argc, char** argv);
 int cmdExperiment(int argc, char** argv);
 int cmdMap3d(int argc, char** argv);
 

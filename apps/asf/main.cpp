@@ -54,6 +54,8 @@ const Command kCommands[] = {
      "Most reliable path between two nodes of a g2o pose graph under a planner's criterion"},
     {"plan-eval", asf::app::cmdPlanEval,
      "Table 3.1 protocol: error rates of planners avoiding a feature-void zone of a SLAM graph"},
+    {"recognition", asf::app::cmdRecognition,
+     "Place recognition by Monte Carlo ICP on a SLAM run's nodes; Fig. 3.3 scatter (SVG)"},
     {"experiment", asf::app::cmdExperiment,
      "Replications x policies of an exploration pipeline in parallel: tables, plots, report"},
     {"map3d", asf::app::cmdMap3d,

@@ -1251,9 +1251,10 @@ void renderPlan(const std::string& png, const PoseGraph& g, const Marginals* mar
     cv::cvtColor(map, img, cv::COLOR_GRAY2BGR);
     px_per_m = 1.0 / o.map_resolution;
     const int h = img.rows;
+    const double ox = o.map_origin_x, oy = o.map_origin_y;
     px = [=](double x, double y) {
-      return cv::Point(static_cast<int>(std::lround(x * px_per_m)),
-                       static_cast<int>(std::lround(h - y * px_per_m)));
+      return cv::Point(static_cast<int>(std::lround((x - ox) * px_per_m)),
+                       static_cast<int>(std::lround(h - (y - oy) * px_per_m)));
     };
   } else {
     double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
@@ -1350,6 +1351,8 @@ PathSearchOptions pathSearchOptionsFrom(const Params& params) {
   if (params.has("voronoi_detour")) o.voronoi.detour = params.getDouble("voronoi_detour");
   if (params.has("voronoi_cov_scale"))
     o.voronoi.covariance_scale = params.getDouble("voronoi_cov_scale");
+  if (params.has("voronoi_odometry_step"))
+    o.voronoi.odometry_step = params.getDouble("voronoi_odometry_step");
   if (!(o.voronoi.gvg.free_threshold >= 0 && o.voronoi.gvg.free_threshold < 1))
     params.fail("voronoi_free_threshold", "expected a value in [0, 1)");
   if (!(o.voronoi.detour >= 1)) params.fail("voronoi_detour", "expected a value >= 1");

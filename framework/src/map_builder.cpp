@@ -18,6 +18,9 @@ const KeySpec kMapKeys[] = {
     keyDouble("rebuild_threshold", "0.05",
               "Rebuild the map from all keyframes when an inserted keyframe moved more than "
               "this (translation [m], or rotation [rad] x 1 m) since insertion", 1e-4, 100.0),
+    keyBool("widen_beams", "false",
+            "Widen each beam with its range (MRPT wideningBeamsWithDistance) so that far rays "
+            "leave no unknown gaps between them: a corridor seen from afar becomes free space"),
     keyDouble("initial_half_size", "10.0",
               "Half side of the initial grid around the origin [m]; it grows as needed", 1.0,
               1000.0),
@@ -31,12 +34,14 @@ const KeySpec* MapBuilder::keys(std::size_t& n) {
 
 struct MapBuilder::Impl {
   double resolution = 0.05, max_range = 15, rebuild_threshold = 0.05, half = 10;
+  bool widen = false;
   mrpt::maps::COccupancyGridMap2D grid;
   std::map<NodeId, mrpt::poses::CPose2D> inserted;  ///< node -> pose at insertion
 
   void reset() {
     grid.setSize(-half, half, -half, half, resolution, 0.5f);
     grid.insertionOptions.maxDistanceInsertion = static_cast<float>(max_range);
+    grid.insertionOptions.wideningBeamsWithDistance = widen;
     inserted.clear();
   }
   /// Inserts one keyframe; returns the box its rays can have touched.
@@ -60,6 +65,7 @@ void MapBuilder::configure(const Params& p) {
   impl_->max_range = p.getDouble("max_insertion_range");
   impl_->rebuild_threshold = p.getDouble("rebuild_threshold");
   impl_->half = p.getDouble("initial_half_size");
+  impl_->widen = p.getBool("widen_beams");
   impl_->reset();
   map_ = GridMap{};
 }

@@ -474,7 +474,8 @@ bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
 std::vector<std::string> Pipeline::outputFiles() {
   return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv",
           "graph.g2o",     "keyframes.txt",  "map.png",        "regions.png",
-          "topology.json", "topology.svg",   "summary.json",   "report.html"};
+          "occupancy.png", "occupancy.yaml", "topology.json",  "topology.svg",
+          "summary.json",  "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {

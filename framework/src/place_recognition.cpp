@@ -5,7 +5,12 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/slam/CICP.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <fstream>
 #include <iomanip>
 #include <random>
@@ -34,10 +39,23 @@ void addScan(mrpt::maps::CSimplePointsMap& m, const mrpt::obs::CObservation2DRan
   }
 }
 
+std::vector<std::pair<float, float>> pointsOf(const mrpt::maps::CSimplePointsMap& m) {
+  std::vector<std::pair<float, float>> out;
+  out.reserve(m.size());
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    float x, y;
+    m.getPoint(i, x, y);
+    out.emplace_back(x, y);
+  }
+  return out;
+}
+
 }  // namespace
 
-double recognitionProbability(const PoseGraph& g, NodeId n, const RecognitionMcOptions& o) {
-  if (n >= g.nodes.size() || !g.nodes[n].scan || o.samples <= 0) return 0;
+RecognitionTrial recognitionTrial(const PoseGraph& g, NodeId n, const RecognitionMcOptions& o) {
+  RecognitionTrial t;
+  t.node = n;
+  if (n >= g.nodes.size() || !g.nodes[n].scan || o.samples <= 0) return t;
   const PoseNode& node = g.nodes[n];
   mrpt::maps::CSimplePointsMap local;
   for (const PoseNode& other : g.nodes) {
@@ -46,7 +64,13 @@ double recognitionProbability(const PoseGraph& g, NodeId n, const RecognitionMcO
       continue;
     addScan(local, *other.scan, other.pose);
   }
-  if (local.size() == 0) return 0;
+  if (local.size() == 0) return t;
+  t.map_points = pointsOf(local);
+  {
+    mrpt::maps::CSimplePointsMap own;
+    addScan(own, *node.scan, node.pose);
+    t.scan_points = pointsOf(own);
+  }
 
   std::mt19937_64 rng(mix(o.seed ^ mix(static_cast<std::uint64_t>(n) + 1)));
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -72,19 +96,63 @@ double recognitionProbability(const PoseGraph& g, NodeId n, const RecognitionMcO
         seen.setScanRange(i, static_cast<float>(seen.getScanRange(i) * u01(rng)));
     mrpt::maps::CSimplePointsMap cur;
     addScan(cur, seen, mrpt::poses::CPose2D());
-    if (cur.size() < 10) continue;  // nothing left to align: a failure
+    RecognitionSample rs;
+    if (cur.size() < 10) {  // nothing left to align: a failure
+      rs.aligned = false;
+      rs.guess = rs.result = node.pose;
+      t.samples.push_back(rs);
+      continue;
+    }
     // Where the robot believes it is: anywhere in the window around the node.
-    const mrpt::poses::CPose2D guess(node.pose.x() + (2 * u01(rng) - 1) * o.half_x,
-                                     node.pose.y() + (2 * u01(rng) - 1) * o.half_y,
-                                     node.pose.phi() + (2 * u01(rng) - 1) * o.half_phi);
+    rs.guess = mrpt::poses::CPose2D(node.pose.x() + (2 * u01(rng) - 1) * o.half_x,
+                                    node.pose.y() + (2 * u01(rng) - 1) * o.half_y,
+                                    node.pose.phi() + (2 * u01(rng) - 1) * o.half_phi);
     mrpt::slam::CICP::TReturnInfo info;
-    const auto pdf = icp.AlignPDF(&local, &cur, mrpt::poses::CPosePDFGaussian(guess), info);
-    const mrpt::poses::CPose2D got = pdf->getMeanVal();
-    const double dxy = std::hypot(got.x() - node.pose.x(), got.y() - node.pose.y());
-    const double dphi = std::abs(mrpt::math::wrapToPi(got.phi() - node.pose.phi()));
-    if (dxy <= o.success_xy && dphi <= o.success_phi) ++ok;
+    const auto pdf = icp.AlignPDF(&local, &cur, mrpt::poses::CPosePDFGaussian(rs.guess), info);
+    rs.result = pdf->getMeanVal();
+    const double dxy = std::hypot(rs.result.x() - node.pose.x(), rs.result.y() - node.pose.y());
+    const double dphi = std::abs(mrpt::math::wrapToPi(rs.result.phi() - node.pose.phi()));
+    rs.success = dxy <= o.success_xy && dphi <= o.success_phi;
+    ok += rs.success;
+    t.samples.push_back(rs);
   }
-  return static_cast<double>(ok) / o.samples;
+  t.p = static_cast<double>(ok) / o.samples;
+  return t;
+}
+
+double recognitionProbability(const PoseGraph& g, NodeId n, const RecognitionMcOptions& o) {
+  return recognitionTrial(g, n, o).p;
+}
+
+std::vector<double> recognitionProbabilities(
+    const PoseGraph& g, const RecognitionMcOptions& o, unsigned threads,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<double> pr(g.size(), 0.0);
+  std::atomic<std::size_t> done{0};
+  std::mutex report;
+  std::vector<std::exception_ptr> failed(threads);
+  auto work = [&](unsigned first) {
+    try {
+      for (std::size_t v = first; v < g.size(); v += threads) {
+        pr[v] = recognitionProbability(g, static_cast<NodeId>(v), o);
+        const std::size_t k = ++done;
+        if (progress && k % 100 == 0) {
+          std::lock_guard<std::mutex> lock(report);
+          progress(k, g.size());
+        }
+      }
+    } catch (...) {
+      failed[first] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (const auto& f : failed)
+    if (f) std::rethrow_exception(f);
+  return pr;
 }
 
 void writeRecognitionProbabilities(const std::string& path, const std::map<NodeId, double>& p) {

@@ -1,6 +1,7 @@
 #include "recorder.h"
 
 #include <algorithm>
+#include <asf/occupancy_io.h>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
 
@@ -194,6 +195,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     writeAtomically(dir_ + "/keyframes.txt", os.str());
   });
   attempt("map.png", [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
+  // The bare grid in its frame (map_server): `asf plan --map occupancy.yaml`, ROS tools.
+  attempt("occupancy.png", [&] { writeOccupancyMap(map, dir_ + "/occupancy"); });
   attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;

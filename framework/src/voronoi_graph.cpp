@@ -278,8 +278,23 @@ Eigen::Matrix3d driveCovariance(const mrpt::poses::CPose2D& from, const mrpt::po
   mrpt::poses::CPose2D d = to - from;
   d.normalizePhi();
   const double bearing = std::hypot(d.x(), d.y()) > 1e-9 ? std::atan2(d.y(), d.x()) : 0.0;
-  const Eigen::Matrix3d c =
-      o.covariance_scale * o.odometry.covariance(mrpt::poses::CPose2D(length, 0, d.phi()));
+  Eigen::Matrix3d c;
+  if (o.odometry_step > 0 && length > o.odometry_step) {
+    // Equal increments, each with the model's covariance, composed (first order).
+    const double n = std::ceil(length / o.odometry_step);
+    const mrpt::poses::CPose2D inc(length / n, 0, d.phi() / n);
+    const Eigen::Matrix3d ci = o.odometry.covariance(inc);
+    mrpt::poses::CPose2D acc;
+    Eigen::Matrix3d acc_cov = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < static_cast<int>(n); ++k) {
+      Eigen::Matrix3d next;
+      acc = composeWithCov(acc, acc_cov, inc, ci, next);
+      acc_cov = next;
+    }
+    c = o.covariance_scale * acc_cov;
+  } else {
+    c = o.covariance_scale * o.odometry.covariance(mrpt::poses::CPose2D(length, 0, d.phi()));
+  }
   const Eigen::Matrix3d R = rot3(bearing);
   Eigen::Matrix3d r = R * c * R.transpose();
   return 0.5 * (r + r.transpose());
@@ -298,6 +313,7 @@ VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
   if (!(o.attach_radius >= 0)) throw Error("virtual edges: attach_radius must be >= 0");
   if (!(o.detour >= 1)) throw Error("virtual edges: detour must be >= 1");
   if (!(o.covariance_scale > 0)) throw Error("virtual edges: covariance_scale must be > 0");
+  if (!(o.odometry_step >= 0)) throw Error("virtual edges: odometry_step must be >= 0");
   VirtualEdges out;
   const Work w = skeletonOf(map, o.gvg, out.gvg);
   const Gvg& gvg = out.gvg;

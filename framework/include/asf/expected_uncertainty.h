@@ -302,6 +302,16 @@ constexpr KeySpec keyVoronoiCovarianceScale() {
                    1e-9, 1e12);
 }
 
+constexpr KeySpec keyVoronoiOdometryStep() {
+  return keyDouble("voronoi_odometry_step", "0",
+                   "Voronoi edges: > 0, the drive is this many metres per odometry increment, "
+                   "their covariances composed (MRPT's model is per increment: its std grows "
+                   "with the increment, so one long step overstates the drift; the source's "
+                   "step, e.g. distance / frames of the run); 0: the whole edge as one "
+                   "increment",
+                   0, 1e6);
+}
+
 /// Every path-search key above, in the order the criterion planners declare them: put
 /// `ASF_EU_PATH_SEARCH_KEYS` in a plugin's KeySpec table (one list, so the plugins agree).
 #define ASF_EU_PATH_SEARCH_KEYS                                                              \
@@ -314,7 +324,8 @@ constexpr KeySpec keyVoronoiCovarianceScale() {
 #define ASF_EU_VORONOI_KEYS                                                                   \
   asf::eu::keyVoronoiEdges(), asf::eu::keyVoronoiFreeThreshold(),                            \
       asf::eu::keyVoronoiClearance(), asf::eu::keyVoronoiAttachRadius(),                     \
-      asf::eu::keyVoronoiDetour(), asf::eu::keyVoronoiCovarianceScale()
+      asf::eu::keyVoronoiDetour(), asf::eu::keyVoronoiCovarianceScale(),                     \
+      asf::eu::keyVoronoiOdometryStep()
 
 enum class SearchMethod { Auto, All, Yen };
 const char* searchMethodName(SearchMethod m);  ///< "auto", "all", "yen"
@@ -470,8 +481,9 @@ class CriterionPlanner : public Planner {
 struct RenderOptions {
   int max_size = 1200;         ///< longest image side [px] (when no map is given)
   bool ellipses = false;       ///< 3-sigma position ellipses of the marginals
-  std::string map_png;         ///< optional background (row 0 = top, origin (0, 0))
+  std::string map_png;         ///< optional background (row 0 = top)
   double map_resolution = 0.05;
+  double map_origin_x = 0, map_origin_y = 0;  ///< map frame of its lower-left corner
 };
 /// Draws the graph (metres, y up) with `path` highlighted to a PNG; throws asf::Error
 /// naming the file when it cannot be written.

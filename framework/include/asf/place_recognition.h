@@ -14,8 +14,10 @@
 #include <asf/pose_graph.h>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace asf {
 
@@ -34,6 +36,37 @@ struct RecognitionMcOptions {
 /// p_recognition of node n in [0, 1]; 0 when the node has no scan or no other node with a
 /// scan lies within map_radius (nothing to recognize the place against).
 double recognitionProbability(const PoseGraph& g, NodeId n, const RecognitionMcOptions& o);
+
+/// One Monte Carlo sample: where the robot believed it was and where ICP put it (map frame).
+struct RecognitionSample {
+  mrpt::poses::CPose2D guess, result;
+  bool aligned = true;  ///< false: too few rays left to align (a failure, result = guess)
+  bool success = false;
+};
+
+/// The whole Monte Carlo of node n (thesis Fig. 3.3): the samples, the local map's points
+/// and the node's scan (both in the map frame). p is recognitionProbability's value (same
+/// draws); samples is empty when that is 0 for want of a scan or a map.
+struct RecognitionTrial {
+  NodeId node = 0;
+  double p = 0;
+  std::vector<RecognitionSample> samples;
+  std::vector<std::pair<float, float>> map_points, scan_points;
+};
+RecognitionTrial recognitionTrial(const PoseGraph& g, NodeId n, const RecognitionMcOptions& o);
+
+/// recognitionProbability of every node on `threads` threads (0: one per core); the values
+/// do not depend on the thread count. `progress(done, total)` (optional) is called from the
+/// worker threads, serialized, every 100 nodes. Rethrows a worker's exception.
+std::vector<double> recognitionProbabilities(
+    const PoseGraph& g, const RecognitionMcOptions& o, unsigned threads = 0,
+    const std::function<void(std::size_t, std::size_t)>& progress = nullptr);
+
+/// Fig. 3.3 as SVG: left, the local map (grey), the node's scan (blue), the node (black)
+/// and the window of believed poses; right, the samples' position errors in the node's
+/// frame [cm], successes (inside the success box) black, failures red, with p in the title.
+std::string recognitionScatterSvg(const RecognitionTrial& t, const PoseNode& node,
+                                  const RecognitionMcOptions& o, const std::string& title);
 
 /// Writes "node_id p" lines, the format readRecognitionProbabilities
 /// (expected_uncertainty.h) reads; throws asf::Error naming the file.

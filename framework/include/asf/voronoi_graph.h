@@ -77,6 +77,9 @@ struct VirtualEdgeOptions {
   /// The virtual edges' odometry covariance: `odometry` of the motion, times this.
   OdometryNoiseModel odometry;
   double covariance_scale = 1.0;
+  /// > 0: the drive is ceil(length / odometry_step) equal increments (the turn spread over
+  /// them), each with `odometry`'s covariance, composed to first order; 0: one increment.
+  double odometry_step = 0;
 };
 
 /// An edge the GVG adds to the pose graph (not a measurement: the robot would drive it by
