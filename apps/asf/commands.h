@@ -37,5 +37,6 @@ int cmdPlanEval(int argc, char** argv);
 int cmdRecognition(int argc, char** argv);
 int cmdExperiment(int argc, char** argv);
 int cmdMap3d(int argc, char** argv);
+int cmdReproduce(int argc, char** argv);
 
 }  // namespace asf::app

@@ -60,6 +60,8 @@ const Command kCommands[] = {
      "Replications x policies of an exploration pipeline in parallel: tables, plots, report"},
     {"map3d", asf::app::cmdMap3d,
      "3D observations of a rawlog into an OctoMap (.bt/.ot), projected to the 2D grid"},
+    {"reproduce", asf::app::cmdReproduce,
+     "The thesis' tables and figures of chapters 3-6 rerun: one report, thesis vs asf"},
 };
 
 void usage(std::ostream& os) {

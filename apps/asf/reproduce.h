@@ -1,0 +1,98 @@
+#pragma once
+// asf reproduce: the thesis' tables and figures of chapters 3-6 rerun by asf, one report.
+// The work is a list of stages (each one or more asf commands writing into its own folder),
+// run by a small scheduler (reproduce_runner.cpp) that resumes from the stages already done;
+// then every row (figure | thesis value | asf value | difference | note) is read back from
+// the stages' outputs (reproduce_rows.cpp) and written as report.md/.html/.json
+// (reproduce_report.cpp).
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace asf::app::reproduce {
+
+/// What the command line chose; `fingerprint()` names what changes the results, so a stage
+/// done under other settings is run again.
+struct Settings {
+  bool quick = false;
+  std::string out;              ///< output folder (absolute)
+  std::string shared;           ///< the datasets' folder, ../shared (absolute)
+  std::string configs;          ///< asf's configs/ folder (absolute)
+  std::string asf;              ///< this executable
+  int jobs = 2;                 ///< stages (and experiment runs) at the same time
+  int pairs = 0;                ///< Table 3.1: start/goal pairs per zone
+  int recognition_samples = 0;  ///< Table 3.1: Monte Carlo ICP samples per node
+  int figure_samples = 0;       ///< Fig. 3.3: samples at each drawn node
+  int replications = 0;         ///< chapter 6: seeds per policy
+  double max_distance = 0;      ///< chapter 6: stop each run after this far [m] (0: none)
+  std::string fingerprint() const;
+};
+
+/// One command of a stage. `argv` is built when the command starts (it may read what an
+/// earlier command of the stage wrote); argv[0] == "asf" runs this executable. Its standard
+/// output goes to `stdout_file` (relative to the stage folder; empty: the stage log).
+struct Command {
+  std::function<std::vector<std::string>()> argv;
+  std::string stdout_file;
+};
+
+struct Stage {
+  std::string id;                   ///< also its folder under OUT
+  std::string title;                ///< what it reproduces, for progress lines
+  std::vector<std::string> after;   ///< stages that must be done first
+  std::vector<std::string> inputs;  ///< files it needs; a missing one skips it (named)
+  std::vector<Command> commands;
+  int slots = 1;  ///< cores it keeps busy
+};
+
+/// What became of a stage.
+struct StageResult {
+  enum Status { kDone, kReused, kFailed, kSkipped, kNotRun } status = kNotRun;
+  double seconds = 0;
+  std::string why;  ///< for failed / skipped / not run
+};
+
+/// The stages of the reproduction under `s`.
+std::vector<Stage> plan(const Settings& s);
+
+/// Runs the stages not done yet, `s.jobs` cores at a time, each command's stderr in
+/// OUT/<id>/stage.log; prints progress to stderr. Ctrl-C stops the running stages and returns
+/// what finished. Results are in the order of `stages`.
+std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s);
+
+/// One line of the report.
+struct Row {
+  std::string section;     ///< "Table 3.1", "Fig. 6.2", ...
+  std::string item;        ///< what is compared
+  std::string thesis;      ///< the thesis' value, as the thesis states it
+  std::string asf;         ///< asf's value ("" when its stage did not produce it)
+  std::string difference;  ///< asf against the thesis
+  std::string note;        ///< why they differ, what was measured, which stage
+  std::string stage;       ///< the stage whose output gives the asf value
+};
+
+/// A figure of the report: a file inside OUT.
+struct Figure {
+  std::string section;
+  std::string caption;
+  std::string file;  ///< relative to OUT
+};
+
+struct Report {
+  std::vector<Row> rows;
+  std::vector<Figure> figures;
+  /// Per section, in order: what was run and why asf differs, said once for its rows.
+  std::vector<std::pair<std::string, std::string>> sections;
+};
+
+/// Reads every row and figure from the stages' outputs in `s.out`; a row whose output is
+/// missing keeps an empty asf value and a note naming the stage.
+Report collect(const Settings& s, const std::vector<Stage>& stages,
+               const std::vector<StageResult>& results);
+
+/// Writes OUT/report.json, report.md and report.html (figures embedded).
+void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
+           const std::vector<StageResult>& results);
+
+}  // namespace asf::app::reproduce
