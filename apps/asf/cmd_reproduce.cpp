@@ -1,5 +1,5 @@
 // asf reproduce: reruns the thesis' tables and figures of chapters 3-6 (Tables 3.1, 3.2,
-// 4.1, 5.1, Theorem 5.2.1, Figs. 3.3, 4.1-4.2, 5.11-5.13, 6.1-6.4) and writes one report:
+// 4.1, 5.1, Theorem 5.2.1, Figs. 3.3, 4.1-4.2, 5.6-5.13, 6.1-6.4) and writes one report:
 // figure | thesis value | asf value | difference | note.
 #include <asf/abi.h>
 #include <asf/errors.h>
@@ -37,18 +37,17 @@ std::string defaultConfigs(const std::string& exe) {
 int cmdReproduce(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Reruns the thesis' tables and figures of chapters 3-6 and writes one report (report.md, "
-      "report.html with the figures embedded, report.json): per row the thesis value, asf's value, "
-      "the difference and a note. Stages: graph SLAM on the intel and aces CARMEN logs and Table "
-      "3.1 "
-      "on both, Fig. 3.3, Table 3.2 (aces partially explored); Table 4.1 and Figs. 4.1-4.2 (room "
-      "segmentation benchmark); Table 5.1 (the thesis' 174 graphs), Theorem 5.2.1 (intel, MIT, a "
-      "cave run), Figs. 5.11-5.13; the cave with the author's robot, four policies (Figs. 6.2-6.4) "
-      "and Fig. 6.1. Data from --shared (../shared: datasets/carmen, roomseg, optexp, g2o); a "
-      "stage "
-      "whose data is missing is skipped and named. Each stage runs asf commands into OUT/<stage>/ "
-      "(stage.log: their commands and messages); a stage done before with the same settings is "
-      "kept, so an interrupted reproduction resumes. Full: about 40 min on 2 cores; --quick: smoke-"
-      "run sizes in a few minutes. Exit code 0 when every stage ran and every row has a value.",
+      "report.html with the figures embedded, report.json): per row the thesis value, asf's "
+      "value, the difference and a note. Stages: graph SLAM on the intel and aces CARMEN logs "
+      "and Table 3.1 on both, Fig. 3.3, Table 3.2 (aces partially explored); Table 4.1 and Figs. "
+      "4.1-4.2 (room segmentation benchmark); Table 5.1 (the thesis' 174 graphs), Theorem 5.2.1 "
+      "(intel, MIT, a cave run), Figs. 5.6-5.10 (walks) and 5.11-5.13; the cave with the "
+      "author's robot, four policies (Figs. 6.2-6.4) and Fig. 6.1. Data from --shared "
+      "(../shared: datasets/carmen, roomseg, optexp, g2o); a stage whose data is missing is "
+      "skipped and named. Each stage runs asf commands into OUT/<stage>/ (stage.log: their "
+      "commands and messages); a stage done before with the same settings is kept, so an "
+      "interrupted reproduction resumes. Full: about 40 min on 2 cores; --quick: smoke-run sizes "
+      "in a few minutes. Exit code 0 when every stage ran and every row has a value.",
       ' ', ASF_VERSION_STRING);
   TCLAP::SwitchArg quick("", "quick", "Smoke-run sizes (every row, in a few minutes)", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output folder (default results/reproduce[-quick])",

@@ -381,6 +381,73 @@ void figs511(Collector& c) {
   }
 }
 
+/// Figs. 5.6-5.10 as their captions state them, from the best walks' information rates.
+void walks(Collector& c) {
+  const std::string stage = "ch5_walks";
+  const json k4 = c.read(stage, "k4.json"), gen = c.read(stage, "generic.json");
+  const char* const kCrit[] = {"T", "D", "A", "E"};
+  // Rate of the best walk of d traversals relative to the optimum.
+  auto relative = [](const json& j, const char* crit, int d) {
+    const double opt = num(j, {"optimum", crit});
+    const json& r = j.is_object() ? j["exhaustive"]["rate"][crit] : json();
+    return r.is_array() && d >= 1 && d <= static_cast<int>(r.size()) ? r[d - 1].get<double>() / opt
+                                                                     : NAN;
+  };
+  auto ordered = [&](const json& j) {  // E <= A <= D <= T at every d
+    if (!j.is_object()) return std::string();
+    const json& info = j["exhaustive"]["information"];
+    for (std::size_t d = 0; d < info["T"].size(); ++d)
+      for (int k = 0; k + 1 < 4; ++k)
+        if (info[kCrit[k + 1]][d].get<double>() > info[kCrit[k]][d].get<double>() + 1e-9)
+          return std::string("no (d = ") + std::to_string(d + 1) + ")";
+    return std::string("yes");
+  };
+  const std::string o1 = ordered(k4), o2 = ordered(gen);
+  c.row(stage, "Figs. 5.6-5.10", "T bounds every criterion: E <= A <= D <= T for every walk",
+        "yes (fig. 5.6)", o1.empty() || o2.empty() ? "" : "K4: " + o1 + "; generic graph: " + o2,
+        o1.empty() || o2.empty() ? "" : (o1 == "yes" && o2 == "yes" ? "agrees" : "differs"));
+  std::string eff;
+  bool all_one = k4.is_object();
+  for (const char* k : {"D", "A", "E"}) {
+    const double e = num(k4, {"efficiency", "uniform", k});
+    all_one = all_one && std::abs(e - 1) < 1e-6;
+    if (std::isfinite(e))
+      eff += std::string(eff.empty() ? "" : ", ") + k + " " + fmt(100 * e) + " %";
+  }
+  c.row(stage, "Figs. 5.6-5.10",
+        "K4: every criterion's optimum 2/(n-1) = 0.667 is reached by equal traversals",
+        "yes (fig. 5.7)",
+        k4.is_object()
+            ? "optimum D " + fmt(num(k4, {"optimum", "D"}), 3) + "; equal traversals: " + eff
+            : "",
+        k4.is_object() ? (all_one ? "agrees" : "differs") : "");
+  const double d6 = relative(k4, "D", 6), d12 = relative(k4, "D", 12);
+  c.row(stage, "Figs. 5.6-5.10",
+        "K4, traversable walks: d = 6 short of the optimum, d = 12 (every edge twice) reaches it",
+        "yes (fig. 5.8)",
+        std::isfinite(d12) ? "best walk / optimum, D: " + fmt(100 * d6) + " % at d = 6, " +
+                                 fmt(100 * d12) + " % at d = 12"
+                           : "",
+        std::isfinite(d12) ? (d6 < 0.999 && d12 > 0.999 ? "agrees" : "differs") : "");
+  std::string rates;
+  for (const char* k : kCrit)
+    if (std::isfinite(relative(gen, k, 14)))
+      rates += std::string(rates.empty() ? "" : ", ") + k + " " + fmt(100 * relative(gen, k, 10)) +
+               " -> " + fmt(100 * relative(gen, k, 14)) + " %";
+  c.row(stage, "Figs. 5.6-5.10",
+        "generic graph: the rate grows towards the optimum, at a pace that differs per criterion",
+        "yes (figs. 5.9-5.10; E slowest)",
+        rates.empty() ? ""
+                      : "graph line " + fmt(num(gen, {"index"}), 0) + " (" +
+                            fmt(num(gen, {"n"}), 0) + " nodes, " + fmt(num(gen, {"m"}), 0) +
+                            " edges), best walk / optimum at d = 10 -> 14: " + rates,
+        rates.empty() ? "" : "compare the curves",
+        "the thesis does not say which graph it used; the first of its list with two cycles");
+  c.figure("Figs. 5.6-5.10", "K4: information rate of the best walks of d traversals",
+           stage + "/fig_5_6_8.svg");
+  c.figure("Figs. 5.6-5.10", "a generic graph: the same", stage + "/fig_5_9_10.svg");
+}
+
 // ---- chapter 6 ---------------------------------------------------------------------------
 
 const char* const kPolicies[] = {"tigre", "cpp_offline", "tsp_offline", "frontier"};
@@ -538,6 +605,7 @@ Report collect(const Settings& s, const std::vector<Stage>& stages,
   table51(c);
   theorem(c);
   figs511(c);
+  walks(c);
   chapter6(c);
   return c.report;
 }

@@ -72,7 +72,8 @@ std::size_t pickGraphLine(const std::string& file, const std::string& rule) {
     const long cycles = static_cast<long>(m) - static_cast<long>(n) + 1;
     if ((rule == "tree" && cycles == 0 && n >= 20) ||
         (rule == "one_loop" && cycles == 1 && n >= 15) ||
-        (rule == "cycles" && cycles >= 3 && n <= 30))
+        (rule == "cycles" && cycles >= 3 && n <= 30) ||
+        (rule == "small_cycles" && cycles >= 2 && n <= 10))
       return no;
   }
   throw InputError(file + ": no graph is a '" + rule + "'");
@@ -222,6 +223,52 @@ Stage figs511Stage(const Settings& s) {
   return st;
 }
 
+/// Figs. 5.6-5.10: the information rate of the best walks of d traversals (exhaustive) on
+/// K4 (figs. 5.6-5.8) and on a small generic graph of the thesis' list (figs. 5.9-5.10).
+Stage walksStage(const Settings& s) {
+  const std::string g = s.shared + "/datasets/optexp/graphs.txt", dir = s.out + "/ch5_walks";
+  Stage st{"ch5_walks", "Figs. 5.6-5.10 (walks on K4 and a generic graph)", {}, {g}, {}, 1};
+  st.commands.push_back({[dir] {
+                           const std::string k4 = dir + "/k4.txt";
+                           std::ofstream f(k4);
+                           f << "# K4 (thesis fig. 5.5)\n4 6 1-2 1-3 1-4 2-3 2-4 3-4\n";
+                           if (!f) throw Error(k4 + ": cannot write");
+                           return Argv{"asf",
+                                       "optimal",
+                                       k4,
+                                       "--index",
+                                       "2",
+                                       "--walks",
+                                       "12",
+                                       "--walk-kind",
+                                       "walk",
+                                       "--criteria",
+                                       "T,D,A,E",
+                                       "-p",
+                                       dir + "/fig_5_6_8.svg",
+                                       "--json"};
+                         },
+                         "k4.json"});
+  st.commands.push_back({[g, dir] {
+                           return Argv{"asf",
+                                       "optimal",
+                                       g,
+                                       "--index",
+                                       std::to_string(pickGraphLine(g, "small_cycles")),
+                                       "--walks",
+                                       "14",
+                                       "--walk-kind",
+                                       "walk",
+                                       "--criteria",
+                                       "T,D,A,E",
+                                       "-p",
+                                       dir + "/fig_5_9_10.svg",
+                                       "--json"};
+                         },
+                         "generic.json"});
+  return st;
+}
+
 /// Theorem 5.2.1 / eq. 5.54 on two real pose graphs and the Fig. 6.1 TIGRE run.
 Stage theoremStage(const Settings& s) {
   const std::string g2o = s.shared + "/datasets/g2o";
@@ -340,6 +387,7 @@ std::vector<Stage> plan(const Settings& s) {
           table41Stage(s),
           table51Stage(s),
           figs511Stage(s),
+          walksStage(s),
           theoremStage(s)};
 }
 
