@@ -90,6 +90,19 @@ TEST(Reproduce, QuickGivesEveryRowBothValuesAndResumes) {
       << second.out;
   const auto j2 = nlohmann::json::parse(readFile(out / "report.json"));
   EXPECT_EQ(j2["rows"], j["rows"]);
+
+  // Other pairs: only the two Table 3.1 stages depend on them and are done again.
+  const auto third = runHost(args + " --pairs 3");
+  ASSERT_EQ(third.code, 0) << third.out;
+  EXPECT_TRUE(has(third.out, std::to_string(n - 2) + " of " + std::to_string(n) + " stages done"))
+      << third.out;
+  EXPECT_TRUE(has(third.out, "ch3_table_3_1_aces was begun with 'data=")) << third.out;
+  const auto j3 = nlohmann::json::parse(readFile(out / "report.json"));
+  for (const auto& row : j3["rows"]) {
+    if (row["section"] == "Table 3.1" && has(row["item"].get<std::string>(), ", scenario ")) {
+      EXPECT_TRUE(has(row["asf"].get<std::string>(), " of 3)")) << row.dump();
+    }
+  }
   fs::remove_all(out);
 }
 

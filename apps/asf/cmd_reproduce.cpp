@@ -105,7 +105,7 @@ int cmdReproduce(int argc, char** argv) {
   if (report_only.getValue()) {
     results.resize(stages.size());
     for (std::size_t i = 0; i < stages.size(); ++i)
-      if (fs::exists(s.out + "/" + stages[i].id + "/done.json"))
+      if (reproduce::recordedSettings(s, stages[i]) == reproduce::stageSettings(s, stages[i]))
         results[i].status = reproduce::StageResult::kReused;
   } else {
     std::cerr << "reproduce: " << stages.size() << " stages into " << s.out << " ("
@@ -114,9 +114,9 @@ int cmdReproduce(int argc, char** argv) {
   }
   const reproduce::Report report = reproduce::collect(s, stages, results);
   reproduce::write(s, report, stages, results);
-  std::size_t missing = 0, bad_stages = 0;
+  const std::size_t missing = report.missing();
+  std::size_t bad_stages = 0;
   bool interrupted = false;
-  for (const auto& row : report.rows) missing += row.asf.empty();
   for (const auto& r : results) {
     bad_stages +=
         r.status != reproduce::StageResult::kDone && r.status != reproduce::StageResult::kReused;

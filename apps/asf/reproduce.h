@@ -12,8 +12,8 @@
 
 namespace asf::app::reproduce {
 
-/// What the command line chose; `fingerprint()` names what changes the results, so a stage
-/// done under other settings is run again.
+/// What the command line chose; `fingerprint()` names it all (for the report), each stage
+/// records the part its results depend on (stageSettings).
 struct Settings {
   bool quick = false;
   std::string out;              ///< output folder (absolute)
@@ -44,7 +44,16 @@ struct Stage {
   std::vector<std::string> inputs;  ///< files it needs; a missing one skips it (named)
   std::vector<Command> commands;
   int slots = 1;  ///< cores it keeps busy
+  /// The settings its results depend on besides the data folder ("pairs=60 ..."): a stage
+  /// done before under the same ones is kept, under others it is done again.
+  std::string settings = "";
 };
+
+/// What a stage's done.json must record for it to be kept: the data folder and st.settings.
+std::string stageSettings(const Settings& s, const Stage& st);
+
+/// What OUT/<stage>/done.json recorded ("" when the stage has not finished there).
+std::string recordedSettings(const Settings& s, const Stage& st);
 
 /// What became of a stage.
 struct StageResult {
@@ -81,6 +90,8 @@ struct Figure {
 
 struct Report {
   std::vector<Row> rows;
+  /// Rows without an asf value.
+  std::size_t missing() const;
   std::vector<Figure> figures;
   /// Per section, in order: what was run and why asf differs, said once for its rows.
   std::vector<std::pair<std::string, std::string>> sections;

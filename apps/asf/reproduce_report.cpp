@@ -72,6 +72,12 @@ std::string embedded(const std::string& path, const std::string& alt) {
 
 }  // namespace
 
+std::size_t Report::missing() const {
+  std::size_t n = 0;
+  for (const auto& row : rows) n += row.asf.empty();
+  return n;
+}
+
 void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
            const std::vector<StageResult>& results) {
   json j;
@@ -107,8 +113,7 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
     j["figures"].push_back({{"section", f.section}, {"caption", f.caption}, {"file", f.file}});
   report::writeFileAtomically(s.out + "/report.json", j.dump(1) + "\n");
 
-  std::size_t missing = 0;
-  for (const auto& row : r.rows) missing += row.asf.empty();
+  const std::size_t missing = r.missing();
   const std::string title = "The thesis' chapters 3-6 reproduced by asf";
   std::ostringstream md;
   md << "# " << title << "\n\n";

@@ -1,7 +1,7 @@
 // The scheduler of `asf reproduce`: stages run as child processes (a stage's commands one
 // after the other, each an exec of asf), `jobs` cores at a time, ready stages started in
-// list order. A stage that finished writes OUT/<id>/done.json with the settings' fingerprint,
-// so a rerun of the same reproduction skips it (resume after Ctrl-C or a failure).
+// list order. A stage that finished writes OUT/<id>/done.json with the settings it depends on,
+// so a rerun under the same ones keeps it (resume after Ctrl-C or a failure).
 #include <asf/errors.h>
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -37,16 +37,6 @@ std::string minutes(double seconds) {
   return b;
 }
 
-bool doneBefore(const std::string& dir, const Settings& s) {
-  std::ifstream in(dir + "/done.json");
-  if (!in) return false;
-  try {
-    return nlohmann::json::parse(in).value("settings", "") == s.fingerprint();
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 /// Runs one command with stdout to `out_path` and stderr to `log_fd`; its exit code, or -1
 /// when it could not start.
 int runCommand(const std::vector<std::string>& argv, const std::string& out_path, int log_fd) {
@@ -78,6 +68,7 @@ int runStageProcess(const Stage& st, const Settings& s) {
   const int log_fd = open((dir + "/stage.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (log_fd < 0) return 1;
   auto log = [&](const std::string& text) { (void)!::write(log_fd, text.data(), text.size()); };
+  std::ofstream(dir + "/settings.txt") << stageSettings(s, st) << "\n";
   const auto t0 = Clock::now();
   for (const Command& c : st.commands) {
     if (g_interrupted) return 130;
@@ -100,7 +91,7 @@ int runStageProcess(const Stage& st, const Settings& s) {
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   std::ofstream done(dir + "/done.json");
-  done << nlohmann::json{{"settings", s.fingerprint()}, {"seconds", seconds}}.dump(1) << "\n";
+  done << nlohmann::json{{"settings", stageSettings(s, st)}, {"seconds", seconds}}.dump(1) << "\n";
   return done ? 0 : 1;
 }
 
@@ -124,10 +115,21 @@ std::size_t markKeptAndMissing(const std::vector<Stage>& stages, const Settings&
   for (std::size_t i = 0; i < stages.size(); ++i) {
     const std::string dir = s.out + "/" + stages[i].id;
     fs::create_directories(dir);
-    if (doneBefore(dir, s)) {
+    const std::string now = stageSettings(s, stages[i]);
+    if (recordedSettings(s, stages[i]) == now) {
       res[i].status = StageResult::kReused;
       ++kept;
       continue;
+    }
+    // Begun under other settings: start afresh (an unfinished one under these resumes, e.g.
+    // an experiment keeps its finished runs).
+    std::ifstream begun(dir + "/settings.txt");
+    std::string before;
+    if (begun && std::getline(begun, before) && before != now) {
+      std::cerr << "reproduce: " << stages[i].id << " was begun with '" << before
+                << "'; doing it again with '" << now << "'\n";
+      fs::remove_all(dir);
+      fs::create_directories(dir);
     }
     for (const auto& f : stages[i].inputs)
       if (!fs::exists(f)) {
@@ -195,6 +197,20 @@ void printRunning(const std::vector<Stage>& stages, const Settings& s,
 }
 
 }  // namespace
+
+std::string stageSettings(const Settings& s, const Stage& st) {
+  return "data=" + s.shared + (st.settings.empty() ? "" : " " + st.settings);
+}
+
+std::string recordedSettings(const Settings& s, const Stage& st) {
+  std::ifstream in(s.out + "/" + st.id + "/done.json");
+  if (!in) return "";
+  try {
+    return nlohmann::json::parse(in).value("settings", "");
+  } catch (const std::exception&) {
+    return "";
+  }
+}
 
 std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s) {
   std::vector<StageResult> res(stages.size());

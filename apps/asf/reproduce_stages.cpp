@@ -39,6 +39,9 @@ std::string num(double v) {
   return b;
 }
 
+/// What the cave runs depend on: where they stop.
+std::string caveRunSettings(const Settings& s) { return "max_distance=" + num(s.max_distance); }
+
 /// The line of the thesis' graph list (optexp/graphs.txt) that Figs. 5.11-5.13 draw: the
 /// thesis does not say which graphs it drew, so each is the first graph with the structure
 /// its caption describes (as scripts/chapter-5-weights.sh picks them).
@@ -100,6 +103,8 @@ Stage slamStage(const Settings& s, const std::string& log) {
 Stage table31Stage(const Settings& s, const std::string& log) {
   const std::string run = s.out + "/ch3_" + log;
   Stage st{"ch3_table_3_1_" + log, "Table 3.1 on " + log, {"ch3_" + log}, {}, {}, 1};
+  st.settings =
+      "pairs=" + std::to_string(s.pairs) + " recognition=" + std::to_string(s.recognition_samples);
   st.commands.push_back(
       cmd({"asf", "plan-eval", s.configs + "/plan_eval_" + log + ".ini", "--out",
            s.out + "/" + st.id, "--set", "plan_eval.graph=" + run + "/slam/graph.g2o", "--set",
@@ -155,6 +160,17 @@ Stage table32Stage(const Settings& s) {
                            },
                            std::string("table_3_2_cov_") + scale + ".json"});
   }
+  return st;
+}
+
+Stage fig33Stage(const Settings& s) {
+  Stage st{"ch3_fig_3_3", "Fig. 3.3 on aces", {"ch3_aces"}, {}, {}, 1};
+  st.settings = "samples=" + std::to_string(s.figure_samples);
+  st.commands.push_back(
+      cmd({"asf", "recognition", s.out + "/ch3_aces/slam/graph.g2o", "-r",
+           s.out + "/ch3_aces/aces.rawlog.gz", "-n", std::to_string(s.figure_samples), "-s", "141",
+           "-s", "153", "-j", "1", "-o", s.out + "/" + st.id},
+          "recognition.txt"));
   return st;
 }
 
@@ -278,6 +294,7 @@ Stage theoremStage(const Settings& s) {
            {g2o + "/intel.g2o", g2o + "/MIT.g2o"},
            {},
            1};
+  st.settings = caveRunSettings(s);  // the Fig. 6.1 run is one of its graphs
   // intel has 1728 poses: D only (sparse); the dense spectra of the others fit.
   st.commands.push_back(
       cmd({"asf", "optimal", g2o + "/intel.g2o", "--criteria", "D", "--theorem", "--json"},
@@ -293,8 +310,8 @@ Stage theoremStage(const Settings& s) {
 
 /// The cave with the author's robot (configs/cave_thesis.ini): one stage per policy (so the
 /// long TIGRE runs share the cores with the rest), each an `asf experiment` of its own INI
-/// into its own folder (two experiments never write one summary), then one that links the
-/// four into runs/ and summarizes them together.
+/// into its stage folder (two experiments never write one summary), then one that links the
+/// four into ch6_experiment/runs/ and summarizes them together.
 const char* const kPolicies[] = {"tigre", "frontier", "cpp_offline", "tsp_offline"};
 
 std::string writeExperimentIni(const Settings& s, const std::string& file,
@@ -309,22 +326,23 @@ std::string writeExperimentIni(const Settings& s, const std::string& file,
 }
 
 Stage policyStage(const Settings& s, const std::string& policy) {
-  const std::string dir = s.out + "/ch6_experiment";
+  const std::string dir = s.out + "/ch6_" + policy;
   Stage st{"ch6_" + policy, "the cave with the author's robot: " + policy, {}, {}, {}, 1};
-  st.commands.push_back(
-      {[s, dir, policy] {
-         fs::create_directories(dir);
-         const std::string ini =
-             writeExperimentIni(s, dir + "/experiment_" + policy + ".ini", policy);
-         return Argv{"asf", "experiment", ini, "-j", "1", "-o", dir + "/runs_" + policy};
-       },
-       "experiment.txt"});
+  st.settings = "replications=" + std::to_string(s.replications) + " " + caveRunSettings(s);
+  st.commands.push_back({[s, dir, policy] {
+                           fs::create_directories(dir);
+                           const std::string ini = writeExperimentIni(
+                               s, dir + "/experiment_" + policy + ".ini", policy);
+                           return Argv{"asf", "experiment", ini, "-j", "1", "-o", dir + "/runs"};
+                         },
+                         "experiment.txt"});
   return st;
 }
 
 Stage experimentStage(const Settings& s) {
   const std::string dir = s.out + "/ch6_experiment";
   Stage st{"ch6_experiment", "Figs. 6.2-6.4: the four policies summarized", {}, {}, {}, 1};
+  st.settings = "replications=" + std::to_string(s.replications) + " " + caveRunSettings(s);
   for (const char* p : kPolicies) st.after.push_back(std::string("ch6_") + p);
   st.commands.push_back(
       {[s, dir] {
@@ -334,7 +352,8 @@ Stage experimentStage(const Settings& s) {
          for (const char* p : kPolicies) {
            const fs::path link = dir + "/runs/" + p;
            fs::remove_all(link);
-           fs::create_directory_symlink(fs::path("..") / ("runs_" + std::string(p)) / p, link);
+           fs::create_directory_symlink(fs::path("../..") / ("ch6_" + std::string(p)) / "runs" / p,
+                                        link);
          }
          return Argv{"asf", "experiment", ini, "--summarize-only", "-o", dir + "/runs"};
        },
@@ -344,6 +363,7 @@ Stage experimentStage(const Settings& s) {
 
 Stage fig61Stage(const Settings& s) {
   Stage st{"ch6_fig_6_1", "Fig. 6.1: snapshots of one TIGRE run", {}, {}, {}, 1};
+  st.settings = caveRunSettings(s);
   Argv a{
       "asf",
       "run",
@@ -374,15 +394,7 @@ std::vector<Stage> plan(const Settings& s) {
           slamStage(s, "intel"),
           table31Stage(s, "intel"),
           fig61Stage(s),
-          Stage{"ch3_fig_3_3",
-                "Fig. 3.3 on aces",
-                {"ch3_aces"},
-                {},
-                {cmd({"asf", "recognition", s.out + "/ch3_aces/slam/graph.g2o", "-r",
-                      s.out + "/ch3_aces/aces.rawlog.gz", "-n", std::to_string(s.figure_samples),
-                      "-s", "141", "-s", "153", "-j", "1", "-o", s.out + "/ch3_fig_3_3"},
-                     "recognition.txt")},
-                1},
+          fig33Stage(s),
           table32Stage(s),
           table41Stage(s),
           table51Stage(s),
