@@ -1,0 +1,103 @@
+#pragma once
+// Internal to `asf reproduce`: how the rows are collected (reproduce_rows*.cpp, one file per
+// chapter of the thesis) and the number formats they share.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "reproduce.h"
+
+namespace asf::app::reproduce {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+inline std::string fmt(double v, int digits = 1) {
+  if (!std::isfinite(v)) return "n/a";
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*f", digits, v);
+  return b;
+}
+inline std::string sci(double v) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+inline std::string pm(double mean, double sd, int digits) {
+  return fmt(mean, digits) + " ± " + fmt(sd, digits);
+}
+inline std::string points(double asf, double thesis) {
+  return (asf >= thesis ? "+" : "") + fmt(asf - thesis) + " points";
+}
+inline std::string ratio(double asf, double thesis) { return "× " + fmt(asf / thesis, 2); }
+
+/// Collects rows; a stage's JSON output read once, null when missing or unreadable.
+class Collector {
+ public:
+  Collector(const Settings& s, const std::vector<Stage>& stages,
+            const std::vector<StageResult>& results)
+      : s_(s) {
+    for (std::size_t i = 0; i < stages.size(); ++i) status_[stages[i].id] = results[i];
+  }
+
+  json read(const std::string& stage, const std::string& file) {
+    const std::string path = s_.out + "/" + stage + "/" + file;
+    std::ifstream in(path);
+    if (!in) return nullptr;
+    try {
+      return json::parse(in);
+    } catch (const std::exception&) {
+      return nullptr;
+    }
+  }
+
+  /// A row from `stage`; an empty asf value gets a note saying why.
+  void row(const std::string& stage, const std::string& section, const std::string& item,
+           const std::string& thesis, const std::string& asf, const std::string& diff,
+           const std::string& note = "") {
+    Row r{section, item, thesis, asf, diff, note, stage};
+    if (asf.empty()) {
+      const auto it = status_.find(stage);
+      std::string why = "not produced";
+      if (it != status_.end() && !it->second.why.empty())
+        why += ": " + it->second.why;
+      else if (it != status_.end() && it->second.status == StageResult::kNotRun)
+        why += ": not run";
+      r.difference = "";
+      r.note = "stage " + stage + " " + why;
+    }
+    report.rows.push_back(r);
+  }
+
+  void figure(const std::string& section, const std::string& caption, const std::string& file) {
+    if (fs::exists(s_.out + "/" + file)) report.figures.push_back({section, caption, file});
+  }
+  void section(const std::string& name, const std::string& text) {
+    report.sections.push_back({name, text});
+  }
+
+  const Settings& s_;
+  std::map<std::string, StageResult> status_;
+  Report report;
+};
+
+inline double num(const json& j, const std::vector<std::string>& path) {
+  const json* p = &j;
+  for (const auto& k : path) {
+    if (!p->is_object() || !p->contains(k)) return NAN;
+    p = &(*p)[k];
+  }
+  return p->is_number() ? p->get<double>() : NAN;
+}
+
+/// The rows of each chapter (reproduce_rows_ch3.cpp, reproduce_rows_ch45.cpp,
+/// reproduce_rows.cpp), with their sections' notes.
+void chapter3(Collector& c);
+void chapters4and5(Collector& c);
+void chapter6(Collector& c);
+
+}  // namespace asf::app::reproduce
