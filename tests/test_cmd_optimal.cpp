@@ -70,6 +70,18 @@ TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
   const auto bad = runHost("optimal " + (d / "bad.json").string());
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(has(bad.out, "names a region that is not a node")) << bad.out;
+  // A node without its region, a region that is text: errors naming the file, not a bare
+  // json.exception (issue 20, item 7).
+  for (const char* text : {R"({"nodes": [{"centroid": [0, 0]}], "edges": []})",
+                           R"({"nodes": [{"region": "one"}], "edges": []})",
+                           R"({"nodes": [{"region": 1}], "edges": [{"a": 1}]})"}) {
+    std::ofstream(d / "field.json") << text;
+    const auto r2 = runHost("optimal " + (d / "field.json").string());
+    EXPECT_EQ(r2.code, 1) << text << "\n" << r2.out;
+    EXPECT_TRUE(has(r2.out, (d / "field.json").string() + ": not a topology.json as asf writes it"))
+        << text << "\n" << r2.out;
+    EXPECT_FALSE(has(r2.out, "unexpected error")) << r2.out;
+  }
   fs::remove_all(d);
 }
 

@@ -3,10 +3,10 @@
 #include <asf/errors.h>
 #include <gtest/gtest.h>
 
-#include "test_util.h"
-
 #include <filesystem>
 #include <fstream>
+
+#include "test_util.h"
 
 using asf::ConfigError;
 using asf::IniConfig;
@@ -106,6 +106,29 @@ TEST(IniConfig, SyntaxErrorsNameTheLine) {
                   "/nonexistent/asf.ini: cannot open"));
 }
 
+// Issue 20, item 3: what MRPT would drop or overwrite silently is an error naming the line.
+TEST(IniConfig, NulBytesRepeatedKeysAndUnknownDirectivesAreErrors) {
+  // A NUL byte: MRPT stops reading there, so `seed` and every later key would be defaults.
+  const std::string with_nul =
+      std::string("[run]\nlabel = x\nseed = 1") + '\0' + std::string("junk\nrays = 5\n");
+  ASSERT_EQ(with_nul.find('\0'), 24u);
+  EXPECT_TRUE(
+      has(errorOf([&] { IniConfig::fromText(with_nul, "nul.ini"); }), "nul.ini:3: a NUL byte"));
+  // A repeated key, also across two blocks of one section (case-insensitive).
+  EXPECT_TRUE(has(errorOf([] { IniConfig::fromText("[a]\nx = 1\ny = 2\nx = 3\n", "dup.ini"); }),
+                  "dup.ini:4: key 'x' of [a] is already set at line 2"));
+  EXPECT_TRUE(
+      has(errorOf([] { IniConfig::fromText("[a]\nX = 1\n[b]\nx = 2\n[A]\nx = 3\n", "dup.ini"); }),
+          "dup.ini:6: key 'x' of [a] is already set at line 2"));
+  // The same key in two sections is fine.
+  EXPECT_NO_THROW(IniConfig::fromText("[a]\nx = 1\n[b]\nx = 2\n", "ok.ini"));
+  // @define is MRPT's directive; @include and the like are not, and would be skipped.
+  EXPECT_TRUE(
+      has(errorOf([] { IniConfig::fromText("@include other.ini\n[a]\nx = 1\n", "inc.ini"); }),
+          "inc.ini:1: unknown directive '@include'"));
+  EXPECT_NO_THROW(IniConfig::fromText("@define R 4\n[a]\nx = ${R}\n", "def.ini"));
+}
+
 TEST(IniConfig, RelativePathsResolveAgainstTheIniFolder) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "asf_test_config";
@@ -127,13 +150,13 @@ TEST(Params, FromSpecsValidatesOverrides) {
                   "max_range = '1000': out of range [0.1, 100]"));
   EXPECT_TRUE(has(errorOf([] { asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys)); }),
                   "missing required key 'label'"));
-  EXPECT_TRUE(has(errorOf([] {
-                    asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys),
-                                           {{"label", "a"}, {"nope", "1"}});
-                  }),
-                  "unknown key 'nope'"));
-  EXPECT_TRUE(has(errorOf([&] { p.fail("rays", "must be even"); }),
-                  "[sensor] rays = '181': must be even"));
+  EXPECT_TRUE(has(
+      errorOf([] {
+        asf::Params::fromSpecs("sensor", kKeys, std::size(kKeys), {{"label", "a"}, {"nope", "1"}});
+      }),
+      "unknown key 'nope'"));
+  EXPECT_TRUE(
+      has(errorOf([&] { p.fail("rays", "must be even"); }), "[sensor] rays = '181': must be even"));
 }
 
 TEST(DidYouMean, SuggestsOnlyCloseWords) {

@@ -823,6 +823,18 @@ TEST(AsfPlan, ExpectedUncertaintyAvoidsTheWeakSideShortestTakesIt) {
   ASSERT_EQ(r.code, 0) << r.out;
   j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["path"].get<std::vector<int>>(), short_side) << r.out;
+  // Figs. 3.1-3.2 on the weak side: 3 steps, 2^3 relocalization sequences, 4 merged
+  // hypotheses, at most 3 * 4 / 2 probability queries; relocalizing on the weak side is
+  // uncertain, so E[C] is a mixture, and the enumeration of the sequences agrees.
+  const auto& h = j["hypotheses"];
+  EXPECT_EQ(h["steps"].get<int>(), 3) << h;
+  EXPECT_EQ(h["sequences"].get<double>(), 8) << h;
+  EXPECT_EQ(h["hypotheses"].get<int>(), 4) << h;
+  EXPECT_GT(h["evaluations"].get<int>(), 0) << h;
+  EXPECT_LE(h["evaluations"].get<int>(), 6) << h;
+  EXPECT_EQ(h["checked_steps"].get<int>(), 3) << h;
+  EXPECT_GE(h["checked_mixed_prefixes"].get<int>(), 1) << h;
+  EXPECT_LT(h["relative_difference"].get<double>(), 1e-12) << h;
 
   // Human-readable output and a bad key.
   r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 3 --planner "
@@ -836,6 +848,11 @@ TEST(AsfPlan, ExpectedUncertaintyAvoidsTheWeakSideShortestTakesIt) {
   r = asf_test::runHost("plan --graph " + g2o + " --start 0 --goal 42");
   EXPECT_NE(r.code, 0);
   EXPECT_TRUE(asf_test::has(r.out, "42")) << r.out;
+  // A negative id is named as given, not wrapped around to 4294967295 (issue 20, item 7).
+  r = asf_test::runHost("plan --graph " + g2o + " --start -1 --goal 3");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "node -1 does not exist")) << r.out;
+  EXPECT_FALSE(asf_test::has(r.out, "4294967295")) << r.out;
 }
 
 }  // namespace

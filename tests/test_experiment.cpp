@@ -560,19 +560,9 @@ TEST(ExperimentHost, CtrlCStopsRunsAndStillSummarizes) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = waypoints\nreplications = 3\njobs = 2\n"
         "out = out\n");
-  const std::string exe = ASF_TEST_BINARY_DIR "/bin/asf";
   const std::string log = (d / "experiment.log").string();
-  std::vector<std::string> args{exe, "experiment", (d / "exp.ini").string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  pid_t pid = -1;
-  ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&fa);
+  const pid_t pid = asf_test::spawnHost({"experiment", (d / "exp.ini").string()}, log);
+  ASSERT_GT(pid, 0);
   // Wait until both parallel runs have started and written some steps.
   const auto t0 = std::chrono::steady_clock::now();
   auto started = [&] {

@@ -773,6 +773,17 @@ TEST(GraphRoutes, MalformedGraphFilesNameFileAndLine) {
   }
   const auto q = tempFile("count.txt", "3 3 1-2 2-3\n");
   EXPECT_THROW(readGraphList(q.string()), asf::InputError);
+  // A node count no dense analysis can hold: named, not std::bad_alloc (issue 20, item 7).
+  const auto huge = tempFile("huge.txt", "3 2 1-2 2-3\n2147483647 0\n");
+  try {
+    readGraphList(huge.string());
+    FAIL() << "expected InputError";
+  } catch (const asf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(huge.string() + ":2: n = 2147483647 nodes"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(huge);
   std::string out, err;
   EXPECT_EQ(runAsf("route " + p.string() + " --algorithm cpp", out, err), 1);
   EXPECT_NE(err.find(p.string() + ":4"), std::string::npos) << err;

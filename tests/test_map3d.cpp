@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -527,6 +528,22 @@ TEST(Map3dHost, Vlp16Rawlog) {
                                        " --set map.resolution=2");
   EXPECT_EQ(other.code, 1);
   EXPECT_TRUE(has(other.out, "[map3d]")) << other.out;
+
+  // A damaged log: the cause and the record, not MRPT's banner; a cut one is not a clean end
+  // (issue 20, items 2 and 7).
+  std::ifstream raw(log, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(raw)), {});
+  std::string flipped = bytes;
+  for (std::size_t i = 1; i < 9 && i < flipped.size(); ++i) flipped[i] = '\xff';
+  for (const auto& [name, content] : {std::pair<std::string, std::string>{"flipped", flipped},
+                                      {"cut", bytes.substr(0, bytes.size() / 2)}}) {
+    const std::string damaged = (dir / (name + ".rawlog")).string();
+    std::ofstream(damaged, std::ios::binary) << content;
+    const auto r2 = asf_test::runHost("map3d " + damaged + " --out " + (dir / name).string());
+    EXPECT_EQ(r2.code, 1) << name << "\n" << r2.out;
+    EXPECT_TRUE(has(r2.out, damaged + ": record 0: ")) << name << "\n" << r2.out;
+    EXPECT_FALSE(has(r2.out, "==== MRPT exception ====")) << name << "\n" << r2.out;
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // of corridors with a short cut through a feature-void zone -- the expected-uncertainty
 // planner avoids the zone where the shortest path crosses it; config errors name the key;
 // and, when ../shared is here, a subset of the protocol on the Intel CARMEN log's SLAM graph.
+#include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
 #include <asf/rawlog_io.h>
 #include <asf/sensor_frame.h>
@@ -10,13 +11,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "plan_eval_figure.h"
 #include "test_util.h"
 
 namespace {
@@ -35,11 +37,11 @@ fs::path tempDir(const std::string& name) {
 /// precise scan-matching edges everywhere, two loop closures inside the future zone.
 void writeBuilding(const fs::path& g2o) {
   std::vector<std::pair<double, double>> xy;
-  for (int x = 0; x < 12; ++x) xy.emplace_back(x, 0);   // 0..11   south
-  for (int y = 0; y < 6; ++y) xy.emplace_back(12, y);   // 12..17  east
+  for (int x = 0; x < 12; ++x) xy.emplace_back(x, 0);  // 0..11   south
+  for (int y = 0; y < 6; ++y) xy.emplace_back(12, y);  // 12..17  east
   for (int x = 12; x > 0; --x) xy.emplace_back(x, 6);  // 18..29  north
-  for (int y = 6; y > 0; --y) xy.emplace_back(0, y);    // 30..35  west
-  for (int x = 1; x < 12; ++x) xy.emplace_back(x, 3);   // 36..46  middle
+  for (int y = 6; y > 0; --y) xy.emplace_back(0, y);   // 30..35  west
+  for (int x = 1; x < 12; ++x) xy.emplace_back(x, 3);  // 36..46  middle
   std::ofstream f(g2o);
   for (std::size_t i = 0; i < xy.size(); ++i)
     f << "VERTEX_SE2 " << i << " " << xy[i].first << " " << xy[i].second << " 0\n";
@@ -79,6 +81,19 @@ std::string writeConfig(const fs::path& dir, const std::string& extra = "") {
   return ini.string();
 }
 
+std::string readText(const fs::path& f) {
+  std::ifstream in(f);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::size_t count(const std::string& s, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t i = s.find(what); i != std::string::npos; i = s.find(what, i + 1)) ++n;
+  return n;
+}
+
 TEST(PlanEval, ExpectedUncertaintyAvoidsTheZoneShortestCrossesIt) {
   const fs::path dir = tempDir("building");
   writeBuilding(dir / "building.g2o");
@@ -113,6 +128,25 @@ TEST(PlanEval, ExpectedUncertaintyAvoidsTheZoneShortestCrossesIt) {
     std::size_t crossed = 0;
     for (const auto& p : s["pair_results"]) crossed += p["shortest"]["crosses"].get<bool>();
     EXPECT_EQ(crossed, pl["shortest"]["errors"].get<std::size_t>()) << what;
+    // Every chosen path runs from the pair's start to its goal, and "crosses" is what its
+    // nodes say (zone nodes: 39..43).
+    for (const auto& p : s["pair_results"])
+      for (const char* name : {"expected_uncertainty", "mechanical_work", "sum_dopt", "shortest"}) {
+        const auto path = p[name]["path"].get<std::vector<int>>();
+        ASSERT_FALSE(path.empty()) << what << " " << name;
+        EXPECT_EQ(path.front(), p["start"].get<int>()) << what << " " << name;
+        EXPECT_EQ(path.back(), p["goal"].get<int>()) << what << " " << name;
+        EXPECT_EQ(path.size(), p[name]["nodes"].get<std::size_t>()) << what << " " << name;
+        const bool in =
+            std::any_of(path.begin(), path.end(), [](int v) { return v >= 39 && v <= 43; });
+        EXPECT_EQ(in, p[name]["crosses"].get<bool>()) << what << " " << name;
+      }
+    // Fig. 3.4: the scenario drawn, every node once, the zone as a rectangle. No baseline
+    // erred, so there is no Fig. 3.5 example.
+    const std::string svg = readText(dir / "out" / s["figures"]["scenario"].get<std::string>());
+    EXPECT_EQ(count(svg, "<circle"), 47u) << what;
+    EXPECT_EQ(count(svg, "fill=\"#2c6fdc\"/>"), 5u) << what << ": the zone's nodes in blue";
+    EXPECT_TRUE(s["figures"]["error_example"].is_null()) << what;
     // Zone nodes are not starts or goals.
     for (const auto& p : s["pair_results"])
       for (const char* k : {"start", "goal"}) {
@@ -131,13 +165,53 @@ TEST(PlanEval, ExpectedUncertaintyAvoidsTheZoneShortestCrossesIt) {
   EXPECT_EQ(j2["scenarios"][0]["pairs"].get<int>(), 20);
 }
 
+// Fig. 3.5's example: the first pair where the baseline crosses and expected uncertainty does
+// not; its picture draws both paths over the graph, S and G at the first path's ends.
+TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
+  using nlohmann::json;
+  auto pair = [](int start, bool eu_crosses, bool mw_crosses) {
+    return json{
+        {"start", start},
+        {"goal", 5},
+        {"expected_uncertainty", {{"crosses", eu_crosses}, {"nodes", 3}, {"path", {start, 4, 5}}}},
+        {"mechanical_work", {{"crosses", mw_crosses}, {"nodes", 3}, {"path", {start, 2, 5}}}}};
+  };
+  const json pairs = json::array(
+      {pair(0, false, false), pair(1, true, true), pair(3, false, true), pair(0, false, true)});
+  EXPECT_EQ(asf::app::errorExample(pairs, "mechanical_work")["start"].get<int>(), 3);
+  EXPECT_TRUE(asf::app::errorExample(pairs, "sum_dopt").is_null());
+  EXPECT_TRUE(
+      asf::app::errorExample(json::array({pair(1, true, true)}), "mechanical_work").is_null());
+
+  asf::PoseGraph g;
+  for (int i = 0; i < 6; ++i) {
+    asf::PoseNode n;
+    n.pose = mrpt::poses::CPose2D(i, i % 2, 0);
+    g.nodes.push_back(n);
+  }
+  const asf::Zone zone{1.5, -1, 2.5, 2};  // holds node 2 only
+  json scen{{"name", "C"}, {"zone_index", 2}, {"factor", 10.0}, {"pair_results", pairs}};
+  const fs::path dir = tempDir("figure");
+  const json rec = asf::app::writeScenarioFigures(g, zone, scen, dir.string());
+  EXPECT_EQ(rec["scenario"].get<std::string>(), "scenario_C.svg");
+  ASSERT_TRUE(rec["error_example"].is_object());
+  EXPECT_EQ(rec["error_example"]["start"].get<int>(), 3);
+  EXPECT_EQ(rec["error_example"]["baseline"].get<std::string>(), "mechanical_work");
+  const std::string svg = readText(dir / "error_example_C.svg");
+  EXPECT_EQ(count(svg, "<polyline"), 2u);
+  EXPECT_EQ(count(svg, ">S</text>") + count(svg, ">G</text>"), 2u);
+  EXPECT_EQ(count(svg, "fill=\"#2c6fdc\"/>"), 1u) << "node 2 alone is in the zone";
+  EXPECT_TRUE(svg.find("node 3 to node 5") != std::string::npos);
+  // A path through a node the graph does not have is an input error.
+  EXPECT_THROW(asf::app::scenarioSvg(g, zone, {{"bad", "red", {0, 9}}}, "t"), asf::InputError);
+}
+
 TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {
   const fs::path dir = tempDir("errors");
   writeBuilding(dir / "building.g2o");
   auto r = asf_test::runHost("plan-eval " + writeConfig(dir, "zone = 1 2 3 4\n"));
   EXPECT_NE(r.code, 0);
-  EXPECT_TRUE(asf_test::has(r.out, "unknown key 'zone'") && asf_test::has(r.out, "zones"))
-      << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "unknown key 'zone'") && asf_test::has(r.out, "zones")) << r.out;
   r = asf_test::runHost("plan-eval " + writeConfig(dir) + " --set expected_uncertainity.k_paths=3");
   EXPECT_NE(r.code, 0);
   EXPECT_TRUE(asf_test::has(r.out, "[expected_uncertainity]") &&
@@ -192,10 +266,12 @@ TEST(PlanEval, WithTheRunsLogTheZonesScansAreIgnoredAndRecognitionIsMonteCarlo) 
   const fs::path dir = tempDir("with_log");
   writeBuilding(dir / "building.g2o");
   writeBuildingRun(dir);
-  const std::string ini = writeConfig(dir, "rawlog = building.rawlog\nrecognition_samples = 4\n"
-                                           "max_pairs = 6\nfactors = 100\n");
+  const std::string ini = writeConfig(dir,
+                                      "rawlog = building.rawlog\nrecognition_samples = 4\n"
+                                      "max_pairs = 6\n");
   auto r = asf_test::runHost("plan-eval " + ini + " --out " + (dir / "out").string() +
-                             " --set plan_eval.zone_covariance=wheel_odometry");
+                             " --set plan_eval.zone_covariance=wheel_odometry" +
+                             " --set plan_eval.factors=100");
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream jf(dir / "out" / "plan_eval.json");
   const auto j = nlohmann::json::parse(jf);
@@ -271,8 +347,8 @@ TEST(PlanEval, IntelSubsetRuns) {
                         " --set rawlog.ground_truth=" + (dir / "intel.gt.txt").string());
   ASSERT_EQ(r.code, 0) << r.out.substr(r.out.size() > 3000 ? r.out.size() - 3000 : 0);
   r = asf_test::runHost("plan-eval " + src + "/configs/plan_eval_intel.ini --out " +
-                        (dir / "eval").string() + " --set plan_eval.graph=" +
-                        (dir / "slam" / "graph.g2o").string() +
+                        (dir / "eval").string() +
+                        " --set plan_eval.graph=" + (dir / "slam" / "graph.g2o").string() +
                         " --set plan_eval.rawlog=" + (dir / "intel.rawlog.gz").string() +
                         " --set plan_eval.max_pairs=6 --set plan_eval.factors=100"
                         " --set plan_eval.recognition_samples=4");

@@ -5,18 +5,20 @@
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileInputStream.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 #include "test_util.h"
@@ -42,8 +44,7 @@ class TempDir {
     std::string name = std::string(info->test_suite_name()) + "_" + info->name();
     for (char& c : name)
       if (c == '/') c = '_';  // parameterized tests: "Suite/Param"
-    path_ = fs::temp_directory_path() /
-            ("asf_rawlog_" + name + "_" + std::to_string(::getpid()));
+    path_ = fs::temp_directory_path() / ("asf_rawlog_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -238,16 +239,16 @@ void writeObservationLog(const std::string& path) {
     ar << o;
   };
   auto scan = [&](const std::string& label, double t) { ar << *makeScan(label, t, 0, 11); };
-  odo(10.0, 0, 0, 0);          // A
+  odo(10.0, 0, 0, 0);  // A
   scan("FRONT", 10.05);
   scan("BACK", 10.06);
-  odo(10.1, 1, 0.5, 0.3);      // B
-  odo(10.2, 2, 1, 2.9);        // C
+  odo(10.1, 1, 0.5, 0.3);  // B
+  odo(10.2, 2, 1, 2.9);    // C
   scan("FRONT", 10.25);
-  odo(10.4, 2.5, 1.5, -3.0);   // D (after the next BACK scan's time)
+  odo(10.4, 2.5, 1.5, -3.0);  // D (after the next BACK scan's time)
   scan("BACK", 10.3);
   scan("FRONT", 10.5);
-  odo(10.52, 3, 1, -2.0);      // E
+  odo(10.52, 3, 1, -2.0);  // E
   scan("BACK", 10.55);
 }
 
@@ -279,8 +280,7 @@ TEST(RawlogReader, ObservationOnlyLogFirstLaserByDefault) {
   EXPECT_NEAR(dc.phi(), -5.9 + 2 * M_PI, 1e-12);
   expectPose(f[2].odometry, dc, "frame 2");
   for (int k = 1; k < 3; ++k)
-    EXPECT_TRUE(f[k].odometry_cov.isApprox(o.odometry_model.covariance(f[k].odometry), 1e-14))
-        << k;
+    EXPECT_TRUE(f[k].odometry_cov.isApprox(o.odometry_model.covariance(f[k].odometry), 1e-14)) << k;
   EXPECT_EQ(r.laserLabels(), (std::vector<std::string>{"FRONT", "BACK"}));
   EXPECT_EQ(r.skippedScans(), 3u);
   EXPECT_EQ(r.recordIndex(), 10u);
@@ -354,6 +354,48 @@ TEST(RawlogReader, TruncatedLogEndsWithErrorNamingTheRecord) {
   for (int k = 0; k < 6; ++k) expectReplayed(frames[k], got[k], k);  // still valid
   EXPECT_FALSE(r.next());
   EXPECT_FALSE(r.next());
+}
+
+// Issue 20, item 2: a log cut at any byte ends cleanly only where a record ends (positions
+// found by reading the whole file with MRPT's own archive: the oracle); anywhere else it is
+// an InputError, also inside a length or element count, where MRPT reports a plain EOF.
+TEST(RawlogReader, CutAtAnyByteEndsCleanlyOnlyBetweenRecords) {
+  TempDir dir;
+  const std::string path = dir.file("full.rawlog");
+  writeAll(path, makeFrames(3), 1);
+  std::set<std::uint64_t> boundaries{0};
+  {
+    mrpt::io::CFileInputStream in(path);
+    auto ar = mrpt::serialization::archiveFrom(in);
+    const std::uint64_t size = fs::file_size(path);
+    while (in.getPosition() < size) {
+      ar.ReadObject();
+      boundaries.insert(in.getPosition());
+    }
+  }
+  ASSERT_EQ(boundaries.size(), 7u) << "header + an action and a sensory frame per frame";
+  const std::string bytes = readBytes(path), cut = dir.file("cut.rawlog");
+  std::size_t clean_inside = 0, errors = 0;
+  for (std::size_t n = 0; n <= bytes.size(); ++n) {
+    writeBytes(cut, bytes.substr(0, n));
+    bool clean = true;
+    try {
+      asf::RawlogReader r(cut);
+      while (r.next()) {
+      }
+    } catch (const asf::InputError& e) {
+      clean = false;
+      ++errors;
+      EXPECT_TRUE(has(e.what(), cut + ": record ")) << e.what();
+    }
+    if (clean != (boundaries.count(n) == 1)) {
+      ++clean_inside;
+      ADD_FAILURE() << "cut at byte " << n << " of " << bytes.size() << ": "
+                    << (clean ? "a clean end inside a record" : "an error at a record boundary");
+      if (clean_inside > 5) break;  // the first few say it all
+    }
+  }
+  EXPECT_EQ(errors, bytes.size() + 1 - boundaries.size());
 }
 
 TEST(RawlogReader, TruncatedGzLogEndsWithError) {
@@ -456,11 +498,9 @@ TEST(GroundTruth, ReadSkipsCommentsAndNamesTheBadLine) {
 
 TEST(GroundTruth, InterpolationIsLinearWithAnglesOnTheCircle) {
   const std::vector<asf::GroundTruthPose> gt = {
-      {10.0, CPose2D(0, 0, 0.5)},
-      {10.2, CPose2D(2, -1, 1.5)},
-      {10.4, CPose2D(2, -1, 3.0)},
-      {10.6, CPose2D(4, 1, -3.0)},  // 0.283 rad further, across +-pi
-      {12.0, CPose2D(5, 5, 0)},     // after a 1.4 s gap
+      {10.0, CPose2D(0, 0, 0.5)},  {10.2, CPose2D(2, -1, 1.5)},
+      {10.4, CPose2D(2, -1, 3.0)}, {10.6, CPose2D(4, 1, -3.0)},  // 0.283 rad further, across +-pi
+      {12.0, CPose2D(5, 5, 0)},                                  // after a 1.4 s gap
   };
   auto p = asf::interpolateGroundTruth(gt, 10.05);
   ASSERT_TRUE(p);
@@ -553,8 +593,7 @@ TEST(RawlogReader, FramesGetInterpolatedGroundTruth) {
 /// in metres and radians, mapped through the Jacobian of the half-angle rotation
 ///   J = [c -s (-s x - c y); s c (c x - s y); 0 0 1],  c, s = cos, sin(dphi / 2).
 /// Our parameters are in MRPT's documented units (a2 m/deg, a3 deg/m, min std deg).
-Eigen::Matrix3d documentedModel(const asf::OdometryNoiseModel& m, double x, double y,
-                                double phi) {
+Eigen::Matrix3d documentedModel(const asf::OdometryNoiseModel& m, double x, double y, double phi) {
   const double deg = M_PI / 180, d = std::hypot(x, y);
   const double sxy = m.min_std_xy + m.a1 * d + (m.a2 / deg) * std::abs(phi);
   const double sphi = m.min_std_phi_deg * deg + m.a3 * deg * d + m.a4 * std::abs(phi);
@@ -588,8 +627,8 @@ TEST(OdometryNoiseModel, MatchesMrptsDocumentedGaussianModel) {
     const Eigen::Matrix3d got = m.covariance(d), exp = documentedModel(m, d.x(), d.y(), d.phi());
     EXPECT_TRUE(got.isApprox(exp, 1e-12)) << d << "\n" << got << "\nvs\n" << exp;
   }
-  EXPECT_TRUE(def.covariance(CPose2D(0.4, 0.1, 0.3))
-                  .isApprox(documentedModel(def, 0.4, 0.1, 0.3), 1e-12));
+  EXPECT_TRUE(
+      def.covariance(CPose2D(0.4, 0.1, 0.3)).isApprox(documentedModel(def, 0.4, 0.1, 0.3), 1e-12));
 }
 
 // ---------------------------------------------------------------- MRPT's sample datasets

@@ -53,9 +53,11 @@ TEST(Reproduce, QuickGivesEveryRowBothValuesAndResumes) {
     EXPECT_FALSE(row["asf"].get<std::string>().empty()) << row.dump();
     EXPECT_FALSE(row["difference"].get<std::string>().empty()) << row.dump();
   }
-  for (const char* s : {"Table 3.1", "Fig. 3.3", "Table 3.2", "Table 4.1", "Fig. 4.1", "Fig. 4.2",
-                        "Table 5.1", "Theorem 5.2.1", "Figs. 5.6-5.10", "Fig. 5.11", "Fig. 5.12",
-                        "Fig. 5.13", "Figs. 6.2-6.4", "Fig. 6.1"})
+  for (const char* s :
+       {"Figs. 3.1-3.2", "Fig. 3.3",  "Table 3.1", "Fig. 3.4",      "Fig. 3.5",
+        "Table 3.2",     "Table 4.1", "Fig. 4.1",  "Fig. 4.2",      "Fig. 4.3",
+        "Fig. 4.4",      "Fig. 4.5",  "Table 5.1", "Theorem 5.2.1", "Figs. 5.5-5.10",
+        "Fig. 5.11",     "Fig. 5.12", "Fig. 5.13", "Figs. 6.2-6.4", "Fig. 6.1"})
     EXPECT_EQ(sections.count(s), 1u) << "no row for " << s;
   // 2 logs x (16 cells + 2 claims) of Table 3.1, 12 cells of Table 4.1, 4 policies x 3 of ch. 6.
   std::size_t t31 = 0, t41 = 0;
@@ -65,6 +67,13 @@ TEST(Reproduce, QuickGivesEveryRowBothValuesAndResumes) {
   }
   EXPECT_EQ(t31, 36u);
   EXPECT_EQ(t41, 12u);
+  // Fig. 3.4: both zones of both logs drawn (scenarios A and C).
+  std::set<std::string> figures;
+  for (const auto& f : j["figures"]) figures.insert(f["file"].get<std::string>());
+  for (const char* log : {"intel", "aces"})
+    for (const char* sc : {"A", "C"})
+      EXPECT_EQ(figures.count(std::string("ch3_table_3_1_") + log + "/scenario_" + sc + ".svg"), 1u)
+          << log << " " << sc;
   std::size_t svg = 0, png = 0;
   for (const auto& f : j["figures"]) {
     const fs::path p = out / f["file"].get<std::string>();

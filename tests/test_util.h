@@ -1,11 +1,15 @@
 #pragma once
 // Helpers shared by the framework tests.
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace asf_test {
 
@@ -43,6 +47,24 @@ inline HostResult runHost(const std::string& args, bool merge_stderr = true) {
   const int st = pclose(p);
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+/// Starts the built host, `asf <args...>`, without waiting for it (to signal it), its stdout
+/// and stderr into the file `log`. Returns its pid, -1 when it could not start.
+inline pid_t spawnHost(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<std::string> all{ASF_TEST_BINARY_DIR "/bin/asf"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&fa);
+  return pid;
 }
 
 }  // namespace asf_test

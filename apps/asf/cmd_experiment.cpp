@@ -22,7 +22,11 @@ namespace {
 namespace fs = std::filesystem;
 
 std::atomic<bool> g_stop{false};
-extern "C" void onExperimentSignal(int) { g_stop = true; }
+std::atomic<int> g_signal{0};
+extern "C" void onExperimentSignal(int signo) {
+  g_signal = signo;
+  g_stop = true;
+}
 
 /// Resolves the pipeline once per policy with the experiment's overrides, so a typo in a
 /// policy name or an override fails here with its message, not in every run's log.
@@ -59,10 +63,11 @@ int cmdExperiment(int argc, char** argv) {
       ' ', ASF_VERSION_STRING);
   TCLAP::UnlabeledValueArg<std::string> config("config", "Experiment INI file", true, "",
                                                "CONFIG.ini", cmd);
-  TCLAP::ValueArg<std::string> out("o", "out", "Output folder (overrides [experiment] out)",
-                                   false, "", "DIR", cmd);
-  TCLAP::ValueArg<int> jobs("j", "jobs", "Runs at the same time (overrides [experiment] jobs; 0 = cores)",
-                            false, -1, "N", cmd);
+  TCLAP::ValueArg<std::string> out("o", "out", "Output folder (overrides [experiment] out)", false,
+                                   "", "DIR", cmd);
+  TCLAP::ValueArg<int> jobs("j", "jobs",
+                            "Runs at the same time (overrides [experiment] jobs; 0 = cores)", false,
+                            -1, "N", cmd);
   TCLAP::SwitchArg summarize_only("", "summarize-only",
                                   "Do not run anything: summarize the runs that exist", cmd);
   cmd.setExceptionHandling(false);
@@ -84,9 +89,9 @@ int cmdExperiment(int argc, char** argv) {
     const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
     if (ec) throw Error("/proc/self/exe: cannot find the asf binary: " + ec.message());
 
-    std::cout << "asf experiment: " << cfg.policies.size() << " policies x "
-              << cfg.replications << " replications of " << cfg.pipeline_ini << " into "
-              << cfg.out_dir << "/" << std::endl;
+    std::cout << "asf experiment: " << cfg.policies.size() << " policies x " << cfg.replications
+              << " replications of " << cfg.pipeline_ini << " into " << cfg.out_dir << "/"
+              << std::endl;
     g_stop = false;
     std::signal(SIGINT, onExperimentSignal);
     std::signal(SIGTERM, onExperimentSignal);
@@ -103,13 +108,17 @@ int cmdExperiment(int argc, char** argv) {
     std::signal(SIGTERM, SIG_DFL);
     std::size_t failed = 0;
     for (const auto& r : runs)
-      if (!r.skipped && r.exit_code != 0 && r.exit_code != kInterrupted) ++failed;
+      if (!r.skipped && r.exit_code != 0 && r.exit_code != interruptedBy(SIGINT) &&
+          r.exit_code != interruptedBy(SIGTERM))
+        ++failed;
     std::cout << "\n";
     // runExperiment ended with summarizeExperiment, which wrote the table to summary.md.
     std::ifstream md(fs::path(cfg.out_dir) / "summary.md");
     std::cout << md.rdbuf();
-    if (g_stop) code = kInterrupted;
-    else if (failed) code = kError;
+    if (g_stop)
+      code = interruptedBy(g_signal);
+    else if (failed)
+      code = kError;
   }
   std::cout << "\nasf experiment: report in "
             << (fs::absolute(cfg.out_dir) / "report.html").lexically_normal().string()

@@ -182,14 +182,17 @@ int cmdMap3d(int argc, char** argv) {
     for (;;) {
       mrpt::serialization::CSerializable::Ptr obj;
       const auto t0 = Clock::now();
+      const std::uint64_t record_start = in.getPosition();
       try {
         obj = ar->ReadObject();
       } catch (const mrpt::serialization::CExceptionEOF&) {
-        break;
+        if (in.getPosition() == record_start) break;  // a clean end: between records
+        throw InputError(path + ": record " + std::to_string(records) +
+                         ": the file ends inside this record (cut at byte " +
+                         std::to_string(in.getPosition()) + ")");
       } catch (const std::exception& e) {
-        std::string what = e.what();
-        what = what.substr(0, what.find('\n'));
-        throw InputError(path + ": record " + std::to_string(records) + ": " + what);
+        throw InputError(path + ": record " + std::to_string(records) + ": " +
+                         mrptExceptionCause(e.what()));
       }
       t_read += secondsSince(t0);
       ++records;

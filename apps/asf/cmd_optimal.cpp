@@ -53,6 +53,8 @@ LoadedGraph fromG2o(const std::string& path, bool unit, NoiseReference reference
 
 // The topological graph of a run or of `asf segment --graph` (topology.json): one node per
 // region, one edge per region border; frontier edges and the unexplored node are left out.
+LoadedGraph topologyGraph(const nlohmann::json& j, const std::string& path);
+
 LoadedGraph fromTopologyJson(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot be read");
@@ -62,8 +64,16 @@ LoadedGraph fromTopologyJson(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError(path + ": not JSON: " + e.what());
   }
-  if (!j.contains("nodes") || !j.contains("edges"))
+  if (!j.is_object() || !j.contains("nodes") || !j.contains("edges"))
     throw InputError(path + ": no \"nodes\" and \"edges\" (expected a topology.json)");
+  try {
+    return topologyGraph(j, path);
+  } catch (const nlohmann::json::exception& e) {  // a field missing or of another type
+    throw InputError(path + ": not a topology.json as asf writes it: " + e.what());
+  }
+}
+
+LoadedGraph topologyGraph(const nlohmann::json& j, const std::string& path) {
   LoadedGraph l;
   graph::Multigraph& g = l.g;
   std::map<long, int> index;

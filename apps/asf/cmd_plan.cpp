@@ -14,11 +14,14 @@
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <cctype>
 #include <chrono>
+#include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -33,6 +36,82 @@ std::string joinPath(const std::vector<NodeId>& p) {
   std::string s;
   for (std::size_t i = 0; i < p.size(); ++i) s += (i ? " " : "") + std::to_string(p[i]);
   return s;
+}
+
+/// Steps first+1 .. first+steps of a path model, as a path of its own from n_first.
+eu::PathModel slice(const eu::PathModel& m, std::size_t first, std::size_t steps) {
+  eu::PathModel p = m;
+  const std::size_t end = std::min(m.nodes.size(), first + steps + 1);
+  auto cut = [&](auto& v) {
+    if (v.size() >= end) v = std::vector(v.begin() + first, v.begin() + end);
+  };
+  cut(p.nodes);
+  cut(p.pose);
+  cut(p.sigma);
+  cut(p.motion);
+  cut(p.motion_cov);
+  cut(p.virtual_step);
+  cut(p.virtual_length);
+  return p;
+}
+
+/// The relocalization probability of `path`, each (k, t) query asked once: the oracle asks
+/// the same ones many times, and a query's covariances depend on k and t only.
+eu::RelocProbFn memoized(const eu::PathModel& path, const eu::RelocalizationOptions& o) {
+  auto memo = std::make_shared<std::map<std::pair<std::size_t, std::size_t>, double>>();
+  return [p = eu::relocalizationProbability(path, o), memo](const eu::RelocQuery& q) {
+    const auto key = std::make_pair(q.k, q.t);
+    const auto it = memo->find(key);
+    return it != memo->end() ? it->second : (*memo)[key] = p(q);
+  };
+}
+
+/// Prefixes of `w` (1..all its steps) whose merged hypotheses keep more than one with mass:
+/// where E[C] is a mixture, not one covariance.
+std::size_t mixedPrefixes(const eu::PathModel& w, const eu::RelocProbFn& p) {
+  std::size_t n = 0;
+  for (std::size_t len = 1; len <= w.steps(); ++len) {
+    const auto r = eu::expectedCovariance(slice(w, 0, len), p);
+    n += *std::max_element(r.prob.begin(), r.prob.end()) < 1 - 1e-9;
+  }
+  return n;
+}
+
+/// Thesis Figs. 3.1-3.2 on the chosen path: Algorithm 1 keeps one hypothesis per step of the
+/// last relocalization (m + 1 of them, O(m^2) evaluations of the relocalization probability)
+/// where the relocalization sequences are 2^m. Checked against the enumeration of every
+/// sequence (the oracle) on the window of `window` steps of the path where E[C] is most
+/// often a mixture, at the end of each of its prefixes.
+nlohmann::json hypothesisCheck(const eu::PathModel& model, const eu::CriterionOptions& o,
+                               std::size_t window = 16) {
+  const std::size_t m = model.steps();
+  const auto merged = eu::expectedCovariance(model, eu::relocalizationProbability(model, o.reloc));
+  nlohmann::json j{{"steps", m},
+                   {"sequences", std::pow(2.0, static_cast<double>(m))},
+                   {"hypotheses", merged.prob.size()},
+                   {"evaluations", merged.evaluations}};
+  const std::size_t len = std::min(window, m);
+  std::size_t first = 0, mixed = 0;
+  for (std::size_t a = 0; a + len <= m && len > 0; ++a) {
+    const eu::PathModel w = slice(model, a, len);
+    const std::size_t k = mixedPrefixes(w, memoized(w, o.reloc));
+    if (k > mixed) first = a, mixed = k;
+  }
+  const eu::PathModel w = slice(model, first, len);
+  const eu::RelocProbFn p = memoized(w, o.reloc);
+  double worst = 0;
+  for (std::size_t l = 1; l <= len; ++l) {
+    const eu::PathModel part = slice(w, 0, l);
+    const Eigen::Matrix3d a = eu::expectedCovariance(part, p).mean;
+    const Eigen::Matrix3d b = eu::expectedCovarianceBruteForce(part, p);
+    worst = std::max(worst, (a - b).norm() / std::max(b.norm(), 1e-300));
+  }
+  j["checked_from_step"] = first;
+  j["checked_steps"] = len;
+  j["checked_sequences"] = std::pow(2.0, static_cast<double>(len));
+  j["checked_mixed_prefixes"] = mixed;
+  j["relative_difference"] = worst;
+  return j;
 }
 
 }  // namespace
@@ -52,17 +131,19 @@ nlohmann::json pathComparison(const PoseGraph& g, const Marginals& marginals,
     std::size_t steps = 0;
     for (std::size_t i = 1; i < p.size(); ++i) steps += model.isVirtual(i);
     const double distance = eu::pathLength(model);
-    const double det =
-        eu::evaluatePath(eu::Criterion::ExpectedUncertainty, model, copt).cost;
+    const double det = eu::evaluatePath(eu::Criterion::ExpectedUncertainty, model, copt).cost;
     auto& slot = best[steps ? "unexplored" : "graph"];
     if (!slot.is_null()) {
       const double d0 = slot["distance"].get<double>(), c0 = slot["cost"].get<double>();
-      const bool better = steps ? distance < d0 || (distance == d0 && distance * det < c0)
-                                : distance * det < c0;
+      const bool better =
+          steps ? distance < d0 || (distance == d0 && distance * det < c0) : distance * det < c0;
       if (!better) continue;
     }
-    slot = {{"path", p}, {"distance", distance}, {"expected_uncertainty", det},
-            {"cost", distance * det}, {"virtual_steps", steps}};
+    slot = {{"path", p},
+            {"distance", distance},
+            {"expected_uncertainty", det},
+            {"cost", distance * det},
+            {"virtual_steps", steps}};
   }
   return best;
 }
@@ -77,21 +158,21 @@ int cmdPlan(int argc, char** argv) {
       ' ', ASF_VERSION_STRING);
   TCLAP::ValueArg<std::string> graph("g", "graph", "The pose graph (g2o)", true, "", "FILE.g2o",
                                      cmd);
-  TCLAP::ValueArg<unsigned> start("", "start", "Start node id", true, 0, "ID", cmd);
-  TCLAP::ValueArg<unsigned> goal("", "goal", "Goal node id", true, 0, "ID", cmd);
+  // Signed: an unsigned argument would read -1 as 4294967295.
+  TCLAP::ValueArg<long long> start("", "start", "Start node id", true, 0, "ID", cmd);
+  TCLAP::ValueArg<long long> goal("", "goal", "Goal node id", true, 0, "ID", cmd);
   TCLAP::ValueArg<std::string> planner("", "planner", "Planner plugin name", false,
                                        "expected_uncertainty", "NAME", cmd);
-  TCLAP::MultiArg<std::string> set(
-      "s", "set", "Planner key: key=value or <planner>.key=value (repeatable)", false,
-      "KEY=VALUE", cmd);
-  TCLAP::ValueArg<std::string> backend("b", "backend", "Back-end recovering the marginals",
-                                       false, "sparse_lm", "NAME", cmd);
-  TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed handed to the planner", false, 1, "N",
-                                      cmd);
+  TCLAP::MultiArg<std::string> set("s", "set",
+                                   "Planner key: key=value or <planner>.key=value (repeatable)",
+                                   false, "KEY=VALUE", cmd);
+  TCLAP::ValueArg<std::string> backend("b", "backend", "Back-end recovering the marginals", false,
+                                       "sparse_lm", "NAME", cmd);
+  TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed handed to the planner", false, 1, "N", cmd);
   TCLAP::ValueArg<std::size_t> max_cross(
       "", "max-cross",
-      "Request cross-covariances only if the candidate paths need at most this many blocks",
-      false, 2000000, "N", cmd);
+      "Request cross-covariances only if the candidate paths need at most this many blocks", false,
+      2000000, "N", cmd);
   TCLAP::SwitchArg json("j", "json",
                         "Print one JSON object: path, cost, criterion, costs (every "
                         "criterion), expected_covariance, candidates, capped, timings, note",
@@ -111,8 +192,8 @@ int cmdPlan(int argc, char** argv) {
       "Partially explored map: set the planner's voronoi_edges=true (needs --map): virtual "
       "edges of the map's generalized Voronoi graph join nodes the pose graph does not",
       cmd);
-  TCLAP::ValueArg<double> resolution("", "resolution", "Map resolution [m/pixel]", false, 0.05,
-                                     "R", cmd);
+  TCLAP::ValueArg<double> resolution("", "resolution", "Map resolution [m/pixel]", false, 0.05, "R",
+                                     cmd);
   TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
                                     "DIR", cmd);
   cmd.setExceptionHandling(false);
@@ -135,9 +216,9 @@ int cmdPlan(int argc, char** argv) {
     overrides.push_back("voronoi_edges=true");
   }
   if (!(resolution.getValue() > 0)) throw ConfigError("--resolution must be > 0");
-  const Params pparams = setOverrides(overrides, pinfo->name(), "planner")
-                             .resolve(pinfo->name(), pinfo->descriptor->keys,
-                                      pinfo->descriptor->num_keys);
+  const Params pparams =
+      setOverrides(overrides, pinfo->name(), "planner")
+          .resolve(pinfo->name(), pinfo->descriptor->keys, pinfo->descriptor->num_keys);
   const Params bparams =
       Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys);
   PluginContext ctx;
@@ -150,19 +231,20 @@ int cmdPlan(int argc, char** argv) {
   be->configure(bparams, PluginContext{});
 
   const PoseGraph g = readG2o(graph.getValue());
-  const NodeId s = start.getValue(), t = goal.getValue();
-  for (NodeId v : {s, t})
-    if (v >= g.size())
+  for (long long v : {start.getValue(), goal.getValue()})
+    if (v < 0 || static_cast<unsigned long long>(v) >= g.size())
       throw InputError(graph.getValue() + ": node " + std::to_string(v) +
-                       " does not exist (the graph has " + std::to_string(g.size()) + " nodes)");
+                       " does not exist (the graph has " + std::to_string(g.size()) +
+                       " nodes, numbered from 0)");
+  const NodeId s = static_cast<NodeId>(start.getValue()), t = static_cast<NodeId>(goal.getValue());
 
   // The candidate paths as the planner sees them (its own search keys when it has them),
   // to request the cross-covariance blocks its relocalization probability reads.
   const eu::PathSearchOptions search = eu::pathSearchOptionsFrom(pparams);
   GridMap grid;
-  const bool yaml = map.getValue().size() > 5 &&
-                    (map.getValue().substr(map.getValue().size() - 5) == ".yaml" ||
-                     map.getValue().substr(map.getValue().size() - 4) == ".yml");
+  const bool yaml =
+      map.getValue().size() > 5 && (map.getValue().substr(map.getValue().size() - 5) == ".yaml" ||
+                                    map.getValue().substr(map.getValue().size() - 4) == ".yml");
   if (yaml)
     grid = readOccupancyMap(map.getValue());
   else if (!map.getValue().empty())
@@ -213,8 +295,8 @@ int cmdPlan(int argc, char** argv) {
   const PlanResult r = pl->plan(req);
   const double plan_s = secondsSince(t0);
   if (!r.found)
-    throw Error(pinfo->name() + ": no path from " + std::to_string(s) + " to " +
-                std::to_string(t) + ": " + r.reason);
+    throw Error(pinfo->name() + ": no path from " + std::to_string(s) + " to " + std::to_string(t) +
+                ": " + r.reason);
 
   // The chosen path under every criterion, with the planner's options where it has them.
   const eu::CriterionOptions copt = eu::criterionOptionsFrom(pparams, ctx.seed);
@@ -233,9 +315,8 @@ int cmdPlan(int argc, char** argv) {
     if (c == eu::Criterion::ExpectedUncertainty) expected = pc;
   }
   const nlohmann::json comparison =
-      search.voronoi_edges
-          ? pathComparison(g, marginals, candidates.paths, virtual_edges, copt)
-          : nlohmann::json(nullptr);
+      search.voronoi_edges ? pathComparison(g, marginals, candidates.paths, virtual_edges, copt)
+                           : nlohmann::json(nullptr);
   std::string note;
   if (candidates.capped)
     note += "path search capped at " + std::to_string(search.max_paths) + " paths. ";
@@ -254,8 +335,7 @@ int cmdPlan(int argc, char** argv) {
     ro.map_resolution = resolution.getValue();
     if (yaml) {  // the YAML's image, in the YAML's frame
       const OccupancyMapInfo info = readOccupancyYaml(map.getValue());
-      ro.map_png =
-          (std::filesystem::path(map.getValue()).parent_path() / info.image).string();
+      ro.map_png = (std::filesystem::path(map.getValue()).parent_path() / info.image).string();
       ro.map_resolution = info.resolution;
       ro.map_origin_x = info.origin_x;
       ro.map_origin_y = info.origin_y;
@@ -293,22 +373,23 @@ int cmdPlan(int argc, char** argv) {
                         {"search_time_s", search_s},
                         {"marginals_time_s", marginals_s},
                         {"plan_time_s", plan_s},
+                        {"hypotheses", hypothesisCheck(model, copt)},
                         {"note", note}};
     if (!image.getValue().empty()) j["image"] = image.getValue();
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << std::setprecision(6) << graph.getValue() << ": " << g.size() << " nodes, "
-              << g.edges.size() << " edges; " << candidates.paths.size()
-              << " candidate paths (" << eu::searchMethodName(candidates.method)
-              << "; search graph " << candidates.reduced_nodes << " vertices, "
-              << candidates.reduced_edges << " edges, " << candidates.merged_vertices
-              << " merged aliases" << (candidates.capped ? ", capped" : "") << ")\n"
+              << g.edges.size() << " edges; " << candidates.paths.size() << " candidate paths ("
+              << eu::searchMethodName(candidates.method) << "; search graph "
+              << candidates.reduced_nodes << " vertices, " << candidates.reduced_edges << " edges, "
+              << candidates.merged_vertices << " merged aliases"
+              << (candidates.capped ? ", capped" : "") << ")\n"
               << pinfo->name() << ": " << r.nodes.size() << " nodes: " << joinPath(r.nodes)
-              << "\n  " << r.criterion << " = " << r.cost << " (plan " << plan_s
-              << " s, marginals " << marginals_s << " s)\n";
+              << "\n  " << r.criterion << " = " << r.cost << " (plan " << plan_s << " s, marginals "
+              << marginals_s << " s)\n";
     for (const auto& [k, v] : costs.items())
-      std::cout << "  " << std::left << std::setw(22) << k << labels[k].get<std::string>()
-                << " = " << v.get<double>() << "\n";
+      std::cout << "  " << std::left << std::setw(22) << k << labels[k].get<std::string>() << " = "
+                << v.get<double>() << "\n";
     if (search.voronoi_edges) {
       std::cout << "  voronoi: " << virtual_edges.size() << " virtual edges (" << voronoi_s
                 << " s); the path takes " << virtual_steps.size() << ":";
@@ -321,8 +402,9 @@ int cmdPlan(int argc, char** argv) {
         if (c.is_null())
           std::cout << "no candidate\n";
         else
-          std::cout << c["distance"].get<double>() << "  " << c["expected_uncertainty"].get<double>()
-                    << "  " << c["cost"].get<double>() << "\n";
+          std::cout << c["distance"].get<double>() << "  "
+                    << c["expected_uncertainty"].get<double>() << "  " << c["cost"].get<double>()
+                    << "\n";
       }
     }
     if (!note.empty()) std::cout << "note: " << note << "\n";

@@ -5,7 +5,6 @@
 // scan (asf/place_recognition.h); for every start/goal pair of a node subset outside the
 // zone each planner plugin picks its path, and its error rate is the share of pairs whose
 // path crosses the zone.
-#include <Eigen/LU>
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/errors.h>
@@ -18,6 +17,7 @@
 #include <asf/unreliable_zone.h>
 #include <tclap/CmdLine.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -37,6 +37,7 @@
 #include <thread>
 
 #include "commands.h"
+#include "plan_eval_figure.h"
 #include "plan_eval_report.h"
 #include "plugin_cli.h"
 
@@ -455,8 +456,11 @@ json sweepPairs(std::vector<PlannerSlot>& slots, const Scenario& s, const PairSe
       ++t.found;
       const bool crossed = crosses(r.nodes);
       t.errors += crossed;
-      jp[slots[k].name] = {
-          {"crosses", crossed}, {"cost", r.cost}, {"nodes", r.nodes.size()}, {"time_s", dt}};
+      jp[slots[k].name] = {{"crosses", crossed},
+                           {"cost", r.cost},
+                           {"nodes", r.nodes.size()},
+                           {"time_s", dt},
+                           {"path", r.nodes}};
     }
     jpairs.push_back(std::move(jp));
     if ((progress_every > 0 && (pi + 1) % progress_every == 0) || pi + 1 == ps.pairs.size()) {
@@ -559,7 +563,9 @@ int cmdPlanEval(int argc, char** argv) {
       "its marginals and cross-covariances recovered, place recognition estimated by Monte "
       "Carlo ICP on each node's scan, and every planner plans every start/goal pair of a "
       "node subset outside the zone. Error rate: share of the pairs whose path crosses the "
-      "zone. Writes plan_eval.md and plan_eval.json; progress on stderr.",
+      "zone. Writes plan_eval.md, plan_eval.json (every chosen path), scenario_<X>.svg (thesis "
+      "Fig. 3.4) and error_example_<X>.svg (Fig. 3.5: a baseline through the zone where expected "
+      "uncertainty goes around, when one does); progress on stderr.",
       ' ', ASF_VERSION_STRING);
   TCLAP::UnlabeledValueArg<std::string> config("config", "The INI file", true, "", "CONFIG.ini",
                                                cmd);
@@ -646,7 +652,9 @@ int cmdPlanEval(int argc, char** argv) {
                 << "marginals " << std::setprecision(3) << s.marginals_s << " s\n";
       json sweep = sweepPairs(slots, s, ps, in_zone, search,
                               static_cast<std::size_t>(p.getInt("progress_every")));
-      jscen.push_back(scenarioRecord(s, in_zone, std::move(sweep)));
+      json rec = scenarioRecord(s, in_zone, std::move(sweep));
+      rec["figures"] = writeScenarioFigures(s.graph, s.zone, rec, out_dir);
+      jscen.push_back(std::move(rec));
     }
   }
 

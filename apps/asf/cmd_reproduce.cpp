@@ -39,10 +39,12 @@ int cmdReproduce(int argc, char** argv) {
       "Reruns the thesis' tables and figures of chapters 3-6 and writes one report (report.md, "
       "report.html with the figures embedded, report.json): per row the thesis value, asf's "
       "value, the difference and a note. Stages: graph SLAM on the intel and aces CARMEN logs "
-      "and Table 3.1 on both, Fig. 3.3, Table 3.2 (aces partially explored); Table 4.1 and Figs. "
-      "4.1-4.2 (room segmentation benchmark); Table 5.1 (the thesis' 174 graphs), Theorem 5.2.1 "
-      "(intel, MIT, a cave run), Figs. 5.6-5.10 (walks) and 5.11-5.13; the cave with the "
-      "author's robot, four policies (Figs. 6.2-6.4) and Fig. 6.1. Data from --shared "
+      "and Table 3.1 on both with Figs. 3.4-3.5, Figs. 3.1-3.2 (the hypotheses merge against "
+      "their enumeration) and Table 3.2 (aces partially explored), Fig. 3.3; Table 4.1 and Figs. "
+      "4.1-4.4 (room segmentation benchmark); Table 5.1 (the thesis' 174 graphs), Theorem 5.2.1 "
+      "(intel, MIT, a cave run), Figs. 5.5-5.10 (walks on K4 and a generic graph) and "
+      "5.11-5.13; the cave with the author's robot, four policies (Figs. 6.2-6.4) and Figs. 6.1 "
+      "and 4.5 (one TIGRE run). Data from --shared "
       "(../shared: datasets/carmen, roomseg, optexp, g2o); a stage whose data is missing is "
       "skipped and named. Each stage runs asf commands into OUT/<stage>/ (stage.log: their "
       "commands and messages); a stage done before with the same settings is kept, so an "
@@ -126,7 +128,9 @@ int cmdReproduce(int argc, char** argv) {
             << " without an asf value), " << report.figures.size() << " figures; "
             << stages.size() - bad_stages << "/" << stages.size() << " stages done\nwrote " << s.out
             << "/report.md, report.html, report.json\n";
-  if (interrupted) return kInterrupted;
+  if (interrupted)
+    return reproduce::interruptingSignal() ? interruptedBy(reproduce::interruptingSignal())
+                                           : kInterrupted;
   return missing == 0 && bad_stages == 0 ? kOk : kError;
 }
 

@@ -11,7 +11,11 @@ namespace asf::app {
 
 namespace {
 std::atomic<bool> g_stop{false};
-extern "C" void onSignal(int) { g_stop = true; }
+std::atomic<int> g_signal{0};
+extern "C" void onSignal(int signo) {
+  g_signal = signo;
+  g_stop = true;
+}
 }  // namespace
 
 int cmdRun(int argc, char** argv) {
@@ -49,15 +53,14 @@ int cmdRun(int argc, char** argv) {
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
 
-  std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, "
-            << s.distance_m << " m, " << s.nodes << " nodes, " << s.edges << " edges, "
-            << s.regions << " regions";
+  std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, " << s.distance_m
+            << " m, " << s.nodes << " nodes, " << s.edges << " edges, " << s.regions << " regions";
   if (s.final_pose_error_m >= 0)
-    std::cout << ", final pose error " << s.final_pose_error_m << " m (mean "
-              << s.mean_pose_error_m << " m)";
+    std::cout << ", final pose error " << s.final_pose_error_m << " m (mean " << s.mean_pose_error_m
+              << " m)";
   if (s.ate_rmse_m >= 0)
-    std::cout << ", ATE RMSE " << s.ate_rmse_m << " m (max " << s.ate_max_m << " m, "
-              << s.ate_poses << " keyframes)";
+    std::cout << ", ATE RMSE " << s.ate_rmse_m << " m (max " << s.ate_max_m << " m, " << s.ate_poses
+              << " keyframes)";
   if (s.coverage >= 0) std::cout << ", coverage " << 100 * s.coverage << "%";
   std::cout << " in " << s.wall_time_s << " s\n";
   std::cout << "asf run: results in " << std::filesystem::absolute(dir).lexically_normal().string()
@@ -65,9 +68,13 @@ int cmdRun(int argc, char** argv) {
   const auto files = Pipeline::outputFiles();
   for (std::size_t i = 0; i < files.size(); ++i) std::cout << (i ? ", " : "") << files[i];
   std::cout << ")\n";
-  std::cout << "asf run: report: "
-            << (std::filesystem::absolute(dir) / "report.html").lexically_normal().string() << "\n";
-  return g_stop ? kInterrupted : kOk;
+  const auto report = (std::filesystem::absolute(dir) / "report.html").lexically_normal();
+  if (std::filesystem::exists(report)) std::cout << "asf run: report: " << report.string() << "\n";
+  if (!s.output_errors.empty()) {
+    std::cerr << "asf run: error: outputs not written: " << s.output_errors << "\n";
+    return g_stop ? interruptedBy(g_signal) : kError;
+  }
+  return g_stop ? interruptedBy(g_signal) : kOk;
 }
 
 }  // namespace asf::app

@@ -12,8 +12,11 @@ enum Exit : int {
   kError = 1,        ///< bad configuration, plugin or input
   kUsage = 2,        ///< bad command line
   kTestsFailed = 3,  ///< conformance tests failed
-  kInterrupted = 130,
+  kInterrupted = 130,  ///< SIGINT (Ctrl-C); SIGTERM gives 143: 128 + the signal, as shells do
 };
+
+/// The exit code of a command stopped by signal `signo` (SIGINT 130, SIGTERM 143).
+inline int interruptedBy(int signo) { return 128 + signo; }
 
 int cmdRun(int argc, char** argv);
 int cmdPlugins(int argc, char** argv);

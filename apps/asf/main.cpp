@@ -7,6 +7,7 @@
 #include <cstring>
 #include <iomanip>
 #include <iostream>
+#include <new>
 
 #include "commands.h"
 
@@ -101,6 +102,10 @@ int main(int argc, char** argv) {
       return e.getExitStatus();
     } catch (const asf::Error& e) {
       std::cerr << "asf " << sub << ": error: " << e.what() << "\n";
+      return asf::app::kError;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "asf " << sub << ": error: out of memory (an input larger than this "
+                << "machine can hold?)\n";
       return asf::app::kError;
     } catch (const std::exception& e) {
       std::cerr << "asf " << sub << ": unexpected error: " << e.what() << "\n";

@@ -49,6 +49,9 @@ struct Stage {
   std::string settings = "";
 };
 
+/// The signal (SIGINT, SIGTERM) that stopped the last run(); 0 when none did.
+int interruptingSignal();
+
 /// What a stage's done.json must record for it to be kept: the data folder and st.settings.
 std::string stageSettings(const Settings& s, const Stage& st);
 

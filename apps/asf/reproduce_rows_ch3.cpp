@@ -54,6 +54,85 @@ void table31(Collector& c, const std::string& log) {
         any_scenario ? (baseline_cd.empty() ? "differs" : "agrees") : "");
 }
 
+/// Figs. 3.4 (the scenarios: the zones on the map) and 3.5 (an error example: a baseline's
+/// path through the zone where expected uncertainty goes around) from plan-eval's pictures.
+void figs34and35(Collector& c, const std::string& log) {
+  const std::string stage = "ch3_table_3_1_" + log;
+  const json j = c.read(stage, "plan_eval.json");
+  std::string example, example_file;
+  bool any = false;
+  if (j.is_object())
+    for (const auto& sc : j["scenarios"]) {
+      any = true;
+      const std::string name = sc.value("name", "");
+      const json fig = sc.value("figures", json());
+      if (!fig.is_object()) continue;
+      if (name == "A" || name == "C") {
+        const std::string zone = name == "A" ? "1" : "2";
+        c.row(stage, "Fig. 3.4",
+              log + ": zone " + zone +
+                  (zone == "1" ? " (a wing most paths can avoid)" : " (hard to avoid)"),
+              "blue square on the map (figure; no value)",
+              fmt(num(sc, {"zone_nodes"}), 0) + " nodes, " + fmt(num(sc, {"scans_removed"}), 0) +
+                  " scans ignored; the shortest path crosses it in " +
+                  fmt(num(sc, {"planners", "shortest", "errors"}), 0) + " of " +
+                  fmt(num(sc, {"pairs"}), 0) + " pairs",
+              "compare the pictures");
+        c.figure("Fig. 3.4",
+                 log + ", zone " + zone + " (scenarios " + name + ", " +
+                     static_cast<char>(name[0] + 1) + ")",
+                 stage + "/" + fig.value("scenario", ""));
+      }
+      const json ex = fig.value("error_example", json());
+      if (example.empty() && ex.is_object()) {
+        const bool mw = ex.value("baseline", "") == "mechanical_work";
+        example = "scenario " + name + ", node " + fmt(num(ex, {"start"}), 0) + " to " +
+                  fmt(num(ex, {"goal"}), 0) + ": " +
+                  (mw ? "mechanical work" : "sum of D-optimality") + " (" +
+                  fmt(num(ex, {"baseline_nodes"}), 0) +
+                  " nodes) crosses the zone, expected uncertainty (" +
+                  fmt(num(ex, {"expected_uncertainty_nodes"}), 0) + " nodes) goes around";
+        example_file = stage + "/" + ex.value("file", "");
+      }
+    }
+  const bool found = !example.empty();
+  c.row(stage, "Fig. 3.5",
+        log + ": a baseline's path crosses the zone where expected uncertainty goes around",
+        "yes: mechanical work returns to certain nodes through the zone (Fig. 3.5a), expected "
+        "uncertainty avoids it (b)",
+        any ? (found ? example : "no such pair: no baseline erred in A-D") : "",
+        any ? (found ? "agrees" : "differs") : "",
+        found ? "" : "see Table 3.1's note: why the baselines err only where they do");
+  if (found) c.figure("Fig. 3.5", log + ": " + example, example_file);
+}
+
+/// Figs. 3.1-3.2 (illustrations of Algorithm 1) checked on Table 3.2's chosen path: the
+/// merged hypotheses grow linearly, and their E[C] equals the enumeration of every sequence.
+void figs31and32(Collector& c) {
+  const std::string stage = "ch3_table_3_2";
+  const json j = c.read(stage, "table_3_2_cov_1.json");
+  const json h = j.is_object() ? j.value("hypotheses", json()) : json();
+  const bool ok = h.is_object();
+  const double m = num(h, {"steps"}), hyp = num(h, {"hypotheses"});
+  c.row(stage, "Figs. 3.1-3.2", "hypotheses kept along a path of m steps",
+        "m + 1 (one per step of the last relocalization), not 2^m",
+        ok ? "aces, node 201 to 128: " + fmt(m, 0) + " steps, " + fmt(hyp, 0) + " hypotheses, " +
+                 fmt(num(h, {"evaluations"}), 0) + " probability evaluations (2^" + fmt(m, 0) +
+                 " = " + sci(num(h, {"sequences"})) + " sequences)"
+           : "",
+        ok ? (hyp == m + 1 ? "agrees" : "differs") : "");
+  const double diff = num(h, {"relative_difference"}), from = num(h, {"checked_from_step"});
+  c.row(stage, "Figs. 3.1-3.2", "E[C] of the merged hypotheses equals every sequence enumerated",
+        "yes (the merge is exact)",
+        ok ? "steps " + fmt(from + 1, 0) + "-" + fmt(from + num(h, {"checked_steps"}), 0) + " (" +
+                 sci(num(h, {"checked_sequences"})) + " sequences; E[C] a mixture at " +
+                 fmt(num(h, {"checked_mixed_prefixes"}), 0) +
+                 " of its prefixes): largest relative difference " + sci(diff)
+           : "",
+        ok ? (diff < 1e-9 ? "agrees" : "differs") : "",
+        "the window of the path where E[C] is most often a mixture of hypotheses");
+}
+
 void fig33(Collector& c) {
   const std::string stage = "ch3_fig_3_3";
   const json j = c.read(stage, "recognition.json");
@@ -150,9 +229,12 @@ void chapter3(Collector& c) {
       "edges "
       "from the generalized Voronoi graph of its map; asf plan --voronoi from node 201 to node 128 "
       "(cost = distance × det E[C], eq. 3.25).");
+  figs31and32(c);
+  fig33(c);
   table31(c, "intel");
   table31(c, "aces");
-  fig33(c);
+  figs34and35(c, "intel");
+  figs34and35(c, "aces");
   table32(c);
 }
 

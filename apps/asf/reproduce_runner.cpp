@@ -27,8 +27,8 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-volatile std::sig_atomic_t g_interrupted = 0;
-void onInterrupt(int) { g_interrupted = 1; }
+volatile std::sig_atomic_t g_interrupted = 0;  ///< the signal that stopped the run (0: none)
+void onInterrupt(int signo) { g_interrupted = signo; }
 
 std::string minutes(double seconds) {
   char b[32];
@@ -71,7 +71,7 @@ int runStageProcess(const Stage& st, const Settings& s) {
   std::ofstream(dir + "/settings.txt") << stageSettings(s, st) << "\n";
   const auto t0 = Clock::now();
   for (const Command& c : st.commands) {
-    if (g_interrupted) return 130;
+    if (g_interrupted) return 128 + g_interrupted;
     std::vector<std::string> argv;
     try {
       argv = c.argv();
@@ -86,7 +86,8 @@ int runStageProcess(const Stage& st, const Settings& s) {
     const int rc = runCommand(argv, c.stdout_file.empty() ? "" : dir + "/" + c.stdout_file, log_fd);
     if (rc != 0) {
       log("exit code " + std::to_string(rc) + "\n");
-      return rc == 130 || g_interrupted ? 130 : (rc > 0 ? rc : 1);
+      if (g_interrupted) return 128 + g_interrupted;
+      return rc == 130 || rc == 143 ? rc : (rc > 0 ? rc : 1);
     }
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -212,6 +213,8 @@ std::string recordedSettings(const Settings& s, const Stage& st) {
   }
 }
 
+int interruptingSignal() { return g_interrupted; }
+
 std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s) {
   std::vector<StageResult> res(stages.size());
   std::map<std::string, std::size_t> index;
@@ -230,14 +233,16 @@ std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s
   }, old_sa{};
   sa.sa_handler = onInterrupt;
   sigemptyset(&sa.sa_mask);
+  struct sigaction old_term {};
   sigaction(SIGINT, &sa, &old_sa);
+  sigaction(SIGTERM, &sa, &old_term);  // a SIGTERM must not leave the stages running
   auto settled = [&](std::size_t i) { return res[i].status != StageResult::kNotRun; };
   std::size_t finished = 0;
   for (std::size_t i = 0; i < stages.size(); ++i) finished += settled(i);
   bool forwarded = false;
   for (;;) {
     if (g_interrupted && !forwarded) {  // each stage is its own process group: stop them all
-      for (const auto& [pid, r] : running) kill(-pid, SIGINT);
+      for (const auto& [pid, r] : running) kill(-pid, g_interrupted);
       forwarded = true;
     }
     // Skip the stages whose prerequisites failed or were skipped; start the ready ones.
@@ -296,6 +301,7 @@ std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s
     }
   }
   sigaction(SIGINT, &old_sa, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
   for (std::size_t i = 0; i < stages.size(); ++i)
     if (res[i].status == StageResult::kNotRun && res[i].why.empty())
       res[i].why = "interrupted before it started";

@@ -103,8 +103,9 @@ Stage slamStage(const Settings& s, const std::string& log) {
 Stage table31Stage(const Settings& s, const std::string& log) {
   const std::string run = s.out + "/ch3_" + log;
   Stage st{"ch3_table_3_1_" + log, "Table 3.1 on " + log, {"ch3_" + log}, {}, {}, 1};
-  st.settings =
-      "pairs=" + std::to_string(s.pairs) + " recognition=" + std::to_string(s.recognition_samples);
+  // outputs=2: plan-eval records every chosen path and draws Figs. 3.4 and 3.5.
+  st.settings = "pairs=" + std::to_string(s.pairs) +
+                " recognition=" + std::to_string(s.recognition_samples) + " outputs=2";
   st.commands.push_back(
       cmd({"asf", "plan-eval", s.configs + "/plan_eval_" + log + ".ini", "--out",
            s.out + "/" + st.id, "--set", "plan_eval.graph=" + run + "/slam/graph.g2o", "--set",
@@ -121,6 +122,7 @@ Stage table31Stage(const Settings& s, const std::string& log) {
 Stage table32Stage(const Settings& s) {
   const std::string aces = s.out + "/ch3_aces", dir = s.out + "/ch3_table_3_2";
   Stage st{"ch3_table_3_2", "Table 3.2 on aces, partially explored", {"ch3_aces"}, {}, {}, 1};
+  st.settings = "outputs=2";  // asf plan --json records the hypotheses check (Figs. 3.1-3.2)
   st.commands.push_back(
       cmd({"asf", "run", s.configs + "/slam_aces.ini", "--out", dir + "/partial", "--set",
            "rawlog.file=" + aces + "/aces.rawlog.gz", "--set",
@@ -182,6 +184,7 @@ Stage table41Stage(const Settings& s) {
            {d + "/plain", d + "/gt", d + "/furnished"},
            {},
            1};
+  st.settings = "outputs=2";  // the batch segmentations drawn (Fig. 4.3)
   auto eval = [&](const std::string& label, const std::string& seg, Argv extra) {
     Argv a{"asf",          "segment-eval",
            "--plain",      d + "/plain",
@@ -197,6 +200,7 @@ Stage table41Stage(const Settings& s) {
   Argv thesis{"--set", "variant=thesis"}, rooms{"--set", "variant=rooms"};
   thesis.insert(thesis.end(), inc.begin(), inc.end());
   rooms.insert(rooms.end(), inc.begin(), inc.end());
+  thesis.insert(thesis.end(), {"--images", dir + "/images"});  // Fig. 4.3
   eval("dude_thesis", "dude", thesis);
   eval("dude_rooms", "dude", rooms);
   eval("voronoi", "voronoi", {});

@@ -80,6 +80,12 @@ IniConfig IniConfig::fromText(const std::string& text, const std::string& name) 
   IniConfig c;
   c.name_ = name;
 
+  // MRPT's parser stops at a NUL byte: everything after it would silently be the default.
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw ConfigError(name + ":" +
+                      std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
+                      ": a NUL byte: not a text INI file (everything after it would be lost)");
+
   // Where each section and key first appears, for messages. MRPT does the real parsing.
   std::map<std::string, int> section_line;
   std::map<std::pair<std::string, std::string>, int> key_line;
@@ -90,26 +96,36 @@ IniConfig IniConfig::fromText(const std::string& text, const std::string& name) 
     while (std::getline(is, line)) {
       ++n;
       const std::string t = trim(line);
-      if (t.empty() || t[0] == ';' || t[0] == '#' || t[0] == '@' || t.rfind("//", 0) == 0)
+      if (t.empty() || t[0] == ';' || t[0] == '#' || t.rfind("//", 0) == 0) continue;
+      if (t[0] == '@') {  // MRPT's one directive; any other would be ignored silently
+        const std::string word = t.substr(0, t.find_first_of(" \t"));
+        if (word != "@define")
+          throw ConfigError(name + ":" + std::to_string(n) + ": unknown directive '" + word +
+                            "' (MRPT INI files know @define only)");
         continue;
+      }
       if (t[0] == '[') {
         const auto close = t.find(']');
         if (close == std::string::npos)
-          throw ConfigError(name + ":" + std::to_string(n) + ": unterminated section header '" +
-                            t + "'");
+          throw ConfigError(name + ":" + std::to_string(n) + ": unterminated section header '" + t +
+                            "'");
         section = lower(trim(t.substr(1, close - 1)));
         section_line.emplace(section, n);
         continue;
       }
       const auto eq = t.find('=');
       if (eq == std::string::npos)
-        throw ConfigError(name + ":" + std::to_string(n) + ": expected 'key = value', got '" +
-                          t + "'");
+        throw ConfigError(name + ":" + std::to_string(n) + ": expected 'key = value', got '" + t +
+                          "'");
       const std::string key = lower(trim(t.substr(0, eq)));
       if (section.empty())
         throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key +
                           "' before any [section]");
-      key_line.emplace(std::make_pair(section, key), n);
+      const auto [it, fresh] = key_line.emplace(std::make_pair(section, key), n);
+      if (!fresh)
+        throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key + "' of [" + section +
+                          "] is already set at line " + std::to_string(it->second) +
+                          " (only one value would count)");
     }
   }
 
@@ -198,8 +214,7 @@ std::string IniConfig::where(const std::string& section, const std::string& key)
   return k == it->second.entries.end() ? it->second.origin : k->second.origin;
 }
 
-Params IniConfig::resolve(const std::string& section_in, const KeySpec* keys,
-                          std::size_t n) const {
+Params IniConfig::resolve(const std::string& section_in, const KeySpec* keys, std::size_t n) const {
   const std::string section = lower(section_in);
   Params p(section);
   std::vector<std::string> errors;

@@ -1,4 +1,5 @@
 // g2o 2D text format, read and written with line-precise errors.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/pose_graph.h>
 
@@ -163,15 +164,8 @@ std::string formatG2o(const PoseGraph& g) {
 }
 
 void writeG2o(const PoseGraph& g, const std::string& path) {
-  // Write to a temporary file and rename: a crash never leaves a half-written graph.
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw Error(path + ": cannot write");
-    f << formatG2o(g);
-    if (!f) throw Error(path + ": write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw Error(path + ": cannot rename " + tmp);
+  // Through a temporary file and a rename: a crash never leaves a half-written graph.
+  writeFileAtomically(path, formatG2o(g), "graph");
 }
 
 }  // namespace asf

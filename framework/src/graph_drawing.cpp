@@ -1,5 +1,6 @@
 // Edge weights drawn on a graph (thesis figs. 5.11-5.13) and a deterministic layout for
 // graphs that come without positions.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/graph_drawing.h>
 #include <asf/run_report.h>
@@ -171,15 +172,7 @@ void writeWeightsSvg(const Multigraph& g, const std::vector<Vector2d>& positions
     s << "</g>\n";
   }
   s << "</svg>\n";
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << s.str();
-    if (!out) throw Error(path + ": cannot write the drawing");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path + ": cannot write the drawing: " + ec.message());
+  writeFileAtomically(path, s.str(), "drawing");
 }
 
 }  // namespace asf::graph

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/map3d.h>
 #include <mrpt/obs/CObservationPointCloud.h>
@@ -88,14 +89,7 @@ bool movedMoreThan(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b,
 
 void writeAtomically(const std::string& path, const std::string& what,
                      const std::function<bool(const std::string&)>& write) {
-  const std::string tmp = path + ".tmp";
-  if (!write(tmp)) {
-    std::remove(tmp.c_str());
-    throw Error(path + ": cannot write the " + what);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path + ": cannot write the " + what + " (" + ec.message() + ")");
+  writeFileVia(path, what, write);
 }
 
 }  // namespace

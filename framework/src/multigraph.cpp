@@ -51,6 +51,12 @@ Multigraph parseGraphLine(const std::string& line, const std::string& where) {
   long n = -1, m = -1;
   if (!(is >> n >> m) || n < 1 || m < 0)
     throw InputError(where + ": expected 'n m u1-v1 ...' with n >= 1 and m >= 0");
+  // The analyses are dense (n x n Laplacians, their spectra): beyond this an n in the file
+  // is a typo or damage, not a graph anybody can analyse here.
+  constexpr long kMaxNodes = 100000;
+  if (n > kMaxNodes)
+    throw InputError(where + ": n = " + std::to_string(n) + " nodes is more than the " +
+                     std::to_string(kMaxNodes) + " a graph-list line may have");
   Multigraph g;
   g.n = static_cast<int>(n);
   std::string tok;

@@ -40,8 +40,7 @@ const KeySpec kPipelineKeys[] = {
     keyBool("marginals", "true", "Recover marginal covariances after each optimization"),
     keyInt("segment_every", "1", "Segment every n-th map version", 1),
     keyInt("max_failed_goals", "50",
-           "Stop when the policy's goals failed (unreachable/blocked) this many times in a row",
-           1),
+           "Stop when the policy's goals failed (unreachable/blocked) this many times in a row", 1),
     keyInt("max_idle_decisions", "200",
            "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
            "(a policy going round in circles)",
@@ -61,9 +60,8 @@ const KeySpec kPipelineKeys[] = {
 };
 
 const char* const kSlots[] = {"source", "frontend", "backend", "segmenter", "planner", "policy"};
-const PluginKind kSlotKinds[] = {PluginKind::Source,    PluginKind::Frontend,
-                                 PluginKind::Backend,   PluginKind::Segmenter,
-                                 PluginKind::Planner,   PluginKind::Policy};
+const PluginKind kSlotKinds[] = {PluginKind::Source,    PluginKind::Frontend, PluginKind::Backend,
+                                 PluginKind::Segmenter, PluginKind::Planner,  PluginKind::Policy};
 
 std::uint64_t splitmix64(std::uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;
@@ -87,7 +85,8 @@ void appendSection(std::ostringstream& os, const std::string& name, const Params
     if (!p.has(k.name)) continue;
     os << "; " << k.doc << " (" << keyTypeName(k.type);
     if (k.type == KeyType::Enum && k.choices) os << ": " << k.choices;
-    if (!std::isinf(k.min) || !std::isinf(k.max)) os << ", range [" << k.min << ", " << k.max << "]";
+    if (!std::isinf(k.min) || !std::isinf(k.max))
+      os << ", range [" << k.min << ", " << k.max << "]";
     os << (p.isDefault(k.name) ? ", default" : ", set") << ")\n";
     os << k.name << " = " << p.getString(k.name) << "\n";
   }
@@ -187,10 +186,10 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
                        e.what());
     }
   }
-  if (rc.slots.count("policy") && rc.slots.count("source") &&
-      !rc.slots.count("segmenter"))
-    rc.warnings.push_back("[pipeline] a policy without a segmenter sees a topological graph "
-                          "with no regions");
+  if (rc.slots.count("policy") && rc.slots.count("source") && !rc.slots.count("segmenter"))
+    rc.warnings.push_back(
+        "[pipeline] a policy without a segmenter sees a topological graph "
+        "with no regions");
 
   std::vector<std::string> known_sections;
   for (const auto& s : fw) known_sections.push_back(s.name);
@@ -217,8 +216,9 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
     std::string msg = ini.where(section) + ": unknown section [" + section + "]";
     const std::string hint = didYouMean(section, known_sections);
     if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
-    msg += "; sections are [pipeline], [map], [topology], [map3d] and one per plugin, named "
-           "after it";
+    msg +=
+        "; sections are [pipeline], [map], [topology], [map3d] and one per plugin, named "
+        "after it";
     errors.push_back(msg);
   }
   for (const auto& [slot, info] : rc.slots) {
@@ -259,15 +259,14 @@ struct Pipeline::Impl : public mrpt::system::COutputLogger {
   // 3D map ([pipeline] map3d): keyframe ids are node * kObsPerNode + index in the frame.
   static constexpr Map3d::KeyframeId kObsPerNode = 16;
   std::unique_ptr<Map3d> map3d;
-  std::string nav_kind = "scan2d";  ///< [pipeline] navigation_map
-  GridMap projected;                ///< last projection of map3d
-  GridMap merged;                   ///< navigation_map = merged
-  std::uint64_t projected_from = 0;  ///< map3d version of `projected`
+  std::string nav_kind = "scan2d";             ///< [pipeline] navigation_map
+  GridMap projected;                           ///< last projection of map3d
+  GridMap merged;                              ///< navigation_map = merged
+  std::uint64_t projected_from = 0;            ///< map3d version of `projected`
   std::uint64_t merged_2d = 0, merged_3d = 0;  ///< input versions of `merged`
   std::uint64_t nav_version = 0;
   struct Map3dCounts {
-    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0,
-                over_cap = 0;
+    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0, over_cap = 0;
     double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
   } m3;
   std::set<std::string> warned_3d;
@@ -340,8 +339,8 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
     if (m.policy && m.segmenter) m.segmentWorld();
   }
   if (m.policy && !m.source->isActive())
-    m.logStr(mrpt::system::LVL_WARN, "the policy is ignored: source '" +
-                                         cfg.slots.at("source")->name() + "' is passive");
+    m.logStr(mrpt::system::LVL_WARN,
+             "the policy is ignored: source '" + cfg.slots.at("source")->name() + "' is passive");
 }
 
 Pipeline::~Pipeline() = default;
@@ -367,8 +366,8 @@ void Pipeline::Impl::segmentWorld() {
   }
   world_topo.current = ws.labels.atPoint(world->map_origin.x(), world->map_origin.y());
   have_world_topo = true;
-  logStr(mrpt::system::LVL_INFO, "true world: " + std::to_string(ws.regions.size()) +
-                                     " regions, " + std::to_string(world_topo.edges.size()) +
+  logStr(mrpt::system::LVL_INFO, "true world: " + std::to_string(ws.regions.size()) + " regions, " +
+                                     std::to_string(world_topo.edges.size()) +
                                      " edges, reachable free area " +
                                      std::to_string(coverage->reachableArea()) + " m^2");
 }
@@ -404,8 +403,8 @@ void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_befo
     if (!Map3d::observationPoints(*o, pts, sensor, &why)) {
       ++m3.unsupported;
       if (warned_3d.insert(why).second)
-        logStr(mrpt::system::LVL_WARN, "map3d: observation '" + o->sensorLabel +
-                                           "' not used: " + why + " (warned once)");
+        logStr(mrpt::system::LVL_WARN,
+               "map3d: observation '" + o->sensorLabel + "' not used: " + why + " (warned once)");
       continue;
     }
     const Map3d::KeyframeId id = node.id * kObsPerNode + k++;
@@ -419,7 +418,8 @@ void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_befo
 void Pipeline::Impl::followKeyframes3d() {
   if (!map3d || map3d->numKeyframes() == 0) return;
   std::map<Map3d::KeyframeId, mrpt::poses::CPose2D> poses;
-  for (const auto& [id, node] : keyframes3d) poses.emplace_hint(poses.end(), id, graph.nodes[node].pose);
+  for (const auto& [id, node] : keyframes3d)
+    poses.emplace_hint(poses.end(), id, graph.nodes[node].pose);
   map3d->updateKeyframePoses(poses);
 }
 
@@ -463,8 +463,10 @@ bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
   g.grid = mergeOccupancy(*m2.grid, *projected.grid);
   g.version = merged.version + 1;
   g.rebuilt = whole;
-  if (whole) g.changed = {g.grid->getXMin(), g.grid->getYMin(), g.grid->getXMax(), g.grid->getYMax()};
-  else g.changed = m2.changed;
+  if (whole)
+    g.changed = {g.grid->getXMin(), g.grid->getYMin(), g.grid->getXMax(), g.grid->getYMax()};
+  else
+    g.changed = m2.changed;
   merged_2d = m2.version;
   merged_3d = projected.version;
   merged = std::move(g);
@@ -472,10 +474,9 @@ bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
 }
 
 std::vector<std::string> Pipeline::outputFiles() {
-  return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv",
-          "graph.g2o",     "keyframes.txt",  "map.png",        "regions.png",
-          "occupancy.png", "occupancy.yaml", "topology.json",  "topology.svg",
-          "summary.json",  "report.html"};
+  return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv", "graph.g2o",
+          "keyframes.txt", "map.png",        "regions.png",    "occupancy.png", "occupancy.yaml",
+          "topology.json", "topology.svg",   "summary.json",   "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {
@@ -552,13 +553,17 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       return;
     last_progress = now;
     std::ostringstream os;
-    os << std::fixed << std::setprecision(2) << "step " << sum.steps << "  dist "
-       << sum.distance_m << " m  nodes " << m.graph.size() << "  edges " << m.graph.edges.size()
-       << "  regions " << m.seg.regions.size() << "  decisions " << sum.decisions;
-    if (last_coverage >= 0) os << "  coverage " << std::setprecision(1) << 100 * last_coverage << "%" << std::setprecision(2);
-    if (err_n) os << "  pose error " << std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) << " m";
-    os << "  (" << std::setprecision(1)
-       << std::chrono::duration<double>(now - t_start).count() << " s)";
+    os << std::fixed << std::setprecision(2) << "step " << sum.steps << "  dist " << sum.distance_m
+       << " m  nodes " << m.graph.size() << "  edges " << m.graph.edges.size() << "  regions "
+       << m.seg.regions.size() << "  decisions " << sum.decisions;
+    if (last_coverage >= 0)
+      os << "  coverage " << std::setprecision(1) << 100 * last_coverage << "%"
+         << std::setprecision(2);
+    if (err_n)
+      os << "  pose error "
+         << std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) << " m";
+    os << "  (" << std::setprecision(1) << std::chrono::duration<double>(now - t_start).count()
+       << " s)";
     m.logStr(mrpt::system::LVL_INFO, os.str());
   };
 
@@ -578,10 +583,11 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       }
       if (exploring && m.source->status() != NavStatus::Moving) {
         const NavStatus st = have_goal ? m.source->status() : NavStatus::Idle;
-        failed_in_row = (st == NavStatus::Unreachable || st == NavStatus::Blocked) ? failed_in_row + 1 : 0;
+        failed_in_row =
+            (st == NavStatus::Unreachable || st == NavStatus::Blocked) ? failed_in_row + 1 : 0;
         if (failed_in_row >= max_failed) {
-          sum.stop_reason = "the policy's last " + std::to_string(failed_in_row) +
-                            " goals failed; giving up";
+          sum.stop_reason =
+              "the policy's last " + std::to_string(failed_in_row) + " goals failed; giving up";
           break;
         }
         // Counts the decisions since the robot last moved 0.1 m (the previous one included).
@@ -616,7 +622,8 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
           break;
         }
         if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y))
-          throw Error("policy '" + m.cfg.slots.at("policy")->name() + "' returned a non-finite goal");
+          throw Error("policy '" + m.cfg.slots.at("policy")->name() +
+                      "' returned a non-finite goal");
         NavigationContext ctx;
         ctx.robot_estimate = s.robot;
         ctx.map = s.map;
@@ -687,12 +694,13 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       last_truth = truth;
       last_est = est;
       m.path.push_back(est);
-      rec.step({sum.steps, frame->timestamp - t0, est, truth, m.graph.size(),
-                m.graph.edges.size(), sum.distance_m});
+      rec.step({sum.steps, frame->timestamp - t0, est, truth, m.graph.size(), m.graph.edges.size(),
+                sum.distance_m});
       for (; next_snapshot < snapshots.size() && sum.distance_m >= snapshots[next_snapshot];
            ++next_snapshot)
         rec.snapshot(snapshots[next_snapshot], m.graph, m.navMap(), m.seg, m.topo.graph(), m.path);
-      if (map_changed) seriesRow(truth ? std::hypot(truth->x() - est.x(), truth->y() - est.y()) : -1);
+      if (map_changed)
+        seriesRow(truth ? std::hypot(truth->x() - est.x(), truth->y() - est.y()) : -1);
       progress(false);
     }
   };
@@ -747,7 +755,8 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     seg_log.summarize(sum);
     if (m.policy) sum.policy = m.cfg.slots.at("policy")->name();
     sum.seed = static_cast<long>(m.cfg.pipeline.getInt("seed"));
-    seriesRow(err_n ? std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y()) : -1);
+    seriesRow(err_n ? std::hypot(last_truth->x() - last_est.x(), last_truth->y() - last_est.y())
+                    : -1);
     sum.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start).count();
     std::string err;
     rec.finish(m.graph, m.navMap(), m.seg, m.topo.graph(), m.path, sum, err);
@@ -768,12 +777,13 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
                  "[pipeline] map3d: no 3D observation reached a keyframe (does the source give "
                  "any? e.g. [rawlog] observations3d = true)");
     }
-    if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
     try {
       writeRunReport(m.out_dir);
     } catch (const std::exception& e) {
-      m.logStr(mrpt::system::LVL_ERROR, std::string("writing report.html: ") + e.what());
+      err += std::string(err.empty() ? "" : "; ") + "report.html: " + e.what();
     }
+    if (!err.empty()) m.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
+    sum.output_errors = err;
   };
 
   // Keyframes added since the last optimization are optimized once more at the end, so the
@@ -816,8 +826,8 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     const PlanResult r = m.planner->plan(req);
     std::ostringstream os;
     if (r.found)
-      os << "planner: path home (node " << req.start << " -> 0): " << r.nodes.size()
-         << " nodes, " << r.criterion << " " << r.cost;
+      os << "planner: path home (node " << req.start << " -> 0): " << r.nodes.size() << " nodes, "
+         << r.criterion << " " << r.cost;
     else
       os << "planner: no path home: " << r.reason;
     m.logStr(mrpt::system::LVL_INFO, os.str());

@@ -59,7 +59,7 @@ Eigen::Matrix3d toEigen(const mrpt::math::CMatrixDouble33& m) {
 /// MRPT's exception texts nest ("Exception while parsing typed object 'X'" around the cause)
 /// and carry call traces. Keeps the cause and the objects it happened in:
 /// "(EOF?) Cannot read ... (in CSensoryFrame > CObservation2DRangeScan)".
-std::string mrptCause(const std::string& what) {
+std::string causeOf(const std::string& what) {
   const std::string kMsg = "Message:", kParsing = "Exception while parsing typed object '";
   std::istringstream is(what);
   std::string line, cause, objects;
@@ -90,6 +90,8 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 }
 
 }  // namespace
+
+std::string mrptExceptionCause(const std::string& what) { return causeOf(what); }
 
 // ---------------------------------------------------------------- odometry model
 
@@ -364,15 +366,20 @@ std::optional<SensorFrame> RawlogReader::next() {
   Impl& m = *impl_;
   while (!m.ended) {
     mrpt::serialization::CSerializable::Ptr obj;
+    const std::uint64_t record_start = m.in.getPosition();
     try {
       obj = m.ar->ReadObject();
     } catch (const mrpt::serialization::CExceptionEOF&) {
-      m.ended = true;  // clean end: EOF between records
+      // MRPT says EOF wherever the bytes ran out: a clean end only between records.
+      if (m.in.getPosition() != record_start)
+        m.fail("the file ends inside this record (cut at byte " +
+               std::to_string(m.in.getPosition()) + "; a copy or a write that did not finish?)");
+      m.ended = true;
       break;
     } catch (const std::bad_alloc&) {
       m.fail("corrupt record (a length field asks for more memory than available)");
     } catch (const std::exception& e) {
-      m.fail(mrptCause(e.what()));
+      m.fail(mrptExceptionCause(e.what()));
     }
     ++m.records;
     if (!obj) continue;  // a serialized null pointer
@@ -478,7 +485,7 @@ void RawlogWriter::write(const SensorFrame& frame) {
     auto ar = mrpt::serialization::archiveFrom(impl_->stream());
     ar << acts << sf;
   } catch (const std::exception& e) {
-    throw Error(impl_->path + ": write failed: " + mrptCause(e.what()));
+    throw Error(impl_->path + ": write failed: " + mrptExceptionCause(e.what()));
   }
   ++impl_->written;
   if (impl_->flush_every > 0 && impl_->written % impl_->flush_every == 0) flush();

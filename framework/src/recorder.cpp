@@ -1,22 +1,20 @@
 #include "recorder.h"
 
-#include <algorithm>
 #include <asf/occupancy_io.h>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
-
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <iomanip>
-#include <sstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "region_render.h"
 
@@ -133,21 +131,23 @@ void Recorder::decision(long step, double time, const Decision& d, NavStatus pre
     if (c == ',' || c == '\n') c = ';';
   decisions_ << step << ',' << time << ',' << navStatusName(previous) << ','
              << (d.type == Decision::Type::Done ? "done" : "goto") << ',';
-  if (d.type == Decision::Type::GoTo) decisions_ << d.goal.x << ',' << d.goal.y;
-  else decisions_ << ',';
+  if (d.type == Decision::Type::GoTo)
+    decisions_ << d.goal.x << ',' << d.goal.y;
+  else
+    decisions_ << ',';
   decisions_ << ',' << reason << '\n';
   decisions_.flush();
 }
 
-void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph,
-                             const GridMap& map, const Segmentation& seg, const TopoGraph& topo,
+void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
+                             const Segmentation& seg, const TopoGraph& topo,
                              const std::vector<mrpt::poses::CPose2D>& path) {
   if (!map.grid) return;
   MapImage m = renderGrid(*map.grid);
   auto drawPath = [&](MapImage& img) {
     for (std::size_t i = 1; i < path.size(); ++i)
-      cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()),
-               img.px(path[i].x(), path[i].y()), {200, 80, 0}, 1, cv::LINE_AA);
+      cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()), img.px(path[i].x(), path[i].y()),
+               {200, 80, 0}, 1, cv::LINE_AA);
   };
   if (!seg.labels.labels.empty()) {
     MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
@@ -163,7 +163,8 @@ void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph,
       throw Error(prefix + "regions.png: cannot write");
   }
   drawPath(m);
-  for (const auto& n : graph.nodes) cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
+  for (const auto& n : graph.nodes)
+    cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
   if (!cv::imwrite(prefix + "map.png", m.img)) throw Error(prefix + "map.png: cannot write");
 }
 
@@ -194,7 +195,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
       os << n.timestamp << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi() << '\n';
     writeAtomically(dir_ + "/keyframes.txt", os.str());
   });
-  attempt("map.png", [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
+  attempt("map views (topology.svg, regions.png, map.png)",
+          [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   // The bare grid in its frame (map_server): `asf plan --map occupancy.yaml`, ROS tools.
   attempt("occupancy.png", [&] { writeOccupancyMap(map, dir_ + "/occupancy"); });
   attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
@@ -226,8 +228,10 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["distance_m"] = summary.distance_m;
     j["nodes"] = summary.nodes;
     j["edges"] = summary.edges;
-    j["final_pose_error_m"] = summary.final_pose_error_m < 0 ? json(nullptr) : json(summary.final_pose_error_m);
-    j["mean_pose_error_m"] = summary.mean_pose_error_m < 0 ? json(nullptr) : json(summary.mean_pose_error_m);
+    j["final_pose_error_m"] =
+        summary.final_pose_error_m < 0 ? json(nullptr) : json(summary.final_pose_error_m);
+    j["mean_pose_error_m"] =
+        summary.mean_pose_error_m < 0 ? json(nullptr) : json(summary.mean_pose_error_m);
     j["ate_rmse_m"] = summary.ate_rmse_m < 0 ? json(nullptr) : json(summary.ate_rmse_m);
     j["ate_max_m"] = summary.ate_max_m < 0 ? json(nullptr) : json(summary.ate_max_m);
     j["ate_poses"] = summary.ate_poses;
@@ -267,11 +271,9 @@ void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Par
     j["observations_unsupported"] = info.unsupported;
     j["observations_over_cap"] = info.over_cap;
     j["stats"] = json::parse(st.toJson());
-    j["timings_ms"] = {{"insert", info.insert_ms},
-                       {"project", info.project_ms},
-                       {"rebuild", info.rebuild_ms}};
-    if (projected.grid)
-      j["projected"] = gridGeometry(*projected.grid);
+    j["timings_ms"] = {
+        {"insert", info.insert_ms}, {"project", info.project_ms}, {"rebuild", info.rebuild_ms}};
+    if (projected.grid) j["projected"] = gridGeometry(*projected.grid);
     writeAtomically(dir_ + "/map3d.json", j.dump(2) + "\n");
   });
 }

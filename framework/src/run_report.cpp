@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <asf/run_report.h>
@@ -132,20 +133,7 @@ figcaption{color:#555;font-size:.85em}
 }
 
 void writeFileAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error(path + ": cannot write");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw Error(path + ": cannot write: " + ec.message());
+  asf::writeFileAtomically(path, text);
 }
 
 }  // namespace report

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
@@ -259,15 +260,7 @@ std::string svg(const Figure& f) {
 }
 
 void writeSvg(const Figure& f, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << svg(f);
-    if (!out) throw Error(path + ": cannot write the plot");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw Error(path + ": cannot write the plot: " + ec.message());
+  writeFileAtomically(path, svg(f), "plot");
 }
 
 }  // namespace asf::plot

@@ -30,6 +30,10 @@ class DenseGnBackend final : public asf::Backend {
     asf::OptimizeReport r;
     Poses x = posesOf(g);
     r.initial_chi2 = r.final_chi2 = chi2(g, x);
+    if (!std::isfinite(r.initial_chi2))
+      throw asf::Error("dense_gn: the graph's chi2 is not finite (" +
+                       std::to_string(r.initial_chi2) +
+                       "): a pose, edge or information too large or not finite");
     const Layout L = layout(g);
     if (L.dim == 0 || g.edges.empty()) {
       r.converged = true;

@@ -8,6 +8,7 @@
 #include <mrpt/graphslam/levmarq.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -28,6 +29,10 @@ class MrptLevmarqBackend final : public asf::Backend {
     check(g);
     asf::OptimizeReport r;
     r.initial_chi2 = r.final_chi2 = g.chi2();
+    if (!std::isfinite(r.initial_chi2))
+      throw asf::Error("mrpt_levmarq: the graph's chi2 is not finite (" +
+                       std::to_string(r.initial_chi2) +
+                       "): a pose, edge or information too large or not finite");
     r.converged = true;
     std::set<mrpt::graphs::TNodeID> free;
     for (std::size_t i = 1; i < g.size(); ++i) free.insert(i);

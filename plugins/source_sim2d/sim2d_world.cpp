@@ -8,6 +8,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <cstdlib>
 #include <limits>
 #include <set>
@@ -62,8 +63,18 @@ std::vector<HeightClass> parseHeightClasses(const std::string& text) {
 
 World World::fromImage(const ImageWorldOptions& o) {
   mrpt::img::CImage img;
-  if (!img.loadFromFile(o.file, 0 /*grayscale*/))
-    throw std::runtime_error(o.file + ": cannot read the map image");
+  std::error_code ec;
+  if (std::filesystem::exists(o.file, ec) && std::filesystem::file_size(o.file, ec) == 0 && !ec)
+    throw std::runtime_error(o.file + ": the map image is an empty file");
+  bool read = false;
+  try {  // MRPT and OpenCV throw (with a call trace, without the file) on damaged images
+    read = img.loadFromFile(o.file, 0 /*grayscale*/);
+  } catch (const std::exception&) {
+    read = false;
+  }
+  if (!read)
+    throw std::runtime_error(o.file +
+                             ": cannot read the map image (missing, damaged or not an image)");
   const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
   if (w < 2 || h < 2) throw std::runtime_error(o.file + ": map image is smaller than 2x2 px");
   const int pad = o.pad_wall_px;

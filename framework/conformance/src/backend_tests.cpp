@@ -121,6 +121,16 @@ void registerBackendTests(const InfoPtr& info) {
                  EXPECT_EQ(g.revision, before.revision) << "revision changed but no pose moved";
              });
 
+  addTest<T>(info, "a_graph_with_non_finite_chi2_is_an_error", Needs::Instance,
+             [](KindTest<T>& t) {
+               auto h = t.make();
+               PoseGraph g = makeNoisyLoop(kGraphSeed);
+               g.nodes[3].pose = CPose2D(1e308, -1e308, 0);  // its residuals overflow
+               ASSERT_FALSE(std::isfinite(g.chi2()));
+               EXPECT_THROW(h->optimize(g), asf::Error)
+                   << "optimize() accepted a graph whose chi2 is " << g.chi2();
+             });
+
   addTest<T>(info, "fixed_nodes_are_held", Needs::Instance, [](KindTest<T>& t) {
     auto h = t.make();
     PoseGraph g = makeNoisyLoop(kGraphSeed);

@@ -5,7 +5,9 @@
 /// Contract:
 /// - optimize() moves node poses only (never adds or removes), holds node 0 and
 ///   graph.fixed fixed, increments graph.revision if it moved anything, and never returns a
-///   final chi2 above the initial one. An empty or single-node graph is a no-op.
+///   final chi2 above the initial one. An empty or single-node graph is a no-op. A graph
+///   whose chi2 is not finite (poses or information too large, NaN) is an asf::Error saying
+///   so: never a "converged" report with an infinite chi2.
 /// - marginals() returns one symmetric positive semi-definite 3x3 block per node (node 0's
 ///   is zero: the gauge) and the requested cross blocks; nodes not connected to node 0 have
 ///   no defined covariance: asf::Error.

@@ -85,6 +85,9 @@ struct RunSummary {
   bool finished = false;       ///< the policy said done, or the passive source ended
   std::string stop_reason;
   double wall_time_s = 0;
+  /// Outputs that could not be written at the end (full disk, permissions), each with its
+  /// file and cause; empty when every output is on disk.
+  std::string output_errors;
 };
 
 class Pipeline {

@@ -42,6 +42,11 @@ struct GroundTruthPose {
   mrpt::poses::CPose2D pose;
 };
 
+/// The cause in one of MRPT's exception texts (nested "Exception while parsing typed object"
+/// frames around it, call traces, a "==== MRPT exception ====" banner), with the objects it
+/// happened in: "(EOF?) Cannot read ... (in CSensoryFrame > CObservation2DRangeScan)".
+std::string mrptExceptionCause(const std::string& what);
+
 /// Reads a ground-truth file. Throws asf::InputError naming the file and line on a bad line.
 /// Lines must have increasing timestamps.
 std::vector<GroundTruthPose> readGroundTruth(const std::string& path);

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -136,6 +137,29 @@ TEST(Sim2dWorld, CaveImageIsTwentyMetresWithPaddedWall) {
 
   o.file = ASF_TEST_SOURCE_DIR "/datasets/cave/no_such_map.png";
   EXPECT_THROW(asf::sim2d::World::fromImage(o), std::runtime_error);
+
+  // Empty, cut and lying images are errors naming the file, without MRPT's call trace
+  // (issue 20, item 7).
+  std::ifstream in(ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png", std::ios::binary);
+  const std::string png((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_GT(png.size(), 100u);
+  std::string lying = png;  // IHDR width (bytes 16..19) says 2^30 px
+  lying[16] = 0x40, lying[17] = lying[18] = lying[19] = 0;
+  const std::string dir = ::testing::TempDir();
+  for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"empty.png", ""},
+                                    {"cut.png", png.substr(0, 60)},
+                                    {"lying.png", lying}}) {
+    o.file = dir + "/" + name;
+    std::ofstream(o.file, std::ios::binary) << bytes;
+    try {
+      asf::sim2d::World::fromImage(o);
+      ADD_FAILURE() << name << ": read without an error";
+    } catch (const std::exception& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(o.file + ": ", 0), 0u) << name << ": " << msg;
+      EXPECT_EQ(msg.find("MRPT exception"), std::string::npos) << name << ": " << msg;
+    }
+  }
 }
 
 // ------------------------------------------------------------------------------ laser

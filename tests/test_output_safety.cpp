@@ -1,0 +1,180 @@
+// Output safety (issue 20, items 5-7). Output files (asf/atomic_file.h) go through a temporary
+// file and a rename, except what must not be replaced: devices and pipes are written in
+// place, a symbolic link keeps pointing where it did. Failures (a full disk) are errors and
+// leave no temporary file behind; a run whose outputs cannot be written does not exit 0; a
+// run stopped by SIGTERM writes its outputs and exits 143 (128 + the signal), not 130.
+#include <asf/atomic_file.h>
+#include <asf/errors.h>
+#include <asf/pose_graph.h>
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "test_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("asf_test_atomic_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string readText(const fs::path& f) {
+  std::ifstream in(f);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(AtomicFile, RegularFileIsReplacedWholeAndNoTemporaryStays) {
+  const fs::path d = tempDir("regular");
+  const std::string f = (d / "out.txt").string();
+  asf::writeFileAtomically(f, "first\n");
+  asf::writeFileAtomically(f, "second\n");
+  EXPECT_EQ(readText(f), "second\n");
+  EXPECT_FALSE(fs::exists(f + ".tmp"));
+}
+
+TEST(AtomicFile, SymbolicLinkStaysALinkToTheNewContent) {
+  const fs::path d = tempDir("symlink");
+  fs::create_directories(d / "real");
+  asf::writeFileAtomically((d / "real" / "graph.g2o").string(), "old\n");
+  fs::create_symlink(d / "real" / "graph.g2o", d / "link.g2o");
+  asf::writeFileAtomically((d / "link.g2o").string(), "new\n");
+  EXPECT_TRUE(fs::is_symlink(d / "link.g2o")) << "the link was replaced by a regular file";
+  EXPECT_EQ(readText(d / "real" / "graph.g2o"), "new\n");
+  EXPECT_FALSE(fs::exists(d / "real" / "graph.g2o.tmp"));
+  EXPECT_FALSE(fs::exists(d / "link.g2o.tmp"));
+}
+
+// A FIFO (like `-o /dev/stdout` into a pipe) is written into, not replaced. The reader opens
+// without blocking, so a broken implementation fails the test instead of hanging it.
+TEST(AtomicFile, FifoIsWrittenInPlaceNotReplaced) {
+  const fs::path d = tempDir("fifo");
+  const std::string f = (d / "pipe").string();
+  ASSERT_EQ(mkfifo(f.c_str(), 0600), 0);
+  const int rd = open(f.c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(rd, 0);
+  asf::writeFileAtomically(f, "through the pipe\n");
+  std::string got;
+  char buf[256];
+  for (ssize_t n; (n = read(rd, buf, sizeof buf)) > 0;)
+    got.append(buf, static_cast<std::size_t>(n));
+  close(rd);
+  EXPECT_TRUE(fs::is_fifo(f)) << "the FIFO was replaced by a regular file";
+  EXPECT_EQ(got, "through the pipe\n");
+}
+
+TEST(AtomicFile, FullDiskAndDirectoriesAreErrorsNamingTheFile) {
+  if (fs::exists("/dev/full")) {  // every write: ENOSPC
+    const std::string msg =
+        asf_test::errorOf<asf::Error>([] { asf::writeFileAtomically("/dev/full", "x", "graph"); });
+    EXPECT_TRUE(asf_test::has(msg, "/dev/full: cannot write the graph")) << msg;
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  }
+  const fs::path d = tempDir("dir");
+  const std::string msg =
+      asf_test::errorOf<asf::Error>([&] { asf::writeFileAtomically(d.string(), "x", "plot"); });
+  EXPECT_TRUE(asf_test::has(msg, "is a directory")) << msg;
+}
+
+TEST(AtomicFile, AFailedWriterLeavesNoTemporaryAndKeepsTheOldFile) {
+  const fs::path d = tempDir("failed");
+  const std::string f = (d / "map.bt").string();
+  asf::writeFileAtomically(f, "old\n");
+  EXPECT_THROW(asf::writeFileVia(f, "3D map",
+                                 [](const std::string& tmp) {
+                                   std::ofstream(tmp) << "half a fi";
+                                   return false;
+                                 }),
+               asf::Error);
+  EXPECT_FALSE(fs::exists(f + ".tmp"));
+  EXPECT_EQ(readText(f), "old\n");
+  EXPECT_THROW(asf::writeFileVia(f, "3D map",
+                                 [](const std::string& tmp) -> bool {
+                                   std::ofstream(tmp) << "half";
+                                   throw std::runtime_error("writer crashed");
+                                 }),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(f + ".tmp"));
+}
+
+TEST(AtomicFile, G2oThroughALinkAndIntoDevNull) {
+  asf::PoseGraph g;
+  g.addNode(mrpt::poses::CPose2D(), 0);
+  g.addNode(mrpt::poses::CPose2D(1, 0, 0), 1);
+  const fs::path d = tempDir("g2o");
+  asf::writeG2o(g, (d / "a.g2o").string());
+  fs::create_symlink(d / "a.g2o", d / "b.g2o");
+  asf::writeG2o(g, (d / "b.g2o").string());
+  EXPECT_TRUE(fs::is_symlink(d / "b.g2o"));
+  EXPECT_EQ(asf::readG2o((d / "b.g2o").string()).size(), 2u);
+  if (fs::exists("/dev/null")) {
+    asf::writeG2o(g, "/dev/null");
+    EXPECT_TRUE(fs::is_character_file("/dev/null")) << "/dev/null was replaced";
+  }
+}
+
+// A run whose outputs cannot be written (graph.g2o is a directory here) says so and exits 1
+// instead of 0, and names the file; the other outputs are still written.
+TEST(RunExit, OutputsThatCannotBeWrittenAreANonZeroExit) {
+  const fs::path d = tempDir("run");
+  fs::create_directories(d / "out" / "graph.g2o");
+  const auto r = asf_test::runHost(std::string("run ") + ASF_TEST_SOURCE_DIR +
+                                   "/configs/two_rooms_scripted.ini --out " + (d / "out").string());
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "outputs not written")) << r.out;
+  EXPECT_TRUE(asf_test::has(r.out, "graph.g2o")) << r.out;
+  EXPECT_TRUE(fs::exists(d / "out" / "summary.json"));
+  EXPECT_TRUE(fs::exists(d / "out" / "keyframes.txt"));
+}
+
+// SIGTERM (what `kill`, systemd and Slurm send) stops a run like Ctrl-C does, outputs
+// written, but the exit code says which signal it was.
+TEST(RunExit, SigtermWritesTheOutputsAndExits143) {
+  const fs::path d = tempDir("sigterm");
+  std::string route;  // back and forth for long enough to be stopped midway
+  for (int i = 0; i < 400; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
+  route += "0 0";
+  const std::string log = (d / "run.log").string();
+  const pid_t pid =
+      asf_test::spawnHost({"run", ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini", "--out",
+                           (d / "out").string(), "--set", "waypoints.waypoints=" + route},
+                          log);
+  ASSERT_GT(pid, 0);
+  // Steps written: the run is past installing its handlers.
+  const auto t0 = std::chrono::steady_clock::now();
+  std::error_code ec;
+  auto started = [&] {
+    const auto size = fs::file_size(d / "out" / "trajectory.csv", ec);
+    return !ec && size >= 2000;
+  };
+  while (!started() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(started()) << readText(log);
+  kill(pid, SIGTERM);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  const std::string out = readText(log);
+  ASSERT_TRUE(WIFEXITED(st)) << out;
+  EXPECT_EQ(WEXITSTATUS(st), 143) << out;
+  EXPECT_TRUE(fs::exists(d / "out" / "summary.json")) << out;
+  EXPECT_TRUE(fs::exists(d / "out" / "graph.g2o")) << out;
+}
+
+}  // namespace
