@@ -15,6 +15,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -175,6 +177,50 @@ TEST(RunExit, SigtermWritesTheOutputsAndExits143) {
   EXPECT_EQ(WEXITSTATUS(st), 143) << out;
   EXPECT_TRUE(fs::exists(d / "out" / "summary.json")) << out;
   EXPECT_TRUE(fs::exists(d / "out" / "graph.g2o")) << out;
+}
+
+// Issue 20, item 8: after kill -9 every file already written is readable: the CSVs' rows
+// whole, progress.json a valid summary of what was done ("running", steps and distance).
+TEST(RunExit, AfterSigkillTheFilesWrittenAreReadable) {
+  const fs::path d = tempDir("sigkill");
+  std::string route;
+  for (int i = 0; i < 400; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
+  route += "0 0";
+  const pid_t pid = asf_test::spawnHost(
+      {"run", ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini", "--out", (d / "out").string(),
+       "--set", "waypoints.waypoints=" + route},
+      (d / "run.log").string());
+  ASSERT_GT(pid, 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::error_code ec;
+  auto started = [&] {
+    const auto size = fs::file_size(d / "out" / "trajectory.csv", ec);
+    return !ec && size >= 4000 && fs::exists(d / "out" / "progress.json");
+  };
+  while (!started() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(started()) << readText(d / "run.log");
+  kill(pid, SIGKILL);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(st));
+  const auto progress = nlohmann::json::parse(readText(d / "out" / "progress.json"));
+  EXPECT_EQ(progress["status"], "running");
+  EXPECT_GT(progress["step"].get<long>(), 0);
+  EXPECT_FALSE(fs::exists(d / "out" / "summary.json")) << "the run was killed before its end";
+  for (const char* csv : {"trajectory.csv", "timeseries.csv", "decisions.csv"}) {
+    std::istringstream in(readText(d / "out" / csv));
+    std::string header, line;
+    std::getline(in, header);
+    const auto columns = std::count(header.begin(), header.end(), ',');
+    std::size_t rows = 0;
+    while (std::getline(in, line)) {
+      ++rows;
+      if (std::count(line.begin(), line.end(), ',') != columns)
+        ADD_FAILURE() << csv << " row " << rows << " is not whole: " << line;
+    }
+    EXPECT_TRUE(in.eof()) << csv;
+  }
 }
 
 }  // namespace

@@ -129,6 +129,9 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   const auto j = readJson(out / "summary.json");
   EXPECT_EQ(j["steps"], s.steps);
   EXPECT_EQ(j["finished"], true);
+  const auto progress = readJson(out / "progress.json");
+  EXPECT_EQ(progress["status"], "finished");
+  EXPECT_GT(progress["step"].get<long>(), 0);
   EXPECT_EQ(j["plugins"]["policy"], "waypoints");
   const auto g = asf::readG2o((out / "graph.g2o").string());
   EXPECT_EQ(g.nodes.size(), s.nodes);

@@ -476,7 +476,7 @@ bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
 std::vector<std::string> Pipeline::outputFiles() {
   return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv", "graph.g2o",
           "keyframes.txt", "map.png",        "regions.png",    "occupancy.png", "occupancy.yaml",
-          "topology.json", "topology.svg",   "summary.json",   "report.html"};
+          "topology.json", "topology.svg",   "summary.json",   "progress.json",  "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {

@@ -123,6 +123,33 @@ void Recorder::series(const SeriesRow& r) {
   if (r.changed_cells >= 0) series_ << r.changed_cells;
   series_ << '\n';
   series_.flush();
+  last_row_ = r;
+  const auto now = std::chrono::steady_clock::now();
+  if (!progress_written_ || now - last_progress_ >= std::chrono::seconds(5)) {
+    last_progress_ = now;
+    progress_written_ = true;
+    try {
+      writeProgress("running", r);
+    } catch (const std::exception& e) {  // the run goes on; finish() reports its outputs
+      std::cerr << "asf run: progress.json not written: " << e.what() << "\n";
+    }
+  }
+}
+
+void Recorder::writeProgress(const std::string& status, const SeriesRow& r) {
+  json j{{"status", status},
+         {"step", r.step},
+         {"time_s", r.time},
+         {"distance_m", r.distance},
+         {"coverage", r.coverage < 0 ? json(nullptr) : json(r.coverage)},
+         {"pose_error_m", r.pose_error < 0 ? json(nullptr) : json(r.pose_error)},
+         {"nodes", r.nodes},
+         {"edges", r.edges},
+         {"regions", r.regions},
+         {"loop_closures", r.loop_closures},
+         {"decisions", r.decisions},
+         {"segmentations", r.segmentations}};
+  writeAtomically(dir_ + "/progress.json", j.dump(1) + "\n");
 }
 
 void Recorder::decision(long step, double time, const Decision& d, NavStatus previous) {
@@ -185,6 +212,9 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
                       const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
                       const RunSummary& summary, std::string& error) {
   auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
+  attempt("progress.json", [&] {
+    writeProgress(summary.finished ? "finished" : "stopped: " + summary.stop_reason, last_row_);
+  });
   attempt("graph.g2o", [&] { writeG2o(graph, dir_ + "/graph.g2o"); });
   attempt("keyframes.txt", [&] {
     // Absolute times, so `asf ate keyframes.txt GT.txt` evaluates them like any trajectory.

@@ -6,6 +6,7 @@
 #include <asf/segmentation.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <fstream>
 #include <string>
@@ -50,6 +51,9 @@ class Recorder {
     std::size_t segmentations = 0, incremental_segmentations = 0;  ///< so far
     std::int64_t changed_cells = -1;  ///< summed over the segmentations since the last row
   };
+  /// Also rewrites progress.json (status "running" and the row's figures) at the first row
+  /// and then every 5 s of wall time: what a killed run leaves about itself. finish() sets
+  /// its final status.
   void series(const SeriesRow& r);
   void decision(long step, double time, const Decision& d, NavStatus previous);
   /// Final files: graph, map, regions, topology, summary. Never throws (logs instead):
@@ -79,8 +83,12 @@ class Recorder {
   void writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
                      const Segmentation& seg, const TopoGraph& topo,
                      const std::vector<mrpt::poses::CPose2D>& path);
+  void writeProgress(const std::string& status, const SeriesRow& r);
   std::string dir_;
   std::ofstream traj_, decisions_, series_;
+  SeriesRow last_row_;
+  std::chrono::steady_clock::time_point last_progress_{};
+  bool progress_written_ = false;
   std::map<std::string, std::string> slots_;
 };
 
