@@ -28,8 +28,8 @@ TEST(AsfOptimalCommand, ExhaustiveWalksMeetTheRelaxedOptimumOnACycle) {
   // cycle's Laplacian / 4: 0.5, 1, 0.5).
   const fs::path d = tempDir("walks");
   std::ofstream(d / "g.txt") << "4 5 1-2 2-3 3-4 4-1 1-3\n";
-  const auto r = runHost("optimal " + (d / "g.txt").string() + " --criteria E --walks 5 --json -p " +
-                             (d / "w.svg").string(),
+  const auto r = runHost("optimal " + (d / "g.txt").string() +
+                             " --criteria E --walks 5 --json -p " + (d / "w.svg").string(),
                          false);
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
@@ -38,7 +38,8 @@ TEST(AsfOptimalCommand, ExhaustiveWalksMeetTheRelaxedOptimumOnACycle) {
   ASSERT_EQ(x["d"].size(), 5u);
   EXPECT_EQ(x["rate"]["E"][0].get<double>(), 0.0) << "one edge leaves the graph disconnected";
   EXPECT_NEAR(x["rate"]["E"][3].get<double>(), 0.5, 1e-9);
-  for (const auto& v : x["rate"]["E"]) EXPECT_LE(v.get<double>(), 0.5 + 1e-9) << "never above the optimum";
+  for (const auto& v : x["rate"]["E"])
+    EXPECT_LE(v.get<double>(), 0.5 + 1e-9) << "never above the optimum";
   std::ifstream svg(d / "w.svg");
   const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
   EXPECT_TRUE(has(text, "<svg"));
@@ -52,6 +53,28 @@ TEST(AsfOptimalCommand, ExhaustiveWalksMeetTheRelaxedOptimumOnACycle) {
   fs::remove_all(d);
 }
 
+// A large graph says on stderr which criterion it is solving and how long it took (issue 20,
+// item 7: a 3600-node graph ran for minutes without a word); a small one stays quiet.
+TEST(AsfOptimalCommand, LargeGraphsShowProgressPerCriterion) {
+  const fs::path d = tempDir("progress");
+  {
+    std::ofstream f(d / "path.txt");
+    f << "520 519";
+    for (int i = 1; i < 520; ++i) f << " " << i << "-" << i + 1;
+    f << "\n";
+  }
+  const auto r = runHost("optimal " + (d / "path.txt").string() + " --criteria D --json");
+  ASSERT_EQ(r.code, 0) << r.out.substr(0, 400);
+  EXPECT_TRUE(has(r.out, "asf optimal: D-optimal weights of 520 nodes, 519 edges"))
+      << r.out.substr(0, 400);
+  EXPECT_TRUE(has(r.out, "asf optimal: D done: ")) << r.out.substr(0, 400);
+  std::ofstream(d / "small.txt") << "4 5 1-2 2-3 3-4 4-1 1-3\n";
+  const auto s = runHost("optimal " + (d / "small.txt").string() + " --criteria D");
+  ASSERT_EQ(s.code, 0) << s.out;
+  EXPECT_FALSE(has(s.out, "asf optimal: D-optimal weights")) << s.out;
+  fs::remove_all(d);
+}
+
 TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
   // Three regions in a row plus a frontier edge: the frontier and the unexplored node are
   // not part of the graph (a path of 3 nodes, 2 edges: D-optimal weights 1/2 each).
@@ -59,7 +82,8 @@ TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
   std::ofstream(d / "topology.json") << R"({"nodes": [{"region": 4}, {"region": 7}, {"region": 9},
     {"region": -1}], "edges": [{"a": 4, "b": 7, "frontier": false}, {"a": 7, "b": 9,
     "frontier": false}, {"a": 9, "b": -1, "frontier": true}]})";
-  const auto r = runHost("optimal " + (d / "topology.json").string() + " --criteria D --json", false);
+  const auto r =
+      runHost("optimal " + (d / "topology.json").string() + " --criteria D --json", false);
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["n"], 3);
@@ -79,7 +103,8 @@ TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
     const auto r2 = runHost("optimal " + (d / "field.json").string());
     EXPECT_EQ(r2.code, 1) << text << "\n" << r2.out;
     EXPECT_TRUE(has(r2.out, (d / "field.json").string() + ": not a topology.json as asf writes it"))
-        << text << "\n" << r2.out;
+        << text << "\n"
+        << r2.out;
     EXPECT_FALSE(has(r2.out, "unexpected error")) << r2.out;
   }
   fs::remove_all(d);

@@ -14,8 +14,8 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "commands.h"
@@ -25,7 +25,8 @@ namespace asf::app {
 namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // The graph `asf optimal` works on, with node positions for --draw and, for pose graphs, the
@@ -137,6 +138,9 @@ LoadedGraph loadGraph(const std::string& path_in, bool has_index, int index, boo
   return l;
 }
 
+/// Graphs from this size on get progress lines on stderr.
+constexpr int kProgressNodes = 500;
+
 // The optimum of each criterion, as text and into j; returns the weights per criterion.
 std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vector<double>& ps,
                                      double tolerance, nlohmann::json& j, std::ostream& text) {
@@ -144,9 +148,19 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
   opt.tolerance = tolerance;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(g.m());
   std::vector<Eigen::VectorXd> out;
+  // A large graph takes minutes per criterion (a dense eigendecomposition per iteration):
+  // say which one is being solved, and how long it took.
+  const bool large = g.n >= kProgressNodes;
   for (double p : ps) {
     const std::string name = graph::criterionName(p);
+    if (large)
+      std::cerr << "asf optimal: " << name << "-optimal weights of " << g.n << " nodes, " << g.m()
+                << " edges (dense " << g.n << " x " << g.n
+                << " eigendecompositions; minutes for thousands of nodes)..." << std::endl;
     const graph::OptimalDesign r = graph::optimalDesign(g, p, opt);
+    if (large)
+      std::cerr << "asf optimal: " << name << " done: " << r.iterations << " iterations, "
+                << std::setprecision(3) << r.time_ms / 1000 << " s" << std::endl;
     const double eff = graph::efficiency(g, ones, p, r.value);
     j["optimum"][name] = r.value;
     j["upper_bound"][name] = r.upper_bound;
@@ -160,8 +174,8 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
     text << name << ": optimum " << r.value << "  upper bound " << r.upper_bound
          << "  relative gap " << std::setprecision(3) << r.relative_gap
          << (r.converged ? "" : " (NOT converged)") << "  uniform efficiency " << std::fixed
-         << std::setprecision(2) << 100 * eff << "%" << std::defaultfloat << "  ("
-         << r.iterations << " iterations, " << std::setprecision(3) << r.time_ms << " ms)\n"
+         << std::setprecision(2) << 100 * eff << "%" << std::defaultfloat << "  (" << r.iterations
+         << " iterations, " << std::setprecision(3) << r.time_ms << " ms)\n"
          << "  weights:" << std::setprecision(6);
     for (int e = 0; e < r.weights.size(); ++e) text << " " << r.weights[e];
     text << "\n" << std::setprecision(8);
@@ -223,7 +237,8 @@ void exhaustive(const graph::Multigraph& g, const std::vector<double>& ps, int m
                                : graph::TraversalKind::Walk;
   if (start) {
     if (*start < 1 || *start > g.n)
-      throw InputError("--start " + std::to_string(*start) + ": nodes are 1.." + std::to_string(g.n));
+      throw InputError("--start " + std::to_string(*start) + ": nodes are 1.." +
+                       std::to_string(g.n));
     eo.start = *start - 1;
   }
   eo.criteria = ps;
@@ -277,11 +292,11 @@ int cmdOptimal(int argc, char** argv) {
       "1..D edges exhaustively (thesis figs. 5.6-5.10) and --plot draws best information and "
       "information rate vs d. --draw draws the optimal weights on the graph (figs. 5.11-5.13).",
       ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> file("graph", "Graph list, g2o file, run directory or topology.json",
-                                             true, "", "GRAPH", cmd);
-  TCLAP::ValueArg<std::string> criteria(
-      "c", "criteria", "Comma-separated criteria: T, D, A, E or numbers p <= 1", false, "D,A,E",
-      "LIST", cmd);
+  TCLAP::UnlabeledValueArg<std::string> file(
+      "graph", "Graph list, g2o file, run directory or topology.json", true, "", "GRAPH", cmd);
+  TCLAP::ValueArg<std::string> criteria("c", "criteria",
+                                        "Comma-separated criteria: T, D, A, E or numbers p <= 1",
+                                        false, "D,A,E", "LIST", cmd);
   TCLAP::ValueArg<int> index("i", "index", "Line number (1-based) of the graph in a graph list",
                              false, 0, "K", cmd);
   TCLAP::ValueArg<double> tolerance(
@@ -312,9 +327,8 @@ int cmdOptimal(int argc, char** argv) {
                            "edge sum and of the bound of eq. 5.54 (D at any size, other "
                            "criteria up to 1000 poses)",
                            cmd);
-  TCLAP::ValueArg<int> walks("w", "walks",
-                             "Exhaustive search of every traversal of d = 1..D edges", false, 0,
-                             "D", cmd);
+  TCLAP::ValueArg<int> walks("w", "walks", "Exhaustive search of every traversal of d = 1..D edges",
+                             false, 0, "D", cmd);
   std::vector<std::string> kinds{"walk", "closed", "multiset"};
   TCLAP::ValuesConstraint<std::string> kind_c(kinds);
   TCLAP::ValueArg<std::string> kind(
@@ -322,8 +336,8 @@ int cmdOptimal(int argc, char** argv) {
       "walk: edge sequences of walks (figs 5.8-5.10); closed: walks back to their start; "
       "multiset: any d edges (figs 5.6, 5.7)",
       false, "walk", &kind_c, cmd);
-  TCLAP::ValueArg<int> start("", "start", "Walks start at this node (1-based; default any)",
-                             false, 0, "NODE", cmd);
+  TCLAP::ValueArg<int> start("", "start", "Walks start at this node (1-based; default any)", false,
+                             0, "NODE", cmd);
   TCLAP::ValueArg<std::string> plot("p", "plot",
                                     "SVG of the exhaustive search: information and rate vs d, "
                                     "with the relaxed optima dashed",
@@ -348,8 +362,10 @@ int cmdOptimal(int argc, char** argv) {
     throw InputError(path + ": --theorem needs a pose graph (a .g2o file or a run directory)");
   const graph::Multigraph& g = l.g;
   const int line = l.line;
-  nlohmann::json j = {{"file", path},       {"index", line ? nlohmann::json(line) : nullptr},
-                      {"n", g.n},           {"m", g.m()},
+  nlohmann::json j = {{"file", path},
+                      {"index", line ? nlohmann::json(line) : nullptr},
+                      {"n", g.n},
+                      {"m", g.m()},
                       {"connected", g.connected()}};
   std::ostringstream text;
   text << std::setprecision(8) << path << (line ? ":" + std::to_string(line) : "") << ": " << g.n
@@ -360,8 +376,8 @@ int cmdOptimal(int argc, char** argv) {
   if (theorem.isSet()) theoremTable(l, ps, j, text);
   if (walks.getValue() > 0)
     exhaustive(g, ps, walks.getValue(), kind.getValue(),
-               start.isSet() ? std::optional<int>(start.getValue()) : std::nullopt, plot.getValue(), path,
-               j, text);
+               start.isSet() ? std::optional<int>(start.getValue()) : std::nullopt, plot.getValue(),
+               path, j, text);
   if (draw.isSet()) {
     std::vector<graph::WeightPanel> panels;
     for (std::size_t c = 0; c < ps.size(); ++c)
