@@ -1,12 +1,13 @@
 // The pictures of `asf plan-eval` (thesis Figs. 3.4 and 3.5) as standalone SVG.
 #include "plan_eval_figure.h"
 
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
+#include <asf/run_report.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -18,21 +19,6 @@ std::string num(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.1f", v);
   return b;
-}
-
-std::string escaped(const std::string& s) {
-  std::string out;
-  for (char ch : s) {
-    if (ch == '<')
-      out += "&lt;";
-    else if (ch == '>')
-      out += "&gt;";
-    else if (ch == '&')
-      out += "&amp;";
-    else
-      out += ch;
-  }
-  return out;
 }
 
 /// Map metres to pixels: the bounding box of the nodes and the zone, y up, aspect kept.
@@ -68,7 +54,8 @@ std::string scenarioSvg(const PoseGraph& g, const Zone& zone, const std::vector<
   s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(std::max(w, 360.0))
     << "\" height=\"" << num(h) << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << margin << "\" y=\"22\" font-size=\"14\">" << escaped(title) << "</text>\n";
+    << "<text x=\"" << margin << "\" y=\"22\" font-size=\"14\">" << report::htmlEscape(title)
+    << "</text>\n";
   const double zx = f.px(std::min(zone.x0, zone.x1)), zy = f.py(std::max(zone.y0, zone.y1));
   s << "<rect x=\"" << num(zx) << "\" y=\"" << num(zy) << "\" width=\""
     << num(std::abs(zone.x1 - zone.x0) * f.scale) << "\" height=\""
@@ -95,7 +82,7 @@ std::string scenarioSvg(const PoseGraph& g, const Zone& zone, const std::vector<
     s << "\"/>\n<line x1=\"" << margin << "\" y1=\"" << num(legend_y) << "\" x2=\"" << margin + 24
       << "\" y2=\"" << num(legend_y) << "\" stroke=\"" << p.color
       << "\" stroke-width=\"3\"/><text x=\"" << margin + 30 << "\" y=\"" << num(legend_y + 4)
-      << "\">" << escaped(p.label) << "</text>\n";
+      << "\">" << report::htmlEscape(p.label) << "</text>\n";
     legend_y += 18;
   }
   if (!paths.empty() && !paths.front().nodes.empty()) {
@@ -128,10 +115,7 @@ nlohmann::json writeScenarioFigures(const PoseGraph& g, const Zone& zone,
                            std::to_string(scenario.value("zone_index", 0)) + ", covariance x" +
                            num(scenario.value("factor", 0.0)) + ")";
   auto write = [&](const std::string& file, const std::string& text) {
-    const std::string path = out_dir + "/" + file;
-    std::ofstream out(path);
-    out << text;
-    if (!out) throw Error(path + ": cannot write");
+    writeFileAtomically(out_dir + "/" + file, text, "figure");
     return file;
   };
   nlohmann::json rec{{"scenario", write("scenario_" + name + ".svg",

@@ -1,6 +1,7 @@
 #pragma once
 // Internal to `asf reproduce`: how the rows are collected (reproduce_rows*.cpp, one file per
 // chapter of the thesis) and the number formats they share.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -75,6 +76,21 @@ class Collector {
 
   void figure(const std::string& section, const std::string& caption, const std::string& file) {
     if (fs::exists(s_.out + "/" + file)) report.figures.push_back({section, caption, file});
+  }
+  /// The distances d of a run's snapshots (OUT/<stage>/run/snapshots/at_<d>m_map.png), as
+  /// written in the file names, nearest first.
+  std::vector<std::string> snapshotDistances(const std::string& stage) const {
+    std::vector<std::string> d;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(s_.out + "/" + stage + "/run/snapshots", ec)) {
+      const std::string f = e.path().filename().string();
+      if (f.size() > 11 && f.rfind("at_", 0) == 0 && f.substr(f.size() - 8) == "_map.png")
+        d.push_back(f.substr(3, f.size() - 12));  // between "at_" and "m_map.png"
+    }
+    std::sort(d.begin(), d.end(), [](const std::string& a, const std::string& b) {
+      return std::stod(a) < std::stod(b);
+    });
+    return d;
   }
   void section(const std::string& name, const std::string& text) {
     report.sections.push_back({name, text});

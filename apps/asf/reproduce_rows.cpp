@@ -79,24 +79,14 @@ void policiesOnTheCave(Collector& c) {
            stage + "/runs/coverage_vs_distance.svg");
 
   const std::string s61 = "ch6_fig_6_1";
-  std::size_t snapshots = 0;
-  std::error_code ec;
-  std::vector<std::string> maps;
-  for (const auto& e : fs::directory_iterator(c.s_.out + "/" + s61 + "/run/snapshots", ec))
-    if (e.path().filename().string().find("_map.png") != std::string::npos)
-      maps.push_back(e.path().filename().string());
-  std::sort(maps.begin(), maps.end(), [](const std::string& a, const std::string& b) {
-    return std::stod(a.substr(3)) < std::stod(b.substr(3));
-  });
-  for (const auto& m : maps) {
-    const std::string stem = m.substr(0, m.size() - 8);
-    c.figure("Fig. 6.1", "TIGRE run, " + stem.substr(3) + ": map", s61 + "/run/snapshots/" + m);
-    c.figure("Fig. 6.1", "TIGRE run, " + stem.substr(3) + ": regions",
-             s61 + "/run/snapshots/" + stem + "_regions.png");
-    c.figure("Fig. 6.1", "TIGRE run, " + stem.substr(3) + ": topological graph",
-             s61 + "/run/snapshots/" + stem + "_topology.svg");
-    ++snapshots;
+  const std::vector<std::string> distances = c.snapshotDistances(s61);
+  for (const auto& d : distances) {
+    const std::string stem = s61 + "/run/snapshots/at_" + d + "m_";
+    c.figure("Fig. 6.1", "TIGRE run, " + d + "m: map", stem + "map.png");
+    c.figure("Fig. 6.1", "TIGRE run, " + d + "m: regions", stem + "regions.png");
+    c.figure("Fig. 6.1", "TIGRE run, " + d + "m: topological graph", stem + "topology.svg");
   }
+  const std::size_t snapshots = distances.size();
   c.figure("Fig. 6.1", "TIGRE run, end: map", s61 + "/run/map.png");
   c.figure("Fig. 6.1", "TIGRE run, end: topological graph", s61 + "/run/topology.svg");
   const json run = c.read(s61, "run/summary.json");

@@ -1,8 +1,9 @@
 // The rows of `asf reproduce` for chapters 4 (segmentation: Table 4.1, Figs. 4.1-4.5) and 5
 // (optimal exploration: Table 5.1, Theorem 5.2.1, Figs. 5.1-5.13).
+#include <asf/errors.h>
+#include <asf/run_report.h>
+
 #include <algorithm>
-#include <cstdlib>
-#include <sstream>
 
 #include "reproduce_collector.h"
 
@@ -164,37 +165,17 @@ void figures43and44(Collector& c) {
       "times on this machine, possibly beside another stage");
 }
 
-/// Column `name` of a CSV file with a header line (empty when missing).
-std::vector<double> csvColumn(const std::string& path, const std::string& name) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<double> out;
-  if (!std::getline(in, line)) return out;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> cells;
-    std::stringstream ss(l);
-    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
-    return cells;
-  };
-  const auto head = split(line);
-  const auto col = std::find(head.begin(), head.end(), name) - head.begin();
-  if (col == static_cast<long>(head.size())) return out;
-  while (std::getline(in, line)) {
-    const auto cells = split(line);
-    out.push_back(col < static_cast<long>(cells.size()) && !cells[col].empty()
-                      ? std::atof(cells[col].c_str())
-                      : NAN);
-  }
-  return out;
-}
-
 /// Fig. 4.5 (the time sequence of the incremental segmentation: regions over-segmented early
 /// merge later; only contours touching new information change) on the Fig. 6.1 TIGRE run.
 void figure45(Collector& c) {
   const std::string stage = "ch6_fig_6_1";
-  const std::string ts = c.s_.out + "/" + stage + "/run/timeseries.csv";
-  const auto regions = csvColumn(ts, "regions"), segs = csvColumn(ts, "segmentations"),
-             inc = csvColumn(ts, "incremental_segmentations"), cov = csvColumn(ts, "coverage");
+  std::map<std::string, std::vector<double>> ts;
+  try {
+    ts = report::readCsvColumns(c.s_.out + "/" + stage + "/run/timeseries.csv");
+  } catch (const Error&) {  // not produced: the rows say so
+  }
+  const auto &regions = ts["regions"], &segs = ts["segmentations"],
+             &inc = ts["incremental_segmentations"], &cov = ts["coverage"];
   std::size_t done = 0, lowered = 0, lowered_growing = 0, peak = 0;
   const bool ok = !regions.empty() && regions.size() == segs.size() && segs.size() == cov.size() &&
                   inc.size() == segs.size();
@@ -230,18 +211,9 @@ void figure45(Collector& c) {
         ok ? fmt(inc.back(), 0) + " of " + fmt(segs.back(), 0) + " segmentations incremental" : "",
         ok ? (inc.back() > 0 ? "agrees" : "differs") : "",
         "the rest were full segmentations (the first, and those the incremental path declines)");
-  std::error_code ec;
-  std::vector<std::string> stems;
-  for (const auto& e : fs::directory_iterator(c.s_.out + "/" + stage + "/run/snapshots", ec)) {
-    const std::string f = e.path().filename().string();
-    if (f.size() > 12 && f.substr(f.size() - 12) == "_regions.png") stems.push_back(f);
-  }
-  std::sort(stems.begin(), stems.end(), [](const std::string& a, const std::string& b) {
-    return std::stod(a.substr(3)) < std::stod(b.substr(3));
-  });
-  for (const auto& f : stems)
-    c.figure("Fig. 4.5", "TIGRE run, regions after " + f.substr(3, f.size() - 16) + " m",
-             stage + "/run/snapshots/" + f);
+  for (const auto& d : c.snapshotDistances(stage))
+    c.figure("Fig. 4.5", "TIGRE run, regions after " + d + " m",
+             stage + "/run/snapshots/at_" + d + "m_regions.png");
 }
 
 // ---- chapter 5 ---------------------------------------------------------------------------
