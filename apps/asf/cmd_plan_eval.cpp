@@ -653,7 +653,12 @@ int cmdPlanEval(int argc, char** argv) {
       json sweep = sweepPairs(slots, s, ps, in_zone, search,
                               static_cast<std::size_t>(p.getInt("progress_every")));
       json rec = scenarioRecord(s, in_zone, std::move(sweep));
-      rec["figures"] = writeScenarioFigures(s.graph, s.zone, rec, out_dir);
+      try {  // a picture that cannot be written must not cost the scenarios' results
+        rec["figures"] = writeScenarioFigures(s.graph, s.zone, rec, out_dir);
+      } catch (const Error& e) {
+        std::cerr << "[" << s.name << "] figures not written: " << e.what() << "\n";
+        rec["figures"] = {{"error", e.what()}};
+      }
       jscen.push_back(std::move(rec));
     }
   }

@@ -78,10 +78,11 @@ void figs34and35(Collector& c, const std::string& log) {
                   fmt(num(sc, {"planners", "shortest", "errors"}), 0) + " of " +
                   fmt(num(sc, {"pairs"}), 0) + " pairs",
               "compare the pictures");
-        c.figure("Fig. 3.4",
-                 log + ", zone " + zone + " (scenarios " + name + ", " +
-                     static_cast<char>(name[0] + 1) + ")",
-                 stage + "/" + fig.value("scenario", ""));
+        if (fig.contains("scenario"))  // else plan-eval could not write it ("error")
+          c.figure("Fig. 3.4",
+                   log + ", zone " + zone + " (scenarios " + name + ", " +
+                       static_cast<char>(name[0] + 1) + ")",
+                   stage + "/" + fig.value("scenario", ""));
       }
       const json ex = fig.value("error_example", json());
       if (example.empty() && ex.is_object()) {
