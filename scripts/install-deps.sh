@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package asf needs to build, test and run.
-# Idempotent: when everything is present it returns after one dpkg query.
+# Idempotent: when everything is present it returns after one dpkg query. Arguments are more
+# packages to install the same way (scripts/fuzz.sh: clang and its libFuzzer runtime).
 set -euo pipefail
 
 PKGS=(
@@ -10,6 +11,7 @@ PKGS=(
   libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
   libbz2-dev zlib1g-dev
   python3-cvxopt  # tests: independent solver the optimal-design cross-check compares with
+  "$@"
 )
 
 missing=()

@@ -68,6 +68,18 @@ TEST(AsfOptimalCommand, LargeGraphsShowProgressPerCriterion) {
   EXPECT_TRUE(has(r.out, "asf optimal: D-optimal weights of 520 nodes, 519 edges"))
       << r.out.substr(0, 400);
   EXPECT_TRUE(has(r.out, "asf optimal: D done: ")) << r.out.substr(0, 400);
+  // Within a criterion: one line per iteration with --progress-interval 0 (issue 20, item 7:
+  // a 3600-node criterion ran for minutes without a word), bounds that enclose the optimum.
+  const auto it = runHost("optimal " + (d / "path.txt").string() +
+                          " --criteria D,E --progress-interval 0 --json");
+  ASSERT_EQ(it.code, 0) << it.out.substr(0, 400);
+  EXPECT_TRUE(has(it.out, "asf optimal: D: iteration 0, optimum in [")) << it.out.substr(0, 600);
+  EXPECT_TRUE(has(it.out, "asf optimal: E: iteration 1, optimum in [")) << it.out.substr(0, 600);
+  const auto quiet = runHost("optimal " + (d / "path.txt").string() +
+                             " --criteria D,E --progress-interval 1e9 --json");
+  EXPECT_FALSE(has(quiet.out, ": iteration ")) << quiet.out.substr(0, 600);
+  EXPECT_TRUE(has(quiet.out, "asf optimal: E done: ")) << quiet.out.substr(0, 600);
+  EXPECT_NE(runHost("optimal " + (d / "path.txt").string() + " --progress-interval -1").code, 0);
   std::ofstream(d / "small.txt") << "4 5 1-2 2-3 3-4 4-1 1-3\n";
   const auto s = runHost("optimal " + (d / "small.txt").string() + " --criteria D");
   ASSERT_EQ(s.code, 0) << s.out;
@@ -107,6 +119,16 @@ TEST(AsfOptimalCommand, ReadsATopologicalGraph) {
         << r2.out;
     EXPECT_FALSE(has(r2.out, "unexpected error")) << r2.out;
   }
+  // A region listed twice (before, its centroid was kept twice: positions and nodes then
+  // disagreed in count).
+  std::ofstream(d / "twice.json")
+      << R"({"nodes": [{"region": 1, "centroid": [0, 0]}, {"region": 1, "centroid": [1, 0]}],
+             "edges": []})";
+  const auto twice = runHost("optimal " + (d / "twice.json").string() + " --draw " +
+                             (d / "twice.svg").string());
+  EXPECT_EQ(twice.code, 1) << twice.out;
+  EXPECT_TRUE(has(twice.out, (d / "twice.json").string() + ": region 1 is listed twice"))
+      << twice.out;
   fs::remove_all(d);
 }
 

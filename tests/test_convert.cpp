@@ -211,9 +211,12 @@ TEST(ConvertTextIo, TimestampsAreExactToTheMicrosecond) {
   ASSERT_TRUE(s);
   EXPECT_EQ(s->str(), "32.906800");
   EXPECT_EQ(cv::parseStamp("7")->str(), "7.000000");
+  EXPECT_EQ(cv::parseStamp("99999999999.999999")->str(), "99999999999.999999");  // the largest
   EXPECT_EQ(cv::parseStamp("1.9999996")->str(), "2.000000");  // rounded, carried
   EXPECT_EQ(cv::parseStamp("2.5e-06")->str(), "0.000003");    // decimal exponent form
-  for (const char* bad : {"", "-1.5", "abc", "1.2.3", "1e99", "nan", "."})
+  // 11000000000000 s (a fuzzed Rawseeds line) overflowed the microsecond arithmetic.
+  for (const char* bad : {"", "-1.5", "abc", "1.2.3", "1e99", "nan", ".", "11000000000000",
+                          "999999999999999.5", "1e14", "100000000000"})
     EXPECT_FALSE(cv::parseStamp(bad)) << bad;
   // One microsecond apart = ten 100 ns clock ticks, also near 1.2e9 s where a double would
   // blur it.

@@ -341,6 +341,37 @@ TEST(GraphInformation, SolverPathsStayCertified) {
   }
 }
 
+// DesignOptions::on_iteration: one report per iteration, in order, each a bracket of the
+// optimum the solver then certifies (a report that lied would show a lower bound above the
+// final upper bound or the reverse).
+TEST(GraphInformation, IterationReportsBracketTheOptimum) {
+  const Multigraph g = asf::graph::randomConnectedGraph(30, 70, 4);
+  for (double p : {0.0, -1.0, kE}) {
+    SCOPED_TRACE(criterionName(p));
+    std::vector<int> its;
+    std::vector<std::pair<double, double>> bounds;
+    DesignOptions opt;
+    opt.on_iteration = [&](int it, double lower, double upper) {
+      its.push_back(it);
+      bounds.emplace_back(lower, upper);
+    };
+    const OptimalDesign o = optimalDesign(g, p, opt);
+    ASSERT_TRUE(o.converged);
+    ASSERT_FALSE(its.empty());
+    for (std::size_t i = 1; i < its.size(); ++i) EXPECT_EQ(its[i], its[i - 1] + 1);
+    EXPECT_EQ(its.front(), p == kE ? 1 : 0);
+    EXPECT_EQ(its.back(), o.iterations);
+    for (const auto& [lower, upper] : bounds) {
+      EXPECT_LE(lower, o.upper_bound * (1 + 1e-9));
+      EXPECT_GE(upper, o.value * (1 - 1e-9));
+    }
+    if (p != kE) {  // smooth: the last report is the iterate returned
+      EXPECT_DOUBLE_EQ(bounds.back().first, o.value);
+      EXPECT_DOUBLE_EQ(bounds.back().second, o.upper_bound);
+    }
+  }
+}
+
 // Cross-check against an independent solver: Debian's python3-cvxopt (cp for D and A, the
 // SDP for E), run by tests/scripts/graph_information_cvxopt.py.
 TEST(GraphInformation, CrossCheckCvxopt) {

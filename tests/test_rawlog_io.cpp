@@ -387,6 +387,11 @@ TEST(RawlogReader, CutAtAnyByteEndsCleanlyOnlyBetweenRecords) {
       clean = false;
       ++errors;
       EXPECT_TRUE(has(e.what(), cut + ": record ")) << e.what();
+      // Said as a cut wherever it is, nested objects included (a kill -9 tore a scan inside
+      // a sensory frame: MRPT wraps that EOF in another exception).
+      if (!has(e.what(), "the file ends inside this record (cut at byte " + std::to_string(n)) &&
+          ++clean_inside <= 5)
+        ADD_FAILURE() << "cut at byte " << n << " not said as a cut: " << e.what();
     }
     if (clean != (boundaries.count(n) == 1)) {
       ++clean_inside;

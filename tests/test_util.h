@@ -7,11 +7,31 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <vector>
 
 namespace asf_test {
+
+/// A file's bytes ("" when it cannot be read).
+inline std::string readFile(const std::string& path) {
+  std::string out;
+  if (FILE* f = std::fopen(path.c_str(), "rb")) {
+    std::array<char, 4096> buf;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), f)) > 0) out.append(buf.data(), n);
+    std::fclose(f);
+  }
+  return out;
+}
+
+/// The number in environment variable `name`, or `fallback` when it is unset or empty
+/// (sweep sizes and seeds: ASF_MUTATIONS, ASF_KILL_MOMENTS, ...).
+inline double envNumber(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::atof(v) : fallback;
+}
 
 /// The message of the E that fn throws, or a text no expectation matches.
 template <class E>
@@ -34,10 +54,12 @@ struct HostResult {
 };
 
 /// Runs the built host, `asf <args>` (a shell command line), and collects what it printed:
-/// stdout and stderr, or stdout only (stderr dropped) with merge_stderr = false.
-inline HostResult runHost(const std::string& args, bool merge_stderr = true) {
+/// stdout and stderr, or stdout only (stderr dropped) with merge_stderr = false. `prefix`
+/// goes before the host's path (e.g. "timeout -s KILL 60 ").
+inline HostResult runHost(const std::string& args, bool merge_stderr = true,
+                          const std::string& prefix = "") {
   const std::string cmd =
-      ASF_TEST_BINARY_DIR "/bin/asf " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+      prefix + ASF_TEST_BINARY_DIR "/bin/asf " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* p = popen(cmd.c_str(), "r");
   HostResult r{-1, {}};
   if (!p) return r;

@@ -9,6 +9,7 @@
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -52,52 +53,12 @@ LoadedGraph fromG2o(const std::string& path, bool unit, NoiseReference reference
   return l;
 }
 
-// The topological graph of a run or of `asf segment --graph` (topology.json): one node per
-// region, one edge per region border; frontier edges and the unexplored node are left out.
-LoadedGraph topologyGraph(const nlohmann::json& j, const std::string& path);
-
+// The topological graph of a run or of `asf segment --graph` (topology.json).
 LoadedGraph fromTopologyJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot be read");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const std::exception& e) {
-    throw InputError(path + ": not JSON: " + e.what());
-  }
-  if (!j.is_object() || !j.contains("nodes") || !j.contains("edges"))
-    throw InputError(path + ": no \"nodes\" and \"edges\" (expected a topology.json)");
-  try {
-    return topologyGraph(j, path);
-  } catch (const nlohmann::json::exception& e) {  // a field missing or of another type
-    throw InputError(path + ": not a topology.json as asf writes it: " + e.what());
-  }
-}
-
-LoadedGraph topologyGraph(const nlohmann::json& j, const std::string& path) {
+  graph::RegionGraph r = graph::readTopologyJson(path);
   LoadedGraph l;
-  graph::Multigraph& g = l.g;
-  std::map<long, int> index;
-  bool centroids = true;
-  for (const auto& n : j["nodes"]) {
-    const long r = n.at("region").get<long>();
-    if (r <= 0) continue;
-    index.emplace(r, static_cast<int>(index.size()));
-    const auto c = n.find("centroid");
-    if (c != n.end() && c->is_array() && c->size() == 2)
-      l.positions.emplace_back((*c)[0].get<double>(), (*c)[1].get<double>());
-    else
-      centroids = false;
-  }
-  if (!centroids) l.positions.clear();
-  g.n = static_cast<int>(index.size());
-  for (const auto& e : j["edges"]) {
-    if (e.value("frontier", false)) continue;
-    const auto a = index.find(e.at("a").get<long>()), b = index.find(e.at("b").get<long>());
-    if (a == index.end() || b == index.end())
-      throw InputError(path + ": edge " + e.dump() + " names a region that is not a node");
-    g.edges.push_back({a->second, b->second, 1.0});
-  }
+  l.g = std::move(r.graph);
+  for (const auto& [x, y] : r.centroids) l.positions.emplace_back(x, y);
   return l;
 }
 
@@ -142,8 +103,11 @@ LoadedGraph loadGraph(const std::string& path_in, bool has_index, int index, boo
 constexpr int kProgressNodes = 500;
 
 // The optimum of each criterion, as text and into j; returns the weights per criterion.
+// Graphs of kProgressNodes or more: a line on stderr per criterion, and while it is solved
+// one per iteration at most every `interval_s` seconds (its bounds and gap so far).
 std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vector<double>& ps,
-                                     double tolerance, nlohmann::json& j, std::ostream& text) {
+                                     double tolerance, double interval_s, nlohmann::json& j,
+                                     std::ostream& text) {
   graph::DesignOptions opt;
   opt.tolerance = tolerance;
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(g.m());
@@ -157,6 +121,19 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
       std::cerr << "asf optimal: " << name << "-optimal weights of " << g.n << " nodes, " << g.m()
                 << " edges (dense " << g.n << " x " << g.n
                 << " eigendecompositions; minutes for thousands of nodes)..." << std::endl;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto last = t0;
+    if (large)
+      opt.on_iteration = [&](int it, double lower, double upper) {
+        const auto now = std::chrono::steady_clock::now();
+        if (std::chrono::duration<double>(now - last).count() < interval_s) return;
+        last = now;
+        std::cerr << "asf optimal: " << name << ": iteration " << it << ", optimum in ["
+                  << std::setprecision(6) << lower << ", " << upper << "], relative gap "
+                  << std::setprecision(2) << (upper > 0 ? (upper - lower) / upper : 0) << ", "
+                  << std::setprecision(3) << std::chrono::duration<double>(now - t0).count()
+                  << " s" << std::endl;
+      };
     const graph::OptimalDesign r = graph::optimalDesign(g, p, opt);
     if (large)
       std::cerr << "asf optimal: " << name << " done: " << r.iterations << " iterations, "
@@ -348,8 +325,15 @@ int cmdOptimal(int argc, char** argv) {
       "proportional to the weight (figs. 5.11-5.13); nodes at their poses or region centroids, "
       "else laid out by stress majorization",
       false, "", "FILE.svg", cmd);
+  TCLAP::ValueArg<double> progress_interval(
+      "", "progress-interval",
+      "Graphs of 500 nodes or more: seconds between progress lines on stderr while a "
+      "criterion is solved (0: every iteration)",
+      false, 5.0, "S", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
+  if (!(progress_interval.getValue() >= 0))
+    throw InputError("--progress-interval must be >= 0 seconds");
   if (plot.isSet() && walks.getValue() <= 0)
     throw InputError("--plot draws the exhaustive search: give --walks D too");
 
@@ -372,7 +356,7 @@ int cmdOptimal(int argc, char** argv) {
        << " nodes, " << g.m() << " edges, " << (g.connected() ? "connected" : "NOT connected")
        << "\n";
   if (l.noise) describeNoise(l, unit, ref, j, text);
-  const auto weights = designs(g, ps, tolerance.getValue(), j, text);
+  const auto weights = designs(g, ps, tolerance.getValue(), progress_interval.getValue(), j, text);
   if (theorem.isSet()) theoremTable(l, ps, j, text);
   if (walks.getValue() > 0)
     exhaustive(g, ps, walks.getValue(), kind.getValue(),

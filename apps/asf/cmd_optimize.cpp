@@ -64,13 +64,28 @@ int cmdOptimize(int argc, char** argv) {
   PoseGraph g = readG2o(file.getValue());
   const double chi0 = g.chi2();
   auto t0 = std::chrono::steady_clock::now();
-  const OptimizeReport r = be->optimize(g);
+  // A back-end's error is about this graph: it names the file (the mutation sweep found a
+  // non-finite chi2 reported as "sparse_lm: ..." alone).
+  const auto naming_file = [&](const Error& e) -> Error {
+    return Error(file.getValue() + ": " + e.what());
+  };
+  OptimizeReport r;
+  try {
+    r = be->optimize(g);
+  } catch (const Error& e) {
+    throw naming_file(e);
+  }
   const double t_opt = secondsSince(t0);
   const double chi1 = g.chi2();
   double t_marg = -1;
   if (marginals.getValue()) {
     t0 = std::chrono::steady_clock::now();
-    const Marginals m = be->marginals(g);
+    Marginals m;
+    try {
+      m = be->marginals(g);
+    } catch (const Error& e) {
+      throw naming_file(e);
+    }
     t_marg = secondsSince(t0);
     if (m.node.size() != g.size())
       throw Error(name + ": marginals() returned " + std::to_string(m.node.size()) +

@@ -1246,7 +1246,12 @@ void renderPlan(const std::string& png, const PoseGraph& g, const Marginals* mar
   std::function<cv::Point(double, double)> px;
   double px_per_m = 1;
   if (!o.map_png.empty()) {
-    const cv::Mat map = cv::imread(o.map_png, cv::IMREAD_GRAYSCALE);
+    cv::Mat map;
+    try {
+      map = cv::imread(o.map_png, cv::IMREAD_GRAYSCALE);
+    } catch (const cv::Exception& e) {  // some decoders throw instead of returning nothing
+      throw InputError(o.map_png + ": cannot read the map image (" + e.err + ")");
+    }
     if (map.empty()) throw InputError(o.map_png + ": cannot read the map image");
     cv::cvtColor(map, img, cv::COLOR_GRAY2BGR);
     px_per_m = 1.0 / o.map_resolution;

@@ -291,7 +291,9 @@ void certifyE(const Design& D, const VectorXd& xin, const MatrixXd& Z, EResult& 
   r.bound = D.diagQuad(r.W).maxCoeff();
 }
 
-EResult solveE(const Design& D, double tol, int max_iter) {
+using IterationReport = std::function<void(int, double, double)>;
+
+EResult solveE(const Design& D, double tol, int max_iter, const IterationReport& report) {
   const int m = D.m, N = D.N, k = D.k();
   const MatrixXd Pi = D.pi();
   VectorXd x = VectorXd::Constant(m, 1.0 / m);
@@ -342,6 +344,7 @@ EResult solveE(const Design& D, double tol, int max_iter) {
     // definite Z gives the bound max_j a_j^T Z a_j / tr Z; certifyE then does it exactly.
     za = D.diagQuad(Z);
     const double lo = t / x.sum(), hi = okZ ? za.maxCoeff() / Z.trace() : nu;
+    if (report) report(it, lo, hi);
     if (hi - lo <= 0.2 * tol * hi || mu <= 0) {
       if (consider(x, Z, it)) return best;
       if (mu <= 0) break;
@@ -557,7 +560,8 @@ struct SmoothResult {
   int iterations = 0;
 };
 
-SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
+SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter,
+                         const IterationReport& report) {
   const int m = D.m;
   VectorXd x = VectorXd::Constant(m, 1.0 / m);
   SmoothResult out;
@@ -583,6 +587,7 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter) {
     out.value = ev.phi;
     out.bound = ev.phi * ratio;
     out.iterations = it;
+    if (report) report(it, out.value, out.bound);
     if (ratio - 1.0 <= tol * ratio || it >= max_iter) break;
     // Free set: positive weights, and zero weights whose gradient beats the multiplier.
     std::vector<int> F;
@@ -899,14 +904,14 @@ OptimalDesign optimalDesign(const Multigraph& g, double p, const DesignOptions& 
     for (int j : top) r.weights[j] = 1.0 / top.size();
     r.value = r.upper_bound = 2.0 * best / k;
   } else if (isE) {
-    const EResult e = solveE(D, tol, opt.max_iterations);
+    const EResult e = solveE(D, tol, opt.max_iterations, opt.on_iteration);
     for (std::size_t a = 0; a < kept.size(); ++a) r.weights[kept[a]] = e.x[a];
     r.value = e.value;
     r.upper_bound = e.bound;
     r.dual = e.W;
     r.iterations = e.iterations;
   } else {
-    const SmoothResult s = solveSmooth(D, p, tol, opt.max_iterations);
+    const SmoothResult s = solveSmooth(D, p, tol, opt.max_iterations, opt.on_iteration);
     for (std::size_t a = 0; a < kept.size(); ++a) r.weights[kept[a]] = s.x[a];
     r.value = s.value;
     r.upper_bound = s.bound;
@@ -932,7 +937,7 @@ OptimalDesign optimalDesignE(const MatrixXd& A, const DesignOptions& opt) {
   OptimalDesign r;
   r.p = kCriterionE;
   r.connected = true;
-  const EResult e = solveE(D, tol, opt.max_iterations);
+  const EResult e = solveE(D, tol, opt.max_iterations, opt.on_iteration);
   r.weights = e.x;
   r.value = e.value;
   r.upper_bound = std::max(e.bound, e.value);

@@ -235,6 +235,16 @@ struct RawlogReader::Impl {
     return scan;
   }
 
+  /// Whether the stream has no byte left (it is read no further: the reader ends).
+  bool atEnd() {
+    char c;
+    try {
+      return in.Read(&c, 1) == 0;
+    } catch (const std::exception&) {
+      return true;
+    }
+  }
+
   [[noreturn]] void fail(std::string why) {
     ended = true;
     for (char& c : why)  // damaged bytes end up in MRPT's messages (e.g. a class name)
@@ -379,6 +389,11 @@ std::optional<SensorFrame> RawlogReader::next() {
     } catch (const std::bad_alloc&) {
       m.fail("corrupt record (a length field asks for more memory than available)");
     } catch (const std::exception& e) {
+      // Inside a nested object (a scan in a sensory frame) MRPT's EOF arrives wrapped in
+      // another exception: the bytes ran out when nothing is left to read.
+      if (m.atEnd())
+        m.fail("the file ends inside this record (cut at byte " +
+               std::to_string(m.in.getPosition()) + "; a copy or a write that did not finish?)");
       m.fail(mrptExceptionCause(e.what()));
     }
     ++m.records;

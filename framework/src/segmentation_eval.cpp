@@ -157,7 +157,12 @@ namespace {
 cv::Mat readImage(const std::string& path, int flags) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
-  cv::Mat m = cv::imread(path, flags);
+  cv::Mat m;
+  try {
+    m = cv::imread(path, flags);
+  } catch (const cv::Exception& e) {  // some decoders throw (fuzzing: a PBM 33333333 rows high)
+    throw InputError(path + ": cannot be read as an image (" + e.err + ")");
+  }
   if (m.empty()) throw InputError(path + ": cannot be read as an image (malformed or unsupported)");
   return m;
 }

@@ -387,6 +387,7 @@ std::optional<Stamp> parseStamp(std::string_view s) {
       !(dot != std::string_view::npos && fp.empty() && ip.empty())) {
     Stamp st;
     st.sec = *parseInt(ip);
+    if (st.sec >= static_cast<std::int64_t>(kMaxStampSeconds)) return std::nullopt;
     std::int64_t us = 0;
     for (std::size_t i = 0; i < 6; ++i) us = us * 10 + (i < fp.size() ? fp[i] - '0' : 0);
     if (fp.size() > 6 && fp[6] >= '5') ++us;  // round half up
@@ -394,7 +395,7 @@ std::optional<Stamp> parseStamp(std::string_view s) {
   }
   // Other spellings (exponents, a leading '+'): through a double, to the microsecond.
   const auto v = parseDouble(s);
-  if (!v || *v < 0 || *v > 1e15) return std::nullopt;
+  if (!v || !(*v >= 0 && *v < kMaxStampSeconds)) return std::nullopt;
   return Stamp::fromSeconds(*v);
 }
 

@@ -22,6 +22,7 @@
 #include <asf/multigraph.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -93,6 +94,11 @@ struct DesignOptions {
   /// (both under the promised 1e-6 and 1e-5).
   double tolerance = 0;
   int max_iterations = 200;
+  /// Called once per iteration with the iteration, a lower and an upper bound of the optimum
+  /// at that point (smooth criteria: the iterate's value and its gradient bound, from
+  /// iteration 0; E: the interior point's estimates t / sum x and max_j <Z, E_j> / tr Z, from
+  /// iteration 1). For progress reports; empty: not called.
+  std::function<void(int iteration, double lower, double upper)> on_iteration;
 };
 
 /// Maximizes ||L(x)||_p over the simplex for any p <= 1 (p = -inf: E). Smooth criteria:

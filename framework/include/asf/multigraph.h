@@ -5,6 +5,7 @@
 /// Tarry). Parallel edges and self-loops are allowed; nodes are 0-based here (files are
 /// 1-based, see readGraphList).
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace asf::graph {
@@ -43,5 +44,20 @@ struct ListedGraph {
 std::vector<ListedGraph> readGraphList(const std::string& path);
 /// Parses one graph-list line; `where` prefixes error messages (e.g. "file.txt:3").
 Multigraph parseGraphLine(const std::string& line, const std::string& where);
+
+/// The region graph of a topology.json (written by `asf run` and `asf segment --graph`): one
+/// node per region (ids > 0), one unit edge per region border; frontier edges and the
+/// unexplored node (region <= 0) are left out.
+struct RegionGraph {
+  Multigraph graph;
+  std::vector<long> regions;  ///< region id of each node
+  /// Centroid (x, y) of each node; empty when some node has none.
+  std::vector<std::pair<double, double>> centroids;
+};
+/// Throws InputError naming the file: not JSON, no "nodes"/"edges", a field missing or of
+/// another type, an edge naming a region that is not a node.
+RegionGraph readTopologyJson(const std::string& path);
+/// The same from text; `name` is the file named in errors.
+RegionGraph parseTopologyJson(const std::string& text, const std::string& name);
 
 }  // namespace asf::graph

@@ -90,8 +90,12 @@ bool operator<(const Stamp& a, const Stamp& b);
 bool operator==(const Stamp& a, const Stamp& b);
 inline bool operator<=(const Stamp& a, const Stamp& b) { return !(b < a); }
 
+/// Timestamps are below this many seconds (year 5138; MRPT's clock and the microsecond
+/// arithmetic both hold there, 1e15 s overflowed it: found by fuzzing).
+constexpr double kMaxStampSeconds = 1e11;
+
 /// "seconds[.fraction]" (fraction rounded to the microsecond) or any non-negative decimal
-/// number; nullopt for anything else.
+/// number below kMaxStampSeconds; nullopt for anything else.
 std::optional<Stamp> parseStamp(std::string_view s);
 
 /// Writes an observation-only MRPT rawlog: one serialized object per record, gz-compressed
