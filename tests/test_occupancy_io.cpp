@@ -100,6 +100,9 @@ TEST(OccupancyIo, YamlErrorsNameTheFileAndLine) {
   expect(ok + "free_thresh: 1.5\n", f + ":4", "[0, 1]");
   expect(ok + "negate: 2\n", f + ":4", "negate");
   expect("image m.png\n", f + ":1", "key: value");
+  // Fuzzing: an origin float cannot place cells at (MRPT asserted, uncaught).
+  expect("image: m.png\nresolution: 0.05\norigin: [5777777777077777, -0.5, 0]\n", f + ":3",
+         "more than 100 km from 0");
   EXPECT_THROW(asf::readOccupancyMap((d / "missing.yaml").string()), asf::InputError);
   // The image the YAML names must exist: the error names it.
   std::ofstream(d / "noimg.yaml") << ok;
@@ -109,6 +112,26 @@ TEST(OccupancyIo, YamlErrorsNameTheFileAndLine) {
   } catch (const asf::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("m.png"), std::string::npos) << e.what();
   }
+}
+
+TEST(OccupancyIo, OnlyKnownImageFormatsAreDecoded) {
+  // OpenCV hands a file to any decoder that claims it; GDCM (DICOM) asserted, aborting the
+  // process, on one starting "P\n" (fuzzing). asf decodes PNG, PNM, BMP, JPEG, TIFF only.
+  const fs::path d = tempDir("formats");
+  std::ofstream(d / "m.yaml") << "image: m.png\nresolution: 0.05\norigin: [1, 2, 0]\n";
+  std::ofstream(d / "m.png", std::ios::binary) << "P\n" << std::string(64, '\xff');
+  try {
+    asf::readOccupancyMap((d / "m.yaml").string());
+    FAIL() << "an unknown format was decoded";
+  } catch (const asf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "m.png: cannot be read as an image (not PNG, PGM/PPM/PBM, BMP, JPEG or TIFF)"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(d / "m.png", std::ios::binary) << "P2\n3 2\n255\n0 255 128\n255 254 0\n";
+  EXPECT_EQ(asf::readOccupancyMap((d / "m.yaml").string()).grid->getSizeX(), 3u)
+      << "a PGM under any name is read";
 }
 
 }  // namespace

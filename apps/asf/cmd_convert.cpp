@@ -195,6 +195,18 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   TCLAP::ValueArg<double> max_range("", "max-range",
                                     "Maximum range [m] (default: from the log, else 80)", false,
                                     0, "M", cmd);
+  std::vector<std::string> stamp_modes{"auto", "log", "order"};
+  TCLAP::ValuesConstraint<std::string> stamp_allowed(stamp_modes);
+  TCLAP::ValueArg<std::string> stamps(
+      "", "timestamps",
+      "Scan timestamps: log (the laser lines' ipc_timestamp), order (the log's order, "
+      "--scan-period apart), auto (log unless a stamp is not a time or more than 10% do not "
+      "increase)",
+      false, "auto", &stamp_allowed, cmd);
+  TCLAP::ValueArg<double> period("", "scan-period",
+                                 "Seconds between scans when stamped by order (default: the "
+                                 "log's median step if steady, else 1)",
+                                 false, 0, "S", cmd);
   TCLAP::SwitchArg skip("", "skip-bad-lines", "Skip and count malformed lines instead of failing",
                         cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
@@ -202,7 +214,7 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   cmd.parse(argc, argv);
   if (synth.getValue() && odom_lines.getValue())
     throw TCLAP::CmdLineParseException("use one of them", "--synth-odometry/--odom-lines");
-  for (const auto* a : {&a1, &a2, &a3, &a4, &min_xy, &min_phi, &fov, &max_range})
+  for (const auto* a : {&a1, &a2, &a3, &a4, &min_xy, &min_phi, &fov, &max_range, &period})
     if (!(a->getValue() >= 0))
       throw TCLAP::CmdLineParseException("must be >= 0", a->getName());
 
@@ -222,9 +234,15 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   o.model.min_std_phi_deg = min_phi.getValue();
   o.fov_deg = fov.getValue();
   o.max_range = max_range.getValue();
+  using Stamps = convert::CarmenToRawlogOptions::Timestamps;
+  o.timestamps = stamps.getValue() == "log"     ? Stamps::Log
+                 : stamps.getValue() == "order" ? Stamps::Order
+                                                : Stamps::Auto;
+  o.scan_period_s = period.getValue();
   o.skip_bad_lines = skip.getValue();
   o.progress = quiet.getValue() ? nullptr : &std::cerr;
   const auto r = convert::carmenToRawlog(o);
+  for (const auto& w : r.warnings) std::cerr << "carmen2rawlog: warning: " << w << "\n";
 
   std::cout << "carmen2rawlog: " << r.scans << " scans (" << r.laser_message << ", " << r.rays
             << " rays over " << r.aperture_deg << " deg) and " << r.odometry
@@ -236,6 +254,10 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   std::cout << "  " << r.lines << " lines";
   for (const auto& [name, n] : r.ignored) std::cout << ", " << n << " " << name << " skipped";
   std::cout << "\n";
+  if (r.stamped_by_order)
+    std::cout << "  scans stamped from the log's order, " << r.scan_period_s << " s apart ("
+              << r.stamps_bad << " laser timestamps not a time, " << r.stamps_not_increasing
+              << " not increasing)\n";
   if (r.raised_timestamps)
     std::cout << "  " << r.raised_timestamps
               << " scans stamped before the previous record: moved just after it\n";

@@ -2,6 +2,7 @@
 #include <asf/errors.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace asf {
@@ -12,7 +13,9 @@ CoverageMeter::CoverageMeter(const WorldTruth& world, double unknown_band)
   const auto& g = *world.grid;
   const int W = static_cast<int>(g.getSizeX()), H = static_cast<int>(g.getSizeY());
   const int sx = g.x2idx(world.map_origin.x()), sy = g.y2idx(world.map_origin.y());
-  auto free = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H && g.getCell(x, y) > 0.5f; };
+  auto free = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < W && y < H && g.getCell(x, y) > 0.5f;
+  };
   if (!free(sx, sy))
     throw Error("coverage: the robot's start (" + std::to_string(world.map_origin.x()) + ", " +
                 std::to_string(world.map_origin.y()) + ") is not on a free cell of the world");
@@ -36,30 +39,166 @@ CoverageMeter::CoverageMeter(const WorldTruth& world, double unknown_band)
     }
   }
   reachable_area_ = cells_.size() * g.getResolution() * g.getResolution();
+  indexCells(4 * g.getResolution());
+}
+
+void CoverageMeter::indexCells(double bucket) {
+  bucket_ = bucket;
+  double x1 = bx0_ = cells_.front().x, y1 = by0_ = cells_.front().y;
+  for (const Point2& p : cells_) {
+    bx0_ = std::min(bx0_, p.x), by0_ = std::min(by0_, p.y);
+    x1 = std::max(x1, p.x), y1 = std::max(y1, p.y);
+  }
+  bw_ = static_cast<int>((x1 - bx0_) / bucket_) + 1;
+  bh_ = static_cast<int>((y1 - by0_) / bucket_) + 1;
+  const auto bucketOf = [&](const Point2& p) {
+    const int bx = std::min(bw_ - 1, static_cast<int>((p.x - bx0_) / bucket_));
+    const int by = std::min(bh_ - 1, static_cast<int>((p.y - by0_) / bucket_));
+    return static_cast<std::size_t>(by) * bw_ + bx;
+  };
+  first_.assign(static_cast<std::size_t>(bw_) * bh_ + 1, 0);  // counting sort by bucket
+  for (const Point2& p : cells_) ++first_[bucketOf(p) + 1];
+  for (std::size_t b = 1; b < first_.size(); ++b) first_[b] += first_[b - 1];
+  std::vector<Point2> sorted(cells_.size());
+  std::vector<std::size_t> next(first_.begin(), first_.end() - 1);
+  for (const Point2& p : cells_) sorted[next[bucketOf(p)]++] = p;
+  cells_ = std::move(sorted);
+}
+
+bool CoverageMeter::observed(const mrpt::maps::COccupancyGridMap2D& g, const Point2& p) const {
+  const int x = g.x2idx(p.x), y = g.y2idx(p.y);
+  if (x < 0 || y < 0 || x >= static_cast<int>(g.getSizeX()) || y >= static_cast<int>(g.getSizeY()))
+    return false;
+  return std::abs(g.getCell(x, y) - 0.5f) >= unknown_band_;
+}
+
+std::size_t CoverageMeter::observedCount(const mrpt::maps::COccupancyGridMap2D& g) const {
+  std::size_t seen = 0;
+  for (const Point2& p : cells_)
+    if (observed(g, p)) ++seen;
+  return seen;
+}
+
+std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& grid, const Box2& box,
+                                      std::size_t& visited) const {
+  if (cells_.empty() || box.empty()) return 0;
+  const auto clampX = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - bx0_) / bucket_)), 0, bw_ - 1);
+  };
+  const auto clampY = [&](double y) {
+    return std::clamp(static_cast<int>(std::floor((y - by0_) / bucket_)), 0, bh_ - 1);
+  };
+  std::size_t n = 0;
+  for (int by = clampY(box.min_y); by <= clampY(box.max_y); ++by)
+    for (int bx = clampX(box.min_x); bx <= clampX(box.max_x); ++bx) {
+      const std::size_t b = static_cast<std::size_t>(by) * bw_ + bx;
+      for (std::size_t i = first_[b]; i < first_[b + 1]; ++i) {
+        const Point2& p = cells_[i];
+        if (p.x < box.min_x || p.x > box.max_x || p.y < box.min_y || p.y > box.max_y) continue;
+        ++visited;
+        if (observed(grid, p)) ++n;
+      }
+    }
+  return n;
 }
 
 double CoverageMeter::coverage(const GridMap& map) const {
   if (!map.grid || cells_.empty()) return 0;
-  const auto& g = *map.grid;
-  std::size_t seen = 0;
-  for (const Point2& p : cells_) {
-    const int x = g.x2idx(p.x), y = g.y2idx(p.y);
-    if (x < 0 || y < 0 || x >= static_cast<int>(g.getSizeX()) || y >= static_cast<int>(g.getSizeY()))
-      continue;
-    if (std::abs(g.getCell(x, y) - 0.5f) >= unknown_band_) ++seen;
-  }
-  return static_cast<double>(seen) / cells_.size();
+  return static_cast<double>(observedCount(*map.grid)) / cells_.size();
 }
+
+namespace {
+
+/// Free cells of `g` in the cell range [x0, x1] x [y0, y1] (clamped to the grid).
+std::size_t freeCells(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, int y0, int y1,
+                      double unknown_band) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
+  y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
+  const float thr = 0.5f + static_cast<float>(unknown_band);
+  std::size_t n = 0;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (g.getCell(x, y) >= thr) ++n;
+  return n;
+}
+
+std::size_t allFreeCells(const mrpt::maps::COccupancyGridMap2D& g, double unknown_band) {
+  return freeCells(g, 0, static_cast<int>(g.getSizeX()) - 1, 0, static_cast<int>(g.getSizeY()) - 1,
+                   unknown_band);
+}
+
+}  // namespace
 
 double freeArea(const GridMap& map, double unknown_band) {
   if (!map.grid) return 0;
+  const double r = map.grid->getResolution();
+  return static_cast<double>(allFreeCells(*map.grid, unknown_band)) * r * r;
+}
+
+MapAreaTracker::MapAreaTracker(const CoverageMeter* meter, double unknown_band)
+    : meter_(meter), band_(unknown_band) {}
+
+void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
+  ++recounts_;
+  visited_ += static_cast<std::size_t>(g.getSizeX()) * g.getSizeY();
+  free_cells_ = allFreeCells(g, band_);
+  if (meter_) {
+    observed_ = meter_->observedCount(g);
+    visited_ += meter_->reachableCells();
+  }
+}
+
+bool MapAreaTracker::sameCells(const mrpt::maps::COccupancyGridMap2D& a,
+                               const mrpt::maps::COccupancyGridMap2D& b) const {
+  const double r = a.getResolution();
+  if (r != b.getResolution()) return false;
+  const auto whole = [&](double d) { return std::abs(d / r - std::round(d / r)) < 1e-3; };
+  return whole(a.getXMin() - b.getXMin()) && whole(a.getYMin() - b.getYMin());
+}
+
+void MapAreaTracker::update(const GridMap& map) {
+  if (!map.grid) {
+    last_.reset();
+    version_ = map.version;
+    free_cells_ = observed_ = 0;
+    return;
+  }
+  if (last_ && map.version == version_ && map.grid == last_) return;
+  const auto old = last_;
   const auto& g = *map.grid;
-  std::size_t n = 0;
-  const float thr = 0.5f + static_cast<float>(unknown_band);
-  for (unsigned y = 0; y < g.getSizeY(); ++y)
-    for (unsigned x = 0; x < g.getSizeX(); ++x)
-      if (g.getCell(x, y) >= thr) ++n;
-  return n * g.getResolution() * g.getResolution();
+  last_ = map.grid;
+  const bool trust_box = old && map.version == version_ + 1 && !map.rebuilt &&
+                         !map.changed.empty() && sameCells(*old, g);
+  version_ = map.version;
+  if (!trust_box) return recount(g);
+  // Every cell whose value changed overlaps the box: grown by a cell, it holds their centres.
+  const double r = g.getResolution();
+  Box2 box = map.changed;
+  box.min_x -= r, box.min_y -= r, box.max_x += r, box.max_y += r;
+  const int x0 = g.x2idx(box.min_x), x1 = g.x2idx(box.max_x);
+  const int y0 = g.y2idx(box.min_y), y1 = g.y2idx(box.max_y);
+  // The same cells in the old grid: shifted by the whole number of cells between origins.
+  const int dx = static_cast<int>(std::lround((g.getXMin() - old->getXMin()) / r));
+  const int dy = static_cast<int>(std::lround((g.getYMin() - old->getYMin()) / r));
+  const std::size_t now = freeCells(g, x0, x1, y0, y1, band_);
+  const std::size_t before = freeCells(*old, x0 + dx, x1 + dx, y0 + dy, y1 + dy, band_);
+  visited_ += 2 * static_cast<std::size_t>(std::max(0, x1 - x0 + 1)) * std::max(0, y1 - y0 + 1);
+  free_cells_ = free_cells_ + now - before;
+  if (meter_)
+    observed_ =
+        observed_ + meter_->observedIn(g, box, visited_) - meter_->observedIn(*old, box, visited_);
+}
+
+double MapAreaTracker::freeArea() const {
+  if (!last_) return 0;
+  const double r = last_->getResolution();
+  return static_cast<double>(free_cells_) * r * r;
+}
+
+double MapAreaTracker::coverage() const {
+  if (!meter_ || !last_ || meter_->reachableCells() == 0) return 0;
+  return static_cast<double>(observed_) / meter_->reachableCells();
 }
 
 }  // namespace asf

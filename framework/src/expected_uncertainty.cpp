@@ -2,6 +2,7 @@
 // probability, the baseline criteria, the reduced-graph path search and the plan drawing.
 #include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
+#include <asf/segmentation_eval.h>
 #include <asf/place_recognition.h>
 #include <asf/params.h>
 
@@ -1246,13 +1247,8 @@ void renderPlan(const std::string& png, const PoseGraph& g, const Marginals* mar
   std::function<cv::Point(double, double)> px;
   double px_per_m = 1;
   if (!o.map_png.empty()) {
-    cv::Mat map;
-    try {
-      map = cv::imread(o.map_png, cv::IMREAD_GRAYSCALE);
-    } catch (const cv::Exception& e) {  // some decoders throw instead of returning nothing
-      throw InputError(o.map_png + ": cannot read the map image (" + e.err + ")");
-    }
-    if (map.empty()) throw InputError(o.map_png + ": cannot read the map image");
+    GrayImage gray = readGrayImage(o.map_png);  // formats checked, errors name the file
+    const cv::Mat map(gray.height, gray.width, CV_8U, gray.pixels.data());
     cv::cvtColor(map, img, cv::COLOR_GRAY2BGR);
     px_per_m = 1.0 / o.map_resolution;
     const int h = img.rows;

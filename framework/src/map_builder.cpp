@@ -5,6 +5,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -13,11 +14,12 @@ namespace asf {
 namespace {
 const KeySpec kMapKeys[] = {
     keyDouble("resolution", "0.05", "Occupancy grid cell size [m]", 0.005, 2.0),
-    keyDouble("max_insertion_range", "15.0",
-              "Laser returns farther than this are not inserted [m]", 0.1, 1000.0),
+    keyDouble("max_insertion_range", "15.0", "Laser returns farther than this are not inserted [m]",
+              0.1, 1000.0),
     keyDouble("rebuild_threshold", "0.05",
               "Rebuild the map from all keyframes when an inserted keyframe moved more than "
-              "this (translation [m], or rotation [rad] x 1 m) since insertion", 1e-4, 100.0),
+              "this (translation [m], or rotation [rad] x 1 m) since insertion",
+              1e-4, 100.0),
     keyBool("widen_beams", "false",
             "Widen each beam with its range (MRPT wideningBeamsWithDistance) so that far rays "
             "leave no unknown gaps between them: a corridor seen from afar becomes free space"),
@@ -44,15 +46,23 @@ struct MapBuilder::Impl {
     grid.insertionOptions.wideningBeamsWithDistance = widen;
     inserted.clear();
   }
-  /// Inserts one keyframe; returns the box its rays can have touched.
+  /// Inserts one keyframe; returns the box its rays can have touched. Echoes reach at most
+  /// min(maxRange, maxDistanceInsertion) from the sensor, but MRPT clears free space along
+  /// no-echo rays to half of maxDistanceInsertion whatever the scan's maxRange (measured
+  /// with MRPT 2.5: 7.5 m for maxRange 2, 4 or 6 m and 15 m; tests/test_coverage.cpp
+  /// compares the box with every changed cell).
   Box2 insert(const PoseNode& n) {
     Box2 b;
     if (!n.scan) return b;
-    grid.insertObservation(*n.scan, mrpt::poses::CPose3D(n.pose));
+    const mrpt::poses::CPose3D robot(n.pose);
+    grid.insertObservation(*n.scan, robot);
     inserted[n.id] = n.pose;
-    const double r = std::min<double>(n.scan->maxRange, max_range);
-    b.extend(n.pose.x() - r, n.pose.y() - r);
-    b.extend(n.pose.x() + r, n.pose.y() + r);
+    const mrpt::poses::CPose3D sensor = robot + n.scan->sensorPose;
+    const double reach =
+        std::max(std::min<double>(n.scan->maxRange, max_range), max_range / 2);
+    const double r = reach + 2 * resolution;  // a cell either side of the last one touched
+    b.extend(sensor.x() - r, sensor.y() - r);
+    b.extend(sensor.x() + r, sensor.y() + r);
     return b;
   }
 };
@@ -125,17 +135,18 @@ std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
     const float y = out->idx2y(cy);
     for (unsigned cx = 0; cx < w; ++cx) {
       const float x = out->idx2x(cx);
-      const float pa = a.getPos(x, y), pb = b.getPos(x, y);  // 0.5 outside a grid
+      const float pa = a.getPos(x, y), pb = b.getPos(x, y);     // 0.5 outside a grid
       const bool oa = pa < 0.5f - band, ob = pb < 0.5f - band;  // occupied
       const bool fa = pa > 0.5f + band, fb = pb > 0.5f + band;  // free
       float p = 0.5f;
-      if (oa || ob) p = std::min(oa ? pa : 1.0f, ob ? pb : 1.0f);
-      else if (fa || fb) p = std::max(fa ? pa : 0.0f, fb ? pb : 0.0f);
+      if (oa || ob)
+        p = std::min(oa ? pa : 1.0f, ob ? pb : 1.0f);
+      else if (fa || fb)
+        p = std::max(fa ? pa : 0.0f, fb ? pb : 0.0f);
       out->setCell(static_cast<int>(cx), static_cast<int>(cy), p);
     }
   }
   return out;
 }
-
 
 }  // namespace asf

@@ -14,6 +14,8 @@ namespace asf {
 
 namespace {
 
+constexpr double kMaxOrigin = 1e5;  ///< [m]: float spacing there is 8 mm
+
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r");
   if (a == std::string::npos) return "";
@@ -92,6 +94,9 @@ OccupancyMapInfo readOccupancyYaml(const std::string& path) {
       m.origin_x = xyz[0];
       m.origin_y = xyz[1];
       m.origin_yaw = xyz[2];
+      if (!(std::abs(m.origin_x) <= kMaxOrigin && std::abs(m.origin_y) <= kMaxOrigin))
+        throw InputError(where + ": origin more than 100 km from 0 (MRPT's grids keep "
+                         "coordinates as float: cells there would not be told apart)");
       if (m.origin_yaw != 0)
         throw InputError(where + ": a rotated map (origin yaw " + trim(part) +
                          ") is not supported");
@@ -126,7 +131,13 @@ GridMap readOccupancyMap(const std::string& yaml_path) {
     for (auto& p : g.pixels) p = static_cast<std::uint8_t>(255 - p);
   // Free: occupancy (255 - p) / 255 below free_thresh, i.e. p > 255 (1 - free_thresh).
   const int free_from = static_cast<int>(std::floor(255.0 * (1.0 - m.free_thresh))) + 1;
-  return gridFromImage(g, m.resolution, free_from, m.origin_x, m.origin_y);
+  try {
+    return gridFromImage(g, m.resolution, free_from, m.origin_x, m.origin_y);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw InputError(yaml_path + ": " + e.what());
+  }
 }
 
 }  // namespace asf

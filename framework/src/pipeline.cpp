@@ -253,6 +253,8 @@ struct Pipeline::Impl : public mrpt::system::COutputLogger {
   std::vector<mrpt::poses::CPose2D> path;
   std::shared_ptr<const WorldTruth> world;
   std::unique_ptr<CoverageMeter> coverage;
+  /// Free area and coverage of navMap(), updated with every version (O(changed cells)).
+  MapAreaTracker area;
   TopoGraph world_topo;  ///< of the true world, map frame (offline baselines)
   bool have_world_topo = false;
 
@@ -336,6 +338,7 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
   m.world = m.source->worldTruth();
   if (m.world && m.world->grid) {
     m.coverage = std::make_unique<CoverageMeter>(*m.world);
+    m.area = MapAreaTracker(m.coverage.get());
     if (m.policy && m.segmenter) m.segmentWorld();
   }
   if (m.policy && !m.source->isActive())
@@ -530,8 +533,11 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
     r.step = sum.steps;
     r.time = now_t;
     r.distance = sum.distance_m;
-    if (m.coverage) last_coverage = r.coverage = m.coverage->coverage(m.navMap());
-    r.explored_area = freeArea(m.navMap());
+    const auto t_area = Clock::now();
+    m.area.update(m.navMap());
+    stage.map += msSince(t_area);
+    if (m.coverage) last_coverage = r.coverage = m.area.coverage();
+    r.explored_area = m.area.freeArea();
     r.pose_error = pose_error;
     r.loop_closures = loopClosures();
     r.nodes = m.graph.size();
@@ -663,6 +669,7 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop) {
       t_stage = Clock::now();
       if (changed) map_changed = m.map.update(m.graph);
       map_changed = m.updateNavMap(map_changed);
+      if (map_changed) m.area.update(m.navMap());  // every version: the change box holds
       stage.map += msSince(t_stage);
       if (map_changed && m.segmenter && m.navMap().version % segment_every == 0) {
         t_stage = Clock::now();

@@ -154,9 +154,35 @@ std::string topologySvg(const MapImage& m, const cv::Mat& background, const Topo
 
 namespace {
 
+/// The format of an image file by its first bytes, or nullptr for one asf does not decode:
+/// OpenCV would hand anything to whichever decoder claims it, and some of those abort the
+/// process on a malformed file (fuzzing: GDCM, the DICOM reader, asserts).
+const char* imageFormat(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  unsigned char b[8] = {0};
+  f.read(reinterpret_cast<char*>(b), sizeof b);
+  const auto n = f.gcount();
+  const auto starts = [&](std::initializer_list<int> sig) {
+    if (n < static_cast<std::streamsize>(sig.size())) return false;
+    std::size_t i = 0;
+    for (int c : sig)
+      if (b[i++] != c) return false;
+    return true;
+  };
+  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return "PNG";
+  if (n >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6') return "PNM";
+  if (starts({'B', 'M'})) return "BMP";
+  if (starts({0xff, 0xd8, 0xff})) return "JPEG";
+  if (starts({'I', 'I', '*', 0}) || starts({'M', 'M', 0, '*'})) return "TIFF";
+  return nullptr;
+}
+
 cv::Mat readImage(const std::string& path, int flags) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (!imageFormat(path))
+    throw InputError(path +
+                     ": cannot be read as an image (not PNG, PGM/PPM/PBM, BMP, JPEG or TIFF)");
   cv::Mat m;
   try {
     m = cv::imread(path, flags);
@@ -236,11 +262,18 @@ GridMap gridFromImage(const GrayImage& image, double resolution, int free_thresh
   if (image.width <= 0 || image.height <= 0) throw Error("gridFromImage: empty image");
   if (!(resolution > 0)) throw Error("gridFromImage: resolution must be > 0");
   const int W = image.width, H = image.height;
-  auto g = std::make_shared<Grid>(static_cast<float>(origin_x),
-                                  static_cast<float>(origin_x + W * resolution),
-                                  static_cast<float>(origin_y),
-                                  static_cast<float>(origin_y + H * resolution),
-                                  static_cast<float>(resolution));
+  std::shared_ptr<Grid> g;
+  try {  // MRPT asserts on extents float cannot tell apart (fuzzing: origin 5.8e15 m)
+    g = std::make_shared<Grid>(static_cast<float>(origin_x),
+                               static_cast<float>(origin_x + W * resolution),
+                               static_cast<float>(origin_y),
+                               static_cast<float>(origin_y + H * resolution),
+                               static_cast<float>(resolution));
+  } catch (const std::exception& e) {
+    throw Error("gridFromImage: MRPT cannot make a " + std::to_string(W) + " x " +
+                std::to_string(H) + " grid of " + std::to_string(resolution) + " m cells at (" +
+                std::to_string(origin_x) + ", " + std::to_string(origin_y) + ")");
+  }
   if (static_cast<int>(g->getSizeX()) != W || static_cast<int>(g->getSizeY()) != H)
     throw Error("gridFromImage: MRPT made a " + std::to_string(g->getSizeX()) + " x " +
                 std::to_string(g->getSizeY()) + " grid for a " + std::to_string(W) + " x " +

@@ -10,6 +10,7 @@ namespace {
 
 using asf_sparse_lm::Kernel;
 using asf_sparse_lm::Method;
+using asf_sparse_lm::RobustEdges;
 
 class SparseLmBackend final : public asf::Backend {
  public:
@@ -21,8 +22,15 @@ class SparseLmBackend final : public asf::Backend {
     opt_.lambda_init = p.getDouble("lambda_init");
     opt_.lago_init = p.getBool("lago_init");
     const std::string k = p.getString("robust_kernel");
-    opt_.kernel = k == "huber" ? Kernel::Huber : k == "cauchy" ? Kernel::Cauchy : Kernel::None;
+    opt_.kernel = k == "huber"    ? Kernel::Huber
+                  : k == "cauchy" ? Kernel::Cauchy
+                  : k == "dcs"    ? Kernel::Dcs
+                                  : Kernel::None;
     opt_.robust_delta = p.getDouble("robust_delta");
+    const std::string edges = p.getString("robust_edges");
+    opt_.robust_edges = edges == "loops"   ? RobustEdges::LoopClosures
+                        : edges == "links" ? RobustEdges::CrossLinks
+                                           : RobustEdges::All;
     opt_.reorder_fill_ratio = p.getDouble("reorder_fill_ratio");
     opt_.cholmod_openmp = p.getBool("cholmod_openmp");
     opt_.verbosity = static_cast<int>(p.getInt("verbosity"));
@@ -31,20 +39,18 @@ class SparseLmBackend final : public asf::Backend {
 
   asf::OptimizeReport optimize(asf::PoseGraph& g) override {
     const asf::OptimizeReport r = core_.optimize(g, opt_);
-    MRPT_LOG_DEBUG_STREAM("sparse_lm: chi2 " << r.initial_chi2 << " -> " << r.final_chi2
-                                             << " in " << r.iterations << " iterations ("
-                                             << r.message << ")");
+    MRPT_LOG_DEBUG_STREAM("sparse_lm: chi2 " << r.initial_chi2 << " -> " << r.final_chi2 << " in "
+                                             << r.iterations << " iterations (" << r.message
+                                             << ")");
     return r;
   }
 
   asf::Marginals marginals(const asf::PoseGraph& g,
-                           const std::vector<std::pair<asf::NodeId, asf::NodeId>>& cross)
-      override {
+                           const std::vector<std::pair<asf::NodeId, asf::NodeId>>& cross) override {
     asf::Marginals m = core_.marginals(g, cross, opt_);
-    MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of " << g.size() << " nodes, symbolic: "
-                                                     << core_.lastSymbolic() << ", "
-                                                     << core_.lastCrossSolved()
-                                                     << " cross blocks solved by columns");
+    MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of "
+                          << g.size() << " nodes, symbolic: " << core_.lastSymbolic() << ", "
+                          << core_.lastCrossSolved() << " cross blocks solved by columns");
     return m;
   }
 
@@ -64,17 +70,21 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("tolerance", "1e-5",
                    "Stop when an accepted step lowers chi2 by less than this fraction", 0, 1),
     asf::keyDouble("lambda_init", "1e-6",
-                   "Initial Levenberg-Marquardt damping, relative to the diagonal of H", 0,
-                   1e10),
+                   "Initial Levenberg-Marquardt damping, relative to the diagonal of H", 0, 1e10),
     asf::keyBool("lago_init", "true",
                  "Also try a LAGO-style initial guess (orientations by linear least squares over "
                  "a spanning tree's unwrapped rotations) and start from it if its chi2 is lower"),
-    asf::keyEnum("robust_kernel", "none", "none|huber|cauchy",
-                 "Robust kernel on each edge's chi2 (g2o's definitions)"),
+    asf::keyEnum("robust_kernel", "none", "none|huber|cauchy|dcs",
+                 "Robust kernel on each edge's chi2 (huber, cauchy: g2o's definitions; dcs: "
+                 "dynamic covariance scaling, Agarwal et al. 2013, Phi = robust_delta^2)"),
     asf::keyDouble("robust_delta", "2.8",
                    "Kernel width in units of sqrt(e^T Omega e) (2.8: the 95% quantile of a "
                    "3-dof chi2 is 2.8^2)",
                    1e-9, 1e9),
+    asf::keyEnum("robust_edges", "all", "all|loops|links",
+                 "Edges the kernel applies to: all; loops (loop closures only); links (every "
+                 "edge but those between consecutive nodes: loop closures and matches against "
+                 "older keyframes). The others stay quadratic"),
     asf::keyDouble("reorder_fill_ratio", "1.3",
                    "On growth keep the previous elimination order (new poses last) unless the "
                    "factor's fill exceeds this times that of the last fresh ordering",

@@ -35,6 +35,7 @@ double robustCost(Kernel k, double delta, double s) {
     case Kernel::None: return s;
     case Kernel::Huber: return s <= d2 ? s : 2 * delta * std::sqrt(s) - d2;
     case Kernel::Cauchy: return d2 * std::log1p(s / d2);
+    case Kernel::Dcs: return s <= d2 ? s : d2 * (3 * s - d2) / (d2 + s);
   }
   return s;
 }
@@ -45,6 +46,10 @@ double robustWeight(Kernel k, double delta, double s) {
     case Kernel::None: return 1;
     case Kernel::Huber: return s <= d2 ? 1 : delta / std::sqrt(s);
     case Kernel::Cauchy: return 1 / (1 + s / d2);
+    case Kernel::Dcs: {
+      const double scale = std::min(1.0, 2 * d2 / (d2 + s));
+      return scale * scale;
+    }
   }
   return 1;
 }
@@ -57,14 +62,22 @@ struct Problem {
     int from, to;
     Eigen::Vector3d z;
     Eigen::Matrix3d W;
+    Kernel kernel;  ///< None for the edges Options::robust_edges leaves quadratic
   };
   std::vector<Edge> edges;
 
-  explicit Problem(const asf::PoseGraph& g) {
+  Problem(const asf::PoseGraph& g, const Options& o) {
     edges.reserve(g.edges.size());
-    for (const auto& e : g.edges)
+    for (const auto& e : g.edges) {
+      const bool robust = o.robust_edges == RobustEdges::All ||
+                          (o.robust_edges == RobustEdges::LoopClosures &&
+                           e.kind == asf::EdgeKind::LoopClosure) ||
+                          (o.robust_edges == RobustEdges::CrossLinks &&
+                           e.from + 1 != e.to && e.to + 1 != e.from);
       edges.push_back({static_cast<int>(e.from), static_cast<int>(e.to),
-                       {e.mean.x(), e.mean.y(), e.mean.phi()}, e.information});
+                       {e.mean.x(), e.mean.y(), e.mean.phi()}, e.information,
+                       robust ? o.kernel : Kernel::None});
+    }
   }
 };
 
@@ -79,7 +92,7 @@ double cost(const Problem& P, const Poses& x, const Options& o) {
   double c = 0;
   for (const auto& e : P.edges) {
     const Eigen::Vector3d r = asf::se2::edgeError(x[e.from], x[e.to], e.z);
-    c += robustCost(o.kernel, o.robust_delta, r.dot(e.W * r));
+    c += robustCost(e.kernel, o.robust_delta, r.dot(e.W * r));
   }
   return c;
 }
@@ -467,8 +480,8 @@ struct SparseSe2::Impl {
       const auto& e = P.edges[k];
       const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
       const double s = lin.e.dot(e.W * lin.e);
-      F += robustCost(o.kernel, o.robust_delta, s);
-      const Eigen::Matrix3d W = robustWeight(o.kernel, o.robust_delta, s) * e.W;
+      F += robustCost(e.kernel, o.robust_delta, s);
+      const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, s) * e.W;
       const int a = S.free[e.from], c = S.free[e.to];
       if (a >= 0 && a == c) {  // self-loop: both Jacobians act on one pose
         const Eigen::Matrix3d J = lin.Ji + lin.Jj;
@@ -520,6 +533,8 @@ struct SparseSe2::Impl {
   }
 
   asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
+  double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r,
+                 int& steps, int& accepted);
   asf::Marginals marginals(const asf::PoseGraph& g,
                            const std::vector<std::pair<NodeId, NodeId>>& cross,
                            const Options& o);
@@ -539,46 +554,11 @@ void validate(const asf::PoseGraph& g) {
 
 }  // namespace
 
-asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
-  validate(g);
-  const SerialOpenMp serial(!o.cholmod_openmp);
-  asf::OptimizeReport r;
-  const Problem P(g);
-  Poses x = posesOf(g);
-  double F = cost(P, x, o);
-  if (!std::isfinite(F))
-    throw asf::Error("sparse_lm: the initial chi2 is not finite (non-finite pose or edge?)");
-  r.initial_chi2 = r.final_chi2 = F;
-  r.converged = true;
-  if (g.size() < 2 || g.edges.empty()) {
-    r.message = "nothing to optimize";
-    return r;
-  }
-  Structure S_new = Structure::of(g);
-  if (S_new.nfree == 0) {
-    r.message = "nothing to optimize (every node is fixed)";
-    return r;
-  }
-  if (!(F > 0)) {
-    r.message = "chi2 is zero";
-    return r;
-  }
-  std::string start = "from the graph's poses";
-  if (o.lago_init) {
-    const Timer timer(counters.t_init);
-    Poses guess = x;
-    if (lagoGuess(P, S_new, guess)) {
-      const double F_guess = cost(P, guess, o);
-      if (F_guess < F) {
-        x.swap(guess);
-        start = "from the LAGO guess (chi2 " + fmt(F_guess) + ")";
-        F = F_guess;
-      } else {
-        start = "from the graph's poses (LAGO guess chi2 " + fmt(F_guess) + " not lower)";
-      }
-    }
-  }
-  prepare(std::move(S_new), o);
+/// Levenberg-Marquardt (or Gauss-Newton) iterations on P from x, at most o.max_iterations
+/// linearizations counted in r.iterations; r.converged and r.message say how it ended.
+/// Returns the cost at the final x.
+double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
+                                asf::OptimizeReport& r, int& steps, int& accepted) {
   const int n = S.dim();
   const bool lm = o.method == Method::LevenbergMarquardt;
   auto log = [&](const std::string& line) {
@@ -588,7 +568,7 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
   r.converged = false;
   r.message = "reached max_iterations";
   double lambda = lm ? o.lambda_init : 0.0, nu = 2;
-  int steps = 0, accepted = 0;
+  double F = cost(P, x, o);
   std::vector<double> D(n), rhs(n);
   Poses x_new = x;
   bool stop = false;
@@ -690,6 +670,51 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
       }
     }
   }
+  return F;
+}
+
+asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
+  validate(g);
+  const SerialOpenMp serial(!o.cholmod_openmp);
+  asf::OptimizeReport r;
+  const Problem P(g, o);
+  Poses x = posesOf(g);
+  double F = cost(P, x, o);
+  if (!std::isfinite(F))
+    throw asf::Error("sparse_lm: the initial chi2 is not finite (non-finite pose or edge?)");
+  r.initial_chi2 = r.final_chi2 = F;
+  r.converged = true;
+  if (g.size() < 2 || g.edges.empty()) {
+    r.message = "nothing to optimize";
+    return r;
+  }
+  Structure S_new = Structure::of(g);
+  if (S_new.nfree == 0) {
+    r.message = "nothing to optimize (every node is fixed)";
+    return r;
+  }
+  if (!(F > 0)) {
+    r.message = "chi2 is zero";
+    return r;
+  }
+  std::string start = "from the graph's poses";
+  if (o.lago_init) {
+    const Timer timer(counters.t_init);
+    Poses guess = x;
+    if (lagoGuess(P, S_new, guess)) {
+      const double F_guess = cost(P, guess, o);
+      if (F_guess < F) {
+        x.swap(guess);
+        start = "from the LAGO guess (chi2 " + fmt(F_guess) + ")";
+        F = F_guess;
+      } else {
+        start = "from the graph's poses (LAGO guess chi2 " + fmt(F_guess) + " not lower)";
+      }
+    }
+  }
+  prepare(std::move(S_new), o);
+  int steps = 0, accepted = 0;
+  F = iterate(P, x, o, r, steps, accepted);
   if (F < r.initial_chi2) {
     for (std::size_t i = 0; i < x.size(); ++i)
       if (S.free[i] >= 0) g.nodes[i].pose = mrpt::poses::CPose2D(x[i].x(), x[i].y(), x[i].z());
@@ -701,8 +726,8 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
                std::to_string(counters.fresh_orderings) + ", extended " +
                std::to_string(counters.extended_orderings) + ", reused " +
                std::to_string(counters.reused) + ")";
-  if (o.verbosity >= 1)
-    log("sparse_lm: chi2 " + fmt(r.initial_chi2) + " -> " + fmt(r.final_chi2) + " in " +
+  if (o.verbosity >= 1 && o.log)
+    o.log("sparse_lm: chi2 " + fmt(r.initial_chi2) + " -> " + fmt(r.final_chi2) + " in " +
         std::to_string(r.iterations) + " iterations (" + r.message + ")");
   return r;
 }
@@ -837,7 +862,7 @@ asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
   if (S_new.nfree == 0) return m;
 
   prepare(std::move(S_new), o);
-  const Problem P(g);
+  const Problem P(g, o);
   linearize(P, posesOf(g), o);
   if (!factorize(H))
     throw asf::Error("sparse_lm: the information matrix is not positive definite (degenerate "

@@ -20,7 +20,16 @@ enum class Method {
   LevenbergMarquardt,  ///< trust region by damping, Nielsen's update of lambda
   GaussNewton,         ///< full steps; stops at the first step that does not lower the cost
 };
-enum class Kernel { None, Huber, Cauchy };
+enum class Kernel { None, Huber, Cauchy, Dcs };
+/// The edges a kernel applies to (the others keep their quadratic cost): wrong loop
+/// closures are what a robust back-end must disown, the odometry chain it must keep.
+enum class RobustEdges {
+  All,
+  LoopClosures,  ///< EdgeKind::LoopClosure only
+  /// Every edge but those between consecutive nodes (the odometry / scan-matching chain):
+  /// loop closures and matches against older keyframes nearby.
+  CrossLinks,
+};
 
 struct Options {
   Method method = Method::LevenbergMarquardt;
@@ -33,6 +42,7 @@ struct Options {
   bool lago_init = true;
   Kernel kernel = Kernel::None;
   double robust_delta = 2.8;  ///< kernel width, in units of sqrt(e^T Omega e)
+  RobustEdges robust_edges = RobustEdges::All;
   /// Growth keeps the previous elimination order (new nodes last) unless the factor then has
   /// more than this times the fill (nnz(L)/nnz(H)) of the last fresh ordering.
   double reorder_fill_ratio = 1.3;
@@ -56,6 +66,10 @@ struct Counters {
 /// Cost rho(s) of one edge with squared Mahalanobis error s = e^T Omega e (g2o's kernels:
 /// Huber rho = s below delta^2, 2 delta sqrt(s) - delta^2 above; Cauchy rho = delta^2
 /// log(1 + s / delta^2)), and the weight rho'(s) that scales Omega in the normal equations.
+/// Dcs: dynamic covariance scaling (Agarwal, Tipaldi, Spinello, Stachniss, Burgard, ICRA
+/// 2013) with Phi = delta^2: Omega scaled by s_dcs^2, s_dcs = min(1, 2 Phi / (Phi + s)), the
+/// closed-form optimum of switchable constraints; its cost, rho = s below Phi and
+/// Phi (3 s - Phi) / (Phi + s) above (bounded by 3 Phi), has that weight as derivative.
 double robustCost(Kernel k, double delta, double s);
 double robustWeight(Kernel k, double delta, double s);
 

@@ -355,7 +355,7 @@ TEST(SparseLm, RobustKernelsReduceTheInfluenceOfAnOutlier) {
 }
 
 TEST(SparseLm, RobustCostAndWeightAreConsistent) {
-  for (Kernel k : {Kernel::None, Kernel::Huber, Kernel::Cauchy})
+  for (Kernel k : {Kernel::None, Kernel::Huber, Kernel::Cauchy, Kernel::Dcs})
     for (double s : {0.01, 0.5, 2.0, 9.0, 400.0}) {
       const double h = 1e-6 * s;
       const double num = (asf_sparse_lm::robustCost(k, 1.5, s + h) -

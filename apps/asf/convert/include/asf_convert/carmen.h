@@ -20,6 +20,7 @@
 #include <iosfwd>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace asf::convert {
 
@@ -41,11 +42,29 @@ struct CarmenToRawlogOptions {
   std::uint64_t seed = 1;
 
   /// FLASER field of view [deg]; 0: PARAM laser_front_laser_fov, else n times PARAM
-  /// laser_front_laser_resolution (MRPT's rule), else 180.
+  /// laser_front_laser_resolution (MRPT's rule; n - 1 times, the span of rays that far
+  /// apart, measured no better on freiburg-079: docs/DATASETS.md), else 180. The PARAM
+  /// angles are in degrees (CARMEN's laser module); a fov of at most 2 pi (e.g. csail's
+  /// 3.14159) is implausible in degrees: read as radians, with a warning.
   double fov_deg = 0;
   /// FLASER maximum range [m]; 0: PARAM robot_front_laser_max, else 80. Ranges outside
   /// (0, max) are invalid.
   double max_range = 0;
+
+  /// Where the scans' timestamps come from. Real corrected logs have all scans stamped alike
+  /// (csail, orebro: precision lost), negative or wrapped stamps (infinite-corridor).
+  enum class Timestamps {
+    Auto,   ///< Log when the log's laser stamps are usable (see below), else Order
+    Log,    ///< the ipc_timestamp of each laser line; a bad one is a bad line
+    Order,  ///< the log's order: scan i at (i + 1) * scan_period_s
+  };
+  /// Auto reads the log twice: its laser stamps are usable when every one is a time in
+  /// seconds (>= 0) and at most 10% of them are not after the one before (those are raised
+  /// to 1 us after it, as in Log; intel-corrected has 4 of 910).
+  Timestamps timestamps = Timestamps::Auto;
+  /// Order: seconds between scans; 0: the median step between the log's increasing laser
+  /// stamps when at least half of the steps increase, else 1 s.
+  double scan_period_s = 0;
   bool skip_bad_lines = false;
   std::ostream* progress = nullptr;
 };
@@ -57,11 +76,19 @@ struct CarmenToRawlogReport {
   /// Laser lines whose timestamp went back in time: raised to just after the previous one
   /// (log order is kept).
   std::size_t raised_timestamps = 0;
-  std::size_t odom_dropped = 0;  ///< ODOM lines going back in time (OdomLines mode)
-  std::string laser_message;     ///< FLASER or ROBOTLASER1 (the first one seen)
-  double aperture_deg = 0;       ///< of the first scan
-  std::size_t rays = 0;          ///< of the first scan
+  std::size_t odom_dropped = 0;                ///< ODOM lines going back in time (OdomLines mode)
+  std::string laser_message;                   ///< FLASER or ROBOTLASER1 (the first one seen)
+  double aperture_deg = 0;                     ///< of the first scan
+  std::size_t rays = 0;                        ///< of the first scan
   std::map<std::string, std::size_t> ignored;  ///< message name -> lines skipped
+
+  /// The log's laser stamps (surveyed when timestamps is Auto or Order): how many are not a
+  /// time in seconds, how many are not after the one before.
+  std::size_t stamps_bad = 0, stamps_not_increasing = 0;
+  bool stamped_by_order = false;  ///< the scans were stamped from the log's order
+  double scan_period_s = 0;       ///< the step used then
+  /// What the converter decided about a questionable input (file:line: what and why).
+  std::vector<std::string> warnings;
   double wall_time_s = 0;
 };
 

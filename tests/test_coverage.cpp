@@ -1,0 +1,185 @@
+// Coverage bookkeeping: MapAreaTracker keeps the free area and the coverage of a growing map
+// from the change box of each version; after every step of a run it must equal the full
+// recount (freeArea, CoverageMeter::coverage), through grid growth, rebuilds and skipped
+// versions.
+#include <asf/coverage.h>
+#include <asf/map_builder.h>
+#include <asf/segment_world.h>
+#include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <cmath>
+
+namespace {
+
+/// A 360-ray scan from `pose` (world frame), exact ranges up to `range`; farther: no echo.
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWorld& w,
+                                                           const mrpt::poses::CPose2D& pose,
+                                                           double range) {
+  const double kRange = range;
+  auto s = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+  const int n = 360;
+  s->aperture = static_cast<float>(2 * M_PI * (n - 1) / n);
+  s->rightToLeft = true;
+  s->maxRange = static_cast<float>(kRange);
+  s->resizeScan(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = -0.5 * s->aperture + i * s->aperture / (n - 1);
+    const double r = w.castRay(pose.x(), pose.y(), pose.phi() + a, kRange);
+    s->setScanRange(i, static_cast<float>(r));
+    s->setScanRangeValidity(i, r < kRange);
+  }
+  return s;
+}
+
+/// The world as a grid: free inside [0, 12] x [0, 4] away from the walls, occupied elsewhere.
+asf::WorldTruth worldTruth(const asf::SegmentWorld& w, const mrpt::poses::CPose2D& start) {
+  auto g = std::make_shared<mrpt::maps::COccupancyGridMap2D>(-0.5f, 12.5f, -0.5f, 4.5f, 0.05f);
+  for (unsigned y = 0; y < g->getSizeY(); ++y)
+    for (unsigned x = 0; x < g->getSizeX(); ++x) {
+      const asf::Point2 p{g->idx2x(x), g->idx2y(y)};
+      const bool inside = p.x > 0 && p.x < 12 && p.y > 0 && p.y < 4;
+      g->setCell(x, y, inside && !w.collides(p, p, 0.05) ? 1.0f : 0.0f);
+    }
+  asf::WorldTruth t;
+  t.grid = g;
+  t.map_origin = start;
+  return t;
+}
+
+struct MappingRun {
+  asf::SegmentWorld world = asf::SegmentWorld::twoRooms(6, 4, 1);
+  mrpt::poses::CPose2D start{11, 2, 0.3};
+  asf::WorldTruth truth = worldTruth(world, start);
+  asf::CoverageMeter meter{truth};
+  asf::PoseGraph graph;
+  asf::MapBuilder builder;
+
+  double range = 6;  ///< of the scans
+
+  explicit MappingRun(const char* max_insertion_range = "5") {
+    std::size_t n;
+    const asf::KeySpec* k = asf::MapBuilder::keys(n);
+    // A small first grid so that the run grows it several times; change boxes (5.1 m
+    // around the sensor) smaller than the world.
+    builder.configure(asf::Params::fromSpecs("map", k, n,
+                                             {{"resolution", "0.05"},
+                                              {"initial_half_size", "1.5"},
+                                              {"max_insertion_range", max_insertion_range}}));
+  }
+  /// Adds a keyframe at world pose `p`; true if the map changed.
+  bool step(const mrpt::poses::CPose2D& p) {
+    graph.addNode(p - start);
+    graph.nodes.back().scan = scanAt(world, p, range);
+    return builder.update(graph);
+  }
+};
+
+void expectSameAsRecount(const asf::MapAreaTracker& t, const asf::GridMap& map,
+                         const asf::CoverageMeter& meter, const std::string& when) {
+  EXPECT_DOUBLE_EQ(t.freeArea(), asf::freeArea(map)) << when;
+  EXPECT_DOUBLE_EQ(t.coverage(), meter.coverage(map)) << when;
+}
+
+}  // namespace
+
+// The contract the tracker (and the incremental segmenter) rely on: GridMap::changed covers
+// every cell whose value changed, no-echo rays included (MRPT clears free space along them
+// beyond the scan's maxRange).
+TEST(MapBuilder, ChangeBoxCoversEveryChangedCell) {
+  MappingRun run("15");  // farther than the scans' maxRange
+  run.range = 2.5;       // many no-echo rays side by side
+  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> before;
+  std::size_t changed_cells = 0;
+  for (int i = 0; i < 12; ++i) {
+    ASSERT_TRUE(run.step({11 - 0.8 * i, 1 + 0.15 * i, 0.5 * i}));
+    const asf::GridMap& m = run.builder.map();
+    if (before) {
+      const auto& g = *m.grid;
+      for (unsigned y = 0; y < g.getSizeY(); ++y)
+        for (unsigned x = 0; x < g.getSizeX(); ++x) {
+          const float xm = g.idx2x(x), ym = g.idx2y(y);
+          if (g.getCell(x, y) == before->getPos(xm, ym)) continue;  // 0.5 outside `before`
+          ++changed_cells;
+          const double h = g.getResolution() / 2;  // the cell overlaps the box
+          ASSERT_TRUE(xm + h >= m.changed.min_x && xm - h <= m.changed.max_x &&
+                      ym + h >= m.changed.min_y && ym - h <= m.changed.max_y)
+              << "keyframe " << i << ": cell (" << xm << ", " << ym << ") changed outside the box ["
+              << m.changed.min_x << ", " << m.changed.max_x << "] x [" << m.changed.min_y << ", "
+              << m.changed.max_y << "]";
+        }
+    }
+    before = m.grid;
+  }
+  EXPECT_GT(changed_cells, 1000u);
+}
+
+TEST(MapAreaTracker, EqualsTheFullRecountAfterEveryStepOfARun) {
+  MappingRun run;
+  asf::MapAreaTracker tracker(&run.meter);
+  std::size_t updates = 0;
+  // From the second room through the door (x = 6, y in [1.5, 2.5]) into the first, and
+  // back: the grid grows towards -x (its origin moves) and +-y.
+  std::vector<mrpt::poses::CPose2D> path;
+  for (int i = 0; i <= 40; ++i)
+    path.emplace_back(11 - 0.25 * i, 2 + 0.3 * std::sin(0.4 * i), 0.1 * i);
+  for (int i = 0; i <= 10; ++i) path.emplace_back(1 + 0.5 * i, 1.2, 0);
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const std::string when = "after keyframe " + std::to_string(i);
+    if (!run.step(path[i])) continue;
+    tracker.update(run.builder.map());
+    ++updates;
+    expectSameAsRecount(tracker, run.builder.map(), run.meter, when);
+    if (i == 30) {  // the back-end moves the first keyframe: the map is rebuilt
+      run.graph.nodes[0].pose = mrpt::poses::CPose2D(0.2, 0.1, 0.05);
+      ASSERT_TRUE(run.builder.update(run.graph));
+      ASSERT_TRUE(run.builder.map().rebuilt);
+      tracker.update(run.builder.map());
+      expectSameAsRecount(tracker, run.builder.map(), run.meter, when + " and a rebuild");
+    }
+    if (i == 40) {  // two versions, the tracker sees only the second: it must recount
+      ASSERT_TRUE(run.step(path[i] + mrpt::poses::CPose2D(0.1, 0, 0)));
+      ASSERT_TRUE(run.step(path[i] + mrpt::poses::CPose2D(0.2, 0, 0)));
+      tracker.update(run.builder.map());
+      expectSameAsRecount(tracker, run.builder.map(), run.meter, when + " and a skipped version");
+    }
+  }
+  EXPECT_GT(tracker.coverage(), 0.9) << "the run saw both rooms";
+  // Recounts: the first map, the rebuild, the skipped version; every other update counted
+  // the change box only.
+  EXPECT_EQ(tracker.recounts(), 3u);
+  EXPECT_GT(updates, 40u);
+}
+
+TEST(MapAreaTracker, UntrustedBoxesAreRecounted) {
+  MappingRun run;
+  asf::MapAreaTracker tracker(&run.meter);
+  ASSERT_TRUE(run.step({11, 2, 0}));
+  tracker.update(run.builder.map());
+  ASSERT_TRUE(run.step({10, 2, 0}));
+  asf::GridMap said_nothing = run.builder.map();
+  said_nothing.changed = asf::Box2{};  // an empty box says nothing: no incremental update
+  tracker.update(said_nothing);
+  expectSameAsRecount(tracker, said_nothing, run.meter, "empty box");
+  EXPECT_EQ(tracker.recounts(), 2u);
+  tracker.update(said_nothing);
+  EXPECT_EQ(tracker.recounts(), 2u) << "the same version again: nothing to do";
+
+  // A box that lies (misses the changed cells) would give a wrong count; a correct one does
+  // not: the tracker reads the grid only inside it.
+  ASSERT_TRUE(run.step({8, 2.5, 0}));
+  asf::GridMap lying = run.builder.map();
+  lying.changed = asf::Box2{};
+  lying.changed.extend(-5, -5);
+  lying.changed.extend(-4.9, -4.9);
+  tracker.update(lying);
+  EXPECT_NE(tracker.freeArea(), asf::freeArea(lying));
+
+  asf::MapAreaTracker no_meter;
+  no_meter.update(run.builder.map());
+  EXPECT_EQ(no_meter.coverage(), 0.0);
+  EXPECT_DOUBLE_EQ(no_meter.freeArea(), asf::freeArea(run.builder.map()));
+  no_meter.update(asf::GridMap{});
+  EXPECT_EQ(no_meter.freeArea(), 0.0);
+}
