@@ -27,6 +27,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "scan_count_guard.h"
+
 namespace asf {
 
 using mrpt::obs::CActionCollection;
@@ -197,11 +199,14 @@ void GroundTruthWriter::flush() { std::fflush(impl_->f); }
 struct RawlogReader::Impl {
   std::string path;
   RawlogReaderOptions opt;
-  mrpt::io::CFileGZInputStream in;
+  mrpt::io::CFileGZInputStream file;
+  /// What MRPT reads through: refuses a scan whose damaged ray count would make MRPT
+  /// allocate gigabytes (or crash where it cannot) before asf sees the record.
+  std::unique_ptr<ScanCountGuard> in;
   std::unique_ptr<mrpt::serialization::CArchive> ar;
   std::vector<GroundTruthPose> gt;
   bool ended = false;
-  std::size_t records = 0;  // records read so far
+  std::size_t records = 0;           // records read so far
   std::optional<std::string> label;  // chosen laser label (set on the first scan if not given)
   std::vector<std::string> labels_seen;
   std::size_t skipped = 0;
@@ -239,7 +244,7 @@ struct RawlogReader::Impl {
   bool atEnd() {
     char c;
     try {
-      return in.Read(&c, 1) == 0;
+      return in->Read(&c, 1) == 0;
     } catch (const std::exception&) {
       return true;
     }
@@ -298,14 +303,18 @@ struct RawlogReader::Impl {
     for (const auto& o : sf) {
       auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(o);
       if (scan && !opt.scan_from_3d && chosen(*scan, /*count_skipped=*/!opt.observations3d)) {
-        if (f.scan) ++skipped;  // a second scan of the same laser in one step
-        else f.scan = scan;
+        if (f.scan)
+          ++skipped;  // a second scan of the same laser in one step
+        else
+          f.scan = scan;
         continue;
       }
       if (!scan && !is3dClass(*o)) continue;
       if (opt.scan_from_3d && !scan && !f.scan && chosen3d(*o)) f.scan = slice(*o);
-      if (opt.observations3d) f.observations3d.push_back(o);
-      else if (scan && opt.scan_from_3d) ++skipped;
+      if (opt.observations3d)
+        f.observations3d.push_back(o);
+      else if (scan && opt.scan_from_3d)
+        ++skipped;
     }
     if (have_action) {
       f.odometry = action.mean;  // as stored: a replay gives back exactly what was written
@@ -315,8 +324,10 @@ struct RawlogReader::Impl {
       f.odometry_cov = opt.odometry_model.covariance(CPose2D());
     }
     mrpt::Clock::time_point t;
-    if (f.scan && hasTime(f.scan->timestamp)) t = f.scan->timestamp;
-    else if (have_action && hasTime(action_t)) t = action_t;
+    if (f.scan && hasTime(f.scan->timestamp))
+      t = f.scan->timestamp;
+    else if (have_action && hasTime(action_t))
+      t = action_t;
     else
       for (const auto& o : sf)
         if (hasTime(o->timestamp)) {
@@ -358,12 +369,13 @@ RawlogReader::RawlogReader(const std::string& path, RawlogReaderOptions options)
   impl_->opt = std::move(options);
   bool ok = false;
   try {
-    ok = impl_->in.open(path);
+    ok = impl_->file.open(path);
   } catch (const std::exception&) {
     // MRPT throws for a missing file (std::filesystem) instead of returning false.
   }
   if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
-  impl_->ar = mrpt::serialization::archiveUniquePtrFrom(impl_->in);
+  impl_->in = std::make_unique<ScanCountGuard>(impl_->file);
+  impl_->ar = mrpt::serialization::archiveUniquePtrFrom(*impl_->in);
   if (!impl_->opt.laser_label.empty()) impl_->label = impl_->opt.laser_label;
   if (!impl_->opt.label_3d.empty()) impl_->label_3d = impl_->opt.label_3d;
   if (!impl_->opt.ground_truth_file.empty())
@@ -376,24 +388,27 @@ std::optional<SensorFrame> RawlogReader::next() {
   Impl& m = *impl_;
   while (!m.ended) {
     mrpt::serialization::CSerializable::Ptr obj;
-    const std::uint64_t record_start = m.in.getPosition();
+    const std::uint64_t record_start = m.in->getPosition();
     try {
       obj = m.ar->ReadObject();
     } catch (const mrpt::serialization::CExceptionEOF&) {
       // MRPT says EOF wherever the bytes ran out: a clean end only between records.
-      if (m.in.getPosition() != record_start)
+      if (m.in->getPosition() != record_start)
         m.fail("the file ends inside this record (cut at byte " +
-               std::to_string(m.in.getPosition()) + "; a copy or a write that did not finish?)");
+               std::to_string(m.in->getPosition()) + "; a copy or a write that did not finish?)");
       m.ended = true;
       break;
+    } catch (const ScanCountError& e) {
+      m.fail(e.what());
     } catch (const std::bad_alloc&) {
       m.fail("corrupt record (a length field asks for more memory than available)");
     } catch (const std::exception& e) {
+      if (!m.in->refusal().empty()) m.fail(m.in->refusal());  // MRPT wrapped the guard's
       // Inside a nested object (a scan in a sensory frame) MRPT's EOF arrives wrapped in
       // another exception: the bytes ran out when nothing is left to read.
       if (m.atEnd())
         m.fail("the file ends inside this record (cut at byte " +
-               std::to_string(m.in.getPosition()) + "; a copy or a write that did not finish?)");
+               std::to_string(m.in->getPosition()) + "; a copy or a write that did not finish?)");
       m.fail(mrptExceptionCause(e.what()));
     }
     ++m.records;
@@ -407,8 +422,10 @@ std::optional<SensorFrame> RawlogReader::next() {
     } else if (auto scan = std::dynamic_pointer_cast<CObservation2DRangeScan>(obj)) {
       if (!m.opt.scan_from_3d && m.chosen(*scan, !m.opt.observations3d))
         return m.finish(m.frameFromScan(scan));
-      if (m.opt.observations3d) m.pending_3d.push_back(scan);
-      else if (m.opt.scan_from_3d) ++m.skipped;
+      if (m.opt.observations3d)
+        m.pending_3d.push_back(scan);
+      else if (m.opt.scan_from_3d)
+        ++m.skipped;
     } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj);
                o && is3dClass(*o) && (m.opt.observations3d || m.opt.scan_from_3d)) {
       if (m.opt.observations3d) m.pending_3d.push_back(o);
@@ -437,17 +454,17 @@ struct RawlogWriter::Impl {
   mrpt::io::CFileGZOutputStream gz_out;
   mrpt::io::CFileOutputStream plain_out;
 
-  mrpt::io::CStream& stream() {
-    return gz ? static_cast<mrpt::io::CStream&>(gz_out) : plain_out;
-  }
+  mrpt::io::CStream& stream() { return gz ? static_cast<mrpt::io::CStream&>(gz_out) : plain_out; }
 
   bool open(mrpt::io::OpenMode mode) {
     return gz ? gz_out.open(path, 1, std::nullopt, mode) : plain_out.open(path, mode);
   }
 
   void close() {
-    if (gz) gz_out.close();
-    else plain_out.close();
+    if (gz)
+      gz_out.close();
+    else
+      plain_out.close();
   }
 };
 
