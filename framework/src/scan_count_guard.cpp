@@ -48,6 +48,12 @@ size_t ScanCountGuard::Read(void* buffer, size_t count) {
   return n;
 }
 
+std::uint32_t ScanCountGuard::u32At(std::size_t i) const {  // MRPT writes little endian
+  return static_cast<std::uint32_t>(ahead_[i]) | static_cast<std::uint32_t>(ahead_[i + 1]) << 8 |
+         static_cast<std::uint32_t>(ahead_[i + 2]) << 16 |
+         static_cast<std::uint32_t>(ahead_[i + 3]) << 24;
+}
+
 bool ScanCountGuard::peek(std::size_t n) {
   while (ahead_.size() < n) {
     std::uint8_t chunk[128];
@@ -70,9 +76,7 @@ void ScanCountGuard::check(Header h, std::uint8_t version) {
   // number of objects (uint32) right after the version; MRPT resizes a container to it.
   const bool frame = h == Header::SensoryFrame;
   if (version != (frame ? 2 : 0) || !peek(4)) return;
-  const std::uint32_t n =
-      static_cast<std::uint32_t>(ahead_[0]) | static_cast<std::uint32_t>(ahead_[1]) << 8 |
-      static_cast<std::uint32_t>(ahead_[2]) << 16 | static_cast<std::uint32_t>(ahead_[3]) << 24;
+  const std::uint32_t n = u32At(0);
   if (n > kMaxObjects) {
     refusal_ = std::string(frame ? "a sensory frame claims " : "an action collection claims ") +
                std::to_string(n) + " objects (more than " + std::to_string(kMaxObjects) +
@@ -104,10 +108,7 @@ void ScanCountGuard::checkScan(std::uint8_t version) {
   at += 1 + pose_doubles * sizeof(double);
   if (!peek(at + 1 + 4) || ahead_[at] != kEndFlag) return;
   at += 1;
-  const std::uint32_t rays = static_cast<std::uint32_t>(ahead_[at]) |
-                             static_cast<std::uint32_t>(ahead_[at + 1]) << 8 |
-                             static_cast<std::uint32_t>(ahead_[at + 2]) << 16 |
-                             static_cast<std::uint32_t>(ahead_[at + 3]) << 24;
+  const std::uint32_t rays = u32At(at);
   if (rays > kMaxScanRays) {
     refusal_ = "a 2D scan claims " + std::to_string(rays) + " rays (more than " +
                std::to_string(kMaxScanRays) + ": a damaged count)";

@@ -44,6 +44,8 @@ class ScanCountGuard : public mrpt::io::CStream {
   size_t readAhead(void* buffer, size_t count);
   /// Makes the look-ahead hold at least n bytes; false at the end of the file.
   bool peek(std::size_t n);
+  /// The uint32 at offset i of the look-ahead (peeked before).
+  std::uint32_t u32At(std::size_t i) const;
   enum class Header { None, Scan, SensoryFrame, ActionCollection };
   void check(Header h, std::uint8_t version);
   void checkScan(std::uint8_t version);
