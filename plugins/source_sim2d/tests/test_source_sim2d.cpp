@@ -11,6 +11,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -476,15 +477,21 @@ TEST(Sim2dSource, ConfigErrorsNameTheKey) {
 // ------------------------------------------------------------------- 2.5D world, tilted laser
 
 // Writes a binary PGM of w x h pixels with gray(col, row) (row 0 = top) and returns its path.
+// CTest runs each test in its own process, in parallel, and they share this folder: the image
+// is written under a name of this process and renamed, so no test ever reads a half-written one.
 std::string writePgm(const std::string& name, int w, int h,
                      const std::function<int(int, int)>& gray) {
   const fs::path dir = fs::path(ASF_TEST_BINARY_DIR) / "tests" / "sim2d_worlds";
   fs::create_directories(dir);
   const fs::path file = dir / name;
-  std::ofstream out(file, std::ios::binary);
-  out << "P5\n" << w << " " << h << "\n255\n";
-  for (int row = 0; row < h; ++row)
-    for (int col = 0; col < w; ++col) out.put(static_cast<char>(gray(col, row)));
+  const fs::path partial = dir / (name + ".part" + std::to_string(::getpid()));
+  {
+    std::ofstream out(partial, std::ios::binary);
+    out << "P5\n" << w << " " << h << "\n255\n";
+    for (int row = 0; row < h; ++row)
+      for (int col = 0; col < w; ++col) out.put(static_cast<char>(gray(col, row)));
+  }
+  fs::rename(partial, file);
   return file.string();
 }
 
