@@ -27,7 +27,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "scan_count_guard.h"
+#include "rawlog_guard.h"
 
 namespace asf {
 
@@ -202,7 +202,7 @@ struct RawlogReader::Impl {
   mrpt::io::CFileGZInputStream file;
   /// What MRPT reads through: refuses a scan whose damaged ray count would make MRPT
   /// allocate gigabytes (or crash where it cannot) before asf sees the record.
-  std::unique_ptr<ScanCountGuard> in;
+  std::unique_ptr<RawlogGuard> in;
   std::unique_ptr<mrpt::serialization::CArchive> ar;
   std::vector<GroundTruthPose> gt;
   bool ended = false;
@@ -374,7 +374,7 @@ RawlogReader::RawlogReader(const std::string& path, RawlogReaderOptions options)
     // MRPT throws for a missing file (std::filesystem) instead of returning false.
   }
   if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
-  impl_->in = std::make_unique<ScanCountGuard>(impl_->file);
+  impl_->in = std::make_unique<RawlogGuard>(impl_->file);
   impl_->ar = mrpt::serialization::archiveUniquePtrFrom(*impl_->in);
   if (!impl_->opt.laser_label.empty()) impl_->label = impl_->opt.laser_label;
   if (!impl_->opt.label_3d.empty()) impl_->label_3d = impl_->opt.label_3d;
@@ -398,7 +398,7 @@ std::optional<SensorFrame> RawlogReader::next() {
                std::to_string(m.in->getPosition()) + "; a copy or a write that did not finish?)");
       m.ended = true;
       break;
-    } catch (const ScanCountError& e) {
+    } catch (const RawlogRefusal& e) {
       m.fail(e.what());
     } catch (const std::bad_alloc&) {
       m.fail("corrupt record (a length field asks for more memory than available)");
@@ -411,6 +411,10 @@ std::optional<SensorFrame> RawlogReader::next() {
                std::to_string(m.in->getPosition()) + "; a copy or a write that did not finish?)");
       m.fail(mrptExceptionCause(e.what()));
     }
+    // MRPT reads an object of another class (or a null one) in a frame as a null pointer.
+    if (auto sf = std::dynamic_pointer_cast<CSensoryFrame>(obj);
+        sf && std::any_of(sf->begin(), sf->end(), [](const auto& o) { return !o; }))
+      m.fail("a sensory frame holds a null object or one that is not an observation");
     ++m.records;
     if (!obj) continue;  // a serialized null pointer
     if (auto acts = std::dynamic_pointer_cast<CActionCollection>(obj)) {
