@@ -282,7 +282,10 @@ TEST(RawlogGuard, AMatchedActionWhosePoseChangeIsNotAPdfIsRefused) {
   const std::string pdf = bytesOf(*matchedAction().poseChange.get_ptr());
   const std::size_t at = good.find(pdf);
   ASSERT_NE(at, std::string::npos);
-  for (const std::string& in_place : {bytesOf(mrpt::poses::CPose2D(1, 2, 3)), kNull}) {
+  // Fuzzing: the abstract "mrpt::poses::CPosePDF" has no constructor: MRPT reads it as null.
+  const std::string abstract_pdf = std::string("\x95mrpt::poses::CPosePDF", 22) + '\0' + '\x88';
+  for (const std::string& in_place :
+       {bytesOf(mrpt::poses::CPose2D(1, 2, 3)), kNull, abstract_pdf}) {
     std::string bad = good;
     bad.replace(at, pdf.size(), in_place);
     for (const bool in_collection : {true, false}) {

@@ -82,18 +82,22 @@ void RawlogGuard::onHeader(const std::string& name) {
   if (!open_.empty()) {
     Open& parent = open_.back();
     ++parent.children;
-    const std::string what = null ? "a null object" : cls->className;
+    // An abstract class (no constructor) is read as a null pointer too.
+    const bool none = null || !cls->ptrCreateObject;
+    const std::string what = null   ? "a null object"
+                             : none ? std::string("an abstract ") + cls->className
+                                    : std::string(cls->className);
     if (parent.kind == Kind::ActionCollection) {
       if (parent.children > parent.expected)
         refuse("an action collection holds more objects than the " +
                std::to_string(parent.expected) + " it claims (its bytes do not parse)");
-      if (null || !cls->derivedFrom(CLASS_ID(mrpt::obs::CAction)))
+      if (none || !cls->derivedFrom(CLASS_ID(mrpt::obs::CAction)))
         refuse("an action collection holds " + what + ", not an action");
     } else if (parent.kind == Kind::SensoryFrame &&
-               (null || !cls->derivedFrom(CLASS_ID(mrpt::obs::CObservation)))) {
+               (none || !cls->derivedFrom(CLASS_ID(mrpt::obs::CObservation)))) {
       refuse("a version-0 sensory frame holds " + what + ", not an observation");
     } else if (parent.kind == Kind::Movement2D && parent.children == 1 && parent.pdf_first &&
-               (null || !cls->derivedFrom(CLASS_ID(mrpt::poses::CPosePDF)))) {
+               (none || !cls->derivedFrom(CLASS_ID(mrpt::poses::CPosePDF)))) {
       refuse("an odometry action's pose change is " + what + ", not a pose PDF");
     }
     open_.push_back({kind});
