@@ -16,30 +16,25 @@
 #include <optional>
 #include <sstream>
 
+#include "loop_search.h"
 #include "scan_matcher.h"
 
 namespace {
 
-using asf::icp_graph::Cloud;
 using asf::composeWithCov;
 using asf::edgeInformation;
+using asf::icp_graph::Cloud;
+using asf::icp_graph::edgeCovInFrom;
+using asf::icp_graph::LoopHypothesis;
 using asf::icp_graph::MatchResult;
 using asf::icp_graph::poseDiff;
+using asf::icp_graph::relativeCov;
 using mrpt::poses::CPose2D;
 
 constexpr double kDeg = M_PI / 180.0;
 
 Eigen::Matrix3d diag3(double sxy, double sphi) {
   return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
-}
-
-/// Covariance of an edge's mean as additive (x, y, phi) in the frame of `from`, recovered from
-/// its information (inverse of edgeInformation without the floor).
-Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
-  R.topLeftCorner<2, 2>() << c, -s, s, c;
-  return R * e.information.inverse() * R.transpose();
 }
 
 class IcpGraphFrontend final : public asf::Frontend {
@@ -60,7 +55,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     icp_.robust = p.getBool("icp_robust");
     normal_k_ = static_cast<std::size_t>(p.getInt("icp_normal_neighbours"));
     normal_radius_ = p.getDouble("icp_normal_radius");
-    icp_floor_ = diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
+    icp_floor_ =
+        diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
     submap_ = static_cast<int>(p.getInt("submap_keyframes"));
     submap_radius_ = p.getDouble("submap_radius");
     submap_nearby_ = static_cast<int>(p.getInt("submap_nearby_keyframes"));
@@ -76,13 +72,30 @@ class IcpGraphFrontend final : public asf::Frontend {
     loop_max_cand_ = static_cast<int>(p.getInt("loop_max_candidates"));
     loop_max_accept_ = static_cast<int>(p.getInt("loop_max_per_keyframe"));
     loop_submap_ = static_cast<int>(p.getInt("loop_submap_half"));
-    loop_pert_xy_ = p.getDouble("loop_perturb_xy");
-    loop_pert_phi_ = p.getDouble("loop_perturb_phi_deg") * kDeg;
-    loop_min_agree_ = static_cast<int>(p.getInt("loop_min_agree"));
+    search_.perturb_xy = p.getDouble("loop_perturb_xy");
+    search_.perturb_phi = p.getDouble("loop_perturb_phi_deg") * kDeg;
+    search_.min_agree = static_cast<int>(p.getInt("loop_min_agree"));
     loop_min_goodness_ = p.getDouble("loop_min_goodness");
     loop_min_inliers_ = p.getDouble("loop_min_inlier_ratio");
     loop_max_rmse_ = p.getDouble("loop_max_rmse");
     loop_chi2_ = p.getDouble("loop_chi2");
+    search_.correlative = p.getString("loop_search") == "correlative";
+    auto& csm_ = search_.csm;
+    csm_.resolution = p.getDouble("loop_csm_resolution");
+    csm_.sigma = p.getDouble("loop_csm_sigma");
+    csm_.window_xy = p.getDouble("loop_csm_window_xy");
+    csm_.window_phi = p.getDouble("loop_csm_window_phi_deg") * kDeg;
+    csm_.min_score = p.getDouble("loop_csm_min_score");
+    csm_.max_ambiguity = p.getDouble("loop_csm_max_ambiguity");
+    csm_.peak_radius = p.getDouble("loop_csm_peak_radius");
+    csm_.max_range = p.getDouble("loop_csm_max_range");
+    csm_sigmas_ = p.getDouble("loop_csm_sigmas");
+    confirm_ = p.getBool("loop_confirm");
+    confirm_window_ = static_cast<int>(p.getInt("loop_confirm_window"));
+    confirm_chi2_ = p.getDouble("loop_confirm_chi2");
+    csm_max_window_xy_ = p.getDouble("loop_csm_max_window_xy");
+    search_.icp = icp_;
+    search_.min_points = min_points_;
     if (icp_.smallest_threshold_dist >= icp_.threshold_dist)
       p.fail("icp_smallest_threshold_dist", "must be below icp_threshold_dist");
   }
@@ -97,7 +110,8 @@ class IcpGraphFrontend final : public asf::Frontend {
         MRPT_LOG_WARN_STREAM("graph not empty on the first frame: continuing from node "
                              << kf_.last());
         return false;
-      case asf::KeyframeTracker::Begin::NotFirst: break;
+      case asf::KeyframeTracker::Begin::NotFirst:
+        break;
     }
     if (!kf_.due()) return false;
     // Past the threshold on a frame without a scan: wait for one (a scan-less keyframe gets no
@@ -125,7 +139,8 @@ class IcpGraphFrontend final : public asf::Frontend {
       // mapped surroundings, not only the last scans. (Uncorrected drift between old and
       // recent scans biases it; revisitEdge() gives the optimizer the direct constraint.)
       if (submap_radius_ > 0)
-        addScans(g, last, nearbyKeyframes(g, g.nodes[last].pose + acc, last >= span ? last - span : 0), ref);
+        addScans(g, last,
+                 nearbyKeyframes(g, g.nodes[last].pose + acc, last >= span ? last - span : 0), ref);
       const MatchResult m = asf::icp_graph::match(ref, *cur, acc, icp_, min_points_);
       std::string why;
       if (sequentialGate(m, acc, acc_cov, why)) {
@@ -186,8 +201,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   }
 
   /// Scans of nodes [first, last] in the frame of node `frame`, placed by the current estimate.
-  Cloud submap(const asf::PoseGraph& g, asf::NodeId frame, asf::NodeId first,
-               asf::NodeId last) {
+  Cloud submap(const asf::PoseGraph& g, asf::NodeId frame, asf::NodeId first, asf::NodeId last) {
     Cloud out;
     out.setNormalNeighbourhood(normal_k_, normal_radius_);
     const CPose2D inv = CPose2D() - g.nodes[frame].pose;
@@ -235,15 +249,28 @@ class IcpGraphFrontend final : public asf::Frontend {
     addScans(g, k, near, ref);
     const CPose2D inv = CPose2D() - g.nodes[k].pose;
     const CPose2D est = inv + xj;
-    const MatchResult m = asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_);
+    const auto Crel = chainCov(g, k, j);
+    if (!Crel) return;
+    // The correlative search (loop_search = correlative) refuses an ambiguous place here too:
+    // a revisit edge is a loop closure by another name.
+    std::string why, how = "one ICP guess";
+    const std::optional<MatchResult> found =
+        search_.correlative
+            ? asf::icp_graph::loopAlignment(ref, *clouds_[j], est, searchFor(Crel), why, how)
+            : std::optional<MatchResult>(
+                  asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_));
+    if (!found) return;
+    const MatchResult& m = *found;
     if (!m.ran || m.goodness < loop_min_goodness_ || m.inlier_ratio < loop_min_inliers_ ||
         m.rmse > loop_max_rmse_ || !sigmasOk(m.cov))
       return;
-    const auto Crel = chainCov(g, k, j);
-    if (!Crel) return;
     const Eigen::Vector3d d = poseDiff(m.pose, est);
     const double chi2 = d.dot((*Crel + m.cov + icp_floor_).ldlt().solve(d));
     if (!(chi2 <= loop_chi2_)) return;
+    if (confirm_) {  // held like a loop closure until another agrees
+      if (acceptLoop(g, {k, j, m.pose, m.cov + icp_floor_}, "revisit, " + how)) ++n_revisits_;
+      return;
+    }
     asf::PoseEdge e;
     e.from = k;
     e.to = j;
@@ -258,7 +285,8 @@ class IcpGraphFrontend final : public asf::Frontend {
   bool sequentialGate(const MatchResult& m, const CPose2D& acc, const Eigen::Matrix3d& acc_cov,
                       std::string& why) const {
     std::ostringstream os;
-    if (!m.ran) why = m.reason;
+    if (!m.ran)
+      why = m.reason;
     else if (static_cast<int>(m.iterations) >= icp_.max_iterations)
       os << "ICP did not converge in " << m.iterations << " iterations";
     else if (m.goodness < min_goodness_)
@@ -282,23 +310,6 @@ class IcpGraphFrontend final : public asf::Frontend {
            C(2, 2) <= max_sigma_phi_ * max_sigma_phi_;
   }
 
-  /// Covariance of xi^-1 (+) xj (additive, frame of i) from global marginals Ci, Cj and the
-  /// cross-covariance Cij = Cov(xi, xj).
-  static Eigen::Matrix3d relativeCov(const CPose2D& xi, const CPose2D& xj,
-                                     const Eigen::Matrix3d& Ci, const Eigen::Matrix3d& Cj,
-                                     const Eigen::Matrix3d& Cij) {
-    const double c = std::cos(xi.phi()), s = std::sin(xi.phi());
-    const double dx = xj.x() - xi.x(), dy = xj.y() - xi.y();
-    Eigen::Matrix3d Ji = Eigen::Matrix3d::Zero(), Jj = Eigen::Matrix3d::Identity();
-    Ji.topLeftCorner<2, 2>() << -c, -s, s, -c;
-    Ji(0, 2) = -s * dx + c * dy;
-    Ji(1, 2) = -c * dx - s * dy;
-    Ji(2, 2) = -1;
-    Jj.topLeftCorner<2, 2>() << c, s, -s, c;
-    const Eigen::Matrix3d X = Ji * Cij * Jj.transpose();
-    return Ji * Ci * Ji.transpose() + Jj * Cj * Jj.transpose() + X + X.transpose();
-  }
-
   /// Covariance of the relative pose i -> j from the chain of sequential edges (ignores loop
   /// closures, so it over-estimates after earlier closures); nullopt if the chain is unknown.
   std::optional<Eigen::Matrix3d> chainCov(const asf::PoseGraph& g, asf::NodeId i,
@@ -313,6 +324,95 @@ class IcpGraphFrontend final : public asf::Frontend {
       C = out;
     }
     return C;
+  }
+
+  /// The loop search options for a candidate whose relative pose has covariance `Crel`: the
+  /// correlative window covers loop_csm_sigmas standard deviations of it (at least the
+  /// configured window, at most loop_csm_max_window_xy), so the true pose of a drifted
+  /// estimate is in view, and with it whatever else matches as well (ambiguity).
+  asf::icp_graph::LoopSearchOptions searchFor(const std::optional<Eigen::Matrix3d>& Crel) const {
+    asf::icp_graph::LoopSearchOptions o = search_;
+    if (!o.correlative || !Crel) return o;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Crel->topLeftCorner<2, 2>());
+    const double sxy = std::sqrt(std::max(0.0, es.eigenvalues()(1)));
+    const double sphi = std::sqrt(std::max(0.0, (*Crel)(2, 2)));
+    o.csm.window_xy = std::clamp(csm_sigmas_ * sxy, o.csm.window_xy,
+                                 std::max(o.csm.window_xy, csm_max_window_xy_));
+    o.csm.window_phi =
+        std::clamp(csm_sigmas_ * sphi, o.csm.window_phi, std::max(o.csm.window_phi, M_PI));
+    return o;
+  }
+
+  /// A loop hypothesis that passed every gate: added at once, or (loop_confirm) held until a
+  /// later one, from another keyframe within loop_confirm_window, closes a consistent cycle
+  /// with it; then both are added. Returns whether `h` was added.
+  bool acceptLoop(asf::PoseGraph& g, const LoopHypothesis& h, const std::string& how) {
+    if (!confirm_) {
+      addLoopEdge(g, h, how);
+      return true;
+    }
+    pending_.erase(std::remove_if(pending_.begin(), pending_.end(),
+                                  [&](const Pending& p) {
+                                    return h.to - p.h.to >
+                                           static_cast<std::size_t>(confirm_window_);
+                                  }),
+                   pending_.end());
+    for (Pending& p : pending_) {
+      // The same scan, or the same old scan, twice is not a second cue.
+      if (p.h.to == h.to || p.h.from == h.from) continue;
+      const double chi2 = pairChi2(g, p.h, h);
+      if (!(chi2 <= confirm_chi2_)) continue;
+      std::ostringstream said;
+      said << ", agrees with " << p.h.from << " -> " << p.h.to << " (cycle chi2 " << chi2 << ")";
+      if (!p.added)
+        addLoopEdge(g, p.h,
+                    "confirmed by " + std::to_string(h.from) + " -> " + std::to_string(h.to));
+      p.added = true;
+      addLoopEdge(g, h, how + said.str());
+      pending_.push_back({h, true});
+      return true;
+    }
+    pending_.push_back({h, false});
+    MRPT_LOG_DEBUG_STREAM("loop candidate " << h.from << " -> " << h.to << " held: " << how
+                                            << "; waits for another loop that agrees");
+    return false;
+  }
+
+  void addLoopEdge(asf::PoseGraph& g, const LoopHypothesis& h, const std::string& how) {
+    asf::PoseEdge le;
+    le.from = h.from;
+    le.to = h.to;
+    le.mean = h.mean;
+    le.kind = asf::EdgeKind::LoopClosure;
+    le.information = edgeInformation(h.mean, h.cov, Eigen::Matrix3d::Zero());
+    g.addEdge(le);
+    ++g.revision;
+    ++n_loops_;
+    MRPT_LOG_INFO_STREAM("loop closure " << h.from << " -> " << h.to << ": " << how << " ("
+                                         << n_loops_ << " accepted, " << n_loop_rejects_
+                                         << " rejected)");
+  }
+
+  /// chi^2 of the cycle two loop hypotheses close (loopPairChi2), with the trajectory between
+  /// their ends from the estimate and the chain covariance; infinite if a chain is unknown.
+  double pairChi2(const asf::PoseGraph& g, const LoopHypothesis& a, const LoopHypothesis& b) const {
+    auto between = [&](asf::NodeId x, asf::NodeId y, Eigen::Matrix3d& C) -> std::optional<CPose2D> {
+      C.setZero();
+      if (x == y) return CPose2D();
+      const asf::NodeId lo = std::min(x, y), hi = std::max(x, y);
+      const auto Cc = chainCov(g, lo, hi);
+      if (!Cc) return std::nullopt;
+      const CPose2D p = CPose2D() - g.nodes[lo].pose + g.nodes[hi].pose;
+      if (x < y) {
+        C = *Cc;
+        return p;
+      }
+      return asf::icp_graph::inverseWithCov(p, *Cc, C);
+    };
+    Eigen::Matrix3d Ci, Cj;
+    const auto ri = between(a.from, b.from, Ci), rj = between(a.to, b.to, Cj);
+    if (!ri || !rj) return std::numeric_limits<double>::infinity();
+    return asf::icp_graph::loopPairChi2(a, b, *ri, Ci, *rj, Cj);
   }
 
   void tryLoopClosure(asf::PoseGraph& g, asf::NodeId j, asf::NodeId prev,
@@ -346,9 +446,9 @@ class IcpGraphFrontend final : public asf::Frontend {
         }
         const Eigen::Matrix3d Cr = relativeCov(g.nodes[i].pose, xj, marg->node[i], *Cj, Cij);
         const Eigen::Vector2d t(rel.x(), rel.y());
-        const Eigen::Vector2d beyond =
-            dist > loop_radius_ ? Eigen::Vector2d(t * (1 - loop_radius_ / dist))
-                                : Eigen::Vector2d::Zero();
+        const Eigen::Vector2d beyond = dist > loop_radius_
+                                           ? Eigen::Vector2d(t * (1 - loop_radius_ / dist))
+                                           : Eigen::Vector2d::Zero();
         const Eigen::Matrix2d S = Cr.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
         d2 = std::min(d2, beyond.dot(S.ldlt().solve(beyond)));
       }
@@ -364,72 +464,46 @@ class IcpGraphFrontend final : public asf::Frontend {
       const asf::NodeId i = c.id;
       const asf::NodeId first = i >= static_cast<asf::NodeId>(loop_submap_) ? i - loop_submap_ : 0;
       const asf::NodeId last = std::min<asf::NodeId>(
-          i + loop_submap_, static_cast<asf::NodeId>(std::max<long>(0, static_cast<long>(j) - loop_skip_ - 1)));
+          i + loop_submap_,
+          static_cast<asf::NodeId>(std::max<long>(0, static_cast<long>(j) - loop_skip_ - 1)));
       const Cloud ref = submap(g, i, first, std::max(last, i));
       const CPose2D est = CPose2D() - g.nodes[i].pose + xj;
-      std::vector<CPose2D> guesses{est};
-      for (int sgn : {-1, 1}) {
-        guesses.push_back(est + CPose2D(sgn * loop_pert_xy_, 0, 0));
-        guesses.push_back(est + CPose2D(0, sgn * loop_pert_xy_, 0));
-        guesses.push_back(est + CPose2D(0, 0, sgn * loop_pert_phi_));
+      std::optional<Eigen::Matrix3d> Crel;
+      if (marg && Cj && i < marg->node.size()) {
+        Crel = relativeCov(g.nodes[i].pose, xj, marg->node[i], *Cj, Eigen::Matrix3d::Zero());
+      } else {
+        Crel = chainCov(g, i, j);
       }
-      std::vector<MatchResult> res;
-      for (const auto& q : guesses) res.push_back(asf::icp_graph::match(ref, *cur, q, icp_, min_points_));
-      const MatchResult* best = nullptr;
-      for (const auto& m : res)
-        if (m.ran && (!best || m.inlier_ratio > best->inlier_ratio ||
-                      (m.inlier_ratio == best->inlier_ratio && m.rmse < best->rmse)))
-          best = &m;
+      std::string how, searched;
+      const std::optional<MatchResult> best =
+          asf::icp_graph::loopAlignment(ref, *cur, est, searchFor(Crel), searched, how);
       std::ostringstream why;
-      if (!best) why << "no ICP result";
-      else {
-        int agree = 0;
-        for (const auto& m : res) {
-          const Eigen::Vector3d d = poseDiff(m.pose, best->pose);
-          if (m.ran && std::hypot(d.x(), d.y()) <= 2 * icp_.inlier_dist &&
-              std::abs(d.z()) <= 2 * kDeg)
-            ++agree;
-        }
+      why << searched;
+      if (best) {
         if (best->goodness < loop_min_goodness_)
           why << "goodness " << best->goodness;
         else if (best->inlier_ratio < loop_min_inliers_)
           why << "inlier ratio " << best->inlier_ratio;
         else if (best->rmse > loop_max_rmse_)
           why << "rmse " << best->rmse;
-        else if (agree < loop_min_agree_)
-          why << "only " << agree << " of " << res.size() << " guesses agree";
         else if (!sigmasOk(best->cov))
           why << "ill-conditioned alignment";
         else {
-          std::optional<Eigen::Matrix3d> Crel;
-          if (marg && Cj && i < marg->node.size()) {
-            Crel = relativeCov(g.nodes[i].pose, xj, marg->node[i], *Cj, Eigen::Matrix3d::Zero());
-          } else {
-            Crel = chainCov(g, i, j);
-          }
-          if (!Crel) why << "no covariance for the chain " << i << " -> " << j;
+          if (!Crel)
+            why << "no covariance for the chain " << i << " -> " << j;
           else {
             const Eigen::Vector3d d = poseDiff(best->pose, est);
             const Eigen::Matrix3d C = *Crel + best->cov + icp_floor_;
             const double chi2 = d.dot(C.ldlt().solve(d));
-            if (!(chi2 <= loop_chi2_)) why << "chi2 " << chi2 << " > " << loop_chi2_;
+            if (!(chi2 <= loop_chi2_))
+              why << "chi2 " << chi2 << " > " << loop_chi2_;
             else {
-              asf::PoseEdge le;
-              le.from = i;
-              le.to = j;
-              le.mean = best->pose;
-              le.kind = asf::EdgeKind::LoopClosure;
-              le.information = edgeInformation(best->pose, best->cov + icp_floor_,
-                                               Eigen::Matrix3d::Zero());
-              g.addEdge(le);
-              ++g.revision;
-              ++n_loops_;
-              MRPT_LOG_INFO_STREAM("loop closure " << i << " -> " << j << ": chi2 " << chi2
-                                   << ", inliers " << best->inlier_ratio << ", rmse "
-                                   << best->rmse << ", " << agree << "/" << res.size()
-                                   << " guesses agree (" << n_loops_ << " accepted, "
-                                   << n_loop_rejects_ << " rejected)");
-              if (++accepted >= loop_max_accept_) return;
+              std::ostringstream said;
+              said << "chi2 " << chi2 << ", inliers " << best->inlier_ratio << ", rmse "
+                   << best->rmse << ", " << how;
+              if (acceptLoop(g, {i, j, best->pose, best->cov + icp_floor_}, said.str()) &&
+                  ++accepted >= loop_max_accept_)
+                return;
               continue;
             }
           }
@@ -440,9 +514,9 @@ class IcpGraphFrontend final : public asf::Frontend {
     }
   }
 
-
   // configuration
-  Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(), icp_floor_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(),
+                  icp_floor_ = Eigen::Matrix3d::Identity();
   asf::icp_graph::IcpOptions icp_;
   int submap_ = 1, submap_nearby_ = 5;
   double submap_radius_ = 0;
@@ -451,13 +525,24 @@ class IcpGraphFrontend final : public asf::Frontend {
   std::size_t min_points_ = 20;
   double min_goodness_ = 0.5, max_sigma_xy_ = 0.1, max_sigma_phi_ = 2 * kDeg, odo_chi2_ = 16;
   bool loop_ = true;
-  int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1, loop_min_agree_ = 3;
-  double loop_radius_ = 3, loop_gate_ = 9.21, loop_pert_xy_ = 0.3, loop_pert_phi_ = 10 * kDeg;
-  double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05, loop_chi2_ = 11.34;
+  int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1;
+  double loop_radius_ = 3, loop_gate_ = 9.21;
+  double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05,
+         loop_chi2_ = 11.34;
+  asf::icp_graph::LoopSearchOptions search_;  ///< loop alignment (completed in configure)
+  double csm_sigmas_ = 3, csm_max_window_xy_ = 8;
+  bool confirm_ = false;
+  int confirm_window_ = 10;
+  double confirm_chi2_ = 11.34;
   // state
   asf::KeyframeTracker kf_{"icp_graph front-end"};
   std::vector<std::shared_ptr<const Cloud>> clouds_;  ///< per node, robot frame
   std::vector<long> seq_edge_;  ///< per node: index of the edge from its predecessor, or -1
+  struct Pending {
+    LoopHypothesis h;
+    bool added;  ///< confirmed (its edge is in the graph)
+  };
+  std::vector<Pending> pending_;  ///< loop hypotheses of the last loop_confirm_window keyframes
   long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0, n_revisits_ = 0;
 };
 
@@ -465,16 +550,15 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("keyframe_distance", "0.5",
                    "New node when the odometry since the last one exceeds this [m]", 1e-6, 1e6),
     asf::keyDouble("keyframe_angle_deg", "20",
-                   "New node when the heading change since the last one exceeds this [deg]",
-                   1e-6, 180),
+                   "New node when the heading change since the last one exceeds this [deg]", 1e-6,
+                   180),
     asf::keyDouble("min_sigma_xy", "1e-3",
                    "Its square is added to the x/y variances of odometry edges [m]", 1e-9, 1e3),
     asf::keyDouble("min_sigma_phi", "1e-4",
-                   "Its square is added to the heading variance of odometry edges [rad]", 1e-9,
-                   10),
+                   "Its square is added to the heading variance of odometry edges [rad]", 1e-9, 10),
     asf::keyInt("submap_keyframes", "3",
-                "ICP reference: the scans of this many last keyframes, placed by the estimate",
-                1, 100),
+                "ICP reference: the scans of this many last keyframes, placed by the estimate", 1,
+                100),
     asf::keyDouble("submap_radius", "0",
                    "Old keyframes within this distance of a new one join its ICP reference, "
                    "and an ICP edge from the nearest one is added when it passes the loop "
@@ -487,8 +571,8 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("icp_threshold_dist", "0.75",
                    "CICP thresholdDist: initial correspondence distance [m]", 1e-3, 100),
     asf::keyDouble("icp_threshold_ang_deg", "0.15",
-                   "CICP thresholdAng: correspondence distance added per metre of range [deg]",
-                   0, 90),
+                   "CICP thresholdAng: correspondence distance added per metre of range [deg]", 0,
+                   90),
     asf::keyDouble("icp_alfa", "0.5", "CICP ALFA: threshold shrink factor at convergence", 0.01,
                    0.99),
     asf::keyDouble("icp_smallest_threshold_dist", "0.05",
@@ -503,19 +587,17 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("icp_normal_radius", "0.3",
                    "Reference normals: only neighbours within this distance [m]", 1e-3, 100),
     asf::keyInt("icp_refine_iterations", "5",
-                "Point-to-line Gauss-Newton steps after CICP (0: CICP's point-to-point result)",
-                0, 100),
+                "Point-to-line Gauss-Newton steps after CICP (0: CICP's point-to-point result)", 0,
+                100),
     asf::keyInt("icp_min_points", "20", "Fewer valid points in either scan: no ICP", 3, 1000000),
     asf::keyDouble("icp_min_goodness", "0.6",
-                   "Reject an alignment whose CICP goodness (correspondence ratio) is lower",
-                   0, 1),
+                   "Reject an alignment whose CICP goodness (correspondence ratio) is lower", 0, 1),
     asf::keyDouble("icp_inlier_dist", "0.1",
                    "A point within this of the reference is an inlier (residual statistics, "
                    "covariance) [m]",
                    1e-4, 10),
     asf::keyDouble("icp_sigma_floor", "0.005",
-                   "Lower bound of the point noise std estimated from the residuals [m]", 1e-6,
-                   1),
+                   "Lower bound of the point noise std estimated from the residuals [m]", 1e-6, 1),
     asf::keyDouble("icp_cov_scale", "6",
                    "Multiplies the point-to-line ICP covariance (it ignores correlated errors "
                    "and is over-confident)",
@@ -535,8 +617,8 @@ const asf::KeySpec kKeys[] = {
                    "are often over-confident)",
                    0, 1e9),
     asf::keyBool("loop_closure", "true", "Search for loop closures"),
-    asf::keyInt("loop_skip_recent", "20", "Loop candidates exclude the last this many keyframes",
-                1, 1000000),
+    asf::keyInt("loop_skip_recent", "20", "Loop candidates exclude the last this many keyframes", 1,
+                1000000),
     asf::keyDouble("loop_radius", "3",
                    "Loop candidates: old keyframes within this distance of the new one [m]", 0,
                    1e6),
@@ -544,17 +626,52 @@ const asf::KeySpec kKeys[] = {
                    "With valid marginals, also candidates whose distance beyond loop_radius has "
                    "a Mahalanobis distance^2 below this (2 dof; 9.21 = 99%)",
                    0, 1e9),
-    asf::keyInt("loop_max_candidates", "3", "Candidates verified per keyframe (nearest first)",
-                1, 1000),
+    asf::keyInt("loop_max_candidates", "3", "Candidates verified per keyframe (nearest first)", 1,
+                1000),
     asf::keyInt("loop_max_per_keyframe", "1",
                 "Loop edges accepted per keyframe at most (candidates are verified nearest first)",
                 1, 1000),
     asf::keyInt("loop_submap_half", "1",
-                "Loop reference: the candidate's scan plus this many keyframes each side", 0,
-                100),
+                "Loop reference: the candidate's scan plus this many keyframes each side", 0, 100),
+    asf::keyEnum("loop_search", "icp", "icp|correlative",
+                 "Loop verification: icp = ICP from the estimate and 6 perturbed guesses; "
+                 "correlative = correlative scan matching over a window (branch and bound), "
+                 "refused when ambiguous, then ICP from its best pose"),
+    asf::keyDouble("loop_csm_resolution", "0.1", "Correlative search: grid cell [m]", 0.005, 10),
+    asf::keyDouble("loop_csm_sigma", "0.1", "Correlative search: likelihood field std [m]", 0.001,
+                   10),
+    asf::keyDouble("loop_csm_window_xy", "2", "Correlative search: +- this around the estimate [m]",
+                   0, 100),
+    asf::keyDouble("loop_csm_window_phi_deg", "20",
+                   "Correlative search: +- this around the estimated heading [deg]", 0, 180),
+    asf::keyDouble("loop_csm_sigmas", "3",
+                   "Correlative search: the window covers this many standard deviations of the "
+                   "relative pose (never less than the windows above)",
+                   0, 100),
+    asf::keyDouble("loop_csm_max_window_xy", "8",
+                   "Correlative search: the translation window at most this [m]", 0, 1000),
+    asf::keyDouble("loop_csm_min_score", "0.5",
+                   "Correlative search: the best pose's mean point likelihood at least this", 0, 1),
+    asf::keyDouble("loop_csm_max_ambiguity", "0.9",
+                   "Correlative search: refused when a pose off the peak scores more than this "
+                   "times the best (a repetitive place)",
+                   0, 1),
+    asf::keyDouble("loop_csm_peak_radius", "0.6",
+                   "Correlative search: poses within this of the best are its peak [m]", 0, 100),
+    asf::keyDouble("loop_csm_max_range", "25",
+                   "Correlative search: points farther from the sensor are left out [m]", 0.1, 1e4),
+    asf::keyBool("loop_confirm", "false",
+                 "Hold a loop closure that passed every gate until another one, from another "
+                 "keyframe within loop_confirm_window, closes a consistent cycle with it "
+                 "(pairwise consistency); then add both"),
+    asf::keyInt("loop_confirm_window", "10",
+                "Keyframes a held loop closure waits for its confirmation", 1, 100000),
+    asf::keyDouble("loop_confirm_chi2", "11.34",
+                   "Two loop closures agree when the cycle they close has chi^2 below this "
+                   "(3 dof; 11.34 = 99%)",
+                   0, 1e9),
     asf::keyDouble("loop_perturb_xy", "0.3",
-                   "Loop verification: initial guesses shifted by +-this in x and y [m]", 0,
-                   100),
+                   "Loop verification: initial guesses shifted by +-this in x and y [m]", 0, 100),
     asf::keyDouble("loop_perturb_phi_deg", "10",
                    "Loop verification: initial guesses turned by +-this [deg]", 0, 180),
     asf::keyInt("loop_min_agree", "4",
@@ -564,8 +681,8 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("loop_min_goodness", "0.6", "Loop ICP: minimum CICP goodness", 0, 1),
     asf::keyDouble("loop_min_inlier_ratio", "0.6",
                    "Loop ICP: minimum fraction of points within icp_inlier_dist", 0, 1),
-    asf::keyDouble("loop_max_rmse", "0.05", "Loop ICP: maximum RMS residual of the inliers [m]",
-                   0, 10),
+    asf::keyDouble("loop_max_rmse", "0.05", "Loop ICP: maximum RMS residual of the inliers [m]", 0,
+                   10),
     asf::keyDouble("loop_chi2", "11.34",
                    "Accept a loop edge only if its chi^2 against the current estimate "
                    "(relative + ICP covariance) is below this (3 dof; 11.34 = 99%)",
@@ -574,7 +691,8 @@ const asf::KeySpec kKeys[] = {
 
 }  // namespace
 
-ASF_PLUGIN(IcpGraphFrontend, asf::PluginKind::Frontend, "icp_graph", "1.0.0",
-           "Graph-SLAM front-end: keyframes joined by ICP (CICP LM) or odometry edges, ICP-verified "
-           "loop closures",
-           asf::ThreadSafety::ThreadCompatible, kKeys)
+ASF_PLUGIN(
+    IcpGraphFrontend, asf::PluginKind::Frontend, "icp_graph", "1.0.0",
+    "Graph-SLAM front-end: keyframes joined by ICP (CICP LM) or odometry edges, ICP-verified "
+    "loop closures",
+    asf::ThreadSafety::ThreadCompatible, kKeys)

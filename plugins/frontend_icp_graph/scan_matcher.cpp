@@ -35,6 +35,16 @@ Cloud Cloud::fromScan(const mrpt::obs::CObservation2DRangeScan& scan) {
   return c;
 }
 
+Cloud Cloud::fromPoints(const std::vector<float>& x, const std::vector<float>& y) {
+  Cloud c;
+  for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
+    c.x_.push_back(x[i]);
+    c.y_.push_back(y[i]);
+    c.map_->insertPoint(x[i], y[i], 0);
+  }
+  return c;
+}
+
 void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
   const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
   for (std::size_t i = 0; i < other.size(); ++i) {
@@ -89,8 +99,8 @@ namespace {
 struct Residuals {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  ///< J^T J
   Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< J^T r
-  double sum_r2 = 0;     ///< the cost (robust when a kernel is used)
-  double sum_plain = 0;  ///< plain sum of squared residuals
+  double sum_r2 = 0;                            ///< the cost (robust when a kernel is used)
+  double sum_plain = 0;                         ///< plain sum of squared residuals
   std::size_t rows = 0, inliers = 0;
 };
 
@@ -170,8 +180,7 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
   icp.options.corresponding_points_decimation = static_cast<std::uint32_t>(o.decimation);
   icp.options.doRANSAC = false;
   mrpt::slam::CICP::TReturnInfo info;
-  const auto pdf =
-      icp.AlignPDF(&ref.map(), &cur.map(), mrpt::poses::CPosePDFGaussian(guess), info);
+  const auto pdf = icp.AlignPDF(&ref.map(), &cur.map(), mrpt::poses::CPosePDFGaussian(guess), info);
   r.ran = true;
   r.pose = pdf->getMeanVal();
   r.pose.normalizePhi();
@@ -209,9 +218,8 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
     next.normalizePhi();
     Residuals nres = residuals(ref, cur, next, o.inlier_dist, kc);
     // Keep the step only if it lowers the mean residual without losing inliers.
-    if (nres.rows < res.rows * 0.95 ||
-        nres.sum_r2 / std::max<std::size_t>(nres.rows, 1) >
-            res.sum_r2 / std::max<std::size_t>(res.rows, 1))
+    if (nres.rows < res.rows * 0.95 || nres.sum_r2 / std::max<std::size_t>(nres.rows, 1) >
+                                           res.sum_r2 / std::max<std::size_t>(res.rows, 1))
       break;
     r.pose = next;
     res = nres;

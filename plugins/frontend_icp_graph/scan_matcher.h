@@ -2,11 +2,12 @@
 /// \file scan_matcher.h
 /// Scan matching for the icp_graph front-end: point clouds from 2D scans, MRPT's CICP
 /// (Levenberg-Marquardt variant) for the alignment, a point-to-line refinement, and our own
-/// residual statistics and point-to-line covariance at the solution (CICP's LM covariance is the inverse of its
-/// damped Gauss-Newton matrix of kernelized squared distances, not a covariance in metres).
-#include <Eigen/Core>
+/// residual statistics and point-to-line covariance at the solution (CICP's LM covariance is the
+/// inverse of its damped Gauss-Newton matrix of kernelized squared distances, not a covariance in
+/// metres).
 #include <mrpt/poses/CPose2D.h>
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ class Cloud {
 
   /// The valid returns of `scan`, in the robot frame (the scan's sensorPose applied).
   static Cloud fromScan(const mrpt::obs::CObservation2DRangeScan& scan);
+  /// The points (x[i], y[i]) in this cloud's frame.
+  static Cloud fromPoints(const std::vector<float>& x, const std::vector<float>& y);
   /// Adds `other`'s points moved by `pose` (other's frame expressed in this one).
   void add(const Cloud& other, const mrpt::poses::CPose2D& pose);
 
@@ -61,30 +64,30 @@ class Cloud {
 
 struct IcpOptions {
   int max_iterations = 80;
-  double threshold_dist = 0.75;        ///< initial correspondence distance [m]
-  double threshold_ang_deg = 0.15;     ///< extra distance per metre of range [deg]
-  double alfa = 0.5;                   ///< threshold shrink factor at convergence
+  double threshold_dist = 0.75;     ///< initial correspondence distance [m]
+  double threshold_ang_deg = 0.15;  ///< extra distance per metre of range [deg]
+  double alfa = 0.5;                ///< threshold shrink factor at convergence
   double smallest_threshold_dist = 0.05;
-  int decimation = 5;                  ///< CICP corresponding_points_decimation
-  double inlier_dist = 0.1;            ///< residual statistics: a point within this is an inlier
-  double sigma_floor = 0.005;          ///< lower bound of the point noise std [m]
-  double cov_scale = 1.0;              ///< multiplies the point-to-line covariance
-  int refine_iterations = 5;           ///< point-to-line Gauss-Newton steps after CICP
-  bool robust = false;                 ///< Cauchy-weighted refinement (IRLS), scale from MAD
+  int decimation = 5;          ///< CICP corresponding_points_decimation
+  double inlier_dist = 0.1;    ///< residual statistics: a point within this is an inlier
+  double sigma_floor = 0.005;  ///< lower bound of the point noise std [m]
+  double cov_scale = 1.0;      ///< multiplies the point-to-line covariance
+  int refine_iterations = 5;   ///< point-to-line Gauss-Newton steps after CICP
+  bool robust = false;         ///< Cauchy-weighted refinement (IRLS), scale from MAD
 };
 
 struct MatchResult {
-  bool ran = false;             ///< false: a cloud had too few points (see reason)
-  mrpt::poses::CPose2D pose;    ///< pose of the current cloud's frame in the reference's
+  bool ran = false;           ///< false: a cloud had too few points (see reason)
+  mrpt::poses::CPose2D pose;  ///< pose of the current cloud's frame in the reference's
   /// Covariance of `pose` as additive (x, y, phi) in the reference frame: sigma^2 H^-1 of the
   /// point-to-line (point-to-point where no normal) residuals at the solution, x cov_scale.
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d cicp_cov = Eigen::Matrix3d::Zero();  ///< what CICP returned (for diagnostics)
-  double goodness = 0;          ///< CICP's correspondence ratio at the final threshold
-  unsigned iterations = 0;      ///< CICP outer iterations
-  double inlier_ratio = 0;      ///< fraction of current points within inlier_dist
-  double rmse = 0;              ///< RMS point-to-line residual of the inliers [m]
-  std::size_t residuals = 0;    ///< residual rows used for the covariance
+  double goodness = 0;        ///< CICP's correspondence ratio at the final threshold
+  unsigned iterations = 0;    ///< CICP outer iterations
+  double inlier_ratio = 0;    ///< fraction of current points within inlier_dist
+  double rmse = 0;            ///< RMS point-to-line residual of the inliers [m]
+  std::size_t residuals = 0;  ///< residual rows used for the covariance
   std::string reason;
 };
 

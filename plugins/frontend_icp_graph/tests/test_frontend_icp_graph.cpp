@@ -43,8 +43,7 @@ asf::PluginHandle<T> make(const std::string& file, const std::string& name, KV k
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   asf::PluginContext ctx;
   ctx.seed = seed;
-  h->configure(asf::Params::fromSpecs(name, info->descriptor->keys, info->descriptor->num_keys,
-                                      kv),
+  h->configure(asf::Params::fromSpecs(name, info->descriptor->keys, info->descriptor->num_keys, kv),
                ctx);
   return h;
 }
@@ -83,7 +82,8 @@ std::vector<asf::SensorFrame> simulate(KV kv, const std::vector<std::pair<double
         st = src->status();
       }
     }
-    EXPECT_EQ(st, asf::NavStatus::Reached) << "goal " << gx << ", " << gy << " status " << static_cast<int>(st);
+    EXPECT_EQ(st, asf::NavStatus::Reached)
+        << "goal " << gx << ", " << gy << " status " << static_cast<int>(st);
   }
   return frames;
 }
@@ -133,11 +133,11 @@ std::pair<double, double> edgeError(const asf::PoseGraph& g, const asf::PoseEdge
           std::abs(mrpt::math::wrapToPi(e.mean.phi() - t.phi()))};
 }
 
-const KV kNoisyRoom = {{"room_width", "8"},  {"room_height", "6"}, {"laser_fov_deg", "270"},
-                       {"laser_rays", "271"}, {"odo_a1", "0.05"},  {"odo_a2", "0.005"},
-                       {"odo_a3", "5"},      {"odo_a4", "0.2"}};
-const std::vector<std::pair<double, double>> kRoomTour = {{6, 1}, {6, 4.5}, {2, 4.5}, {2, 2},
-                                                          {5, 3}, {1.5, 1}};
+const KV kNoisyRoom = {{"room_width", "8"},   {"room_height", "6"}, {"laser_fov_deg", "270"},
+                       {"laser_rays", "271"}, {"odo_a1", "0.05"},   {"odo_a2", "0.005"},
+                       {"odo_a3", "5"},       {"odo_a4", "0.2"}};
+const std::vector<std::pair<double, double>> kRoomTour = {{6, 1}, {6, 4.5}, {2, 4.5},
+                                                          {2, 2}, {5, 3},   {1.5, 1}};
 
 // Writes a square ring corridor (14 m x 14 m outside, 2.5 m wide) with small pillars along
 // the walls so that ICP is constrained along the corridor. Returns the PNG's path.
@@ -160,8 +160,8 @@ std::string ringWorld() {
   const double at[] = {1.7, 4.1, 5.3, 7.9, 10.2, 12.6};
   for (int k = 0; k < 6; ++k) {
     const double a = at[k], w = 0.2 + 0.05 * k;
-    box(a, 0.25, a + w, 0.55);            // bottom wall
-    box(13.95, a, 14.25, a + w);          // right wall
+    box(a, 0.25, a + w, 0.55);                  // bottom wall
+    box(13.95, a, 14.25, a + w);                // right wall
     box(14.5 - a - w, 13.95, 14.5 - a, 14.25);  // top wall
     box(0.25, 14.5 - a - w, 0.55, 14.5 - a);    // left wall
   }
@@ -291,8 +291,11 @@ TEST(IcpGraphFrontend, QualityGateRejectsScansFromDifferentPlaces) {
   // previous one (the reference is the previous keyframe alone: a submap would hold the
   // scan of the same world two keyframes back). The gate must keep the odometry edge.
   const auto room = simulate(kNoisyRoom, {{6, 1}}, 5);
-  const auto ring = simulate({{"map_image", ringWorld()}, {"resolution", "0.05"},
-                              {"start_x", "1.4"}, {"start_y", "7"}, {"laser_fov_deg", "270"},
+  const auto ring = simulate({{"map_image", ringWorld()},
+                              {"resolution", "0.05"},
+                              {"start_x", "1.4"},
+                              {"start_y", "7"},
+                              {"laser_fov_deg", "270"},
                               {"laser_rays", "271"}},
                              {{1.4, 8}}, 5);
   auto fe = icpGraph({{"loop_closure", "false"}, {"submap_keyframes", "1"}});
@@ -316,8 +319,11 @@ TEST(IcpGraphFrontend, QualityGateRejectsScansFromDifferentPlaces) {
 TEST(IcpGraphFrontend, QualityGateRejectsAFeaturelessCorridor) {
   // Two parallel walls, the ends beyond the laser's range: nothing fixes the position along
   // the corridor, so the alignment is ill-conditioned and the odometry edge is kept.
-  const auto frames = simulate({{"room_width", "60"}, {"room_height", "2"}, {"start_x", "20"},
-                                {"laser_max_range", "4"}, {"laser_fov_deg", "270"},
+  const auto frames = simulate({{"room_width", "60"},
+                                {"room_height", "2"},
+                                {"start_x", "20"},
+                                {"laser_max_range", "4"},
+                                {"laser_fov_deg", "270"},
                                 {"laser_rays", "271"}},
                                {{26, 1}}, 6);
   auto fe = icpGraph({{"loop_closure", "false"}});
@@ -328,35 +334,48 @@ TEST(IcpGraphFrontend, QualityGateRejectsAFeaturelessCorridor) {
 
 TEST(IcpGraphFrontend, LoopClosureInARingCorridorCorrectsTheDrift) {
   // Round the ring once (start on the left corridor, heading north) and a few metres on.
-  const KV sim = {{"map_image", ringWorld()}, {"resolution", "0.05"}, {"start_x", "1.4"},
-                  {"start_y", "3"}, {"start_phi_deg", "90"}, {"laser_fov_deg", "360"},
-                  {"laser_rays", "360"}, {"laser_max_range", "6"}, {"odo_a1", "0.05"},
-                  {"odo_a3", "4"}, {"odo_a4", "0.2"},
+  const KV sim = {{"map_image", ringWorld()},
+                  {"resolution", "0.05"},
+                  {"start_x", "1.4"},
+                  {"start_y", "3"},
+                  {"start_phi_deg", "90"},
+                  {"laser_fov_deg", "360"},
+                  {"laser_rays", "360"},
+                  {"laser_max_range", "6"},
+                  {"odo_a1", "0.05"},
+                  {"odo_a3", "4"},
+                  {"odo_a4", "0.2"},
                   // The drive this test was calibrated on (no extra path margin): the input
                   // of a front-end test does not follow the navigator's defaults.
                   {"nav_safety_margin", "0"}};
-  const auto frames = simulate(
-      sim, {{1.4, 13}, {13.1, 13.1}, {13.1, 1.4}, {1.4, 1.4}, {1.4, 3}, {1.4, 7}}, 7);
-  auto be = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
-  auto with = icpGraph(), without = icpGraph({{"loop_closure", "false"}});
-  const auto gw = run(*with, frames, be.instance.get());
+  const auto frames =
+      simulate(sim, {{1.4, 13}, {13.1, 13.1}, {13.1, 1.4}, {1.4, 1.4}, {1.4, 3}, {1.4, 7}}, 7);
   auto be2 = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
+  auto without = icpGraph({{"loop_closure", "false"}});
   const auto gn = run(*without, frames, be2.instance.get());
-  const std::size_t loops = countKind(gw, asf::EdgeKind::LoopClosure);
-  const double ew = nodeError(gw, gw.size() - 1), en = nodeError(gn, gn.size() - 1);
-  std::cout << gw.size() << " nodes, " << loops << " loop closures; final pose error "
-            << ew << " m with, " << en << " m without; mean " << meanNodeError(gw) << " vs "
-            << meanNodeError(gn) << "\n";
-  EXPECT_GE(loops, 1u);
-  EXPECT_EQ(countKind(gn, asf::EdgeKind::LoopClosure), 0u);
-  // Every accepted closure joins nodes that really are near each other.
-  for (const auto& e : gw.edges)
-    if (e.kind == asf::EdgeKind::LoopClosure) {
-      const auto [lt, lr] = edgeError(gw, e);
-      EXPECT_LT(lt, 0.1) << e.from << " -> " << e.to;
-      EXPECT_LT(lr, 0.02) << e.from << " -> " << e.to;
-    }
-  EXPECT_LT(ew, 0.5 * en);
+  // ICP from perturbed guesses (the default), and the correlative search with pairwise
+  // confirmation (configs/slam_carmen.ini).
+  for (const KV& loops_by : {KV{}, KV{{"loop_search", "correlative"}, {"loop_confirm", "true"}}}) {
+    SCOPED_TRACE(loops_by.empty() ? "icp" : "correlative, confirmed");
+    auto be = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
+    auto with = icpGraph(loops_by);
+    const auto gw = run(*with, frames, be.instance.get());
+    const std::size_t loops = countKind(gw, asf::EdgeKind::LoopClosure);
+    const double ew = nodeError(gw, gw.size() - 1), en = nodeError(gn, gn.size() - 1);
+    std::cout << gw.size() << " nodes, " << loops << " loop closures; final pose error " << ew
+              << " m with, " << en << " m without; mean " << meanNodeError(gw) << " vs "
+              << meanNodeError(gn) << "\n";
+    EXPECT_GE(loops, 1u);
+    EXPECT_EQ(countKind(gn, asf::EdgeKind::LoopClosure), 0u);
+    // Every accepted closure joins nodes that really are near each other.
+    for (const auto& e : gw.edges)
+      if (e.kind == asf::EdgeKind::LoopClosure) {
+        const auto [lt, lr] = edgeError(gw, e);
+        EXPECT_LT(lt, 0.1) << e.from << " -> " << e.to;
+        EXPECT_LT(lr, 0.02) << e.from << " -> " << e.to;
+      }
+    EXPECT_LT(ew, 0.5 * en);
+  }
 }
 
 TEST(IcpGraphFrontend, OldKeyframesNearbyCutTheDriftOfAReturnTrip) {
@@ -364,10 +383,12 @@ TEST(IcpGraphFrontend, OldKeyframesNearbyCutTheDriftOfAReturnTrip) {
   // With submap_radius each returning keyframe is matched against the outbound scans of the
   // same place and tied to them by an edge, so the return trip keeps the outbound estimate
   // instead of integrating new drift between closures.
-  const KV sim = {{"map_image", ringWorld()}, {"resolution", "0.05"}, {"start_x", "1.4"},
-                  {"start_y", "2"}, {"start_phi_deg", "90"}, {"laser_fov_deg", "270"},
-                  {"laser_rays", "271"}, {"laser_max_range", "6"}, {"odo_a1", "0.05"},
-                  {"odo_a3", "4"}, {"odo_a4", "0.2"}};
+  const KV sim = {{"map_image", ringWorld()}, {"resolution", "0.05"},
+                  {"start_x", "1.4"},         {"start_y", "2"},
+                  {"start_phi_deg", "90"},    {"laser_fov_deg", "270"},
+                  {"laser_rays", "271"},      {"laser_max_range", "6"},
+                  {"odo_a1", "0.05"},         {"odo_a3", "4"},
+                  {"odo_a4", "0.2"}};
   const auto frames = simulate(sim, {{1.4, 12.5}, {1.4, 2}}, 11);
   auto recent = icpGraph();
   auto nearby = icpGraph({{"submap_radius", "2"}, {"submap_nearby_keyframes", "8"}});

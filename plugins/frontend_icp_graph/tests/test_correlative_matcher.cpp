@@ -1,0 +1,161 @@
+// The correlative scan matcher (correlative_matcher.h) against a brute-force oracle (every
+// pose of the lattice scored), on a known pose far from the guess, and on the cue the loop
+// verification takes from it: in a corridor of identical doors the best pose outside the peak
+// scores as well as the peak, in a room it does not.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "../correlative_matcher.h"
+
+namespace {
+
+using asf::icp_graph::correlativeMatch;
+using asf::icp_graph::CorrelativeOptions;
+using asf::icp_graph::correlativeScore;
+using asf::icp_graph::LikelihoodGrid;
+using asf::icp_graph::Points2;
+
+struct Cloud2 {
+  std::vector<float> x, y;
+  Points2 points() const { return {x, y}; }
+  void segment(double x0, double y0, double x1, double y1, double spacing = 0.02) {
+    const int n = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / spacing));
+    for (int i = 0; i <= n; ++i) {
+      x.push_back(static_cast<float>(x0 + (x1 - x0) * i / n));
+      y.push_back(static_cast<float>(y0 + (y1 - y0) * i / n));
+    }
+  }
+};
+
+/// A 6 m x 4 m room with a pillar, a niche and a shelf: no symmetry.
+Cloud2 room() {
+  Cloud2 c;
+  c.segment(0, 0, 6, 0);
+  c.segment(6, 0, 6, 1.5);
+  c.segment(6, 1.5, 6.8, 1.5);
+  c.segment(6.8, 1.5, 6.8, 2.5);
+  c.segment(6.8, 2.5, 6, 2.5);
+  c.segment(6, 2.5, 6, 4);
+  c.segment(6, 4, 0, 4);
+  c.segment(0, 4, 0, 0);
+  c.segment(2, 1, 2.4, 1);
+  c.segment(2.4, 1, 2.4, 1.4);
+  c.segment(2.4, 1.4, 2, 1.4);
+  c.segment(2, 1.4, 2, 1);
+  c.segment(3.5, 3.2, 4.7, 3.5);
+  return c;
+}
+
+/// A corridor 2 m wide along x with a door (0.8 m gap) in the upper wall every 3 m.
+Cloud2 corridor(double length) {
+  Cloud2 c;
+  c.segment(0, 0, length, 0);
+  for (double x = 0; x < length; x += 3.0) c.segment(x, 2, x + 2.2, 2);
+  return c;
+}
+
+/// The points of `world` within `range` of `pose`, in the frame of `pose`, with noise.
+Cloud2 seenFrom(const Cloud2& world, const Eigen::Vector3d& pose, double range, double noise,
+                unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0, noise);
+  const double c = std::cos(pose.z()), s = std::sin(pose.z());
+  Cloud2 out;
+  for (std::size_t i = 0; i < world.x.size(); i += 2) {
+    const double dx = world.x[i] - pose.x(), dy = world.y[i] - pose.y();
+    if (std::hypot(dx, dy) > range) continue;
+    out.x.push_back(static_cast<float>(c * dx + s * dy + n(rng)));
+    out.y.push_back(static_cast<float>(-s * dx + c * dy + n(rng)));
+  }
+  return out;
+}
+
+/// Best score over every pose of the lattice the matcher searches (outside the disc).
+double bruteForce(const LikelihoodGrid& g, Points2 scan, const Eigen::Vector3d& guess,
+                  const CorrelativeOptions& o, const Eigen::Vector2d& ex = {0, 0},
+                  double ex_r = 0) {
+  const int nk = static_cast<int>(std::ceil(o.window_phi / o.step_phi));
+  const int w = static_cast<int>(std::ceil(o.window_xy / g.resolution()));
+  double best = -1;
+  for (int k = -nk; k <= nk; ++k)
+    for (int dx = -w; dx <= w; ++dx)
+      for (int dy = -w; dy <= w; ++dy) {
+        const Eigen::Vector3d p(guess.x() + dx * g.resolution(), guess.y() + dy * g.resolution(),
+                                guess.z() + k * o.step_phi);
+        if (ex_r > 0 && (p.head<2>() - ex).norm() < ex_r) continue;
+        best = std::max(best, correlativeScore(g, scan, p));
+      }
+  return best;
+}
+
+}  // namespace
+
+TEST(CorrelativeMatcher, BranchAndBoundFindsTheExhaustiveOptimum) {
+  const Cloud2 world = room();
+  const Eigen::Vector3d truth(3.1, 2.2, 0.4);
+  const Cloud2 scan = seenFrom(world, truth, 8, 0.01, 3);
+  for (int levels : {1, 3, 5}) {
+    const LikelihoodGrid g(world.points(), 0.0625, 0.05, levels, 0.5);
+    CorrelativeOptions o;
+    o.window_xy = 0.5;
+    o.window_phi = 0.1;
+    o.step_phi = 0.02;
+    for (const Eigen::Vector3d& guess :
+         {Eigen::Vector3d(3.0, 2.0, 0.35), Eigen::Vector3d(2.8, 2.5, 0.45)}) {
+      SCOPED_TRACE(testing::Message() << "levels " << levels << ", guess " << guess.transpose());
+      const auto r = correlativeMatch(g, scan.points(), guess, o);
+      ASSERT_TRUE(r.found);
+      EXPECT_NEAR(r.score, bruteForce(g, scan.points(), guess, o), 1e-9);
+      EXPECT_NEAR(correlativeScore(g, scan.points(), r.pose), r.score, 1e-9);
+      EXPECT_EQ(r.lattice, 11u * 17 * 17);
+      if (levels == 5) {
+        EXPECT_LT(r.scored, r.lattice / 4) << "branch and bound pruned little";
+      }
+      // The best pose outside a disc around the optimum: the oracle with the disc removed.
+      const auto second = correlativeMatch(g, scan.points(), guess, o, r.pose.head<2>(), 0.2);
+      ASSERT_TRUE(second.found);
+      EXPECT_NEAR(second.score, bruteForce(g, scan.points(), guess, o, r.pose.head<2>(), 0.2),
+                  1e-9);
+      EXPECT_GE((second.pose.head<2>() - r.pose.head<2>()).norm(), 0.2);
+    }
+  }
+}
+
+TEST(CorrelativeMatcher, FindsTheTruePoseFarFromTheGuess) {
+  const Cloud2 world = room();
+  const LikelihoodGrid g(world.points(), 0.05, 0.05, 6, 1.0);
+  const Eigen::Vector3d truth(2.7, 1.9, -0.6);
+  const Cloud2 scan = seenFrom(world, truth, 10, 0.01, 5);
+  CorrelativeOptions o;
+  o.window_xy = 1.5;
+  o.window_phi = 0.5;
+  const Eigen::Vector3d guess = truth + Eigen::Vector3d(0.9, -1.1, 0.3);
+  const auto r = correlativeMatch(g, scan.points(), guess, o);
+  ASSERT_TRUE(r.found);
+  EXPECT_LT((r.pose.head<2>() - truth.head<2>()).norm(), 0.05);
+  EXPECT_LT(std::abs(r.pose.z() - truth.z()), 0.02);
+  EXPECT_GT(r.score, 0.8);
+  // Outside the window the truth cannot be found: a score well below.
+  o.window_xy = 0.3;
+  const auto off = correlativeMatch(g, scan.points(), guess, o);
+  EXPECT_LT(off.score, 0.6 * r.score);
+}
+
+TEST(CorrelativeMatcher, RepeatedDoorsLeaveASecondPeakARoomDoesNot) {
+  CorrelativeOptions o;
+  o.window_xy = 4.0;
+  o.window_phi = 0.2;
+  auto ratio = [&](const Cloud2& world, const Eigen::Vector3d& truth) {
+    const LikelihoodGrid g(world.points(), 0.05, 0.05, 7, 1.0);
+    const Cloud2 scan = seenFrom(world, truth, 4, 0.01, 7);
+    const auto best = correlativeMatch(g, scan.points(), truth, o);
+    const auto second = correlativeMatch(g, scan.points(), truth, o, best.pose.head<2>(), 0.5);
+    return second.score / best.score;
+  };
+  EXPECT_GT(ratio(corridor(30), {13.0, 1.0, 0.0}), 0.95);
+  EXPECT_LT(ratio(room(), {3.0, 2.0, 0.2}), 0.8);
+}
