@@ -8,20 +8,32 @@ ground truth at its two keyframes' timestamps (linear interpolation, angles unwr
 RUN_DIR holds graph.g2o and keyframes.txt (`asf run`); GT_FILE is "t x y phi" per line (the
 ground truth `asf carmen2rawlog --gt` writes). Prints the number of such edges, how many are
 wrong by more than --wrong metres (or 5 degrees), and the median / max error; --list prints
-every wrong edge. Exit status 0."""
+every wrong edge. A missing or malformed file is an error naming it (and the line), exit 1."""
 import argparse
 import bisect
 import math
 import sys
 
 
+class InputError(Exception):
+    pass
+
+
 def read_rows(path):
     rows = []
     with open(path) as f:
-        for line in f:
+        for n, line in enumerate(f, 1):
             line = line.strip()
             if line and not line.startswith("#"):
-                rows.append([float(v) for v in line.split()[:4]])
+                try:
+                    row = [float(v) for v in line.split()[:4]]
+                except ValueError:
+                    row = []
+                if len(row) != 4:
+                    raise InputError(f"{path}:{n}: expected 't x y phi', got '{line}'")
+                rows.append(row)
+    if not rows:
+        raise InputError(f"{path}: no poses")
     return rows
 
 
@@ -55,15 +67,21 @@ def main():
     kf = read_rows(a.run_dir + "/keyframes.txt")
     gt = read_rows(a.gt)
     errors = []
-    with open(a.run_dir + "/graph.g2o") as f:
-        for line in f:
+    g2o = a.run_dir + "/graph.g2o"
+    with open(g2o) as f:
+        for n, line in enumerate(f, 1):
             p = line.split()
             if not p or p[0] != "EDGE_SE2":
                 continue
-            i, j = int(p[1]), int(p[2])
+            try:
+                i, j = int(p[1]), int(p[2])
+                m = [float(p[3]), float(p[4]), float(p[5])]
+            except (IndexError, ValueError):
+                raise InputError(f"{g2o}:{n}: malformed EDGE_SE2 line")
+            if max(i, j) >= len(kf):
+                raise InputError(f"{g2o}:{n}: node {max(i, j)} has no keyframe in keyframes.txt")
             if abs(j - i) <= 1:
                 continue
-            m = [float(p[3]), float(p[4]), float(p[5])]
             truth = relative(interpolate(gt, kf[i][0]), interpolate(gt, kf[j][0]))
             et = math.hypot(m[0] - truth[0], m[1] - truth[1])
             er = abs(math.atan2(math.sin(m[2] - truth[2]), math.cos(m[2] - truth[2])))
@@ -81,4 +99,8 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except (OSError, InputError) as e:
+        print(f"edges-vs-gt: error: {e}", file=sys.stderr)
+        sys.exit(1)

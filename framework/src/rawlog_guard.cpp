@@ -119,7 +119,10 @@ void RawlogGuard::onVersion(Kind kind, std::uint8_t version) {
   // A sensory frame of version 0 sets each observation's timestamp after reading it: a null
   // one (an object of another class) is dereferenced. Later versions do not: the reader
   // checks their observations; no need to follow the frame.
-  if (kind == Kind::SensoryFrame && version != 0 && open_.size() == 1) open_.pop_back();
+  if (kind == Kind::SensoryFrame && version != 0 && open_.size() == 1) {
+    open_.pop_back();
+    return;
+  }
   // CActionCollection version 0: the number of actions (uint32) follows.
   if (kind == Kind::ActionCollection && version == 0 && peek(4)) self.expected = u32At(0);
   // CActionRobotMovement2D (MRPT 2.5's serializeFrom): versions 0 and 1 start with the pose
@@ -270,25 +273,8 @@ void RawlogGuard::checkCount(Kind kind, std::uint8_t version) {
 // covariance matrix before the count: not checked.
 void RawlogGuard::checkScan(std::uint8_t version) {
   if (version < 6 || version > 8) return;
-  std::size_t at = 9;  // after aperture, rightToLeft, maxRange
-  if (!peek(at + 1)) return;
-  const std::uint8_t header = ahead_[at];
-  if (!(header & kNewFormat)) return;
-  const std::size_t name_len = header & 0x7f;
-  if (!peek(at + 1 + name_len + 1)) return;
-  bool null = false;
-  const auto* pose_class =
-      resolve(std::string(ahead_.begin() + static_cast<std::ptrdiff_t>(at + 1),
-                          ahead_.begin() + static_cast<std::ptrdiff_t>(at + 1 + name_len)),
-              null);
-  at += 1 + name_len;
-  // CPose3D version 2: the pose as x y z and a quaternion; 3 (MRPT 2.5 writes it): x y z
-  // and the rotation matrix.
-  const std::size_t pose_doubles = ahead_[at] == 2 ? 7 : ahead_[at] == 3 ? 12 : 0;
-  if (!is(pose_class, "mrpt::poses::CPose3D") || pose_doubles == 0) return;
-  at += 1 + pose_doubles * sizeof(double);
-  if (!peek(at + 1 + 4) || ahead_[at] != kEndFlag) return;
-  at += 1;
+  const std::size_t at = nestedPose3DEnd(9);  // after aperture, rightToLeft, maxRange
+  if (at == 0 || !peek(at + 4)) return;
   const std::uint32_t rays = u32At(at);
   if (rays > kMaxScanRays)
     refuse("a 2D scan claims " + std::to_string(rays) + " rays (more than " +

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "../correlative_matcher.h"
+#include "test_worlds.h"
 
 namespace {
 
@@ -22,41 +23,16 @@ using asf::icp_graph::Points2;
 struct Cloud2 {
   std::vector<float> x, y;
   Points2 points() const { return {x, y}; }
-  void segment(double x0, double y0, double x1, double y1, double spacing = 0.02) {
-    const int n = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / spacing));
-    for (int i = 0; i <= n; ++i) {
-      x.push_back(static_cast<float>(x0 + (x1 - x0) * i / n));
-      y.push_back(static_cast<float>(y0 + (y1 - y0) * i / n));
-    }
-  }
 };
 
-/// A 6 m x 4 m room with a pillar, a niche and a shelf: no symmetry.
-Cloud2 room() {
+/// The world's walls as points 2 cm apart.
+Cloud2 sampled(const asf_test_worlds::World& w) {
   Cloud2 c;
-  c.segment(0, 0, 6, 0);
-  c.segment(6, 0, 6, 1.5);
-  c.segment(6, 1.5, 6.8, 1.5);
-  c.segment(6.8, 1.5, 6.8, 2.5);
-  c.segment(6.8, 2.5, 6, 2.5);
-  c.segment(6, 2.5, 6, 4);
-  c.segment(6, 4, 0, 4);
-  c.segment(0, 4, 0, 0);
-  c.segment(2, 1, 2.4, 1);
-  c.segment(2.4, 1, 2.4, 1.4);
-  c.segment(2.4, 1.4, 2, 1.4);
-  c.segment(2, 1.4, 2, 1);
-  c.segment(3.5, 3.2, 4.7, 3.5);
+  asf_test_worlds::sample(w, 0.02, c.x, c.y);
   return c;
 }
-
-/// A corridor 2 m wide along x with a door (0.8 m gap) in the upper wall every 3 m.
-Cloud2 corridor(double length) {
-  Cloud2 c;
-  c.segment(0, 0, length, 0);
-  for (double x = 0; x < length; x += 3.0) c.segment(x, 2, x + 2.2, 2);
-  return c;
-}
+Cloud2 room() { return sampled(asf_test_worlds::room()); }
+Cloud2 corridor(double length) { return sampled(asf_test_worlds::doors(length)); }
 
 /// The points of `world` within `range` of `pose`, in the frame of `pose`, with noise.
 Cloud2 seenFrom(const Cloud2& world, const Eigen::Vector3d& pose, double range, double noise,

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../loop_search.h"
+#include "test_worlds.h"
 
 namespace {
 
@@ -20,37 +21,9 @@ using asf::icp_graph::LoopSearchOptions;
 using asf::icp_graph::poseDiff;
 using mrpt::poses::CPose2D;
 
-struct World {
-  std::vector<std::array<double, 4>> segments;
-  void add(double x0, double y0, double x1, double y1) { segments.push_back({x0, y0, x1, y1}); }
-};
-
-/// A corridor 2 m wide along x, with a door (a 0.8 m gap) in the upper wall every 3 m and a
-/// 0.4 m deep niche in the lower wall every 3 m.
-World doors(double length) {
-  World w;
-  for (double x = 0; x < length; x += 3.0) {
-    w.add(x, 2, x + 2.2, 2);
-    w.add(x, 0, x + 1.0, 0);
-    w.add(x + 1.0, 0, x + 1.0, -0.4);
-    w.add(x + 1.0, -0.4, x + 1.6, -0.4);
-    w.add(x + 1.6, -0.4, x + 1.6, 0);
-    w.add(x + 1.6, 0, x + 3.0, 0);
-  }
-  return w;
-}
-
-/// A 6 m x 4 m room with a pillar, a niche and a shelf: no symmetry.
-World room() {
-  World w;
-  const double p[][4] = {{0, 0, 6, 0},         {6, 0, 6, 1.5},     {6, 1.5, 6.8, 1.5},
-                         {6.8, 1.5, 6.8, 2.5}, {6.8, 2.5, 6, 2.5}, {6, 2.5, 6, 4},
-                         {6, 4, 0, 4},         {0, 4, 0, 0},       {2, 1, 2.4, 1},
-                         {2.4, 1, 2.4, 1.4},   {2.4, 1.4, 2, 1.4}, {2, 1.4, 2, 1},
-                         {3.5, 3.2, 4.7, 3.5}};
-  for (const auto& s : p) w.add(s[0], s[1], s[2], s[3]);
-  return w;
-}
+using asf_test_worlds::doors;
+using asf_test_worlds::room;
+using asf_test_worlds::World;
 
 /// A laser scan from `pose` (361 rays over 360 degrees, range noise 1 cm) as a cloud in the
 /// frame of `pose`: the nearest segment along each ray.
@@ -59,17 +32,8 @@ Cloud scan(const World& w, const CPose2D& pose, double max_range, unsigned seed)
   std::normal_distribution<double> noise(0, 0.01);
   std::vector<float> xs, ys;
   for (int k = 0; k < 360; ++k) {
-    const double a = k * M_PI / 180, dx = std::cos(pose.phi() + a), dy = std::sin(pose.phi() + a);
-    double best = max_range;
-    for (const auto& s : w.segments) {
-      // pose + t d = s0 + u (s1 - s0)
-      const double ex = s[2] - s[0], ey = s[3] - s[1];
-      const double den = dx * ey - dy * ex;
-      if (std::abs(den) < 1e-12) continue;
-      const double qx = s[0] - pose.x(), qy = s[1] - pose.y();
-      const double t = (qx * ey - qy * ex) / den, u = (qx * dy - qy * dx) / den;
-      if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
-    }
+    const double a = k * M_PI / 180;
+    const double best = asf_test_worlds::castRay(w, pose.x(), pose.y(), pose.phi() + a, max_range);
     if (best >= max_range) continue;
     const double r = best + noise(rng);
     xs.push_back(static_cast<float>(r * std::cos(a)));
