@@ -1,26 +1,15 @@
-# Finds asf's dependencies; a missing one stops configure naming the Debian package.
-# Used by the build tree and by installed asfConfig.cmake (out-of-tree plugins).
+# Finds the dependencies of the whole of asf (the contract's first); a missing one stops
+# configure naming the Debian package. Used by the build tree and by an installed
+# asfConfig.cmake when a component beyond the contract is asked for.
 include_guard(GLOBAL)
+include(${CMAKE_CURRENT_LIST_DIR}/AsfContractDependencies.cmake)
 
-macro(asf_require _found _what _pkg)
-  if(NOT ${_found})
-    message(FATAL_ERROR "asf: ${_what} not found. Install it with:\n"
-                        "  sudo apt-get install ${_pkg}\n"
-                        "or run scripts/install-deps.sh (installs everything asf needs).")
-  endif()
-endmacro()
-
-# MRPT 2.x ships one package per module (mrpt-<module>); its MRPT wrapper has no version file,
-# so the version is checked on the modules.
-# slam: CICP (icp_graph); graphslam: the mrpt_levmarq baseline back-end.
-set(ASF_MRPT_MODULES core system config poses obs maps graphs slam graphslam)
+# The other MRPT modules. slam: CICP (icp_graph); graphslam: the mrpt_levmarq baseline back-end.
+set(ASF_MRPT_MODULES obs maps graphs slam graphslam)
 foreach(_m ${ASF_MRPT_MODULES})
   find_package(mrpt-${_m} 2.5 CONFIG QUIET)
   asf_require(mrpt-${_m}_FOUND "MRPT >= 2.5 (module mrpt-${_m})" libmrpt-dev)
 endforeach()
-
-find_package(Eigen3 3.4 CONFIG QUIET)
-asf_require(Eigen3_FOUND "Eigen >= 3.4" libeigen3-dev)
 
 # ximgproc (opencv_contrib; Debian's libopencv-dev depends on libopencv-contrib-dev): the
 # GVG's thinning (framework/src/voronoi_graph.cpp).

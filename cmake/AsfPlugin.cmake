@@ -1,7 +1,8 @@
 # asf_add_plugin(<target> SOURCES <files...> [LIBRARIES <libs...>] [NO_CONFORMANCE]
 #                [CONFORMANCE_CONFIG <file.ini>])
 #
-# Builds an asf plugin: a MODULE library <target>.so that exports only its descriptor,
+# Builds an asf plugin: a MODULE library <target>.so, linked against asf::contract and
+# LIBRARIES (asf::framework for the runtime's services), that exports only its descriptor,
 # written to the plugin folder (build tree: lib/asf/plugins, or ASF_PLUGIN_OUTPUT_DIRECTORY)
 # and installed to <libdir>/asf/plugins. With testing enabled it also adds the CTest test
 # conformance.<target>, which runs the conformance kit (`asf conformance <file>`) on it;
@@ -16,10 +17,16 @@ function(asf_add_plugin target)
     message(FATAL_ERROR "asf_add_plugin(${target}): SOURCES is required")
   endif()
   add_library(${target} MODULE ${ARG_SOURCES})
-  if(TARGET asf_framework)
-    target_link_libraries(${target} PRIVATE asf_framework ${ARG_LIBRARIES})
+  # The contract alone; a plugin using more of asf names it (LIBRARIES asf::framework).
+  if(TARGET asf_contract)
+    target_link_libraries(${target} PRIVATE asf_contract ${ARG_LIBRARIES})
   else()
-    target_link_libraries(${target} PRIVATE asf::framework ${ARG_LIBRARIES})
+    target_link_libraries(${target} PRIVATE asf::contract ${ARG_LIBRARIES})
+  endif()
+  # Every symbol resolved at link time: a library missing from LIBRARIES is a link error here,
+  # not a failed dlopen in the host. (Not under sanitizers: their runtime is the executable's.)
+  if(NOT ASF_SANITIZE)
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
   endif()
   if(NOT ASF_PLUGIN_OUTPUT_DIRECTORY)
     set(ASF_PLUGIN_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/lib/asf/plugins)

@@ -3,7 +3,9 @@
 #
 # Checks that an installed asf is usable by an out-of-tree plugin project:
 #   1. installs asf from BUILD_DIR into a temporary prefix (cmake --install),
-#   2. configures and builds examples/custom_policy against it (find_package(asf)),
+#   2. configures and builds examples/custom_policy against it (find_package(asf COMPONENTS
+#      contract)) with every non-contract dependency hidden, and checks the plugin links
+#      libasf_contract and none of them,
 #   3. runs the example's CTest tests (the conformance kit, run by the installed host),
 #   4. installs the example plugin into the same prefix and checks that the installed host
 #      (`asf plugins`) finds every installed plugin, the example's included.
@@ -67,14 +69,30 @@ config=$(find "$prefix" -name asfConfig.cmake -print -quit)
 echo "asfConfig.cmake: $config"
 "$prefix/bin/asf" --version
 
-step "configure examples/custom_policy against the installed asf"
+# The example asks for the contract alone, so it must configure and build as if everything
+# else asf uses were not installed: those packages are hidden from find_package.
+hidden=(OpenCV octomap GTest nlohmann_json BZip2 ZLIB CGAL mrpt-obs mrpt-maps mrpt-graphs
+        mrpt-slam mrpt-graphslam mrpt-img mrpt-opengl)
+hide=()
+for pkg in "${hidden[@]}"; do hide+=("-DCMAKE_DISABLE_FIND_PACKAGE_$pkg=ON"); done
+
+step "configure examples/custom_policy against the installed asf (contract dependencies only)"
 cmake -S "$example_dir" -B "$example_build" -DCMAKE_PREFIX_PATH="$prefix" \
-      -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}"
+      -DCMAKE_BUILD_TYPE=RelWithDebInfo --no-warn-unused-cli "${launcher[@]}" "${hide[@]}"
 
 step "build examples/custom_policy"
 cmake --build "$example_build" -j2
 plugin="$example_build/plugins/policy_nearest_region.so"
 [[ -f "$plugin" ]] || fail "the build did not produce $plugin"
+
+step "the example plugin links the contract and none of the rest"
+needed=$(readelf -d "$plugin" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
+echo "$needed"
+grep -q '^libasf_contract\.so' <<<"$needed" || fail "$plugin does not link libasf_contract"
+if grep -E '^lib(asf_framework|asf_conformance|opencv|octomap|cholmod|mrpt-(maps|obs|slam|graphslam))' \
+     <<<"$needed"; then
+  fail "$plugin links more than the contract (above)"
+fi
 
 step "run the example's tests (conformance kit via the installed host)"
 ctest --test-dir "$example_build" -N | tee "$work/ctest-list.txt"

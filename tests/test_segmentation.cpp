@@ -1,6 +1,7 @@
 // asf::regionsFromLabels and its windowed form: the windowed update must give exactly what
 // the whole-image function gives (labels, ids, areas, centroids, outlines, boxes), checked
 // against it on random label images with random local changes.
+#include <asf/region_labels.h>
 #include <asf/segmentation.h>
 #include <gtest/gtest.h>
 

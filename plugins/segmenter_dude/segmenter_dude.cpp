@@ -8,6 +8,7 @@
 #include "dude_thesis.h"
 
 #include <asf/errors.h>
+#include <asf/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

@@ -1,6 +1,7 @@
 // segmenter_free_components: one region per connected component of free cells. An honest,
 // trivial segmentation (no rooms, no doors) until a real segmenter (DuDe) lands.
 #include <asf/errors.h>
+#include <asf/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

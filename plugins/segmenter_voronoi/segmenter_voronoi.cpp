@@ -1,6 +1,7 @@
 // segmenter_voronoi: room segmentation on the generalized Voronoi graph of free space (Thrun
 // 1998; Bormann et al., ICRA 2016), the baseline segmenter. Algorithm: voronoi_segmentation.h.
 #include <asf/errors.h>
+#include <asf/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/segmentation.h>
+#include <asf/region_labels.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,20 +10,6 @@
 #include <unordered_map>
 
 namespace asf {
-
-RegionId LabelImage::atPoint(double x, double y) const {
-  if (resolution <= 0) return 0;
-  const int cx = static_cast<int>(std::floor((x - origin_x) / resolution));
-  const int cy = static_cast<int>(std::floor((y - origin_y) / resolution));
-  if (cx < 0 || cy < 0 || cx >= width || cy >= height) return 0;
-  return at(cx, cy);
-}
-
-const Region* Segmentation::find(RegionId id) const {
-  for (const auto& r : regions)
-    if (r.id == id) return &r;
-  return nullptr;
-}
 
 namespace {
 
