@@ -1,12 +1,14 @@
 // asf map3d: a rawlog's 3D observations into an OctoMap octree at the robot poses (odometry
 // or ground truth), with the 2D projection the pipeline uses, the .bt/.ot files and stats.
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/run_report.h>
 #include <asf/map3d.h>
 #include <asf/rawlog_io.h>
+#include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
+#include <asf/text.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -39,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 /// The robot pose of each observation: integrated odometry, or the ground truth.
 struct PoseSource {
   std::vector<GroundTruthPose> gt;
-  mrpt::poses::CPose2D odo;            // action logs: composed increments
+  mrpt::poses::CPose2D odo;                     // action logs: composed increments
   std::optional<mrpt::poses::CPose2D> odo_abs;  // observation-only logs: last reading
 
   std::optional<mrpt::poses::CPose2D> at(const mrpt::obs::CObservation& o) const {
@@ -48,14 +50,8 @@ struct PoseSource {
   }
 };
 
-std::string fmt(double v, int digits) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
-
 void writeTextAtomically(const std::string& path, const std::string& text) {
-  report::writeFileAtomically(path, text);
+  writeFileAtomically(path, text);
 }
 
 }  // namespace
@@ -134,7 +130,7 @@ int cmdMap3d(int argc, char** argv) {
   auto ar = mrpt::serialization::archiveUniquePtrFrom(in);
 
   std::map<std::string, std::size_t> inserted_by_class, skipped;  // class / reason -> count
-  std::map<std::string, std::string> sensor_poses;  // label -> pose on the robot used
+  std::map<std::string, std::string> sensor_poses;                // label -> pose on the robot used
   std::size_t records = 0, observations = 0, points = 0;
   double t_read = 0, t_extract = 0, t_insert = 0;
   const auto t_start = Clock::now();
@@ -155,9 +151,9 @@ int cmdMap3d(int argc, char** argv) {
       return;
     }
     // By class name: CObservationPointCloud lives in mrpt-maps, which the host does not use.
-    if (sensor_override && (cls == "mrpt::obs::CObservationVelodyneScan" ||
-                            cls == "mrpt::obs::CObservationPointCloud" ||
-                            cls == "mrpt::obs::CObservation3DRangeScan"))
+    if (sensor_override &&
+        (cls == "mrpt::obs::CObservationVelodyneScan" ||
+         cls == "mrpt::obs::CObservationPointCloud" || cls == "mrpt::obs::CObservation3DRangeScan"))
       sensor = *sensor_override;
     const auto robot = poses.at(o);
     if (!robot) {
@@ -173,8 +169,8 @@ int cmdMap3d(int argc, char** argv) {
     if (secondsSince(last_progress) >= 2.0) {
       last_progress = Clock::now();
       std::cerr << "asf map3d: record " << records << ", " << observations << " observations, "
-                << points << " points inserted (" << fmt(points / std::max(t_insert, 1e-9), 0)
-                << " points/s)\n";
+                << points << " points inserted ("
+                << formatFixed(points / std::max(t_insert, 1e-9), 0) << " points/s)\n";
     }
   };
 
@@ -238,9 +234,9 @@ int cmdMap3d(int argc, char** argv) {
   j["skipped"] = skipped;
   j["sensor_poses"] = sensor_poses;
   j["stats"] = json::parse(s.toJson());
-  j["timings_s"] = {{"read", t_read},       {"extract_points", t_extract}, {"insert", t_insert},
-                    {"project", t_project}, {"write", t_write},
-                    {"total", secondsSince(t_start)}};
+  j["timings_s"] = {{"read", t_read},     {"extract_points", t_extract},
+                    {"insert", t_insert}, {"project", t_project},
+                    {"write", t_write},   {"total", secondsSince(t_start)}};
   j["points_per_s"] = t_insert > 0 ? points / t_insert : 0.0;
   if (grid.grid)
     j["projected"] = {{"width", image.width},
@@ -252,16 +248,16 @@ int cmdMap3d(int argc, char** argv) {
   if (!error.empty()) j["error"] = error;
   writeTextAtomically((fs::path(dir) / "map3d.json").string(), j.dump(2) + "\n");
 
-  std::cout << path << ": " << records << " records, " << observations
-            << " observations inserted, " << points << " points in " << fmt(t_insert, 3)
-            << " s (" << fmt(t_insert > 0 ? points / t_insert : 0.0, 0) << " points/s)\n";
+  std::cout << path << ": " << records << " records, " << observations << " observations inserted, "
+            << points << " points in " << formatFixed(t_insert, 3) << " s ("
+            << formatFixed(t_insert > 0 ? points / t_insert : 0.0, 0) << " points/s)\n";
   for (const auto& [why, n] : skipped) std::cout << "skipped " << n << ": " << why << "\n";
   for (const auto& [label, pose] : sensor_poses)
-    std::cout << "sensor " << (label.empty() ? "(no label)" : label) << " on the robot at "
-              << pose << "\n";
+    std::cout << "sensor " << (label.empty() ? "(no label)" : label) << " on the robot at " << pose
+              << "\n";
   std::cout << "octree: " << s.occupied_leaves << " occupied / " << s.free_leaves
-            << " free leaves, " << fmt(s.known_volume_m3, 2) << " m^3 known, "
-            << fmt(s.memory_bytes / 1048576.0, 2) << " MiB\n";
+            << " free leaves, " << formatFixed(s.known_volume_m3, 2) << " m^3 known, "
+            << formatFixed(s.memory_bytes / 1048576.0, 2) << " MiB\n";
   if (grid.grid)
     std::cout << "projected: " << image.width << " x " << image.height << " cells of "
               << params.getDouble("project_resolution") << " m\n";

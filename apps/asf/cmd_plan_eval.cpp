@@ -200,13 +200,9 @@ std::vector<PlannerSlot> plannersFrom(const IniConfig& ini, const Params& p, Reg
   std::vector<std::string> known{kSection, lowercase(backend_name)};
   for (const auto& s : slots) known.push_back(lowercase(s.name));
   for (const auto& sec : ini.sections())
-    if (std::find(known.begin(), known.end(), sec) == known.end()) {
-      std::string msg = ini.where(sec) + ": unknown section [" + sec +
-                        "] (sections: plan_eval, the backend's and the planners')";
-      const std::string hint = didYouMean(sec, known);
-      if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
-      throw ConfigError(msg);
-    }
+    if (std::find(known.begin(), known.end(), sec) == known.end())
+      throw ConfigError(ini.unknownSection(
+          sec, known, "sections are [plan_eval], the backend's and the planners'"));
   return slots;
 }
 

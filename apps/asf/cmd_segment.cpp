@@ -2,12 +2,14 @@
 // overlay). asf segment-eval: a segmenter scored on the room segmentation benchmark as
 // ../shared/docs/roomseg-eval.md describes (the figures of docs/BENCHMARKS.md).
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/run_report.h>
 #include <asf/registry.h>
+#include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
+#include <asf/text.h>
 #include <asf/topo_builder.h>
 #include <tclap/CmdLine.h>
 
@@ -30,10 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// A segmenter plugin with its validated keys, and the [topology] keys; creates a fresh,
 /// configured instance per map (segmenters keep id state between calls).
@@ -64,10 +62,10 @@ SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::st
     for (const auto& a : sets)
       if (lowercase(a).rfind("topology.", 0) == 0)
         throw ConfigError("--set " + a + ": no topological graph here (asf segment has one)");
-  const IniConfig ini =
-      setOverrides(sets, plugin, "segmenter", with_topology ? std::vector<std::string>{"topology"}
-                                                            : std::vector<std::string>{},
-                   with_topology ? " (topology.key=value for the graph)" : "");
+  const IniConfig ini = setOverrides(
+      sets, plugin, "segmenter",
+      with_topology ? std::vector<std::string>{"topology"} : std::vector<std::string>{},
+      with_topology ? " (topology.key=value for the graph)" : "");
   s.params = ini.resolve(plugin, s.info->descriptor->keys, s.info->descriptor->num_keys);
   std::size_t n = 0;
   const KeySpec* topo_keys = TopoBuilder::keys(n);
@@ -91,7 +89,7 @@ LabelRaster rasterOf(const Segmentation& seg, const GrayImage& image, const std:
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {
-  report::writeFileAtomically(path, text);
+  writeFileAtomically(path, text);
 }
 
 }  // namespace
@@ -111,10 +109,12 @@ int cmdSegment(int argc, char** argv) {
                                          "NAME", cmd);
   TCLAP::ValueArg<std::string> out("o", "output", "Label image to write (16-bit PNG)", true, "",
                                    "LABELS.png", cmd);
-  TCLAP::ValueArg<std::string> graph("", "graph", "Write the topological graph (JSON)", false,
-                                     "", "OUT.json", cmd);
-  TCLAP::ValueArg<std::string> overlay("", "overlay", "Write an overlay image: PNG, or SVG (graph as vectors) when the name ends in .svg", false, "",
-                                       "OUT.png", cmd);
+  TCLAP::ValueArg<std::string> graph("", "graph", "Write the topological graph (JSON)", false, "",
+                                     "OUT.json", cmd);
+  TCLAP::ValueArg<std::string> overlay(
+      "", "overlay",
+      "Write an overlay image: PNG, or SVG (graph as vectors) when the name ends in .svg", false,
+      "", "OUT.png", cmd);
   TCLAP::ValueArg<int> threshold("t", "free-threshold", "Pixels >= this are free", false,
                                  kBenchmarkFreeThreshold, "0-255", cmd);
   TCLAP::MultiArg<std::string> set("s", "set", kSetHelp, false, "KEY=VALUE", cmd);
@@ -171,7 +171,10 @@ struct MapResult {
 };
 
 json thesisJson(const ThesisProtocolScore& t) {
-  return {{"precision", t.precision}, {"recall", t.recall}, {"rooms", t.rooms}, {"segments", t.segments}};
+  return {{"precision", t.precision},
+          {"recall", t.recall},
+          {"rooms", t.rooms},
+          {"segments", t.segments}};
 }
 
 json scoreJson(const SegmentationScore& s) {
@@ -281,65 +284,62 @@ json reportJson(const std::vector<MapResult>& all, const std::string& segmenter,
   return j;
 }
 
-std::string fmt(double v, int digits = 3) {
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(digits) << v;
-  return os.str();
-}
-
 void printReport(const std::vector<MapResult>& all) {
   std::cout << std::left << std::setw(20) << "map" << std::setw(11) << "variant" << std::right
             << std::setw(7) << "prec" << std::setw(7) << "rec" << std::setw(8) << "prec_p"
             << std::setw(8) << "rec_p" << std::setw(7) << "mcc" << std::setw(6) << "segs"
-            << std::setw(6) << "rooms" << std::setw(10) << "time_ms" << "\n";
+            << std::setw(6) << "rooms" << std::setw(10) << "time_ms"
+            << "\n";
   for (const auto& m : all) {
-    std::cout << std::left << std::setw(20) << m.name << std::setw(11) << m.variant
-              << std::right << std::setw(7) << fmt(m.score.precision) << std::setw(7)
-              << fmt(m.score.recall) << std::setw(8) << fmt(m.score.precision_pooled)
-              << std::setw(8) << fmt(m.score.recall_pooled) << std::setw(7) << fmt(m.score.mcc)
-              << std::setw(6) << m.score.segments << std::setw(6) << m.score.rooms
-              << std::setw(10) << fmt(m.time_ms, 1) << "\n";
+    std::cout << std::left << std::setw(20) << m.name << std::setw(11) << m.variant << std::right
+              << std::setw(7) << formatFixed(m.score.precision, 3) << std::setw(7)
+              << formatFixed(m.score.recall, 3) << std::setw(8)
+              << formatFixed(m.score.precision_pooled, 3) << std::setw(8)
+              << formatFixed(m.score.recall_pooled, 3) << std::setw(7)
+              << formatFixed(m.score.mcc, 3) << std::setw(6) << m.score.segments << std::setw(6)
+              << m.score.rooms << std::setw(10) << formatFixed(m.time_ms, 1) << "\n";
     if (m.incremental)
       std::cout << "  incremental: " << m.inc.update_ms.size() << " updates, median "
-                << fmt(percentile(m.inc.update_ms, 50), 1) << " ms, p95 "
-                << fmt(percentile(m.inc.update_ms, 95), 1) << " ms, max "
-                << fmt(percentile(m.inc.update_ms, 100), 1) << " ms; final precision "
-                << fmt(m.inc.final_score.precision) << ", recall "
-                << fmt(m.inc.final_score.recall) << ", coverage " << fmt(m.inc.coverage)
-                << "\n";
+                << formatFixed(percentile(m.inc.update_ms, 50), 1) << " ms, p95 "
+                << formatFixed(percentile(m.inc.update_ms, 95), 1) << " ms, max "
+                << formatFixed(percentile(m.inc.update_ms, 100), 1) << " ms; final precision "
+                << formatFixed(m.inc.final_score.precision, 3) << ", recall "
+                << formatFixed(m.inc.final_score.recall, 3) << ", coverage "
+                << formatFixed(m.inc.coverage, 3) << "\n";
   }
   for (const char* v : {"plain", "furnished"}) {
     const json s = summaryJson(all, v);
     if (s["maps"].get<std::size_t>() == 0) continue;
     auto pm = [&](const std::string& k, int digits = 3) {
-      return fmt(s[k + "_mean"].get<double>(), digits) + " +- " +
-             fmt(s[k + "_std"].get<double>(), digits);
+      return formatFixed(s[k + "_mean"].get<double>(), digits) + " +- " +
+             formatFixed(s[k + "_std"].get<double>(), digits);
     };
     std::cout << "summary " << v << " (" << s["maps"] << " maps): precision " << pm("precision")
               << ", recall " << pm("recall") << ", precision_pooled " << pm("precision_pooled")
-              << ", recall_pooled " << pm("recall_pooled") << ", mcc " << pm("mcc")
-              << ", segments " << pm("segments", 1) << ", time_ms " << pm("time_ms", 1) << "\n";
+              << ", recall_pooled " << pm("recall_pooled") << ", mcc " << pm("mcc") << ", segments "
+              << pm("segments", 1) << ", time_ms " << pm("time_ms", 1) << "\n";
     std::cout << "summary " << v << " thesis protocol: precision (per room) "
               << pm("thesis_precision") << ", recall (per segment) " << pm("thesis_recall");
     if (s.contains("incremental"))
       std::cout << "; incremental final: precision "
-                << fmt(s["incremental"]["thesis_precision_mean"].get<double>()) << " +- "
-                << fmt(s["incremental"]["thesis_precision_std"].get<double>()) << ", recall "
-                << fmt(s["incremental"]["thesis_recall_mean"].get<double>()) << " +- "
-                << fmt(s["incremental"]["thesis_recall_std"].get<double>());
+                << formatFixed(s["incremental"]["thesis_precision_mean"].get<double>(), 3) << " +- "
+                << formatFixed(s["incremental"]["thesis_precision_std"].get<double>(), 3)
+                << ", recall "
+                << formatFixed(s["incremental"]["thesis_recall_mean"].get<double>(), 3) << " +- "
+                << formatFixed(s["incremental"]["thesis_recall_std"].get<double>(), 3);
     std::cout << "\n";
     if (s.contains("incremental")) {
       const json& i = s["incremental"];
       auto ipm = [&](const std::string& k) {
-        return fmt(i[k + "_mean"].get<double>()) + " +- " + fmt(i[k + "_std"].get<double>());
+        return formatFixed(i[k + "_mean"].get<double>(), 3) + " +- " +
+               formatFixed(i[k + "_std"].get<double>(), 3);
       };
       std::cout << "summary " << v << " incremental (" << i["maps"] << " maps, " << i["updates"]
-                << " updates): median " << fmt(i["median_ms"].get<double>(), 1) << " ms, p95 "
-                << fmt(i["p95_ms"].get<double>(), 1) << " ms, max "
-                << fmt(i["max_ms"].get<double>(), 1) << " ms; final precision "
+                << " updates): median " << formatFixed(i["median_ms"].get<double>(), 1)
+                << " ms, p95 " << formatFixed(i["p95_ms"].get<double>(), 1) << " ms, max "
+                << formatFixed(i["max_ms"].get<double>(), 1) << " ms; final precision "
                 << ipm("precision") << ", recall " << ipm("recall") << ", coverage "
-                << ipm("coverage") << "; per-map mean update " << ipm("map_mean_ms")
-                << " ms\n";
+                << ipm("coverage") << "; per-map mean update " << ipm("map_mean_ms") << " ms\n";
     }
   }
 }
@@ -364,11 +364,10 @@ int cmdSegmentEval(int argc, char** argv) {
       "thesis' own protocol (disks of 5 m revealed through walls every 2.5 m along rows, at "
       "0.05 m per pixel).",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> plain("", "plain", "Folder of the plain maps (<name>.png)", true,
-                                     "", "DIR", cmd);
-  TCLAP::ValueArg<std::string> gt("", "gt",
-                                  "Folder of the ground truth (<name>_gt_segmentation.png)", true,
-                                  "", "DIR", cmd);
+  TCLAP::ValueArg<std::string> plain("", "plain", "Folder of the plain maps (<name>.png)", true, "",
+                                     "DIR", cmd);
+  TCLAP::ValueArg<std::string> gt(
+      "", "gt", "Folder of the ground truth (<name>_gt_segmentation.png)", true, "", "DIR", cmd);
   TCLAP::ValueArg<std::string> furnished("", "furnished",
                                          "Folder of the furnished maps (<name>_furnitures.png)",
                                          false, "", "DIR", cmd);
@@ -418,8 +417,8 @@ int cmdSegmentEval(int argc, char** argv) {
                                               false, "plain", &incremental_on_values, cmd);
   TCLAP::ValueArg<double> range("", "sensor-range", "Simulated laser range (m)", false, 5.0, "M",
                                 cmd);
-  TCLAP::ValueArg<double> spacing("", "scan-spacing", "Travel between simulated scans (m)",
-                                  false, 0.5, "M", cmd);
+  TCLAP::ValueArg<double> spacing("", "scan-spacing", "Travel between simulated scans (m)", false,
+                                  0.5, "M", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
   if (!(res.getValue() > 0)) throw ConfigError("--resolution must be > 0");
@@ -482,8 +481,9 @@ int cmdSegmentEval(int argc, char** argv) {
       const LabelRaster rooms = groundTruthRooms(gt_image);
       if (std::none_of(rooms.labels.begin(), rooms.labels.end(),
                        [](std::int32_t l) { return l > 0; }))
-        throw InputError(gt_file + ": no ground-truth room (no 8-connected component of pixels "
-                                   "> 250 with more than 100 pixels)");
+        throw InputError(gt_file +
+                         ": no ground-truth room (no 8-connected component of pixels "
+                         "> 250 with more than 100 pixels)");
 
       auto scoreVariant = [&](const std::string& variant, const std::string& file) {
         current = n + " (" + variant + ")";
@@ -508,9 +508,9 @@ int cmdSegmentEval(int argc, char** argv) {
           writeLabelImage(imagePath(n, variant + "_labels"), labels);
         }
         std::cerr << prefix << " " << variant << ": " << r.score.segments << " segments / "
-                  << r.score.rooms << " rooms, precision " << fmt(r.score.precision)
-                  << ", recall " << fmt(r.score.recall) << ", mcc " << fmt(r.score.mcc) << " ("
-                  << fmt(r.time_ms, 1) << " ms)\n";
+                  << r.score.rooms << " rooms, precision " << formatFixed(r.score.precision, 3)
+                  << ", recall " << formatFixed(r.score.recall, 3) << ", mcc "
+                  << formatFixed(r.score.mcc, 3) << " (" << formatFixed(r.time_ms, 1) << " ms)\n";
         const std::string& on = incremental_on.getValue();
         if (incremental.getValue() && (on == "both" || on == variant)) {
           auto inc_seg = setup.create();
@@ -524,23 +524,23 @@ int cmdSegmentEval(int argc, char** argv) {
               *inc_seg, *reveal, rooms, [&](std::size_t updates, double coverage) {
                 if (msSince(last_report) < 5000) return;  // a line every 5 s of work
                 last_report = std::chrono::steady_clock::now();
-                std::cerr << prefix << " " << variant << " incremental: " << updates
-                          << " updates, " << fmt(100 * coverage, 0) << "% explored\n";
+                std::cerr << prefix << " " << variant << " incremental: " << updates << " updates, "
+                          << formatFixed(100 * coverage, 0) << "% explored\n";
               });
           r.incremental = true;
-          r.inc_thesis = scoreThesisProtocol(rasterOf(r.inc.final_segmentation, image, file), gt_image);
+          r.inc_thesis =
+              scoreThesisProtocol(rasterOf(r.inc.final_segmentation, image, file), gt_image);
           if (!images.getValue().empty())
-            writeSegmentationOverlay(imagePath(n, variant == "plain" ? "incremental"
-                                                                     : variant + "_incremental"),
-                                     r.inc.final_map,
-                                     r.inc.final_segmentation, nullptr, &rooms);
+            writeSegmentationOverlay(
+                imagePath(n, variant == "plain" ? "incremental" : variant + "_incremental"),
+                r.inc.final_map, r.inc.final_segmentation, nullptr, &rooms);
           std::cerr << prefix << " " << variant << " incremental: " << r.inc.update_ms.size()
-                    << " updates, mean " << fmt(meanStd(r.inc.update_ms).mean, 1)
-                    << " ms, median " << fmt(percentile(r.inc.update_ms, 50), 1)
-                    << " ms, p95 " << fmt(percentile(r.inc.update_ms, 95), 1)
-                    << " ms; final precision " << fmt(r.inc.final_score.precision)
-                    << ", recall " << fmt(r.inc.final_score.recall) << ", "
-                    << fmt(100 * r.inc.coverage, 1) << "% explored\n";
+                    << " updates, mean " << formatFixed(meanStd(r.inc.update_ms).mean, 1)
+                    << " ms, median " << formatFixed(percentile(r.inc.update_ms, 50), 1)
+                    << " ms, p95 " << formatFixed(percentile(r.inc.update_ms, 95), 1)
+                    << " ms; final precision " << formatFixed(r.inc.final_score.precision, 3)
+                    << ", recall " << formatFixed(r.inc.final_score.recall, 3) << ", "
+                    << formatFixed(100 * r.inc.coverage, 1) << "% explored\n";
           r.inc.final_map = GridMap();  // the report needs the numbers only
           r.inc.final_segmentation = Segmentation();
         }

@@ -2,6 +2,7 @@
 // Table 4.1 (thesis value | asf value, both scoring protocols), Fig. 4.1 (precision and recall
 // over the maps) and Fig. 4.2 (processing times), as Markdown, JSON and SVG.
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
@@ -101,8 +102,8 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
         "meanings are swapped.\n\n";
   md << "| scenario | metric | thesis Voronoi | thesis DuDe batch | thesis DuDe incremental";
   for (const Run& r : runs)
-    md << " | " << r.label << " (thesis protocol) | " << r.label << " incremental (thesis protocol) | "
-       << r.label << " (roomseg)";
+    md << " | " << r.label << " (thesis protocol) | " << r.label
+       << " incremental (thesis protocol) | " << r.label << " (roomseg)";
   md << " |\n|---|---|---|---|---";
   for (std::size_t i = 0; i < runs.size(); ++i) md << "|---|---|---";
   md << "|\n";
@@ -112,14 +113,16 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
     // The roomseg measure with the same meaning (per segment / per room).
     const std::string roomseg_key = per_segment ? "precision" : "recall";
     md << "| " << (std::string(t.scenario) == "plain" ? "no furniture" : "furnished") << " | "
-       << metric << (per_segment ? " (per segment)" : " (per room)") << " | " << std::fixed << std::setprecision(1) << t.voronoi[0] << " ± "
-       << t.voronoi[1] << " | " << t.batch[0] << " ± " << t.batch[1] << " | " << t.incremental[0]
-       << " ± " << t.incremental[1];
-    json row = {{"scenario", t.scenario},
-                {"metric", metric},
-                {"per", per_segment ? "segment" : "room"},
-                {"thesis", {{"voronoi", t.voronoi}, {"dude_batch", t.batch}, {"dude_incremental", t.incremental}}},
-                {"asf", json::array()}};
+       << metric << (per_segment ? " (per segment)" : " (per room)") << " | " << std::fixed
+       << std::setprecision(1) << t.voronoi[0] << " ± " << t.voronoi[1] << " | " << t.batch[0]
+       << " ± " << t.batch[1] << " | " << t.incremental[0] << " ± " << t.incremental[1];
+    json row = {
+        {"scenario", t.scenario},
+        {"metric", metric},
+        {"per", per_segment ? "segment" : "room"},
+        {"thesis",
+         {{"voronoi", t.voronoi}, {"dude_batch", t.batch}, {"dude_incremental", t.incremental}}},
+        {"asf", json::array()}};
     for (const Run& r : runs) {
       const json batch = summaryOf(r, t.scenario, false), inc = summaryOf(r, t.scenario, true);
       const std::string thesis_key = "thesis_" + metric;
@@ -146,9 +149,9 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
     md << r.label << " " << r.report["summary"].value("plain", json::object()).value("maps", 0)
        << " plain (" << r.file << "); ";
   md << "the thesis used the 20 maps of the benchmark.\n";
-  report::writeFileAtomically((fs::path(dir) / "table_4_1.md").string(), md.str());
-  report::writeFileAtomically((fs::path(dir) / "table_4_1.json").string(),
-                              json{{"rows", rows}}.dump(2) + "\n");
+  writeFileAtomically((fs::path(dir) / "table_4_1.md").string(), md.str());
+  writeFileAtomically((fs::path(dir) / "table_4_1.json").string(),
+                      json{{"rows", rows}}.dump(2) + "\n");
 }
 
 /// A staircase over sorted values: with `at_least`, the share of values >= x ("95 % of the
@@ -162,7 +165,8 @@ plot::Series staircase(std::string label, std::vector<double> v, bool dashed, bo
   s.dashed = dashed;
   const double n = static_cast<double>(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) {
-    const double before = at_least ? (n - k) / n : k / n, after = at_least ? (n - k - 1) / n : (k + 1) / n;
+    const double before = at_least ? (n - k) / n : k / n,
+                 after = at_least ? (n - k - 1) / n : (k + 1) / n;
     s.x.push_back(scale * v[k]);
     s.y.push_back(100 * before);
     s.x.push_back(scale * v[k]);
@@ -188,7 +192,8 @@ std::vector<double> mapValues(const Run& r, const std::string& scenario, const s
       src = &m["incremental"];
     }
     if (key.rfind("thesis_", 0) == 0) {
-      if (src->contains("thesis_protocol")) v.push_back((*src)["thesis_protocol"][key.substr(7)].get<double>());
+      if (src->contains("thesis_protocol"))
+        v.push_back((*src)["thesis_protocol"][key.substr(7)].get<double>());
     } else if (src->contains(key)) {
       v.push_back((*src)[key].get<double>());
     }
@@ -205,7 +210,8 @@ void writeFigures(const std::vector<Run>& runs, const std::string& dir) {
     for (const Run& r : runs) {
       const std::string key = std::string("thesis_") + metric;
       f.series.push_back(atLeast(r.label + " plain", mapValues(r, "plain", key, false), false));
-      f.series.push_back(atLeast(r.label + " furnished", mapValues(r, "furnished", key, false), true));
+      f.series.push_back(
+          atLeast(r.label + " furnished", mapValues(r, "furnished", key, false), true));
       for (const char* scenario : {"plain", "furnished"}) {
         const auto inc = mapValues(r, scenario, key, true);
         if (!inc.empty())
@@ -224,8 +230,10 @@ void writeFigures(const std::vector<Run>& runs, const std::string& dir) {
   inc.x_label = "time (ms)";
   inc.y_label = "maps within x (%)";
   for (const Run& r : runs) {
-    batch.series.push_back(within(r.label + " plain", mapValues(r, "plain", "time_ms", false), false));
-    batch.series.push_back(within(r.label + " furnished", mapValues(r, "furnished", "time_ms", false), true));
+    batch.series.push_back(
+        within(r.label + " plain", mapValues(r, "plain", "time_ms", false), false));
+    batch.series.push_back(
+        within(r.label + " furnished", mapValues(r, "furnished", "time_ms", false), true));
     for (const char* scenario : {"plain", "furnished"}) {
       const auto means = mapValues(r, scenario, "mean_ms", true);
       if (!means.empty())
@@ -261,7 +269,8 @@ int cmdSegmentReport(int argc, char** argv) {
                       std::to_string(files.getValue().size()) + " reports");
   std::vector<Run> runs;
   for (std::size_t i = 0; i < files.getValue().size(); ++i)
-    runs.push_back(readRun(files.getValue()[i], labels.getValue().empty() ? "" : labels.getValue()[i]));
+    runs.push_back(
+        readRun(files.getValue()[i], labels.getValue().empty() ? "" : labels.getValue()[i]));
   fs::create_directories(out.getValue());
   writeTable(runs, out.getValue());
   writeFigures(runs, out.getValue());

@@ -4,6 +4,7 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/run_report.h>
+#include <asf/text.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +15,6 @@
 namespace asf::app {
 
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f", v);
-  return b;
-}
 
 /// Map metres to pixels: the bounding box of the nodes and the zone, y up, aspect kept.
 struct Frame {
@@ -51,47 +46,51 @@ std::string scenarioSvg(const PoseGraph& g, const Zone& zone, const std::vector<
   const double w = 2 * margin + (x1 - x0) * f.scale;
   const double h = 2 * margin + 40 + (y1 - y0) * f.scale + 18.0 * paths.size();
   std::ostringstream s;
-  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(std::max(w, 360.0))
-    << "\" height=\"" << num(h) << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << formatFixed(std::max(w, 360.0), 1)
+    << "\" height=\"" << formatFixed(h, 1) << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << margin << "\" y=\"22\" font-size=\"14\">" << report::htmlEscape(title)
+    << "<text x=\"" << margin << "\" y=\"22\" font-size=\"14\">" << htmlEscape(title)
     << "</text>\n";
   const double zx = f.px(std::min(zone.x0, zone.x1)), zy = f.py(std::max(zone.y0, zone.y1));
-  s << "<rect x=\"" << num(zx) << "\" y=\"" << num(zy) << "\" width=\""
-    << num(std::abs(zone.x1 - zone.x0) * f.scale) << "\" height=\""
-    << num(std::abs(zone.y1 - zone.y0) * f.scale)
+  s << "<rect x=\"" << formatFixed(zx, 1) << "\" y=\"" << formatFixed(zy, 1) << "\" width=\""
+    << formatFixed(std::abs(zone.x1 - zone.x0) * f.scale, 1) << "\" height=\""
+    << formatFixed(std::abs(zone.y1 - zone.y0) * f.scale, 1)
     << "\" fill=\"#2c6fdc\" fill-opacity=\"0.22\" stroke=\"#2c6fdc\" stroke-width=\"1.5\"/>\n";
   for (const auto& e : g.edges) {
     if (e.from >= g.size() || e.to >= g.size()) continue;
     const auto &a = g.nodes[e.from].pose, &b = g.nodes[e.to].pose;
     const bool consecutive = e.from + 1 == e.to || e.to + 1 == e.from;
-    s << "<line x1=\"" << num(f.px(a.x())) << "\" y1=\"" << num(f.py(a.y())) << "\" x2=\""
-      << num(f.px(b.x())) << "\" y2=\"" << num(f.py(b.y())) << "\" stroke=\""
-      << (consecutive ? "#888" : "#bbb") << "\" stroke-width=\"0.8\""
+    s << "<line x1=\"" << formatFixed(f.px(a.x()), 1) << "\" y1=\"" << formatFixed(f.py(a.y()), 1)
+      << "\" x2=\"" << formatFixed(f.px(b.x()), 1) << "\" y2=\"" << formatFixed(f.py(b.y()), 1)
+      << "\" stroke=\"" << (consecutive ? "#888" : "#bbb") << "\" stroke-width=\"0.8\""
       << (consecutive ? "" : " stroke-dasharray=\"3,2\"") << "/>\n";
   }
   for (const auto& n : g.nodes)
-    s << "<circle cx=\"" << num(f.px(n.pose.x())) << "\" cy=\"" << num(f.py(n.pose.y()))
-      << "\" r=\"1.6\" fill=\"" << (zone.contains(n.pose) ? "#2c6fdc" : "#333") << "\"/>\n";
+    s << "<circle cx=\"" << formatFixed(f.px(n.pose.x()), 1) << "\" cy=\""
+      << formatFixed(f.py(n.pose.y()), 1) << "\" r=\"1.6\" fill=\""
+      << (zone.contains(n.pose) ? "#2c6fdc" : "#333") << "\"/>\n";
   double legend_y = 2 * margin + 40 + (y1 - y0) * f.scale + 4;
   for (const auto& p : paths) {
     s << "<polyline fill=\"none\" stroke=\"" << p.color
       << "\" stroke-width=\"3\" stroke-opacity=\"0.75\" stroke-linejoin=\"round\" points=\"";
     for (NodeId v : p.nodes)
-      s << num(f.px(g.nodes[v].pose.x())) << "," << num(f.py(g.nodes[v].pose.y())) << " ";
-    s << "\"/>\n<line x1=\"" << margin << "\" y1=\"" << num(legend_y) << "\" x2=\"" << margin + 24
-      << "\" y2=\"" << num(legend_y) << "\" stroke=\"" << p.color
-      << "\" stroke-width=\"3\"/><text x=\"" << margin + 30 << "\" y=\"" << num(legend_y + 4)
-      << "\">" << report::htmlEscape(p.label) << "</text>\n";
+      s << formatFixed(f.px(g.nodes[v].pose.x()), 1) << ","
+        << formatFixed(f.py(g.nodes[v].pose.y()), 1) << " ";
+    s << "\"/>\n<line x1=\"" << margin << "\" y1=\"" << formatFixed(legend_y, 1) << "\" x2=\""
+      << margin + 24 << "\" y2=\"" << formatFixed(legend_y, 1) << "\" stroke=\"" << p.color
+      << "\" stroke-width=\"3\"/><text x=\"" << margin + 30 << "\" y=\""
+      << formatFixed(legend_y + 4, 1) << "\">" << htmlEscape(p.label) << "</text>\n";
     legend_y += 18;
   }
   if (!paths.empty() && !paths.front().nodes.empty()) {
     const auto& a = g.nodes[paths.front().nodes.front()].pose;
     const auto& b = g.nodes[paths.front().nodes.back()].pose;
     for (const auto& [pose, mark] : {std::make_pair(a, "S"), std::make_pair(b, "G")})
-      s << "<circle cx=\"" << num(f.px(pose.x())) << "\" cy=\"" << num(f.py(pose.y()))
-        << "\" r=\"6\" fill=\"white\" stroke=\"black\"/><text x=\"" << num(f.px(pose.x()) - 4)
-        << "\" y=\"" << num(f.py(pose.y()) + 4) << "\" font-size=\"10\">" << mark << "</text>\n";
+      s << "<circle cx=\"" << formatFixed(f.px(pose.x()), 1) << "\" cy=\""
+        << formatFixed(f.py(pose.y()), 1)
+        << "\" r=\"6\" fill=\"white\" stroke=\"black\"/><text x=\""
+        << formatFixed(f.px(pose.x()) - 4, 1) << "\" y=\"" << formatFixed(f.py(pose.y()) + 4, 1)
+        << "\" font-size=\"10\">" << mark << "</text>\n";
   }
   s << "</svg>\n";
   return s.str();
@@ -113,7 +112,7 @@ nlohmann::json writeScenarioFigures(const PoseGraph& g, const Zone& zone,
   const std::string name = scenario.value("name", "?");
   const std::string what = "scenario " + name + " (zone " +
                            std::to_string(scenario.value("zone_index", 0)) + ", covariance x" +
-                           num(scenario.value("factor", 0.0)) + ")";
+                           formatFixed(scenario.value("factor", 0.0), 1) + ")";
   auto write = [&](const std::string& file, const std::string& text) {
     writeFileAtomically(out_dir + "/" + file, text, "figure");
     return file;

@@ -1,6 +1,8 @@
 #pragma once
 // Internal to `asf reproduce`: how the rows are collected (reproduce_rows*.cpp, one file per
 // chapter of the thesis) and the number formats they share.
+#include <asf/text.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,17 +19,11 @@ namespace asf::app::reproduce {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+/// A table cell: fixed decimals, "n/a" for a value the run did not produce (NaN, inf).
 inline std::string fmt(double v, int digits = 1) {
-  if (!std::isfinite(v)) return "n/a";
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
+  return std::isfinite(v) ? formatFixed(v, digits) : "n/a";
 }
-inline std::string sci(double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.3g", v);
-  return b;
-}
+inline std::string sci(double v) { return formatSignificant(v, 3); }
 inline std::string pm(double mean, double sd, int digits) {
   return fmt(mean, digits) + " ± " + fmt(sd, digits);
 }

@@ -1,7 +1,9 @@
 // The report of `asf reproduce`: report.json (everything, for scripts), report.md (the rows
 // and links to the figures) and report.html (self-contained: SVGs inline, PNGs embedded).
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/run_report.h>
+#include <asf/text.h>
 
 #include <filesystem>
 #include <fstream>
@@ -111,7 +113,7 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
   j["figures"] = json::array();
   for (const auto& f : r.figures)
     j["figures"].push_back({{"section", f.section}, {"caption", f.caption}, {"file", f.file}});
-  report::writeFileAtomically(s.out + "/report.json", j.dump(1) + "\n");
+  writeFileAtomically(s.out + "/report.json", j.dump(1) + "\n");
 
   const std::size_t missing = r.missing();
   const std::string title = "The thesis' chapters 3-6 reproduced by asf";
@@ -134,13 +136,13 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
             "the "
             "thesis' experiments give.</p>";
   html << "<p>" << r.rows.size() << " rows, " << missing << " without an asf value. asf "
-       << ASF_VERSION_STRING << "; data " << report::htmlEscape(s.shared) << ".</p>";
+       << ASF_VERSION_STRING << "; data " << htmlEscape(s.shared) << ".</p>";
 
   for (const auto& section : sectionOrder(r)) {
     const std::string note = sectionNote(r, section);
     md << "\n## " << section << "\n\n" << (note.empty() ? "" : note + "\n\n");
-    html << "<h2>" << report::htmlEscape(section) << "</h2>"
-         << (note.empty() ? "" : "<p>" + report::htmlEscape(note) + "</p>");
+    html << "<h2>" << htmlEscape(section) << "</h2>"
+         << (note.empty() ? "" : "<p>" + htmlEscape(note) + "</p>");
     bool any = false;
     for (const auto& row : r.rows) {
       if (row.section != section) continue;
@@ -153,10 +155,9 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
       }
       md << "| " << mdCell(row.item) << " | " << mdCell(row.thesis) << " | " << mdCell(row.asf)
          << " | " << mdCell(row.difference) << " | " << mdCell(row.note) << " |\n";
-      html << "<tr><td>" << report::htmlEscape(row.item) << "</td><td>"
-           << report::htmlEscape(row.thesis) << "</td><td>" << report::htmlEscape(row.asf)
-           << "</td><td>" << report::htmlEscape(row.difference) << "</td><td>"
-           << report::htmlEscape(row.note) << "</td></tr>";
+      html << "<tr><td>" << htmlEscape(row.item) << "</td><td>" << htmlEscape(row.thesis)
+           << "</td><td>" << htmlEscape(row.asf) << "</td><td>" << htmlEscape(row.difference)
+           << "</td><td>" << htmlEscape(row.note) << "</td></tr>";
     }
     if (any) html << "</table>";
     for (const auto& f : r.figures) {
@@ -164,20 +165,20 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
       md << "\n![" << f.caption << "](" << f.file << ")\n";
       const std::string img = embedded(s.out + "/" + f.file, f.caption);
       if (!img.empty())
-        html << "<div><figure>" << img << "<figcaption>" << report::htmlEscape(f.caption) << " ("
-             << report::htmlEscape(f.file) << ")</figcaption></figure></div>";
+        html << "<div><figure>" << img << "<figcaption>" << htmlEscape(f.caption) << " ("
+             << htmlEscape(f.file) << ")</figcaption></figure></div>";
     }
   }
   html << "<h2>Stages</h2><table><tr><th>stage</th><th>what</th><th>status</th><th>time [s]</th>"
           "<th>note</th></tr>";
   for (std::size_t i = 0; i < stages.size(); ++i)
-    html << "<tr><td>" << stages[i].id << "</td><td>" << report::htmlEscape(stages[i].title)
-         << "</td><td>" << statusName(results[i].status) << "</td><td>"
-         << static_cast<long>(results[i].seconds + 0.5) << "</td><td>"
-         << report::htmlEscape(results[i].why) << "</td></tr>";
+    html << "<tr><td>" << stages[i].id << "</td><td>" << htmlEscape(stages[i].title) << "</td><td>"
+         << statusName(results[i].status) << "</td><td>"
+         << static_cast<long>(results[i].seconds + 0.5) << "</td><td>" << htmlEscape(results[i].why)
+         << "</td></tr>";
   html << "</table></body></html>\n";
-  report::writeFileAtomically(s.out + "/report.md", md.str());
-  report::writeFileAtomically(s.out + "/report.html", html.str());
+  writeFileAtomically(s.out + "/report.md", md.str());
+  writeFileAtomically(s.out + "/report.html", html.str());
 }
 
 }  // namespace asf::app::reproduce

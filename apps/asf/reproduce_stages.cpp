@@ -4,6 +4,7 @@
 // with fewer start/goal pairs (the full sweep takes 100 min) and, under --quick, smoke-run
 // sizes.
 #include <asf/errors.h>
+#include <asf/text.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -33,14 +34,10 @@ Command cmd(Argv argv, std::string stdout_file = "") {
   return {[argv] { return argv; }, std::move(stdout_file)};
 }
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 /// What the cave runs depend on: where they stop.
-std::string caveRunSettings(const Settings& s) { return "max_distance=" + num(s.max_distance); }
+std::string caveRunSettings(const Settings& s) {
+  return "max_distance=" + formatSignificant(s.max_distance, 6);
+}
 
 /// The line of the thesis' graph list (optexp/graphs.txt) that Figs. 5.11-5.13 draw: the
 /// thesis does not say which graphs it drew, so each is the first graph with the structure
@@ -153,7 +150,7 @@ Stage table32Stage(const Settings& s) {
                                          "--set",
                                          "max_seconds=0",
                                          "--set",
-                                         "voronoi_odometry_step=" + num(step),
+                                         "voronoi_odometry_step=" + formatSignificant(step, 6),
                                          "--set",
                                          std::string("voronoi_cov_scale=") + scale,
                                          "--image",
@@ -324,7 +321,8 @@ std::string writeExperimentIni(const Settings& s, const std::string& file,
   f << "; written by asf reproduce\n[experiment]\npipeline = " << s.configs << "/cave_thesis.ini"
     << "\npolicies = " << policies << "\nreplications = " << s.replications << "\nfirst_seed = 1\n"
     << "overrides = frontier.robot_radius=0.325; pipeline.progress_interval=0"
-    << (s.max_distance > 0 ? "; pipeline.max_distance=" + num(s.max_distance) : "") << "\n";
+    << (s.max_distance > 0 ? "; pipeline.max_distance=" + formatSignificant(s.max_distance, 6) : "")
+    << "\n";
   if (!f) throw Error(file + ": cannot write");
   return file;
 }
@@ -379,7 +377,7 @@ Stage fig61Stage(const Settings& s) {
       "--set",
       std::string("pipeline.snapshot_distances=") + (s.max_distance > 0 ? "10,20,30" : "15,40,90")};
   if (s.max_distance > 0)
-    a.insert(a.end(), {"--set", "pipeline.max_distance=" + num(s.max_distance)});
+    a.insert(a.end(), {"--set", "pipeline.max_distance=" + formatSignificant(s.max_distance, 6)});
   st.commands.push_back(cmd(a, "run.txt"));
   return st;
 }

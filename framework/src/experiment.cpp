@@ -1,10 +1,11 @@
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/experiment.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
-
+#include <asf/text.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -34,8 +35,7 @@ using nlohmann::json;
 namespace {
 
 const KeySpec kExperimentKeys[] = {
-    keyPath("pipeline", nullptr,
-            "Pipeline INI every run uses (relative to this INI's folder)"),
+    keyPath("pipeline", nullptr, "Pipeline INI every run uses (relative to this INI's folder)"),
     keyString("policies", nullptr, "Policy plugins to compare, comma-separated"),
     keyInt("replications", "10", "Runs per policy (seeds first_seed, first_seed + 1, ...)", 1,
            100000),
@@ -48,12 +48,6 @@ const KeySpec kExperimentKeys[] = {
               "';'-separated section.key=value applied to every run (as asf run --set)"),
 };
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
 std::vector<std::string> splitTrim(const std::string& s, char sep) {
   std::vector<std::string> out;
   std::stringstream ss(s);
@@ -61,12 +55,6 @@ std::vector<std::string> splitTrim(const std::string& s, char sep) {
   while (std::getline(ss, item, sep))
     if (!trim(item).empty()) out.push_back(trim(item));
   return out;
-}
-
-std::string fixed(double v, int digits) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
 }
 
 /// How long runs get after SIGINT to write their outputs before they are killed.
@@ -143,8 +131,8 @@ pid_t spawnRun(const std::vector<std::string>& args, const std::string& log, std
   posix_spawnattr_setsigdefault(&at, &def);
   posix_spawnattr_setsigmask(&at, &none);
   posix_spawnattr_setpgroup(&at, 0);
-  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF |
-                                    POSIX_SPAWN_SETSIGMASK);
+  posix_spawnattr_setflags(&at,
+                           POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
   pid_t pid = -1;
   const int rc = posix_spawn(&pid, argv[0], &fa, &at, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
@@ -271,7 +259,8 @@ bool readCurves(const std::string& dir, Curve& coverage, Curve& epd) {
 
 std::string cell(const Stat& s, const Metric& m, std::size_t finished) {
   if (s.n == 0) return "–";
-  std::string c = fixed(s.mean * m.scale, m.digits) + " ± " + fixed(s.std * m.scale, m.digits);
+  std::string c =
+      formatFixed(s.mean * m.scale, m.digits) + " ± " + formatFixed(s.std * m.scale, m.digits);
   if (s.n < finished) c += " (n=" + std::to_string(s.n) + ")";
   return c;
 }
@@ -293,13 +282,9 @@ const KeySpec* experimentKeys(std::size_t& n) {
 ExperimentConfig readExperimentConfig(const std::string& ini_path) {
   const IniConfig ini = IniConfig::fromFile(ini_path);
   for (const auto& s : ini.sections())
-    if (s != "experiment") {
-      std::string msg = ini.where(s) + ": unknown section [" + s +
-                        "] (an experiment INI has only [experiment]";
-      const std::string hint = didYouMean(s, {"experiment"});
-      msg += hint.empty() ? ")" : "; did you mean [" + hint + "]?)";
-      throw ConfigError(msg);
-    }
+    if (s != "experiment")
+      throw ConfigError(
+          ini.unknownSection(s, {"experiment"}, "an experiment INI has only [experiment]"));
   std::size_t n = 0;
   const KeySpec* keys = experimentKeys(n);
   const Params p = ini.resolve("experiment", keys, n);
@@ -367,9 +352,9 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std:
       todo.push_back(i);
     }
   }
-  const std::size_t jobs =
-      cfg.jobs > 0 ? static_cast<std::size_t>(cfg.jobs)
-                   : std::max<std::size_t>(1, std::thread::hardware_concurrency());
+  const std::size_t jobs = cfg.jobs > 0
+                               ? static_cast<std::size_t>(cfg.jobs)
+                               : std::max<std::size_t>(1, std::thread::hardware_concurrency());
 
   struct Running {
     std::size_t run;
@@ -402,9 +387,15 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std:
       if (ec) throw Error(run.dir + ": cannot create: " + ec.message());
       // A stale summary.json (interrupted, error) must not pass for this run's result.
       fs::remove(fs::path(run.dir) / "summary.json", ec);
-      std::vector<std::string> args{asf_exe, "run", cfg.pipeline_ini, "--out", run.dir,
-                                    "--set", "pipeline.policy=" + run.policy,
-                                    "--set", "pipeline.seed=" + std::to_string(run.seed)};
+      std::vector<std::string> args{asf_exe,
+                                    "run",
+                                    cfg.pipeline_ini,
+                                    "--out",
+                                    run.dir,
+                                    "--set",
+                                    "pipeline.policy=" + run.policy,
+                                    "--set",
+                                    "pipeline.seed=" + std::to_string(run.seed)};
       for (const auto& o : cfg.overrides) {
         args.push_back("--set");
         args.push_back(o);
@@ -419,8 +410,8 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std:
         say(prefix() + run.policy + " seed " + std::to_string(run.seed) + ": " + error);
         continue;
       }
-      running.push_back({static_cast<std::size_t>(&run - runs.data()), pid,
-                         std::chrono::steady_clock::now()});
+      running.push_back(
+          {static_cast<std::size_t>(&run - runs.data()), pid, std::chrono::steady_clock::now()});
       say("started " + run.policy + " seed " + std::to_string(run.seed) + " -> " + run.dir);
     }
     if (running.empty() && (stopping || next >= todo.size())) break;
@@ -446,7 +437,7 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std:
       } else if (WIFSIGNALED(st)) {
         run.exit_code = 128 + WTERMSIG(st);
         line += "killed by signal " + std::to_string(WTERMSIG(st)) + " after " +
-                fixed(secs, 1) + " s" +
+                formatFixed(secs, 1) + " s" +
                 (killed ? " (did not stop within " + std::to_string(kStopGrace.count()) +
                               " s of SIGINT)"
                         : "") +
@@ -457,15 +448,15 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std:
         const json s = readSummary(run.dir, why);
         const std::string status = runStatus(s, why);
         if (status == "finished") {
-          line += "finished in " + fixed(secs, 1) + " s (";
+          line += "finished in " + formatFixed(secs, 1) + " s (";
           const double c = number(s, "coverage"), d = number(s, "distance_m");
-          if (std::isfinite(c)) line += "coverage " + fixed(100 * c, 1) + "%, ";
-          line += "distance " + (std::isfinite(d) ? fixed(d, 1) : std::string("?")) + " m)";
+          if (std::isfinite(c)) line += "coverage " + formatFixed(100 * c, 1) + "%, ";
+          line += "distance " + (std::isfinite(d) ? formatFixed(d, 1) : std::string("?")) + " m)";
         } else if (status == "interrupted") {
-          line += "interrupted after " + fixed(secs, 1) + " s";
+          line += "interrupted after " + formatFixed(secs, 1) + " s";
         } else {
           line += "failed (exit " + std::to_string(run.exit_code) + ", " + status + ") after " +
-                  fixed(secs, 1) + " s: " + lastLine(log) + " (see " + log + ")";
+                  formatFixed(secs, 1) + " s: " + lastLine(log) + " (see " + log + ")";
         }
       }
       say(line);
@@ -534,12 +525,13 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
       notes += "- " + r->policy + " seed " + std::to_string(r->seed) + ": " + r->status + "\n";
   }
   const std::string table = md.str();
-  report::writeFileAtomically((out / "summary.md").string(), table + notes);
+  writeFileAtomically((out / "summary.md").string(), table + notes);
 
   // CSV: raw values (coverage as a fraction), as summary.json.
   std::ostringstream csv;
   csv << "policy,finished,total";
-  for (const auto& m : kMetrics) csv << ',' << m.key << "_mean," << m.key << "_std," << m.key << "_n";
+  for (const auto& m : kMetrics)
+    csv << ',' << m.key << "_mean," << m.key << "_std," << m.key << "_n";
   csv << '\n';
   for (const auto& p : cfg.policies) {
     csv << p << ',' << finished[p] << ',' << total;
@@ -549,7 +541,7 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
     }
     csv << '\n';
   }
-  report::writeFileAtomically((out / "summary.csv").string(), csv.str());
+  writeFileAtomically((out / "summary.csv").string(), csv.str());
 
   // JSON.
   json j;
@@ -582,13 +574,17 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
     jr.push_back(e);
   }
   j["runs"] = jr;
-  report::writeFileAtomically((out / "summary.json").string(), j.dump(2) + "\n");
+  writeFileAtomically((out / "summary.json").string(), j.dump(2) + "\n");
 
   // Curves over all runs of a policy.
-  plot::Figure cov{"Coverage vs distance (mean ± std over runs)", "distance travelled (m)",
-                   "coverage of the reachable area (%)", {}};
+  plot::Figure cov{"Coverage vs distance (mean ± std over runs)",
+                   "distance travelled (m)",
+                   "coverage of the reachable area (%)",
+                   {}};
   plot::Figure epd{"Pose error per distance travelled (mean ± std over runs)",
-                   "distance travelled (m)", "pose error / distance", {}};
+                   "distance travelled (m)",
+                   "pose error / distance",
+                   {}};
   std::size_t without_ts = 0;
   for (const auto& p : cfg.policies) {
     std::vector<Curve> cc, ec2;
@@ -609,17 +605,19 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
     };
     const std::string label_c = p + " (" + std::to_string(cc.size()) + " runs)";
     const std::string label_e = p + " (" + std::to_string(ec2.size()) + " runs)";
-    if (!cc.empty() && dmax(cc) > 0) cov.series.push_back(meanCurve(label_c, cc, true, dmax(cc)));
-    else cov.series.push_back(plot::series(label_c, {}, {}));
+    if (!cc.empty() && dmax(cc) > 0)
+      cov.series.push_back(meanCurve(label_c, cc, true, dmax(cc)));
+    else
+      cov.series.push_back(plot::series(label_c, {}, {}));
     if (!ec2.empty() && dmax(ec2) > 0)
       epd.series.push_back(meanCurve(label_e, ec2, false, dmax(ec2)));
-    else epd.series.push_back(plot::series(label_e, {}, {}));
+    else
+      epd.series.push_back(plot::series(label_e, {}, {}));
   }
   plot::writeSvg(cov, (out / "coverage_vs_distance.svg").string());
   plot::writeSvg(epd, (out / "error_per_distance_vs_distance.svg").string());
 
   // report.html: everything above in one file.
-  using report::htmlEscape;
   std::ostringstream h;
   const std::string name = fs::absolute(out).lexically_normal().filename().string();
   h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>asf "
@@ -637,14 +635,14 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
   for (const auto& m : kMetrics) h << "<th>" << htmlEscape(m.title) << "</th>";
   h << "</tr>\n";
   for (const auto& p : cfg.policies) {
-    h << "<tr><td>" << htmlEscape(p) << "</td><td class=\"num\">" << finished[p] << '/'
-      << total << "</td>";
+    h << "<tr><td>" << htmlEscape(p) << "</td><td class=\"num\">" << finished[p] << '/' << total
+      << "</td>";
     for (const auto& m : kMetrics)
       h << "<td class=\"num\">" << htmlEscape(cell(stats[p][m.key], m, finished[p])) << "</td>";
     h << "</tr>\n";
   }
-  h << "</table>\n<h2>Curves</h2>\n<div class=\"grid\">\n<div>" << plot::svg(cov)
-    << "</div>\n<div>" << plot::svg(epd) << "</div>\n</div>\n";
+  h << "</table>\n<h2>Curves</h2>\n<div class=\"grid\">\n<div>" << plot::svg(cov) << "</div>\n<div>"
+    << plot::svg(epd) << "</div>\n</div>\n";
   if (without_ts)
     h << "<p class=\"note\">" << without_ts
       << " finished run(s) without a usable timeseries.csv: no curves from them.</p>\n";
@@ -658,8 +656,8 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
       }
     h << "<div><figure>";
     if (first) {
-      const std::string img = report::embeddedPng((fs::path(first->dir) / "map.png").string(),
-                                                  p + " map");
+      const std::string img =
+          report::embeddedPng((fs::path(first->dir) / "map.png").string(), p + " map");
       h << (img.empty() ? "<p class=\"note\">map.png unreadable</p>" : img);
       h << "<figcaption>" << htmlEscape(p) << ", seed " << first->seed << "</figcaption>";
     } else {
@@ -673,7 +671,7 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
     const std::string rel = r.policy + "/seed_" + std::to_string(r.seed) + "/";
     auto val = [&](const char* k, double scale, int digits) {
       const double v = number(r.summary, k);
-      return std::isfinite(v) ? fixed(v * scale, digits) : std::string("–");
+      return std::isfinite(v) ? formatFixed(v * scale, digits) : std::string("–");
     };
     h << "<tr><td>" << htmlEscape(r.policy) << "</td><td class=\"num\">" << r.seed << "</td><td"
       << (r.ok() ? "" : " class=\"note\"") << ">" << htmlEscape(r.status)
@@ -687,7 +685,7 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
     h << "</td></tr>\n";
   }
   h << "</table>\n<p class=\"foot\">asf " ASF_VERSION_STRING "</p>\n</body>\n</html>\n";
-  report::writeFileAtomically((out / "report.html").string(), h.str());
+  writeFileAtomically((out / "report.html").string(), h.str());
   return table + notes;
 }
 

@@ -1,6 +1,7 @@
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
 #include <asf/segmentation_eval.h>
+#include <asf/text.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>
@@ -15,13 +16,6 @@ namespace asf {
 namespace {
 
 constexpr double kMaxOrigin = 1e5;  ///< [m]: float spacing there is 8 mm
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const auto b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
 
 double number(const std::string& v, const std::string& where) {
   std::size_t used = 0;
@@ -48,8 +42,8 @@ void writeOccupancyMap(const GridMap& map, const std::string& stem) {
   // unknown.
   os << std::setprecision(17) << "# map_server occupancy map written by asf: free 255, "
      << "occupied 0, unknown 128\nimage: " << std::filesystem::path(stem).filename().string()
-     << ".png\nresolution: " << map.grid->getResolution() << "\norigin: ["
-     << map.grid->getXMin() << ", " << map.grid->getYMin()
+     << ".png\nresolution: " << map.grid->getResolution() << "\norigin: [" << map.grid->getXMin()
+     << ", " << map.grid->getYMin()
      << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.35\n";
   std::ofstream f(stem + ".yaml");
   f << os.str();
@@ -73,8 +67,8 @@ OccupancyMapInfo readOccupancyYaml(const std::string& path) {
     const std::string key = trim(t.substr(0, colon)), v = trim(t.substr(colon + 1));
     if (!seen.insert(key).second) throw InputError(where + ": '" + key + "' given twice");
     if (key == "image") {
-      m.image = v.size() >= 2 && (v.front() == '"' || v.front() == '\'') ? v.substr(1, v.size() - 2)
-                                                                          : v;
+      m.image =
+          v.size() >= 2 && (v.front() == '"' || v.front() == '\'') ? v.substr(1, v.size() - 2) : v;
       if (m.image.empty()) throw InputError(where + ": empty image");
     } else if (key == "resolution") {
       m.resolution = number(v, where);
@@ -95,7 +89,8 @@ OccupancyMapInfo readOccupancyYaml(const std::string& path) {
       m.origin_y = xyz[1];
       m.origin_yaw = xyz[2];
       if (!(std::abs(m.origin_x) <= kMaxOrigin && std::abs(m.origin_y) <= kMaxOrigin))
-        throw InputError(where + ": origin more than 100 km from 0 (MRPT's grids keep "
+        throw InputError(where +
+                         ": origin more than 100 km from 0 (MRPT's grids keep "
                          "coordinates as float: cells there would not be told apart)");
       if (m.origin_yaw != 0)
         throw InputError(where + ": a rotated map (origin yaw " + trim(part) +

@@ -3,6 +3,7 @@
 #include <asf/map3d.h>
 #include <asf/pipeline.h>
 #include <asf/run_report.h>
+#include <asf/text.h>
 #include <asf/trajectory_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -213,13 +214,10 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
                             section + "', which this pipeline does not use");
       continue;
     }
-    std::string msg = ini.where(section) + ": unknown section [" + section + "]";
-    const std::string hint = didYouMean(section, known_sections);
-    if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
-    msg +=
-        "; sections are [pipeline], [map], [topology], [map3d] and one per plugin, named "
-        "after it";
-    errors.push_back(msg);
+    errors.push_back(ini.unknownSection(
+        section, known_sections,
+        "sections are [pipeline], [map], [topology], [map3d] and one per plugin, named after "
+        "it"));
   }
   for (const auto& [slot, info] : rc.slots) {
     attempt([&, &info = info] {
@@ -378,10 +376,6 @@ void Pipeline::Impl::segmentWorld() {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
 }  // namespace
 
 void Pipeline::Impl::addKeyframes3d(const SensorFrame& f, std::size_t nodes_before) {
@@ -479,7 +473,7 @@ bool Pipeline::Impl::updateNavMap(bool map2d_changed) {
 std::vector<std::string> Pipeline::outputFiles() {
   return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv", "graph.g2o",
           "keyframes.txt", "map.png",        "regions.png",    "occupancy.png", "occupancy.yaml",
-          "topology.json", "topology.svg",   "summary.json",   "progress.json",  "report.html"};
+          "topology.json", "topology.svg",   "summary.json",   "progress.json", "report.html"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) {

@@ -1,5 +1,6 @@
 #include "recorder.h"
 
+#include <asf/atomic_file.h>
 #include <asf/occupancy_io.h>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
@@ -46,7 +47,7 @@ json gridGeometry(const mrpt::maps::COccupancyGridMap2D& g) {
 }
 
 void writeAtomically(const std::string& path, const std::string& text) {
-  report::writeFileAtomically(path, text);
+  writeFileAtomically(path, text);
 }
 
 using render::MapImage;

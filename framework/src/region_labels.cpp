@@ -36,8 +36,8 @@ void boundary(const LabelImage& L, const Provisional& p, Region& r) {
     Polygon poly;
     poly.reserve(c.size());
     for (const auto& q : c)
-      poly.push_back({L.origin_x + (q.x + 0.5) * L.resolution,
-                      L.origin_y + (q.y + 0.5) * L.resolution});
+      poly.push_back(
+          {L.origin_x + (q.x + 0.5) * L.resolution, L.origin_y + (q.y + 0.5) * L.resolution});
     return poly;
   };
   // Holes belong to the outer contour they sit in; keep the largest piece and its holes.
@@ -221,7 +221,8 @@ CellBox unite(const CellBox& a, const CellBox& b) {
   if (a.empty()) return b;
   if (b.empty()) return a;
   const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
-  const int x1 = std::max(a.x + a.width, b.x + b.width), y1 = std::max(a.y + a.height, b.y + b.height);
+  const int x1 = std::max(a.x + a.width, b.x + b.width),
+            y1 = std::max(a.y + a.height, b.y + b.height);
   return {x0, y0, x1 - x0, y1 - y0};
 }
 

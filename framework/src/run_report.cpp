@@ -1,8 +1,9 @@
-#include <asf/atomic_file.h>
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
+#include <asf/text.h>
 
 #include <algorithm>
 #include <cmath>
@@ -47,7 +48,6 @@ double parseNumber(const std::string& s) {
   while (end && (*end == ' ' || *end == '\t')) ++end;
   return end && !*end ? v : NAN;
 }
-
 
 }  // namespace
 
@@ -94,20 +94,6 @@ std::map<std::string, std::vector<double>> readCsvColumns(const std::string& pat
   return cols;
 }
 
-std::string htmlEscape(const std::string& text) {
-  std::string o;
-  for (char c : text) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
-
 std::string embeddedPng(const std::string& path, const std::string& alt) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";
@@ -132,15 +118,9 @@ figcaption{color:#555;font-size:.85em}
 )";
 }
 
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  asf::writeFileAtomically(path, text);
-}
-
 }  // namespace report
 
 namespace {
-
-using report::htmlEscape;
 
 /// Units and readable names of the summary keys, in the order the table shows them.
 struct KeyInfo {
@@ -210,8 +190,8 @@ std::string summaryTable(const json& j) {
   o << "<table>\n";
   auto row = [&](const std::string& label, const std::string& key, const json& v) {
     const bool numeric = v.is_number();
-    o << "<tr><th>" << htmlEscape(label) << "</th><td" << (numeric ? " class=\"num\"" : "")
-      << ">" << htmlEscape(fmtValue(key, v)) << "</td></tr>\n";
+    o << "<tr><th>" << htmlEscape(label) << "</th><td" << (numeric ? " class=\"num\"" : "") << ">"
+      << htmlEscape(fmtValue(key, v)) << "</td></tr>\n";
   };
   std::vector<std::string> shown;
   for (const auto& k : kSummaryKeys)
@@ -276,11 +256,9 @@ std::string decisionsTable(const std::string& path, std::size_t n, std::string& 
     // A reason with commas (not written by asf, but possible) keeps its tail.
     if (c_reason + 1 == static_cast<int>(header.size()))
       for (std::size_t i = header.size(); i < f.size(); ++i) reason += "," + f[i];
-    const std::string goal =
-        at(c_gx).empty() ? "" : "(" + at(c_gx) + ", " + at(c_gy) + ")";
-    o << "<tr><td class=\"num\">" << htmlEscape(at(c_step)) << "</td><td>"
-      << htmlEscape(at(c_dec)) << "</td><td>" << htmlEscape(goal) << "</td><td>"
-      << htmlEscape(reason) << "</td></tr>\n";
+    const std::string goal = at(c_gx).empty() ? "" : "(" + at(c_gx) + ", " + at(c_gy) + ")";
+    o << "<tr><td class=\"num\">" << htmlEscape(at(c_step)) << "</td><td>" << htmlEscape(at(c_dec))
+      << "</td><td>" << htmlEscape(goal) << "</td><td>" << htmlEscape(reason) << "</td></tr>\n";
   }
   o << "</table>\n";
   return o.str();
@@ -421,8 +399,10 @@ std::string writeRunReport(const std::string& run_dir) {
        << "</p>\n";
 
   body << "<h2>Summary</h2>\n";
-  if (have_summary) body << summaryTable(summary);
-  else body << "<p class=\"note\">No summary (see the notes below).</p>\n";
+  if (have_summary)
+    body << summaryTable(summary);
+  else
+    body << "<p class=\"note\">No summary (see the notes below).</p>\n";
 
   body << "<h2>Maps</h2>\n<div class=\"grid\">\n";
   for (const auto& [file, caption] :
@@ -456,8 +436,7 @@ std::string writeRunReport(const std::string& run_dir) {
     for (const auto& n : notes) body << "<li class=\"note\">" << htmlEscape(n) << "</li>\n";
     body << "</ul>\n";
   }
-  body << "<p class=\"foot\">asf " ASF_VERSION_STRING ", report written " << nowText()
-       << "</p>\n";
+  body << "<p class=\"foot\">asf " ASF_VERSION_STRING ", report written " << nowText() << "</p>\n";
 
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>asf run: "
@@ -465,7 +444,7 @@ std::string writeRunReport(const std::string& run_dir) {
        << report::css() << "</style>\n</head>\n<body>\n"
        << body.str() << "</body>\n</html>\n";
   const std::string out = (dir / "report.html").string();
-  report::writeFileAtomically(out, html.str());
+  writeFileAtomically(out, html.str());
   return out;
 }
 

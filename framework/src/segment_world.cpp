@@ -1,6 +1,7 @@
 // SegmentWorld: walls as line segments, exact ray casting and clearance checks.
 #include <asf/errors.h>
 #include <asf/segment_world.h>
+#include <asf/text.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -14,13 +15,6 @@ namespace asf {
 namespace {
 
 double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
 
 /// Distance from point p to segment [a, b].
 double pointSegmentDistance(const Point2& p, const Point2& a, const Point2& b) {
@@ -106,8 +100,7 @@ SegmentWorld SegmentWorld::parse(const std::string& text) {
 }
 
 SegmentWorld SegmentWorld::rectangle(double x0, double y0, double x1, double y1) {
-  if (!(x1 > x0) || !(y1 > y0))
-    throw Error("SegmentWorld::rectangle: need x0 < x1 and y0 < y1");
+  if (!(x1 > x0) || !(y1 > y0)) throw Error("SegmentWorld::rectangle: need x0 < x1 and y0 < y1");
   return SegmentWorld({Segment{{x0, y0}, {x1, y0}}, Segment{{x1, y0}, {x1, y1}},
                        Segment{{x1, y1}, {x0, y1}}, Segment{{x0, y1}, {x0, y0}}});
 }
@@ -145,9 +138,12 @@ double SegmentWorld::castRay(double x, double y, double angle, double max_range)
       const double ta = wx * dx + wy * dy;
       const double tb = (s.b.x - x) * dx + (s.b.y - y) * dy;
       double t;
-      if (ta >= 0 && tb >= 0) t = std::min(ta, tb);
-      else if (ta <= 0 && tb <= 0) continue;  // wholly behind
-      else t = 0;                             // the origin is on the wall
+      if (ta >= 0 && tb >= 0)
+        t = std::min(ta, tb);
+      else if (ta <= 0 && tb <= 0)
+        continue;  // wholly behind
+      else
+        t = 0;  // the origin is on the wall
       if (t < best) best = t;
     }
   }

@@ -1,6 +1,6 @@
 #include <asf/errors.h>
-#include <asf/segmentation_eval.h>
 #include <asf/run_report.h>
+#include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -10,15 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <sstream>
 #include <limits>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <unordered_map>
 
+#include "image_file.h"
 #include "region_render.h"
 #include "reveal_map.h"
 
@@ -26,234 +26,7 @@ namespace asf {
 
 namespace fs = std::filesystem;
 using Grid = mrpt::maps::COccupancyGridMap2D;
-
-// ---------------------------------------------------------------- drawing (shared) --------
-
-namespace render {
-
-cv::Vec3b regionColour(RegionId id) {
-  // Distinct, deterministic colours from the id (golden-ratio hue walk).
-  const double h = std::fmod(id * 0.618033988749895, 1.0) * 180.0;
-  cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(h, 140, 230)), bgr;
-  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
-  return bgr.at<cv::Vec3b>(0, 0);
-}
-
-MapImage renderGrid(const Grid& g) {
-  MapImage m;
-  m.x0 = g.getXMin(), m.y0 = g.getYMin(), m.res = g.getResolution();
-  const int w = static_cast<int>(g.getSizeX()), h = static_cast<int>(g.getSizeY());
-  m.img = cv::Mat(h, w, CV_8UC3);
-  for (int cy = 0; cy < h; ++cy)
-    for (int cx = 0; cx < w; ++cx) {
-      const auto v = static_cast<unsigned char>(255.0 * g.getCell(cx, cy));  // p(free)
-      m.img.at<cv::Vec3b>(h - 1 - cy, cx) = {v, v, v};
-    }
-  return m;
-}
-
-void drawRegions(MapImage& m, const LabelImage& labels) {
-  std::map<RegionId, cv::Vec3b> colours;  // one HSV conversion per region, not per cell
-  for (int cy = 0; cy < labels.height; ++cy)
-    for (int cx = 0; cx < labels.width; ++cx) {
-      const RegionId r = labels.at(cx, cy);
-      if (r <= 0) continue;
-      const auto p = m.px(labels.origin_x + (cx + 0.5) * labels.resolution,
-                          labels.origin_y + (cy + 0.5) * labels.resolution);
-      if (p.x < 0 || p.y < 0 || p.x >= m.img.cols || p.y >= m.img.rows) continue;
-      auto it = colours.find(r);
-      if (it == colours.end()) it = colours.emplace(r, regionColour(r)).first;
-      m.img.at<cv::Vec3b>(p) = it->second;
-    }
-}
-
-void drawTopology(MapImage& m, const TopoGraph& topo) {
-  for (const auto& e : topo.edges) {
-    const TopoNode* a = topo.node(e.a);
-    const cv::Point mid = m.px(e.midpoint.x, e.midpoint.y);
-    if (e.frontier()) {
-      cv::circle(m.img, mid, 3, {0, 0, 255}, -1);
-      if (a) cv::line(m.img, m.px(a->centroid.x, a->centroid.y), mid, {0, 0, 200}, 1);
-    } else if (const TopoNode* b = topo.node(e.b); a && b) {
-      cv::line(m.img, m.px(a->centroid.x, a->centroid.y), mid, {40, 40, 40}, 1);
-      cv::line(m.img, mid, m.px(b->centroid.x, b->centroid.y), {40, 40, 40}, 1);
-    }
-  }
-  for (const auto& n : topo.nodes)
-    if (n.region > 0) cv::circle(m.img, m.px(n.centroid.x, n.centroid.y), 4, {0, 0, 0}, -1);
-}
-
-void drawRegionIds(MapImage& m, const Segmentation& seg) {
-  for (const auto& r : seg.regions) {
-    const std::string text = std::to_string(r.id);
-    cv::Point p = m.px(r.centroid.x, r.centroid.y) + cv::Point(5, -5);
-    // White halo under black text: readable on any region colour.
-    cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {255, 255, 255}, 3, cv::LINE_AA);
-    cv::putText(m.img, text, p, cv::FONT_HERSHEY_SIMPLEX, 0.4, {0, 0, 0}, 1, cv::LINE_AA);
-  }
-}
-
-std::string topologySvg(const MapImage& m, const cv::Mat& background, const TopoGraph& topo,
-                        const std::vector<Point2>& path) {
-  std::vector<unsigned char> png;
-  cv::imencode(".png", background, png);
-  std::ostringstream os;
-  os << std::fixed << std::setprecision(1);
-  const int W = background.cols, H = background.rows;
-  os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-     << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"sans-serif\">\n"
-     << "<image width=\"" << W << "\" height=\"" << H << "\" href=\"data:image/png;base64,"
-     << report::base64(std::string(png.begin(), png.end())) << "\"/>\n";
-  auto at = [&](const Point2& p) {
-    const cv::Point q = m.px(p.x, p.y);
-    std::ostringstream o;
-    o << std::fixed << std::setprecision(1) << q.x + 0.5 << "," << q.y + 0.5;
-    return o.str();
-  };
-  if (path.size() > 1) {
-    os << "<polyline fill=\"none\" stroke=\"#0050c8\" stroke-width=\"1\" stroke-opacity=\"0.7\" "
-          "points=\"";
-    for (const Point2& p : path) os << at(p) << " ";
-    os << "\"/>\n";
-  }
-  for (const auto& e : topo.edges) {
-    const TopoNode* a = topo.node(e.a);
-    if (!a) continue;
-    if (e.frontier()) {
-      os << "<polyline fill=\"none\" stroke=\"#d00000\" stroke-width=\"1.5\" points=\""
-         << at(a->centroid) << " " << at(e.midpoint) << "\"/>\n";
-      continue;
-    }
-    const TopoNode* b = topo.node(e.b);
-    if (!b) continue;
-    os << "<polyline fill=\"none\" stroke=\"#202020\" stroke-width=\"1.5\" points=\""
-       << at(a->centroid) << " " << at(e.midpoint) << " " << at(b->centroid) << "\"/>\n";
-    const cv::Point q = m.px(e.midpoint.x, e.midpoint.y);
-    os << "<text x=\"" << q.x + 3 << "\" y=\"" << q.y - 3
-       << "\" font-size=\"9\" fill=\"#202020\">" << e.traversals.size() << "</text>\n";
-  }
-  for (const auto& n : topo.nodes) {
-    if (n.region <= 0) continue;
-    const cv::Point q = m.px(n.centroid.x, n.centroid.y);
-    os << "<circle cx=\"" << q.x + 0.5 << "\" cy=\"" << q.y + 0.5 << "\" r=\"4\" fill=\""
-       << (n.visited ? "#000000" : "#ffffff") << "\" stroke=\"#000000\"/>\n";
-    if (n.region == topo.current)
-      os << "<circle cx=\"" << q.x + 0.5 << "\" cy=\"" << q.y + 0.5
-         << "\" r=\"7\" fill=\"none\" stroke=\"#0050c8\" stroke-width=\"2\"/>\n";
-    os << "<text x=\"" << q.x + 6 << "\" y=\"" << q.y - 6
-       << "\" font-size=\"10\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">"
-       << n.region << "</text>\n";
-  }
-  os << "</svg>\n";
-  return os.str();
-}
-
-}  // namespace render
-
-// ---------------------------------------------------------------- image files -------------
-
-namespace {
-
-/// The format of an image file by its first bytes, or nullptr for one asf does not decode:
-/// OpenCV would hand anything to whichever decoder claims it, and some of those abort the
-/// process on a malformed file (fuzzing: GDCM, the DICOM reader, asserts).
-const char* imageFormat(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  unsigned char b[8] = {0};
-  f.read(reinterpret_cast<char*>(b), sizeof b);
-  const auto n = f.gcount();
-  const auto starts = [&](std::initializer_list<int> sig) {
-    if (n < static_cast<std::streamsize>(sig.size())) return false;
-    std::size_t i = 0;
-    for (int c : sig)
-      if (b[i++] != c) return false;
-    return true;
-  };
-  if (starts({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return "PNG";
-  if (n >= 2 && b[0] == 'P' && b[1] >= '1' && b[1] <= '6') return "PNM";
-  if (starts({'B', 'M'})) return "BMP";
-  if (starts({0xff, 0xd8, 0xff})) return "JPEG";
-  if (starts({'I', 'I', '*', 0}) || starts({'M', 'M', 0, '*'})) return "TIFF";
-  return nullptr;
-}
-
-cv::Mat readImage(const std::string& path, int flags) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such file");
-  if (!imageFormat(path))
-    throw InputError(path +
-                     ": cannot be read as an image (not PNG, PGM/PPM/PBM, BMP, JPEG or TIFF)");
-  cv::Mat m;
-  try {
-    m = cv::imread(path, flags);
-  } catch (const cv::Exception& e) {  // some decoders throw (fuzzing: a PBM 33333333 rows high)
-    throw InputError(path + ": cannot be read as an image (" + e.err + ")");
-  }
-  if (m.empty()) throw InputError(path + ": cannot be read as an image (malformed or unsupported)");
-  return m;
-}
-
-void writeImage(const std::string& path, const cv::Mat& m) {
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, m);
-  } catch (const cv::Exception& e) {
-    throw Error(path + ": cannot write (" + e.what() + ")");
-  }
-  if (!ok) throw Error(path + ": cannot write");
-}
-
-}  // namespace
-
-GrayImage readGrayImage(const std::string& path) {
-  const cv::Mat m = readImage(path, cv::IMREAD_GRAYSCALE);
-  GrayImage g;
-  g.width = m.cols;
-  g.height = m.rows;
-  g.pixels.resize(static_cast<std::size_t>(m.cols) * m.rows);
-  for (int r = 0; r < m.rows; ++r)
-    std::copy(m.ptr<std::uint8_t>(r), m.ptr<std::uint8_t>(r) + m.cols,
-              g.pixels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
-  return g;
-}
-
-void writeGrayImage(const std::string& path, const GrayImage& image) {
-  if (image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
-    throw Error(path + ": image size does not match its pixels");
-  cv::Mat m(image.height, image.width, CV_8U, const_cast<std::uint8_t*>(image.pixels.data()));
-  writeImage(path, m);
-}
-
-LabelRaster readLabelImage(const std::string& path) {
-  const cv::Mat m = readImage(path, cv::IMREAD_UNCHANGED);
-  if (m.channels() != 1 || (m.depth() != CV_16U && m.depth() != CV_8U))
-    throw InputError(path + ": not a single-channel 8- or 16-bit label image");
-  cv::Mat m32;
-  m.convertTo(m32, CV_32S);
-  LabelRaster L;
-  L.width = m.cols;
-  L.height = m.rows;
-  L.labels.resize(static_cast<std::size_t>(m.cols) * m.rows);
-  for (int r = 0; r < m.rows; ++r)
-    std::copy(m32.ptr<std::int32_t>(r), m32.ptr<std::int32_t>(r) + m.cols,
-              L.labels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
-  return L;
-}
-
-void writeLabelImage(const std::string& path, const LabelRaster& labels) {
-  if (labels.labels.size() != static_cast<std::size_t>(labels.width) * labels.height)
-    throw Error(path + ": label image size does not match its labels");
-  cv::Mat m(labels.height, labels.width, CV_16U);
-  for (int r = 0; r < labels.height; ++r)
-    for (int c = 0; c < labels.width; ++c) {
-      const std::int32_t v = labels.at(c, r);
-      if (v < 0 || v > 65535)
-        throw Error(path + ": label " + std::to_string(v) +
-                    " does not fit a 16-bit label image (0..65535)");
-      m.at<std::uint16_t>(r, c) = static_cast<std::uint16_t>(v);
-    }
-  writeImage(path, m);
-}
+using detail::writeImage;
 
 // ---------------------------------------------------------------- benchmark reading -------
 
@@ -264,11 +37,10 @@ GridMap gridFromImage(const GrayImage& image, double resolution, int free_thresh
   const int W = image.width, H = image.height;
   std::shared_ptr<Grid> g;
   try {  // MRPT asserts on extents float cannot tell apart (fuzzing: origin 5.8e15 m)
-    g = std::make_shared<Grid>(static_cast<float>(origin_x),
-                               static_cast<float>(origin_x + W * resolution),
-                               static_cast<float>(origin_y),
-                               static_cast<float>(origin_y + H * resolution),
-                               static_cast<float>(resolution));
+    g = std::make_shared<Grid>(
+        static_cast<float>(origin_x), static_cast<float>(origin_x + W * resolution),
+        static_cast<float>(origin_y), static_cast<float>(origin_y + H * resolution),
+        static_cast<float>(resolution));
   } catch (const std::exception& e) {
     throw Error("gridFromImage: MRPT cannot make a " + std::to_string(W) + " x " +
                 std::to_string(H) + " grid of " + std::to_string(resolution) + " m cells at (" +
@@ -456,9 +228,8 @@ double percentile(std::vector<double> values, double p) {
 
 // ---------------------------------------------------------------- overlay, JSON -----------
 
-void writeSegmentationOverlay(const std::string& path, const GridMap& map,
-                              const Segmentation& seg, const TopoGraph* topo,
-                              const LabelRaster* rooms) {
+void writeSegmentationOverlay(const std::string& path, const GridMap& map, const Segmentation& seg,
+                              const TopoGraph* topo, const LabelRaster* rooms) {
   if (!map.grid) throw Error(path + ": no map to draw");
   render::MapImage m = render::renderGrid(*map.grid);
   render::drawRegions(m, seg.labels);
@@ -468,10 +239,9 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map,
       for (int c = 0; c < rooms->width; ++c) {
         const std::int32_t l = rooms->at(c, r);
         if (l <= 0) continue;
-        const bool border = c == 0 || r == 0 || c == rooms->width - 1 ||
-                            r == rooms->height - 1 || rooms->at(c - 1, r) != l ||
-                            rooms->at(c + 1, r) != l || rooms->at(c, r - 1) != l ||
-                            rooms->at(c, r + 1) != l;
+        const bool border = c == 0 || r == 0 || c == rooms->width - 1 || r == rooms->height - 1 ||
+                            rooms->at(c - 1, r) != l || rooms->at(c + 1, r) != l ||
+                            rooms->at(c, r - 1) != l || rooms->at(c, r + 1) != l;
         if (border) m.img.at<cv::Vec3b>(r, c) = {0, 0, 150};
       }
   }
@@ -489,37 +259,17 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map,
   writeImage(path, m.img);
 }
 
-std::string topologyJson(const TopoGraph& topo) {
-  using nlohmann::json;
-  json j;
-  j["current"] = topo.current;
-  j["nodes"] = json::array();
-  for (const auto& n : topo.nodes)
-    j["nodes"].push_back({{"region", n.region}, {"centroid", {n.centroid.x, n.centroid.y}},
-                          {"area_m2", n.area}, {"visited", n.visited},
-                          {"entrance_edge", n.entrance_edge}});
-  j["edges"] = json::array();
-  for (const auto& e : topo.edges) {
-    json t = json::array();
-    for (const auto& tr : e.traversals) t.push_back({{"forward", tr.forward}, {"time_s", tr.time}});
-    j["edges"].push_back({{"a", e.a}, {"b", e.b}, {"frontier", e.frontier()},
-                          {"midpoint", {e.midpoint.x, e.midpoint.y}}, {"width_m", e.width},
-                          {"traversals", t}});
-  }
-  return j.dump(2) + "\n";
-}
-
 // ---------------------------------------------------------------- exploration -------------
 
 struct ExplorationSimulator::State {
   ExplorationOptions opt;
   int W = 0, H = 0;
   double res = 0;
-  std::vector<std::uint8_t> truth_free;   // image orientation, 1 = free
-  std::vector<std::int8_t> known;         // -1 unknown, 0 free, 1 occupied
-  std::vector<std::uint8_t> in_component; // the start's free component
+  std::vector<std::uint8_t> truth_free;    // image orientation, 1 = free
+  std::vector<std::int8_t> known;          // -1 unknown, 0 free, 1 occupied
+  std::vector<std::uint8_t> in_component;  // the start's free component
   std::size_t component_size = 0, component_revealed = 0;
-  int robot = 0;                           // pixel index
+  int robot = 0;  // pixel index
   double path_m = 0;
   std::size_t scans = 0;
   bool started = false;
@@ -527,7 +277,7 @@ struct ExplorationSimulator::State {
   GridMap map;
   std::vector<int> parent;  // BFS scratch (-2 = not visited)
   std::vector<int> queue;
-  std::vector<int> plan;    // remaining path to the current goal (goal last)
+  std::vector<int> plan;  // remaining path to the current goal (goal last)
 
   int col(int i) const { return i % W; }
   int row(int i) const { return i / W; }
@@ -566,8 +316,10 @@ struct ExplorationSimulator::State {
         if (!truth_free[i]) break;
         const double t = std::min(tx, ty);
         if (t > range) break;
-        if (tx < ty) c += sx, tx += tdx;
-        else r += sy, ty += tdy;
+        if (tx < ty)
+          c += sx, tx += tdx;
+        else
+          r += sy, ty += tdy;
         if (c < 0 || r < 0 || c >= W || r >= H) break;
       }
     }
@@ -621,14 +373,13 @@ struct ExplorationSimulator::State {
       changed.extend(c * res, cy * res);
       changed.extend((c + 1) * res, (cy + 1) * res);
     }
-    detail::publishReveal(grid, map, W, H, res, revealed, [&](int i) { return known[i] == 0; },
-                          changed);
+    detail::publishReveal(
+        grid, map, W, H, res, revealed, [&](int i) { return known[i] == 0; }, changed);
   }
 };
 
 ExplorationSimulator::ExplorationSimulator(const GrayImage& image, double resolution,
-                                           const ExplorationOptions& options,
-                                           int free_threshold)
+                                           const ExplorationOptions& options, int free_threshold)
     : s_(std::make_unique<State>()) {
   State& s = *s_;
   s.opt = options;

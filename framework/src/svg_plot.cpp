@@ -2,6 +2,7 @@
 #include <asf/errors.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
+#include <asf/text.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,13 +21,7 @@ const char* const kPalette[] = {"#0072B2", "#D55E00", "#009E73", "#CC79A7",
                                 "#E69F00", "#56B4E9", "#000000", "#F0E442"};
 
 // Text in SVG is escaped as in HTML.
-std::string esc(const std::string& s) { return report::htmlEscape(s); }
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f", v);
-  return b;
-}
+std::string esc(const std::string& s) { return htmlEscape(s); }
 
 /// A tick label with as many decimals as the step needs (0.25 never appears: steps are
 /// 1, 2 or 5 times a power of ten).
@@ -77,9 +72,12 @@ std::vector<std::pair<std::size_t, std::size_t>> runs(std::size_t n, Ok ok) {
 
 std::vector<double> niceTicks(double lo, double hi, int target) {
   if (!finite(lo) || !finite(hi)) {
-    if (finite(lo)) hi = lo;
-    else if (finite(hi)) lo = hi;
-    else lo = 0, hi = 1;
+    if (finite(lo))
+      hi = lo;
+    else if (finite(hi))
+      lo = hi;
+    else
+      lo = 0, hi = 1;
   }
   if (lo > hi) std::swap(lo, hi);
   if (hi - lo <= 1e-12 * std::max(1.0, std::fabs(lo))) {
@@ -150,23 +148,24 @@ std::string svg(const Figure& f) {
 
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << ' ' << H
-    << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+    << "\" viewBox=\"0 0 " << W << ' ' << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   if (!f.title.empty()) o << "<title>" << esc(f.title) << "</title>\n";
   o << "<rect x=\"0\" y=\"0\" width=\"" << W << "\" height=\"" << H << "\" fill=\"white\"/>\n";
   if (!f.title.empty())
-    o << "<text x=\"" << num(W / 2) << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\" "
+    o << "<text x=\"" << formatFixed(W / 2, 1)
+      << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\" "
       << "font-weight=\"bold\">" << esc(f.title) << "</text>\n";
-  o << "<rect x=\"" << num(left) << "\" y=\"" << num(top) << "\" width=\"" << num(pw)
-    << "\" height=\"" << num(ph) << "\" fill=\"none\" stroke=\"#444\"/>\n";
+  o << "<rect x=\"" << formatFixed(left, 1) << "\" y=\"" << formatFixed(top, 1) << "\" width=\""
+    << formatFixed(pw, 1) << "\" height=\"" << formatFixed(ph, 1)
+    << "\" fill=\"none\" stroke=\"#444\"/>\n";
   // Axis labels.
-  o << "<text x=\"" << num(left + pw / 2) << "\" y=\"" << num(top + ph + 38)
+  o << "<text x=\"" << formatFixed(left + pw / 2, 1) << "\" y=\"" << formatFixed(top + ph + 38, 1)
     << "\" text-anchor=\"middle\">" << esc(f.x_label) << "</text>\n";
-  o << "<text transform=\"translate(16," << num(top + ph / 2)
+  o << "<text transform=\"translate(16," << formatFixed(top + ph / 2, 1)
     << ") rotate(-90)\" text-anchor=\"middle\">" << esc(f.y_label) << "</text>\n";
 
   if (!any) {
-    o << "<text x=\"" << num(left + pw / 2) << "\" y=\"" << num(top + ph / 2)
+    o << "<text x=\"" << formatFixed(left + pw / 2, 1) << "\" y=\"" << formatFixed(top + ph / 2, 1)
       << "\" text-anchor=\"middle\" font-size=\"16\" fill=\"#888\">no data</text>\n";
   } else {
     if (f.y_from_zero) {
@@ -174,23 +173,25 @@ std::string svg(const Figure& f) {
     }
     const std::vector<double> xt = niceTicks(xr.lo, xr.hi), yt = niceTicks(yr.lo, yr.hi);
     const double x0 = xt.front(), x1 = xt.back(), y0 = yt.front(), y1 = yt.back();
-    const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1, ystep = yt.size() > 1 ? yt[1] - yt[0] : 1;
+    const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1,
+                 ystep = yt.size() > 1 ? yt[1] - yt[0] : 1;
     auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * pw; };
     auto py = [&](double y) { return top + ph - (y - y0) / (y1 - y0) * ph; };
 
     o << "<g stroke=\"#e4e4e4\">\n";
     for (double t : xt)
-      o << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(t))
-        << "\" y2=\"" << num(top + ph) << "\"/>\n";
+      o << "<line x1=\"" << formatFixed(px(t), 1) << "\" y1=\"" << formatFixed(top, 1) << "\" x2=\""
+        << formatFixed(px(t), 1) << "\" y2=\"" << formatFixed(top + ph, 1) << "\"/>\n";
     for (double t : yt)
-      o << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left + pw)
-        << "\" y2=\"" << num(py(t)) << "\"/>\n";
+      o << "<line x1=\"" << formatFixed(left, 1) << "\" y1=\"" << formatFixed(py(t), 1)
+        << "\" x2=\"" << formatFixed(left + pw, 1) << "\" y2=\"" << formatFixed(py(t), 1)
+        << "\"/>\n";
     o << "</g>\n<g fill=\"#333\">\n";
     for (double t : xt)
-      o << "<text x=\"" << num(px(t)) << "\" y=\"" << num(top + ph + 16)
+      o << "<text x=\"" << formatFixed(px(t), 1) << "\" y=\"" << formatFixed(top + ph + 16, 1)
         << "\" text-anchor=\"middle\">" << tickLabel(t, xstep) << "</text>\n";
     for (double t : yt)
-      o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(py(t) + 4)
+      o << "<text x=\"" << formatFixed(left - 6, 1) << "\" y=\"" << formatFixed(py(t) + 4, 1)
         << "\" text-anchor=\"end\">" << tickLabel(t, ystep) << "</text>\n";
     o << "</g>\n";
 
@@ -208,43 +209,47 @@ std::string svg(const Figure& f) {
            })) {
         o << "<polygon fill=\"" << esc(colors[k]) << "\" fill-opacity=\"0.18\" stroke=\"none\" "
           << "points=\"";
-        for (std::size_t i = a; i < b; ++i) o << num(px(s.x[i])) << ',' << num(py(s.y_high[i])) << ' ';
-        for (std::size_t i = b; i-- > a;) o << num(px(s.x[i])) << ',' << num(py(s.y_low[i])) << ' ';
+        for (std::size_t i = a; i < b; ++i)
+          o << formatFixed(px(s.x[i]), 1) << ',' << formatFixed(py(s.y_high[i]), 1) << ' ';
+        for (std::size_t i = b; i-- > a;)
+          o << formatFixed(px(s.x[i]), 1) << ',' << formatFixed(py(s.y_low[i]), 1) << ' ';
         o << "\"/>\n";
       }
     }
     for (std::size_t k = 0; k < f.series.size(); ++k) {
       const Series& s = f.series[k];
       const std::size_t n = std::min(s.x.size(), s.y.size());
-      const auto pieces =
-          runs(n, [&](std::size_t i) { return finite(s.x[i]) && finite(s.y[i]); });
+      const auto pieces = runs(n, [&](std::size_t i) { return finite(s.x[i]) && finite(s.y[i]); });
       std::ostringstream d;
       for (auto [a, b] : pieces) {
         if (b - a == 1) {  // an isolated point: a dot, a path of one point is invisible
-          o << "<circle cx=\"" << num(px(s.x[a])) << "\" cy=\"" << num(py(s.y[a]))
-            << "\" r=\"2.5\" fill=\"" << esc(colors[k]) << "\"/>\n";
+          o << "<circle cx=\"" << formatFixed(px(s.x[a]), 1) << "\" cy=\""
+            << formatFixed(py(s.y[a]), 1) << "\" r=\"2.5\" fill=\"" << esc(colors[k]) << "\"/>\n";
           continue;
         }
         for (std::size_t i = a; i < b; ++i)
-          d << (i == a ? 'M' : 'L') << num(px(s.x[i])) << ',' << num(py(s.y[i])) << ' ';
+          d << (i == a ? 'M' : 'L') << formatFixed(px(s.x[i]), 1) << ','
+            << formatFixed(py(s.y[i]), 1) << ' ';
       }
       if (!d.str().empty())
         o << "<path fill=\"none\" stroke=\"" << esc(colors[k]) << "\" stroke-width=\"1.8\" "
-          << "stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "")
-          << " d=\"" << d.str() << "\"/>\n";
+          << "stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << " d=\""
+          << d.str() << "\"/>\n";
     }
     // Legend swatches use the same colours.
     for (const auto& it : legend) {
       const Series& s = f.series[it.series];
       const double y = top + ph + 46 + it.y + 4;
       if (hasBand(s))
-        o << "<rect x=\"" << num(it.x) << "\" y=\"" << num(y - 6) << "\" width=\"26\" "
+        o << "<rect x=\"" << formatFixed(it.x, 1) << "\" y=\"" << formatFixed(y - 6, 1)
+          << "\" width=\"26\" "
           << "height=\"12\" fill=\"" << esc(colors[it.series]) << "\" fill-opacity=\"0.18\"/>\n";
-      o << "<line x1=\"" << num(it.x) << "\" y1=\"" << num(y) << "\" x2=\"" << num(it.x + 26)
-        << "\" y2=\"" << num(y) << "\" stroke=\"" << esc(colors[it.series])
-        << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << "/>\n";
-      o << "<text x=\"" << num(it.x + 32) << "\" y=\"" << num(y + 4) << "\">" << esc(s.label)
-        << "</text>\n";
+      o << "<line x1=\"" << formatFixed(it.x, 1) << "\" y1=\"" << formatFixed(y, 1) << "\" x2=\""
+        << formatFixed(it.x + 26, 1) << "\" y2=\"" << formatFixed(y, 1) << "\" stroke=\""
+        << esc(colors[it.series]) << "\" stroke-width=\"2\""
+        << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << "/>\n";
+      o << "<text x=\"" << formatFixed(it.x + 32, 1) << "\" y=\"" << formatFixed(y + 4, 1) << "\">"
+        << esc(s.label) << "</text>\n";
     }
     o << "</svg>\n";
     return o.str();
@@ -252,8 +257,8 @@ std::string svg(const Figure& f) {
   // No data: the legend still names the series.
   for (const auto& it : legend) {
     const double y = top + ph + 46 + it.y + 4;
-    o << "<text x=\"" << num(it.x + 32) << "\" y=\"" << num(y + 4) << "\" fill=\"#888\">"
-      << esc(f.series[it.series].label) << "</text>\n";
+    o << "<text x=\"" << formatFixed(it.x + 32, 1) << "\" y=\"" << formatFixed(y + 4, 1)
+      << "\" fill=\"#888\">" << esc(f.series[it.series].label) << "</text>\n";
   }
   o << "</svg>\n";
   return o.str();

@@ -3,6 +3,7 @@
 
 #include <asf/errors.h>
 #include <asf/se2_edge.h>
+#include <asf/text.h>
 #include <cholmod.h>
 
 #include <Eigen/Dense>
@@ -32,10 +33,14 @@ using Poses = std::vector<Eigen::Vector3d>;
 double robustCost(Kernel k, double delta, double s) {
   const double d2 = delta * delta;
   switch (k) {
-    case Kernel::None: return s;
-    case Kernel::Huber: return s <= d2 ? s : 2 * delta * std::sqrt(s) - d2;
-    case Kernel::Cauchy: return d2 * std::log1p(s / d2);
-    case Kernel::Dcs: return s <= d2 ? s : d2 * (3 * s - d2) / (d2 + s);
+    case Kernel::None:
+      return s;
+    case Kernel::Huber:
+      return s <= d2 ? s : 2 * delta * std::sqrt(s) - d2;
+    case Kernel::Cauchy:
+      return d2 * std::log1p(s / d2);
+    case Kernel::Dcs:
+      return s <= d2 ? s : d2 * (3 * s - d2) / (d2 + s);
   }
   return s;
 }
@@ -43,9 +48,12 @@ double robustCost(Kernel k, double delta, double s) {
 double robustWeight(Kernel k, double delta, double s) {
   const double d2 = delta * delta;
   switch (k) {
-    case Kernel::None: return 1;
-    case Kernel::Huber: return s <= d2 ? 1 : delta / std::sqrt(s);
-    case Kernel::Cauchy: return 1 / (1 + s / d2);
+    case Kernel::None:
+      return 1;
+    case Kernel::Huber:
+      return s <= d2 ? 1 : delta / std::sqrt(s);
+    case Kernel::Cauchy:
+      return 1 / (1 + s / d2);
     case Kernel::Dcs: {
       const double scale = std::min(1.0, 2 * d2 / (d2 + s));
       return scale * scale;
@@ -69,13 +77,14 @@ struct Problem {
   Problem(const asf::PoseGraph& g, const Options& o) {
     edges.reserve(g.edges.size());
     for (const auto& e : g.edges) {
-      const bool robust = o.robust_edges == RobustEdges::All ||
-                          (o.robust_edges == RobustEdges::LoopClosures &&
-                           e.kind == asf::EdgeKind::LoopClosure) ||
-                          (o.robust_edges == RobustEdges::CrossLinks &&
-                           e.from + 1 != e.to && e.to + 1 != e.from);
-      edges.push_back({static_cast<int>(e.from), static_cast<int>(e.to),
-                       {e.mean.x(), e.mean.y(), e.mean.phi()}, e.information,
+      const bool robust =
+          o.robust_edges == RobustEdges::All ||
+          (o.robust_edges == RobustEdges::LoopClosures && e.kind == asf::EdgeKind::LoopClosure) ||
+          (o.robust_edges == RobustEdges::CrossLinks && e.from + 1 != e.to && e.to + 1 != e.from);
+      edges.push_back({static_cast<int>(e.from),
+                       static_cast<int>(e.to),
+                       {e.mean.x(), e.mean.y(), e.mean.phi()},
+                       e.information,
                        robust ? o.kernel : Kernel::None});
     }
   }
@@ -345,12 +354,6 @@ class Timer {
   std::chrono::steady_clock::time_point t0_;
 };
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << std::setprecision(8) << v;
-  return os.str();
-}
-
 }  // namespace
 
 struct SparseSe2::Impl {
@@ -533,11 +536,10 @@ struct SparseSe2::Impl {
   }
 
   asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
-  double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r,
-                 int& steps, int& accepted);
+  double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r, int& steps,
+                 int& accepted);
   asf::Marginals marginals(const asf::PoseGraph& g,
-                           const std::vector<std::pair<NodeId, NodeId>>& cross,
-                           const Options& o);
+                           const std::vector<std::pair<NodeId, NodeId>>& cross, const Options& o);
 };
 
 namespace {
@@ -545,8 +547,8 @@ namespace {
 void validate(const asf::PoseGraph& g) {
   for (const auto& e : g.edges)
     if (e.from >= g.size() || e.to >= g.size())
-      throw asf::Error("sparse_lm: edge " + std::to_string(e.from) + " -> " +
-                       std::to_string(e.to) + " names a node that does not exist");
+      throw asf::Error("sparse_lm: edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
+                       " names a node that does not exist");
   for (NodeId f : g.fixed)
     if (f >= g.size())
       throw asf::Error("sparse_lm: fixed node " + std::to_string(f) + " does not exist");
@@ -579,8 +581,7 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
     double dmax = 0;
     for (int k = 0; k < n; ++k) dmax = std::max(dmax, H[diag[k]]);
     // Marquardt scaling; the floor keeps a direction without information damped.
-    for (int k = 0; k < n; ++k)
-      D[k] = std::max(H[diag[k]], 1e-9 * std::max(dmax, 1.0));
+    for (int k = 0; k < n; ++k) D[k] = std::max(H[diag[k]], 1e-9 * std::max(dmax, 1.0));
     double xmax = 0;
     for (const auto& p : x) xmax = std::max(xmax, p.cwiseAbs().maxCoeff());
     for (;;) {
@@ -594,7 +595,7 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
         nu *= 2;
         if (o.verbosity >= 2)
           log("sparse_lm: iteration " + std::to_string(r.iterations) +
-              ": matrix not positive definite, lambda -> " + fmt(lambda));
+              ": matrix not positive definite, lambda -> " + asf::formatSignificant(lambda, 8));
         if (lambda > 1e16) {
           r.message = "the normal matrix is not positive definite at any damping";
           stop = true;
@@ -625,9 +626,10 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
       // A step at the resolution of the doubles cannot improve anything.
       const bool tiny = hmax <= 1e-12 * (1 + xmax);
       if (o.verbosity >= 2)
-        log("sparse_lm: iteration " + std::to_string(r.iterations) + ": chi2 " + fmt(F_new) +
-            (ok ? " accepted" : " rejected") + ", lambda " + fmt(lambda) + ", gain ratio " +
-            fmt(rho) + ", max|dx| " + fmt(hmax));
+        log("sparse_lm: iteration " + std::to_string(r.iterations) + ": chi2 " +
+            asf::formatSignificant(F_new, 8) + (ok ? " accepted" : " rejected") + ", lambda " +
+            asf::formatSignificant(lambda, 8) + ", gain ratio " + asf::formatSignificant(rho, 8) +
+            ", max|dx| " + asf::formatSignificant(hmax, 8));
       if (ok) {
         const double rel = (F - F_new) / F;
         x.swap(x_new);
@@ -664,7 +666,8 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
       // lambda is relative to diag(H): beyond this the step is below rounding anyway.
       if (lambda > 1e16) {
         r.converged = true;
-        r.message = "no step lowers chi2 further (lambda " + fmt(lambda) + ")";
+        r.message =
+            "no step lowers chi2 further (lambda " + asf::formatSignificant(lambda, 8) + ")";
         stop = true;
         break;
       }
@@ -705,10 +708,11 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
       const double F_guess = cost(P, guess, o);
       if (F_guess < F) {
         x.swap(guess);
-        start = "from the LAGO guess (chi2 " + fmt(F_guess) + ")";
+        start = "from the LAGO guess (chi2 " + asf::formatSignificant(F_guess, 8) + ")";
         F = F_guess;
       } else {
-        start = "from the graph's poses (LAGO guess chi2 " + fmt(F_guess) + " not lower)";
+        start = "from the graph's poses (LAGO guess chi2 " + asf::formatSignificant(F_guess, 8) +
+                " not lower)";
       }
     }
   }
@@ -727,8 +731,9 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
                std::to_string(counters.extended_orderings) + ", reused " +
                std::to_string(counters.reused) + ")";
   if (o.verbosity >= 1 && o.log)
-    o.log("sparse_lm: chi2 " + fmt(r.initial_chi2) + " -> " + fmt(r.final_chi2) + " in " +
-        std::to_string(r.iterations) + " iterations (" + r.message + ")");
+    o.log("sparse_lm: chi2 " + asf::formatSignificant(r.initial_chi2, 8) + " -> " +
+          asf::formatSignificant(r.final_chi2, 8) + " in " + std::to_string(r.iterations) +
+          " iterations (" + r.message + ")");
   return r;
 }
 
@@ -800,8 +805,8 @@ class SparseInverse {
       const int nrows = pi_[t + 1] - pi_[t];
       const int nr = nrows - nc;
       const Eigen::Map<const Eigen::MatrixXd> Lt(Lx + px_[t], nrows, nc);
-      const Eigen::MatrixXd Linv = Lt.topRows(nc).triangularView<Eigen::Lower>().solve(
-          Eigen::MatrixXd::Identity(nc, nc));
+      const Eigen::MatrixXd Linv =
+          Lt.topRows(nc).triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(nc, nc));
       Eigen::Map<Eigen::MatrixXd> St(x_.data() + px_[t], nrows, nc);
       if (nr == 0) {
         St = Linv.transpose() * Linv;
@@ -851,9 +856,8 @@ asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
   const std::size_t n = g.size();
   for (const auto& [i, j] : cross)
     if (i >= n || j >= n)
-      throw asf::Error("sparse_lm: cross-covariance requested for (" + std::to_string(i) +
-                       ", " + std::to_string(j) + ") but the graph has " + std::to_string(n) +
-                       " nodes");
+      throw asf::Error("sparse_lm: cross-covariance requested for (" + std::to_string(i) + ", " +
+                       std::to_string(j) + ") but the graph has " + std::to_string(n) + " nodes");
   if (n == 0) return m;
   Structure S_new = Structure::of(g);
   asf::requireAnchored(g, "sparse_lm");
@@ -865,8 +869,9 @@ asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
   const Problem P(g, o);
   linearize(P, posesOf(g), o);
   if (!factorize(H))
-    throw asf::Error("sparse_lm: the information matrix is not positive definite (degenerate "
-                     "edge information?); no covariance defined");
+    throw asf::Error(
+        "sparse_lm: the information matrix is not positive definite (degenerate "
+        "edge information?); no covariance defined");
   std::unique_ptr<SparseInverse> inverse;
   {
     const Timer timer(counters.t_inverse);

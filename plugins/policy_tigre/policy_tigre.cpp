@@ -7,6 +7,7 @@
 #include <asf/graph_routes.h>
 #include <asf/policy.h>
 #include <asf/reachability.h>
+#include <asf/text.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>
@@ -31,14 +32,6 @@ EdgeKey keyOf(const asf::TopoEdge& e) {
 
 double dist(const Point2& a, const Point2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
-std::string fmt(double v, int prec = 2) {
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
-
 std::string edgeName(const EdgeKey& k) {
   return k.second == asf::kUnexplored
              ? "frontier of region " + std::to_string(k.first)
@@ -55,10 +48,10 @@ class TigrePolicy final : public asf::Policy {
     blacklist_radius_ = p.getDouble("blacklist_radius");
     max_edge_failures_ = static_cast<int>(p.getInt("max_edge_failures"));
     const std::string next_goal = p.getString("next_goal");
-    next_goal_ = next_goal == "centre" ? NextGoal::Centre
+    next_goal_ = next_goal == "centre"       ? NextGoal::Centre
                  : next_goal == "centre_new" ? NextGoal::CentreNew
-                 : next_goal == "entry" ? NextGoal::Entry
-                                        : NextGoal::None;
+                 : next_goal == "entry"      ? NextGoal::Entry
+                                             : NextGoal::None;
     entry_depth_ = p.getDouble("entry_depth");
     options_ = asf::graph::TarryOptions::modified();
     options_.loop_closing_first = p.getBool("loop_closing_first");
@@ -125,7 +118,7 @@ class TigrePolicy final : public asf::Policy {
       if (!goal) return wait(robot, "outside every region and none reachable");
       last_ = Attempt{{target, target}, false, *goal};
       return go(*goal, "not inside a region: to region " + std::to_string(target) + " (" +
-                           fmt(best) + " m)");
+                           asf::formatFixed(best, 2) + " m)");
     }
     waits_ = 0;
 
@@ -211,16 +204,16 @@ class TigrePolicy final : public asf::Policy {
       const bool entrance = node->entrance_edge == o.index;
       std::string why = "region " + std::to_string(here) + ": " + edgeName(o.key);
       if (e.frontier()) {
-        why += " (" + fmt(o.cost) + " m)";
+        why += " (" + asf::formatFixed(o.cost, 2) + " m)";
         last_ = Attempt{o.key, true, o.goal};
         return go(o.goal, why);
       }
       const RegionId next = e.a == here ? e.b : e.a;
       const asf::TopoNode* other = topo.node(next);
-      why += entrance ? " (entrance edge, last resort" : (other && other->visited)
-                                                              ? " (link to visited region"
-                                                              : " (to unvisited region";
-      why += ", " + fmt(o.cost) + " m)";
+      why += entrance                    ? " (entrance edge, last resort"
+             : (other && other->visited) ? " (link to visited region"
+                                         : " (to unvisited region";
+      why += ", " + asf::formatFixed(o.cost, 2) + " m)";
       last_ = Attempt{o.key, false, o.goal};
       ++chosen_[o.key];
       noteTry(o.key, here, topo.outwardTraversals(o.index, here));
@@ -249,7 +242,7 @@ class TigrePolicy final : public asf::Policy {
       pending_ = Pending{best->key, far, best->goal, n && n->visited};
     }
     return go(best->goal, "region " + std::to_string(here) + " done; relocating to " +
-                              edgeName(best->key) + " (" + fmt(best->cost) + " m)");
+                              edgeName(best->key) + " (" + asf::formatFixed(best->cost, 2) + " m)");
   }
 
  private:
@@ -267,8 +260,8 @@ class TigrePolicy final : public asf::Policy {
   };
   struct Pending {
     EdgeKey key;
-    RegionId region = 0;  ///< to enter
-    Point2 border;        ///< the goal on the border, reached first
+    RegionId region = 0;       ///< to enter
+    Point2 border;             ///< the goal on the border, reached first
     bool was_visited = false;  ///< `region` had been visited when the edge was chosen
   };
   enum class NextGoal { Centre, CentreNew, Entry, None };
@@ -290,8 +283,8 @@ class TigrePolicy final : public asf::Policy {
   void learnFromLastGoal(const asf::ExplorationState& s) {
     if (!last_) return;
     const Attempt a = *last_;
-    const bool failed = s.last_status == asf::NavStatus::Unreachable ||
-                        s.last_status == asf::NavStatus::Blocked;
+    const bool failed =
+        s.last_status == asf::NavStatus::Unreachable || s.last_status == asf::NavStatus::Blocked;
     // Goals failing one after the other, whatever the edge, say the robot is stuck rather
     // than the edges unreachable: beyond the third such failure, edges are not blamed (the
     // host stops a run whose goals keep failing, [pipeline] max_failed_goals).
@@ -299,8 +292,8 @@ class TigrePolicy final : public asf::Policy {
     if (failed && failure_streak_ <= 3) ++failures_[a.key];
     if (failed) {
       pending_.reset();
-      MRPT_LOG_WARN_STREAM(edgeName(a.key) << ": goal (" << fmt(a.goal.x) << ", "
-                                           << fmt(a.goal.y) << ") "
+      MRPT_LOG_WARN_STREAM(edgeName(a.key) << ": goal (" << asf::formatFixed(a.goal.x, 2) << ", "
+                                           << asf::formatFixed(a.goal.y, 2) << ") "
                                            << asf::navStatusName(s.last_status) << " ("
                                            << failures_[a.key] << " failures)");
     }
@@ -345,7 +338,8 @@ class TigrePolicy final : public asf::Policy {
     for (int cy = 0; cy < L.height; ++cy)
       for (int cx = 0; cx < L.width; ++cx) {
         if (L.at(cx, cy) != r) continue;
-        const Point2 c{L.origin_x + (cx + 0.5) * L.resolution, L.origin_y + (cy + 0.5) * L.resolution};
+        const Point2 c{L.origin_x + (cx + 0.5) * L.resolution,
+                       L.origin_y + (cy + 0.5) * L.resolution};
         const double d = dist(c, target);
         if (d < best && reach.reachable(c)) {
           best = d;
@@ -390,8 +384,7 @@ const asf::KeySpec kKeys[] = {
                    "again [m]",
                    0.0, 10.0),
     asf::keyInt("max_edge_failures", "2",
-                "An edge whose goals failed (unreachable/blocked) this often is given up", 1,
-                100),
+                "An edge whose goals failed (unreachable/blocked) this often is given up", 1, 100),
     asf::keyEnum("next_goal", "centre_new", "centre|centre_new|entry|none",
                  "After the border of a region edge: on to the next region's centre (thesis), "
                  "to the centre only of a region not visited before (else entry), just inside "
@@ -402,8 +395,8 @@ const asf::KeySpec kKeys[] = {
     asf::keyBool("loop_closing_first", "true",
                  "Prefer edges to visited regions (loop closing) over the others (thesis' "
                  "tie-break; false: plain Tarry with nearest-first)"),
-    asf::keyInt("max_waits", "20",
-                "Steps to wait for a map with regions before giving up", 1, 100000),
+    asf::keyInt("max_waits", "20", "Steps to wait for a map with regions before giving up", 1,
+                100000),
 };
 
 }  // namespace

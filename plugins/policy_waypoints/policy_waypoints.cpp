@@ -1,6 +1,7 @@
 // policy_waypoints: a scripted route, not an explorer. Sends the robot to fixed waypoints in
 // order, skipping those it cannot reach; optionally loops.
 #include <asf/policy.h>
+#include <asf/text.h>
 
 #include <cerrno>
 #include <cmath>
@@ -10,12 +11,6 @@
 #include <vector>
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return {};
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
 
 class WaypointsPolicy final : public asf::Policy {
  public:
@@ -29,7 +24,7 @@ class WaypointsPolicy final : public asf::Policy {
     while (start <= text.size()) {
       std::size_t end = text.find(';', start);
       if (end == std::string::npos) end = text.size();
-      const std::string s = trim(text.substr(start, end - start));
+      const std::string s = asf::trim(text.substr(start, end - start));
       start = end + 1;
       ++item;
       if (s.empty()) continue;
@@ -72,8 +67,8 @@ class WaypointsPolicy final : public asf::Policy {
         case asf::NavStatus::Unreachable:
         case asf::NavStatus::Blocked:
           MRPT_LOG_WARN_STREAM("skipping waypoint " << next_ + 1 << " (" << wp_[next_].x << ", "
-                                                    << wp_[next_].y << "): "
-                                                    << asf::navStatusName(s.last_status));
+                                                    << wp_[next_].y
+                                                    << "): " << asf::navStatusName(s.last_status));
           ++skipped_;
           advance();
           break;
@@ -122,8 +117,7 @@ class WaypointsPolicy final : public asf::Policy {
 const asf::KeySpec kKeys[] = {
     asf::keyString("waypoints", "",
                    "Route 'x y; x y; ...' in the map frame [m]; empty: done at once"),
-    asf::keyDouble("tolerance", "0.3", "A waypoint is reached within this distance [m]", 0.01,
-                   100),
+    asf::keyDouble("tolerance", "0.3", "A waypoint is reached within this distance [m]", 0.01, 100),
     asf::keyBool("loop", "false", "Start over after the last waypoint"),
 };
 

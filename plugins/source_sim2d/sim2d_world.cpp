@@ -1,31 +1,23 @@
 #include "sim2d_world.h"
 
+#include <asf/text.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/poses/CPose3D.h>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <cstdlib>
+#include <filesystem>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <stdexcept>
 
 namespace asf::sim2d {
 
-namespace {
-
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<HeightClass> parseHeightClasses(const std::string& text) {
   std::vector<HeightClass> out;
@@ -39,8 +31,9 @@ std::vector<HeightClass> parseHeightClasses(const std::string& text) {
     start = end == std::string::npos ? text.size() + 1 : end + 1;
     const std::string where = "entry '" + entry + "'";
     if (entry.empty())
-      throw std::invalid_argument("empty entry; expected GRAY:HEIGHT[, GRAY:HEIGHT...], e.g. "
-                                  "'0:2.0, 100:0.25'");
+      throw std::invalid_argument(
+          "empty entry; expected GRAY:HEIGHT[, GRAY:HEIGHT...], e.g. "
+          "'0:2.0, 100:0.25'");
     const std::size_t colon = entry.find(':');
     if (colon == std::string::npos || entry.find(':', colon + 1) != std::string::npos)
       throw std::invalid_argument(where + ": expected GRAY:HEIGHT, e.g. '100:0.25'");
@@ -52,8 +45,7 @@ std::vector<HeightClass> parseHeightClasses(const std::string& text) {
                                   "' is not an integer in 0..255");
     const double height = h.empty() ? NAN : std::strtod(h.c_str(), &rest);
     if (h.empty() || *rest != '\0' || !std::isfinite(height) || height <= 0)
-      throw std::invalid_argument(where + ": the height '" + h +
-                                  "' is not a number > 0 (metres)");
+      throw std::invalid_argument(where + ": the height '" + h + "' is not a number > 0 (metres)");
     if (!seen.insert(static_cast<int>(gray)).second)
       throw std::invalid_argument(where + ": gray level " + g + " appears twice");
     out.push_back({static_cast<int>(gray), height});
@@ -94,11 +86,10 @@ World World::fromImage(const ImageWorldOptions& o) {
     }
   }
   World world;
-  world.grid_.setSize(static_cast<float>(o.origin_x - pad * res),
-                      static_cast<float>(o.origin_x + (w + pad) * res),
-                      static_cast<float>(o.origin_y - pad * res),
-                      static_cast<float>(o.origin_y + (h + pad) * res), static_cast<float>(res),
-                      1.0f);
+  world.grid_.setSize(
+      static_cast<float>(o.origin_x - pad * res), static_cast<float>(o.origin_x + (w + pad) * res),
+      static_cast<float>(o.origin_y - pad * res), static_cast<float>(o.origin_y + (h + pad) * res),
+      static_cast<float>(res), 1.0f);
   auto& g = world.grid_;
   const int sx = static_cast<int>(g.getSizeX()), sy = static_cast<int>(g.getSizeY());
   world.heights_.assign(static_cast<std::size_t>(sx) * sy, 0.f);
@@ -161,8 +152,7 @@ void World::finish() {
   const float res = grid_.getResolution();
   for (int cy = 0; cy < sy; ++cy)
     for (int cx = 0; cx < sx; ++cx)
-      clearance_[static_cast<std::size_t>(cy) * sx + cx] =
-          wall_cells_ ? dist(cy, cx) * res : 1e9f;
+      clearance_[static_cast<std::size_t>(cy) * sx + cx] = wall_cells_ ? dist(cy, cx) * res : 1e9f;
 }
 
 Box2 World::bounds() const {

@@ -1,4 +1,5 @@
 #include <asf/errors.h>
+#include <asf/text.h>
 #include <asf_convert/carmen.h>
 #include <asf_convert/text_io.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -77,23 +78,17 @@ struct FlaserParams {
   bool checked = false;              // fov and resolution checked against a scan's ray count
 };
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 /// laser_front_laser_fov in degrees (CARMEN's unit); a value of at most 2 pi is implausible
 /// in degrees (a laser of 3 degrees?) and read as radians; 0 (unset) for nonsense.
 double fovDegrees(double v, const std::string& where, std::vector<std::string>& warnings) {
   if (v > 0 && v <= 2 * M_PI + 1e-3) {
-    warnings.push_back(where + ": PARAM laser_front_laser_fov " + num(v) +
+    warnings.push_back(where + ": PARAM laser_front_laser_fov " + formatSignificant(v, 6) +
                        " is implausible in degrees (CARMEN's unit): read as radians, " +
-                       num(v / kDeg) + " deg");
+                       formatSignificant(v / kDeg, 6) + " deg");
     return v / kDeg;
   }
   if (v > 0 && v <= 360) return v;
-  warnings.push_back(where + ": PARAM laser_front_laser_fov " + num(v) +
+  warnings.push_back(where + ": PARAM laser_front_laser_fov " + formatSignificant(v, 6) +
                      " is not a field of view in (0, 360] deg: ignored");
   return 0;
 }
@@ -104,21 +99,24 @@ void checkLaserParams(FlaserParams& p, std::size_t rays, std::vector<std::string
   p.checked = true;
   const double n = static_cast<double>(rays);
   if (p.res_deg > 0 && p.res_deg * n < 10 && p.res_deg / kDeg * n <= 360 + 1e-6) {
-    warnings.push_back(p.res_where + ": PARAM laser_front_laser_resolution " + num(p.res_deg) +
-                       " deg would put " + std::to_string(rays) + " rays in " + num(p.res_deg * n) +
-                       " deg: read as radians, " + num(p.res_deg / kDeg) + " deg");
+    warnings.push_back(p.res_where + ": PARAM laser_front_laser_resolution " +
+                       formatSignificant(p.res_deg, 6) + " deg would put " + std::to_string(rays) +
+                       " rays in " + formatSignificant(p.res_deg * n, 6) +
+                       " deg: read as radians, " + formatSignificant(p.res_deg / kDeg, 6) + " deg");
     p.res_deg /= kDeg;
   } else if (p.res_deg * n > 360 + 1e-6) {
-    warnings.push_back(p.res_where + ": PARAM laser_front_laser_resolution " + num(p.res_deg) +
-                       " deg puts " + std::to_string(rays) + " rays in more than 360 deg: ignored");
+    warnings.push_back(p.res_where + ": PARAM laser_front_laser_resolution " +
+                       formatSignificant(p.res_deg, 6) + " deg puts " + std::to_string(rays) +
+                       " rays in more than 360 deg: ignored");
     p.res_deg = 0;
   }
   if (p.fov_deg > 0 && p.res_deg > 0 &&
       std::abs(p.fov_deg - p.res_deg * n) > std::max(1.0, 0.02 * p.fov_deg))
-    warnings.push_back(p.fov_where + ": PARAM laser_front_laser_fov (" + num(p.fov_deg) +
-                       " deg) and laser_front_laser_resolution (" + num(p.res_deg) + " deg x " +
-                       std::to_string(rays) + " rays = " + num(p.res_deg * n) +
-                       " deg) disagree: the fov is used");
+    warnings.push_back(
+        p.fov_where + ": PARAM laser_front_laser_fov (" + formatSignificant(p.fov_deg, 6) +
+        " deg) and laser_front_laser_resolution (" + formatSignificant(p.res_deg, 6) + " deg x " +
+        std::to_string(rays) + " rays = " + formatSignificant(p.res_deg * n, 6) +
+        " deg) disagree: the fov is used");
 }
 
 std::optional<LaserLine> parseFlaser(const Tokens& tok, const FlaserParams& p,
@@ -328,7 +326,7 @@ class Converter {
       why += std::to_string(sv.bad) + " are not a time in seconds (first: line " +
              std::to_string(sv.first_bad_line) + ", '" + sv.first_bad + "'), ";
     why += std::to_string(sv.not_increasing) + " are not after the one before: scans stamped " +
-           "from the log's order, " + num(period_) + " s apart" +
+           "from the log's order, " + formatSignificant(period_, 6) + " s apart" +
            (opt_.scan_period_s > 0 ? ""
             : steady               ? " (the median step)"
                                    : " (no steady step)");

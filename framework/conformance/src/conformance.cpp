@@ -1,10 +1,9 @@
 /// \file conformance.cpp
 /// The kit's entry points, the helpers shared by every kind, and the tests every plugin
 /// gets whatever its kind: descriptor rules, configuration, kind, determinism, threads.
-#include "kit.h"
-
 #include <asf/abi.h>
 #include <asf/errors.h>
+#include <asf/text.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -15,6 +14,8 @@
 #include <set>
 #include <sstream>
 #include <thread>
+
+#include "kit.h"
 
 namespace asf::conformance {
 namespace detail {
@@ -44,11 +45,6 @@ bool sameNumber(double a, double b) {
   if (std::isnan(a) && std::isnan(b)) return true;
   return a == b;
 }
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << std::setprecision(17) << v;
-  return os.str();
-}
 }  // namespace
 
 std::string firstDifference(const Trace& a, const Trace& b) {
@@ -57,12 +53,13 @@ std::string firstDifference(const Trace& a, const Trace& b) {
     const auto& x = a.entries_[i];
     const auto& y = b.entries_[i];
     if (x.label != y.label)
-      return "output #" + std::to_string(i) + " differs in kind: '" + x.label + "' vs '" +
-             y.label + "'";
+      return "output #" + std::to_string(i) + " differs in kind: '" + x.label + "' vs '" + y.label +
+             "'";
     if (!sameNumber(x.value, y.value) || x.text != y.text)
       return "output #" + std::to_string(i) + " '" + x.label + "' differs: " +
-             (x.text.empty() && y.text.empty() ? fmt(x.value) + " vs " + fmt(y.value)
-                                               : "'" + x.text + "' vs '" + y.text + "'");
+             (x.text.empty() && y.text.empty()
+                  ? formatSignificant(x.value, 17) + " vs " + formatSignificant(y.value, 17)
+                  : "'" + x.text + "' vs '" + y.text + "'");
   }
   if (a.entries_.size() != b.entries_.size())
     return "the runs produced " + std::to_string(a.entries_.size()) + " vs " +
@@ -95,8 +92,7 @@ bool allFinite(const Eigen::Matrix3d& m) { return m.allFinite(); }
 
 namespace {
 /// Symmetric, and its smallest eigenvalue above -tol * scale (PSD) or above 0 (PD).
-testing::AssertionResult checkSymmetricDefinite(const Eigen::Matrix3d& m, bool strict,
-                                                double tol) {
+testing::AssertionResult checkSymmetricDefinite(const Eigen::Matrix3d& m, bool strict, double tol) {
   if (!m.allFinite()) return testing::AssertionFailure() << "not finite:\n" << m;
   const double mag = m.cwiseAbs().maxCoeff();
   if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-9 * mag + 1e-15)
@@ -105,8 +101,9 @@ testing::AssertionResult checkSymmetricDefinite(const Eigen::Matrix3d& m, bool s
                                                     Eigen::EigenvaluesOnly);
   const double lo = es.eigenvalues().minCoeff();
   if (strict ? !(lo > 0) : lo < -tol * std::max(1.0, mag))
-    return testing::AssertionFailure() << "not positive " << (strict ? "" : "semi-")
-                                       << "definite (eigenvalue " << lo << "):\n" << m;
+    return testing::AssertionFailure()
+           << "not positive " << (strict ? "" : "semi-") << "definite (eigenvalue " << lo << "):\n"
+           << m;
   return testing::AssertionSuccess();
 }
 }  // namespace
@@ -119,9 +116,7 @@ testing::AssertionResult isSymmetricPd(const Eigen::Matrix3d& m) {
   return checkSymmetricDefinite(m, true, 0);
 }
 
-double angleDiff(double a, double b) {
-  return std::remainder(a - b, 2 * M_PI);
-}
+double angleDiff(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
 
 bool samePose(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b, double tol) {
   return std::abs(a.x() - b.x()) <= tol && std::abs(a.y() - b.y()) <= tol &&
@@ -171,15 +166,18 @@ bool synthesizeRequired(const PluginDescriptor& d, std::map<std::string, std::st
       case KeyType::Double: {
         double v = 1;
         if (!inRange(k, v)) {
-          if (std::isfinite(k.min) && std::isfinite(k.max)) v = 0.5 * (k.min + k.max);
-          else if (std::isfinite(k.min)) v = k.min + 1;
-          else v = k.max - 1;
+          if (std::isfinite(k.min) && std::isfinite(k.max))
+            v = 0.5 * (k.min + k.max);
+          else if (std::isfinite(k.min))
+            v = k.min + 1;
+          else
+            v = k.max - 1;
         }
         if (!inRange(k, v)) {
           why = "required key '" + name + "' has an empty range";
           return false;
         }
-        out[name] = fmt(v);
+        out[name] = formatSignificant(v, 17);
         break;
       }
       case KeyType::Enum: {
@@ -197,8 +195,8 @@ bool synthesizeRequired(const PluginDescriptor& d, std::map<std::string, std::st
       default:
         why = "the plugin has a required key '" + name + "' (" + keyTypeName(k.type) +
               ", no default) for which the kit cannot make up a value; give it one with "
-              "`asf conformance --config FILE.ini` (section [" + std::string(d.name ? d.name : "") +
-              "])";
+              "`asf conformance --config FILE.ini` (section [" +
+              std::string(d.name ? d.name : "") + "])";
         return false;
     }
   }
@@ -218,7 +216,7 @@ std::string outOfRangeValue(const KeySpec& k, bool below) {
   const double step = std::max(1.0, std::abs(bound));
   const double v = below ? bound - step : bound + step;
   if (!std::isfinite(v)) return {};
-  return fmt(v);
+  return formatSignificant(v, 17);
 }
 
 namespace {
@@ -280,8 +278,7 @@ bool skipUnconfigurable(const PluginTest& t, std::string& why) {
     ctx.seed = kSeed;
     p->configure(t.defaultParams(), ctx);
   } catch (const ConfigError& e) {
-    why = "the plugin rejected the values the kit configured it with (" + list + "): " +
-          e.what();
+    why = "the plugin rejected the values the kit configured it with (" + list + "): " + e.what();
     return true;
   } catch (...) {
     // Reported by the test itself.
@@ -315,44 +312,41 @@ void registerDescriptorTests(const InfoPtr& info) {
     EXPECT_TRUE(isSnake(t.descriptor().name))
         << "name " << show(t.descriptor().name) << " must match [a-z][a-z0-9]*(_[a-z0-9]+)*";
   });
-  addTest<K>(info, "descriptor_version_is_major_minor_patch", Needs::Nothing,
-             [](PluginTest& t) {
-               const char* v = t.descriptor().version;
-               EXPECT_TRUE(v && std::regex_match(v, kSemver))
-                   << "version " << show(v) << " must be MAJOR.MINOR.PATCH, e.g. \"1.0.0\"";
-             });
+  addTest<K>(info, "descriptor_version_is_major_minor_patch", Needs::Nothing, [](PluginTest& t) {
+    const char* v = t.descriptor().version;
+    EXPECT_TRUE(v && std::regex_match(v, kSemver))
+        << "version " << show(v) << " must be MAJOR.MINOR.PATCH, e.g. \"1.0.0\"";
+  });
   addTest<K>(info, "descriptor_description_is_one_nonempty_line", Needs::Nothing,
              [](PluginTest& t) {
                const char* s = t.descriptor().description;
                ASSERT_NE(s, nullptr) << "description is null";
                const std::string d = s;
-               EXPECT_NE(d.find_first_not_of(" \t"), std::string::npos)
-                   << "description is empty";
+               EXPECT_NE(d.find_first_not_of(" \t"), std::string::npos) << "description is empty";
                EXPECT_EQ(d.find_first_of("\r\n"), std::string::npos)
                    << "description must be one line: " << show(s);
              });
-  addTest<K>(info, "descriptor_kind_thread_safety_and_factory_are_set", Needs::Nothing,
-             [](PluginTest& t) {
-               const auto& d = t.descriptor();
-               EXPECT_LT(static_cast<std::uint32_t>(d.kind),
-                         static_cast<std::uint32_t>(kNumPluginKinds))
-                   << "unknown kind";
-               EXPECT_TRUE(d.thread_safety == ThreadSafety::ThreadCompatible ||
-                           d.thread_safety == ThreadSafety::SingleThreaded)
-                   << "unknown thread_safety value " << static_cast<int>(d.thread_safety);
-               EXPECT_NE(d.create, nullptr) << "create (the factory) is null";
-               if (d.num_keys > 0) {
-                 EXPECT_NE(d.keys, nullptr) << "num_keys > 0 but keys is null";
-               }
-             });
+  addTest<K>(
+      info, "descriptor_kind_thread_safety_and_factory_are_set", Needs::Nothing, [](PluginTest& t) {
+        const auto& d = t.descriptor();
+        EXPECT_LT(static_cast<std::uint32_t>(d.kind), static_cast<std::uint32_t>(kNumPluginKinds))
+            << "unknown kind";
+        EXPECT_TRUE(d.thread_safety == ThreadSafety::ThreadCompatible ||
+                    d.thread_safety == ThreadSafety::SingleThreaded)
+            << "unknown thread_safety value " << static_cast<int>(d.thread_safety);
+        EXPECT_NE(d.create, nullptr) << "create (the factory) is null";
+        if (d.num_keys > 0) {
+          EXPECT_NE(d.keys, nullptr) << "num_keys > 0 but keys is null";
+        }
+      });
   addTest<K>(info, "descriptor_key_names_are_unique_lower_snake_case", Needs::Nothing,
              [](PluginTest& t) {
                const auto& d = t.descriptor();
                std::set<std::string> seen;
                for (std::size_t i = 0; i < d.num_keys && d.keys; ++i) {
                  const char* n = d.keys[i].name;
-                 EXPECT_TRUE(isSnake(n)) << "key #" << i << " name " << show(n)
-                                         << " must be lower_snake_case";
+                 EXPECT_TRUE(isSnake(n))
+                     << "key #" << i << " name " << show(n) << " must be lower_snake_case";
                  if (n) {
                    EXPECT_TRUE(seen.insert(n).second) << "key '" << n << "' is declared twice";
                  }
@@ -374,8 +368,8 @@ void registerDescriptorTests(const InfoPtr& info) {
     for (std::size_t i = 0; i < d.num_keys && d.keys; ++i) {
       const KeySpec& k = d.keys[i];
       if (k.type != KeyType::Enum) {
-        EXPECT_EQ(k.choices, nullptr) << "key " << show(k.name) << " is a "
-                                      << keyTypeName(k.type) << " but has choices";
+        EXPECT_EQ(k.choices, nullptr)
+            << "key " << show(k.name) << " is a " << keyTypeName(k.type) << " but has choices";
         continue;
       }
       const auto c = splitChoices(k.choices);
@@ -393,8 +387,8 @@ void registerDescriptorTests(const InfoPtr& info) {
     const auto& d = t.descriptor();
     for (std::size_t i = 0; i < d.num_keys && d.keys; ++i) {
       const KeySpec& k = d.keys[i];
-      EXPECT_FALSE(std::isnan(k.min) || std::isnan(k.max)) << "key " << show(k.name)
-                                                            << ": NaN bound";
+      EXPECT_FALSE(std::isnan(k.min) || std::isnan(k.max))
+          << "key " << show(k.name) << ": NaN bound";
       EXPECT_LE(k.min, k.max) << "key " << show(k.name) << ": min > max";
       if (!k.default_value) continue;  // required key
       const std::string why = validateValue(k, k.default_value);
@@ -541,13 +535,26 @@ void registerTests(const std::shared_ptr<const PluginInfo>& plugin, const IniCon
   }
   registerDescriptorTests(plugin);
   switch (plugin->kind()) {
-    case PluginKind::Source: registerKind<Source>(plugin, registerSourceTests); break;
-    case PluginKind::Frontend: registerKind<Frontend>(plugin, registerFrontendTests); break;
-    case PluginKind::Backend: registerKind<Backend>(plugin, registerBackendTests); break;
-    case PluginKind::Segmenter: registerKind<Segmenter>(plugin, registerSegmenterTests); break;
-    case PluginKind::Planner: registerKind<Planner>(plugin, registerPlannerTests); break;
-    case PluginKind::Policy: registerKind<Policy>(plugin, registerPolicyTests); break;
-    default: break;  // descriptor_kind_thread_safety_and_factory_are_set fails
+    case PluginKind::Source:
+      registerKind<Source>(plugin, registerSourceTests);
+      break;
+    case PluginKind::Frontend:
+      registerKind<Frontend>(plugin, registerFrontendTests);
+      break;
+    case PluginKind::Backend:
+      registerKind<Backend>(plugin, registerBackendTests);
+      break;
+    case PluginKind::Segmenter:
+      registerKind<Segmenter>(plugin, registerSegmenterTests);
+      break;
+    case PluginKind::Planner:
+      registerKind<Planner>(plugin, registerPlannerTests);
+      break;
+    case PluginKind::Policy:
+      registerKind<Policy>(plugin, registerPolicyTests);
+      break;
+    default:
+      break;  // descriptor_kind_thread_safety_and_factory_are_set fails
   }
 }
 

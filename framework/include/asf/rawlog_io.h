@@ -16,6 +16,7 @@
 /// Ground-truth files are text, one pose per line: `timestamp x y phi` (seconds, metres,
 /// radians); `#` starts a comment line.
 #include <asf/map3d.h>
+#include <asf/odometry_noise.h>
 #include <asf/sensor_frame.h>
 
 #include <cstddef>
@@ -26,16 +27,6 @@
 #include <vector>
 
 namespace asf {
-
-/// MRPT's Gaussian odometry model (CActionRobotMovement2D::TMotionModelOptions, mmGaussian):
-/// the covariance of an odometry increment grows with the distance and angle travelled.
-/// Units as in MRPT: a1 [m/m], a2 [m/deg], a3 [deg/m], a4 [deg/deg]; minimum stds in m, deg.
-struct OdometryNoiseModel {
-  double a1 = 0.01, a2 = 0.001, a3 = 1.0, a4 = 0.05;
-  double min_std_xy = 0.01, min_std_phi_deg = 0.2;
-  /// Covariance (x, y, phi) of the increment `delta`, computed by MRPT's motion model.
-  Eigen::Matrix3d covariance(const mrpt::poses::CPose2D& delta) const;
-};
 
 struct GroundTruthPose {
   double t = 0;
@@ -55,8 +46,8 @@ std::vector<GroundTruthPose> readGroundTruth(const std::string& path);
 /// lines; std::nullopt outside [first, last] or in a gap wider than max_gap seconds.
 /// A t within 1 us of a line (the resolution GT files are usually printed with) is that
 /// line's pose, also next to a gap or just past an end.
-std::optional<mrpt::poses::CPose2D> interpolateGroundTruth(
-    const std::vector<GroundTruthPose>& gt, double t, double max_gap = 0.5);
+std::optional<mrpt::poses::CPose2D> interpolateGroundTruth(const std::vector<GroundTruthPose>& gt,
+                                                           double t, double max_gap = 0.5);
 
 /// Writes a ground-truth file line by line (flushed as it goes, so a crash keeps the lines
 /// written so far).

@@ -20,8 +20,8 @@ namespace asf {
 /// connected (a region's outer boundary is then that of its largest piece).
 /// `boxes` (may be null) receives the cell bounding box of every region.
 Segmentation regionsFromLabels(LabelImage labels, const Segmentation* previous,
-                               RegionId* max_issued, std::uint64_t map_version,
-                               double min_area = 0, RegionBoxes* boxes = nullptr);
+                               RegionId* max_issued, std::uint64_t map_version, double min_area = 0,
+                               RegionBoxes* boxes = nullptr);
 
 /// The same result as regionsFromLabels(labels, &previous, max_issued, map_version,
 /// min_area, &boxes), in time proportional to `window` and the regions with cells in it
@@ -32,8 +32,7 @@ Segmentation regionsFromLabels(LabelImage labels, const Segmentation* previous,
 /// either function); on return it holds those of the result. When the rasters differ or a
 /// box is missing, it falls back to regionsFromLabels.
 Segmentation regionsFromLabelsInWindow(LabelImage labels, const Segmentation& previous,
-                                       RegionBoxes& boxes, CellBox window,
-                                       RegionId* max_issued, std::uint64_t map_version,
-                                       double min_area = 0);
+                                       RegionBoxes& boxes, CellBox window, RegionId* max_issued,
+                                       std::uint64_t map_version, double min_area = 0);
 
 }  // namespace asf

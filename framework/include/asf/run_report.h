@@ -17,16 +17,14 @@ namespace asf {
 /// written. Returns the report's path.
 std::string writeRunReport(const std::string& run_dir);
 
-/// Pieces shared by the run report and the experiment summary (asf/experiment.h).
+/// Pieces shared by the run report and the experiment summary (asf/experiment.h); HTML
+/// escaping is asf::htmlEscape (text.h), atomic writes asf::writeFileAtomically (atomic_file.h).
 namespace report {
 
 /// A CSV file with a header line: its columns by name, numbers as doubles (NaN for empty
 /// or non-numeric fields, and for fields missing from a short row). Throws InputError
 /// naming the file when it cannot be read or has no header.
 std::map<std::string, std::vector<double>> readCsvColumns(const std::string& path);
-
-/// `text` with & < > " escaped for HTML.
-std::string htmlEscape(const std::string& text);
 
 /// RFC 4648 base64 of `bytes` (for data: URLs).
 std::string base64(const std::string& bytes);
@@ -36,10 +34,6 @@ std::string embeddedPng(const std::string& path, const std::string& alt);
 
 /// The CSS every asf HTML report uses.
 const char* css();
-
-/// Writes `text` to path through path.tmp and a rename (readers never see half a file);
-/// throws asf::Error naming the file.
-void writeFileAtomically(const std::string& path, const std::string& text);
 
 }  // namespace report
 

@@ -8,8 +8,10 @@
 /// Orientation: images (GrayImage, LabelRaster, PNG files) have row 0 at the top; grids
 /// (GridMap, LabelImage) have cy = 0 at the bottom (y up). Row r is cy = height - 1 - r.
 #include <asf/grid_map.h>
+#include <asf/image_io.h>
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
+#include <asf/topology_json.h>
 
 #include <cstdint>
 #include <functional>
@@ -20,34 +22,6 @@
 namespace asf {
 
 class Segmenter;
-
-/// 8-bit grayscale image, row-major, row 0 = top.
-struct GrayImage {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> pixels;
-  std::uint8_t at(int col, int row) const {
-    return pixels[static_cast<std::size_t>(row) * width + col];
-  }
-};
-
-/// Label image in image orientation (row 0 = top), 0 = no region.
-struct LabelRaster {
-  int width = 0, height = 0;
-  std::vector<std::int32_t> labels;
-  std::int32_t at(int col, int row) const {
-    return labels[static_cast<std::size_t>(row) * width + col];
-  }
-};
-
-/// Reads any PNG/image as 8-bit grayscale (alpha dropped). Throws InputError naming the file
-/// when it is missing or cannot be decoded.
-GrayImage readGrayImage(const std::string& path);
-/// Writes an 8-bit grayscale PNG. Throws Error naming the file.
-void writeGrayImage(const std::string& path, const GrayImage& image);
-/// Reads a label PNG (16-bit or 8-bit, single channel, values are labels). Throws InputError.
-LabelRaster readLabelImage(const std::string& path);
-/// Writes a 16-bit single-channel PNG; throws Error when a label is < 0 or > 65535.
-void writeLabelImage(const std::string& path, const LabelRaster& labels);
 
 /// The benchmark's free-space threshold: pixel >= 250 is free, anything else occupied.
 constexpr int kBenchmarkFreeThreshold = 250;
@@ -112,8 +86,8 @@ SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const Label
 ///   per-region values truncated to whole percent (the author's code divides integers).
 /// Field names follow the thesis.
 struct ThesisProtocolScore {
-  double precision = 0;  ///< mean over rooms of best overlap / counted room pixels
-  double recall = 0;     ///< mean over segments of best overlap / counted segment pixels
+  double precision = 0;         ///< mean over rooms of best overlap / counted room pixels
+  double recall = 0;            ///< mean over segments of best overlap / counted segment pixels
   int rooms = 0, segments = 0;  ///< with at least one counted pixel
 };
 /// `segmentation` (image orientation) and `gt` must have the same size (else Error).
@@ -130,14 +104,8 @@ double percentile(std::vector<double> values, double p);
 /// Writes a PNG of the map with the regions coloured, their ids at their centroids, the
 /// topological graph's edges (if `topo`) and the outlines of ground-truth rooms (if `rooms`,
 /// image orientation, same size as the map).
-void writeSegmentationOverlay(const std::string& path, const GridMap& map,
-                              const Segmentation& seg, const TopoGraph* topo,
-                              const LabelRaster* rooms = nullptr);
-
-/// The topological graph as JSON text (the shape of `asf run`'s topology.json): current,
-/// nodes [{region, centroid [x, y], area_m2, visited, entrance_edge}], edges [{a, b, frontier,
-/// midpoint [x, y], width_m, traversals [{forward, time_s}]}]; b = -1 is the unexplored node.
-std::string topologyJson(const TopoGraph& topo);
+void writeSegmentationOverlay(const std::string& path, const GridMap& map, const Segmentation& seg,
+                              const TopoGraph* topo, const LabelRaster* rooms = nullptr);
 
 /// A known map revealed step by step, for timing incremental segmentation
 /// (evaluateIncremental). Deterministic.
@@ -162,9 +130,9 @@ class MapReveal {
 /// scans every `scan_spacing` of travel (counted in BFS steps of one cell) by ray casting on
 /// the true map. Deterministic.
 struct ExplorationOptions {
-  double sensor_range = 5.0;  ///< m
-  double scan_spacing = 0.5;  ///< m of travel between scans
-  int rays = 720;             ///< per scan, evenly spaced over 360 degrees
+  double sensor_range = 5.0;       ///< m
+  double scan_spacing = 0.5;       ///< m of travel between scans
+  int rays = 720;                  ///< per scan, evenly spaced over 360 degrees
   std::size_t max_scans = 200000;  ///< safety stop
 };
 
@@ -189,7 +157,7 @@ class ExplorationSimulator final : public MapReveal {
   /// by this scan, rebuilt = false.
   bool step() override;
   const GridMap& map() const override;
-  Point2 robot() const;          ///< map frame, centre of the robot's cell
+  Point2 robot() const;                ///< map frame, centre of the robot's cell
   double pathLength() const override;  ///< m travelled so far
   std::size_t scans() const;
   /// Revealed free pixels / free pixels of the start's 4-connected free component.

@@ -1,5 +1,6 @@
 #include <asf/config.h>
 #include <asf/errors.h>
+#include <asf/text.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
@@ -16,13 +17,6 @@ namespace {
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
-}
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
 }
 
 /// MRPT exceptions carry a long backtrace; keep the message lines only.
@@ -212,6 +206,15 @@ std::string IniConfig::where(const std::string& section, const std::string& key)
   if (key.empty()) return it->second.origin;
   auto k = it->second.entries.find(lower(key));
   return k == it->second.entries.end() ? it->second.origin : k->second.origin;
+}
+
+std::string IniConfig::unknownSection(const std::string& section,
+                                      const std::vector<std::string>& known,
+                                      const std::string& expected) const {
+  std::string msg = where(section) + ": unknown section [" + section + "]";
+  const std::string hint = didYouMean(section, known);
+  if (!hint.empty()) msg += " (did you mean [" + hint + "]?)";
+  return msg + "; " + expected;
 }
 
 Params IniConfig::resolve(const std::string& section_in, const KeySpec* keys, std::size_t n) const {

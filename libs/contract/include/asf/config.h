@@ -37,6 +37,11 @@ class IniConfig {
   std::string get(const std::string& section, const std::string& key) const;
   /// "file.ini:12" (or "file.ini" when the line is unknown, "--set" for overrides).
   std::string where(const std::string& section, const std::string& key = "") const;
+  /// The one wording of an unknown section, for every reader of INI files:
+  /// "file.ini:4: unknown section [s] (did you mean [k]?); <expected>", the hint from `known`
+  /// when one is close, `expected` saying which sections the file may have.
+  std::string unknownSection(const std::string& section, const std::vector<std::string>& known,
+                             const std::string& expected) const;
 
   /// Validates a section against a key table: unknown keys (with "did you mean"), missing
   /// required keys, types, ranges, choices. Returns every key with its value or default;

@@ -3,7 +3,7 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/graph_drawing.h>
-#include <asf/run_report.h>
+#include <asf/text.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -64,12 +64,6 @@ MatrixXd classicalMds(const MatrixXd& D) {
   return X;
 }
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2f", v);
-  return b;
-}
-
 }  // namespace
 
 std::vector<Vector2d> stressLayout(const Multigraph& g, int iterations) {
@@ -115,13 +109,13 @@ void writeWeightsSvg(const Multigraph& g, const std::vector<Vector2d>& positions
                      const std::vector<WeightPanel>& panels, const std::string& title,
                      const std::string& path) {
   if (static_cast<int>(positions.size()) != g.n)
-    throw InputError("writeWeightsSvg: " + std::to_string(positions.size()) +
-                     " positions for " + std::to_string(g.n) + " nodes");
+    throw InputError("writeWeightsSvg: " + std::to_string(positions.size()) + " positions for " +
+                     std::to_string(g.n) + " nodes");
   for (const auto& p : panels)
     if (p.weights.size() != g.m())
       throw InputError("writeWeightsSvg: panel '" + p.title + "' has " +
-                       std::to_string(p.weights.size()) + " weights for " +
-                       std::to_string(g.m()) + " edges");
+                       std::to_string(p.weights.size()) + " weights for " + std::to_string(g.m()) +
+                       " edges");
   Vector2d lo = Vector2d::Constant(1e300), hi = Vector2d::Constant(-1e300);
   for (const auto& q : positions) {
     lo = lo.cwiseMin(q);
@@ -137,7 +131,7 @@ void writeWeightsSvg(const Multigraph& g, const std::vector<Vector2d>& positions
     << "\" viewBox=\"0 0 " << width << " " << height << "\" font-family=\"sans-serif\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << width / 2 << "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\">"
-    << report::htmlEscape(title) << "</text>\n";
+    << htmlEscape(title) << "</text>\n";
   // Map y up (poses) to SVG y down; centre the drawing in its panel.
   const Vector2d mid = 0.5 * (lo + hi);
   auto px = [&](std::size_t panel, const Vector2d& q) {
@@ -148,26 +142,27 @@ void writeWeightsSvg(const Multigraph& g, const std::vector<Vector2d>& positions
     const auto& p = panels[k];
     const double wmax = p.weights.size() ? p.weights.maxCoeff() : 0;
     s << "<g>\n<text x=\"" << side * k + side / 2 << "\" y=\"34\" text-anchor=\"middle\" "
-      << "font-size=\"12\">" << report::htmlEscape(p.title) << "</text>\n";
+      << "font-size=\"12\">" << htmlEscape(p.title) << "</text>\n";
     for (int j = 0; j < g.m(); ++j) {
       const auto& e = g.edges[j];
       if (e.u == e.v) continue;
       const Vector2d a = px(k, positions[e.u]), b = px(k, positions[e.v]);
       const double w = wmax > 0 ? 8.0 * p.weights[j] / wmax : 0;
-      s << "<line x1=\"" << num(a.x()) << "\" y1=\"" << num(a.y()) << "\" x2=\"" << num(b.x())
-        << "\" y2=\"" << num(b.y()) << "\" stroke=\"#0072B2\" stroke-linecap=\"round\" ";
+      s << "<line x1=\"" << formatFixed(a.x(), 2) << "\" y1=\"" << formatFixed(a.y(), 2)
+        << "\" x2=\"" << formatFixed(b.x(), 2) << "\" y2=\"" << formatFixed(b.y(), 2)
+        << "\" stroke=\"#0072B2\" stroke-linecap=\"round\" ";
       if (w > 0.05)
-        s << "stroke-width=\"" << num(w) << "\"";
+        s << "stroke-width=\"" << formatFixed(w, 2) << "\"";
       else
         s << "stroke-width=\"0.5\" stroke-dasharray=\"2,2\"";
-      s << "><title>edge " << j + 1 << " (" << e.u + 1 << "-" << e.v + 1
-        << "): " << p.weights[j] << "</title></line>\n";
+      s << "><title>edge " << j + 1 << " (" << e.u + 1 << "-" << e.v + 1 << "): " << p.weights[j]
+        << "</title></line>\n";
     }
     const double r = g.n > 200 ? 0.8 : 2.5;
     for (int i = 0; i < g.n; ++i) {
       const Vector2d c = px(k, positions[i]);
-      s << "<circle cx=\"" << num(c.x()) << "\" cy=\"" << num(c.y()) << "\" r=\"" << r
-        << "\" fill=\"#D55E00\"/>\n";
+      s << "<circle cx=\"" << formatFixed(c.x(), 2) << "\" cy=\"" << formatFixed(c.y(), 2)
+        << "\" r=\"" << r << "\" fill=\"#D55E00\"/>\n";
     }
     s << "</g>\n";
   }

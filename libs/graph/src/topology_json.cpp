@@ -1,6 +1,8 @@
-// topology.json -> region graph (multigraph.h). Shared by `asf optimal` and the fuzz target.
+// topology.json both ways: written from a TopoGraph (topology_json.h), read as a region graph
+// (multigraph.h; shared by `asf optimal` and the fuzz target).
 #include <asf/errors.h>
 #include <asf/multigraph.h>
+#include <asf/topology_json.h>
 
 #include <climits>
 #include <fstream>
@@ -79,3 +81,32 @@ RegionGraph readTopologyJson(const std::string& path) {
 }
 
 }  // namespace asf::graph
+
+namespace asf {
+
+std::string topologyJson(const TopoGraph& topo) {
+  using nlohmann::json;
+  json j;
+  j["current"] = topo.current;
+  j["nodes"] = json::array();
+  for (const auto& n : topo.nodes)
+    j["nodes"].push_back({{"region", n.region},
+                          {"centroid", {n.centroid.x, n.centroid.y}},
+                          {"area_m2", n.area},
+                          {"visited", n.visited},
+                          {"entrance_edge", n.entrance_edge}});
+  j["edges"] = json::array();
+  for (const auto& e : topo.edges) {
+    json t = json::array();
+    for (const auto& tr : e.traversals) t.push_back({{"forward", tr.forward}, {"time_s", tr.time}});
+    j["edges"].push_back({{"a", e.a},
+                          {"b", e.b},
+                          {"frontier", e.frontier()},
+                          {"midpoint", {e.midpoint.x, e.midpoint.y}},
+                          {"width_m", e.width},
+                          {"traversals", t}});
+  }
+  return j.dump(2) + "\n";
+}
+
+}  // namespace asf

@@ -11,8 +11,8 @@
 /// Conventions: grid cells (cx, cy) with cy up (MRPT), index cy * width + cx; metres in the
 /// map frame. Everything here is deterministic.
 #include <asf/grid_map.h>
+#include <asf/odometry_noise.h>
 #include <asf/pose_graph.h>
-#include <asf/rawlog_io.h>
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -40,7 +40,8 @@ struct GvgOptions {
 /// one edge from a vertex on it to itself).
 struct Gvg {
   int width = 0, height = 0;
-  double resolution = 0, origin_x = 0, origin_y = 0;  ///< cell (cx, cy) centre: origin + (c + 0.5) res
+  double resolution = 0, origin_x = 0,
+         origin_y = 0;                 ///< cell (cx, cy) centre: origin + (c + 0.5) res
   std::vector<std::uint8_t> skeleton;  ///< width * height, 1 = GVG cell
   std::size_t skeleton_cells = 0;
   struct Vertex {
@@ -85,7 +86,7 @@ struct VirtualEdgeOptions {
 /// An edge the GVG adds to the pose graph (not a measurement: the robot would drive it by
 /// odometry alone).
 struct VirtualEdge {
-  NodeId a = 0, b = 0;       ///< a < b
+  NodeId a = 0, b = 0;  ///< a < b
   /// Length of the drive a -> b through free space [m]: a's attach leg + the GVG path between
   /// the two attach cells + b's attach leg.
   double length = 0;

@@ -1,0 +1,20 @@
+#pragma once
+/// \file odometry_noise.h
+/// The covariance of an odometry increment, for logs and simulators that carry none.
+#include <mrpt/poses/CPose2D.h>
+
+#include <Eigen/Core>
+
+namespace asf {
+
+/// MRPT's Gaussian odometry model (CActionRobotMovement2D::TMotionModelOptions, mmGaussian):
+/// the covariance of an odometry increment grows with the distance and angle travelled.
+/// Units as in MRPT: a1 [m/m], a2 [m/deg], a3 [deg/m], a4 [deg/deg]; minimum stds in m, deg.
+struct OdometryNoiseModel {
+  double a1 = 0.01, a2 = 0.001, a3 = 1.0, a4 = 0.05;
+  double min_std_xy = 0.01, min_std_phi_deg = 0.2;
+  /// Covariance (x, y, phi) of the increment `delta`, computed by MRPT's motion model.
+  Eigen::Matrix3d covariance(const mrpt::poses::CPose2D& delta) const;
+};
+
+}  // namespace asf

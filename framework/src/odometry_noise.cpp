@@ -1,0 +1,33 @@
+#include <asf/odometry_noise.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+
+namespace asf {
+
+using mrpt::obs::CActionRobotMovement2D;
+using mrpt::poses::CPose2D;
+
+Eigen::Matrix3d OdometryNoiseModel::covariance(const CPose2D& delta) const {
+  CActionRobotMovement2D::TMotionModelOptions o;
+  o.modelSelection = CActionRobotMovement2D::mmGaussian;
+  // MRPT documents these fields in degrees but its formula uses them with radians (its own
+  // defaults are written RAD2DEG(0.001), DEG2RAD(1.0), DEG2RAD(0.2)): convert our documented
+  // units the same way.
+  o.gaussianModel.a1 = a1;
+  o.gaussianModel.a2 = mrpt::RAD2DEG(a2);  // m/deg -> m/rad
+  o.gaussianModel.a3 = mrpt::DEG2RAD(a3);  // deg/m -> rad/m
+  o.gaussianModel.a4 = a4;                 // deg/deg == rad/rad
+  o.gaussianModel.minStdXY = min_std_xy;
+  o.gaussianModel.minStdPHI = mrpt::DEG2RAD(min_std_phi_deg);
+  CActionRobotMovement2D act;
+  act.computeFromOdometry(delta, o);
+  mrpt::math::CMatrixDouble33 cov;
+  CPose2D mean;
+  act.poseChange->getCovarianceAndMean(cov, mean);
+  Eigen::Matrix3d out;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) out(r, k) = cov(r, k);
+  return out;
+}
+
+}  // namespace asf
