@@ -1,4 +1,4 @@
-// Expected-uncertainty planning (framework/include/asf/expected_uncertainty.h): Algorithm 1
+// Expected-uncertainty planning (plugins/planner_core/include/asf/expected_uncertainty.h): Algorithm 1
 // on one path of m steps (m = 10, 100, 1000), exact (every hypothesis kept: O(m^2) window
 // integrals) and with the default pruning of negligible hypotheses; and a sweep of start/goal
 // pairs on intel.g2o (skipped without ../shared/datasets/g2o/intel.g2o): search of the reduced
