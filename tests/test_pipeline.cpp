@@ -4,6 +4,7 @@
 #include <asf/occupancy_io.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <asf/pipeline.h>
+#include <asf/pose_graph.h>
 #include <asf/trajectory_eval.h>
 #include <gtest/gtest.h>
 
@@ -201,6 +202,39 @@ TEST(Pipeline, PolicyThatNeverMovesTheRobotIsStopped) {
   EXPECT_TRUE(has(s.stop_reason, "no progress: the policy's last 20 decisions")) << s.stop_reason;
   EXPECT_EQ(s.decisions, 20);
   fs::remove_all(out);
+}
+
+TEST(Pipeline, PolicySeesThePipelinesPlanner) {
+  // [pipeline] planner is a service for the policy (ExplorationState::planner): the test
+  // policy asks it for the path from the newest node home at each decision and writes the
+  // answer into the decision's reason; without a planner it is told there is none.
+  for (const std::string planner : {"shortest", ""}) {
+    asf::Registry reg;
+    auto ini = asf::IniConfig::fromFile(kDefault);
+    ini.set("pipeline", "policy", "test_policy");
+    ini.set("pipeline", "planner", planner);
+    ini.set("pipeline", "plugin_path", ASF_TEST_BINARY_DIR "/tests/plugins/good");
+    ini.set("pipeline", "progress_interval", "0");
+    ini.set("test_policy", "fail_after", "4");
+    ini.set("test_policy", "plan_home", "true");
+    const fs::path out = tempDir("policy_planner");
+    asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+    errorOf([&] { p.run(); });  // the test policy throws after its 4 decisions
+    std::ifstream in(out / "decisions.csv");
+    const std::string csv((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (planner.empty()) {
+      EXPECT_TRUE(has(csv, "planner: none")) << csv;
+      EXPECT_FALSE(has(csv, "planner: path")) << csv;
+    } else {
+      EXPECT_FALSE(has(csv, "planner: none")) << csv;
+      const std::regex path("planner: path of ([0-9]+) nodes from node ([0-9]+) to node 0");
+      std::smatch m;
+      ASSERT_TRUE(std::regex_search(csv, m, path)) << csv;
+      EXPECT_GE(std::stoi(m[1]), 2);
+      EXPECT_GE(std::stoi(m[2]), 1);
+    }
+    fs::remove_all(out);
+  }
 }
 
 TEST(Pipeline, PluginFailureMidRunKeepsWhatWasProduced) {

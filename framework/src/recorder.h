@@ -1,9 +1,11 @@
 #pragma once
 // Writes a run's outputs. Private to the framework: stages never know about files.
+#include <asf/goal.h>
 #include <asf/map3d.h>
 #include <asf/pipeline.h>
-
+#include <asf/pose_graph.h>
 #include <asf/segmentation.h>
+#include <asf/topo_graph.h>
 
 #include <array>
 #include <chrono>

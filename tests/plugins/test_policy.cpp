@@ -16,6 +16,7 @@ class TestPolicy : public asf::Policy {
   }
   void configure(const asf::Params& p, const asf::PluginContext&) override {
     fail_after_ = static_cast<int>(p.getInt("fail_after"));
+    plan_home_ = p.getBool("plan_home");
   }
   asf::Decision decide(const asf::ExplorationState& s) override {
     if (fail_after_ < 0) return asf::Decision::done("nothing to explore in a test");
@@ -24,16 +25,35 @@ class TestPolicy : public asf::Policy {
                        " decisions");
     asf::Goal g;
     g.x = (calls_++ % 2 == 0) ? 1.0 : 0.0;  // back and forth, 1 m
-    return asf::Decision::goTo(g, "test shuttle");
+    return asf::Decision::goTo(g, plan_home_ ? "test shuttle; " + askPlanner(s) : "test shuttle");
   }
 
  private:
+  // The pipeline's planner as a policy sees it: the path from the newest node to node 0.
+  static std::string askPlanner(const asf::ExplorationState& s) {
+    if (!s.planner) return "planner: none";
+    if (!s.graph || s.graph->size() < 2) return "planner: no graph yet";
+    asf::PlanRequest req;
+    req.graph = s.graph;
+    req.marginals = s.marginals;
+    req.map = s.map;
+    req.start = static_cast<asf::NodeId>(s.graph->size() - 1);
+    req.goal = 0;
+    const asf::PlanResult r = s.planner->plan(req);
+    if (!r.found) return "planner: no path: " + r.reason;
+    return "planner: path of " + std::to_string(r.nodes.size()) + " nodes from node " +
+           std::to_string(r.nodes.front()) + " to node " + std::to_string(r.nodes.back());
+  }
+
   int fail_after_ = -1, calls_ = 0;
+  bool plan_home_ = false;
 };
 
 const asf::KeySpec kKeys[] = {
     asf::keyInt("fail_after", "-1", "Shuttle for this many decisions, then throw (-1: say done at once)", -1,
                 1000000),
+    asf::keyBool("plan_home", "false",
+                 "Ask the pipeline's planner for the path home at each decision (in the reason)"),
 };
 
 }  // namespace

@@ -1,0 +1,213 @@
+#include <asf/errors.h>
+#include <asf/map3d.h>
+#include <asf/map_builder.h>
+#include <asf/pipeline_config.h>
+#include <asf/plugin.h>
+#include <asf/topo_builder.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace asf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const KeySpec kPipelineKeys[] = {
+    keyString("source", nullptr, "Source plugin: simulator or log (`asf plugins` lists them)"),
+    keyString("frontend", nullptr, "Front-end plugin: frames -> pose-graph nodes and edges"),
+    keyString("backend", "", "Back-end plugin: optimizes the graph, gives marginals (empty: none)"),
+    keyString("segmenter", "", "Segmenter plugin: map -> regions (empty: none)"),
+    keyString("planner", "", "Planner plugin: path between pose-graph nodes (empty: none)"),
+    keyString("policy", "", "Exploration policy plugin; needs an active source (empty: none)"),
+    keyInt("seed", "1", "Seed of every random draw of the run (each plugin gets its own stream)",
+           0),
+    keyString("plugin_path", "",
+              "Extra plugin folders, ':'-separated, relative to this INI file's folder"),
+    keyInt("max_steps", "100000", "Stop after this many source steps (0: no limit)", 0),
+    keyDouble("max_distance", "0", "Stop after travelling this far [m] (0: no limit)", 0),
+    keyInt("optimize_every", "1", "Run the back-end after this many new nodes", 1),
+    keyBool("marginals", "true", "Recover marginal covariances after each optimization"),
+    keyInt("segment_every", "1", "Segment every n-th map version", 1),
+    keyInt("max_failed_goals", "50",
+           "Stop when the policy's goals failed (unreachable/blocked) this many times in a row", 1),
+    keyInt("max_idle_decisions", "200",
+           "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
+           "(a policy going round in circles)",
+           1),
+    keyBool("map3d", "false",
+            "Build the 3D map ([map3d]) from the frames' 3D observations at the keyframes; "
+            "writes map3d.bt, map3d.ot, map3d.json, map3d_grid.png"),
+    keyEnum("navigation_map", "scan2d", "scan2d|map3d|merged",
+            "Grid the policy, navigation, segmenter and coverage use: the 2D scans' ([map]), "
+            "the 3D map's projection, or both merged (an obstacle in either is one)"),
+    keyDouble("progress_interval", "2.0", "Seconds between progress lines (0: none)", 0),
+    keyDoubleList("snapshot_distances", "",
+                  "Distances driven [m] at which the map, its regions and the topological graph "
+                  "are saved to snapshots/ (thesis fig. 6.1; empty: none)",
+                  0),
+    keyEnum("verbosity", "INFO", "DEBUG|INFO|WARN|ERROR", "Log level of the host and plugins"),
+};
+
+const char* const kSlots[] = {"source", "frontend", "backend", "segmenter", "planner", "policy"};
+const PluginKind kSlotKinds[] = {PluginKind::Source,    PluginKind::Frontend, PluginKind::Backend,
+                                 PluginKind::Segmenter, PluginKind::Planner,  PluginKind::Policy};
+
+void appendSection(std::ostringstream& os, const std::string& name, const Params& p,
+                   const KeySpec* keys, std::size_t n, const std::string& title) {
+  os << "\n; " << title << "\n[" << name << "]\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    const KeySpec& k = keys[i];
+    if (!p.has(k.name)) continue;
+    os << "; " << k.doc << " (" << keyTypeName(k.type);
+    if (k.type == KeyType::Enum && k.choices) os << ": " << k.choices;
+    if (!std::isinf(k.min) || !std::isinf(k.max))
+      os << ", range [" << k.min << ", " << k.max << "]";
+    os << (p.isDefault(k.name) ? ", default" : ", set") << ")\n";
+    os << k.name << " = " << p.getString(k.name) << "\n";
+  }
+}
+
+}  // namespace
+
+const KeySpec* pipelineKeys(std::size_t& n) {
+  n = std::size(kPipelineKeys);
+  return kPipelineKeys;
+}
+
+std::vector<FrameworkSection> frameworkSections() {
+  std::vector<FrameworkSection> v;
+  std::size_t n;
+  const KeySpec* k = pipelineKeys(n);
+  v.push_back({"pipeline", k, n});
+  k = MapBuilder::keys(n);
+  v.push_back({"map", k, n});
+  k = TopoBuilder::keys(n);
+  v.push_back({"topology", k, n});
+  k = Map3d::keys(n);
+  v.push_back({"map3d", k, n});
+  return v;
+}
+
+std::string ResolvedConfig::toIni() const {
+  std::ostringstream os;
+  os << "; asf configuration, resolved: every key with its value or default.\n";
+  const auto fw = frameworkSections();
+  appendSection(os, "pipeline", pipeline, fw[0].keys, fw[0].num_keys, "framework: the pipeline");
+  appendSection(os, "map", map, fw[1].keys, fw[1].num_keys, "framework: occupancy grid builder");
+  appendSection(os, "topology", topology, fw[2].keys, fw[2].num_keys,
+                "framework: topological graph builder");
+  appendSection(os, "map3d", map3d, fw[3].keys, fw[3].num_keys,
+                "framework: 3D map (OctoMap), used with [pipeline] map3d = true");
+  for (const char* slot : kSlots) {
+    auto it = slots.find(slot);
+    if (it == slots.end()) continue;
+    const PluginInfo& info = *it->second;
+    const auto& d = *info.descriptor;
+    appendSection(os, d.name, plugin_params.at(d.name), d.keys, d.num_keys,
+                  std::string(slot) + " plugin '" + d.name + "' " + d.version + ": " +
+                      d.description + " (" + info.file + ")");
+  }
+  return os.str();
+}
+
+ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
+  ResolvedConfig rc;
+  std::vector<std::string> errors;
+  auto attempt = [&](auto&& fn) {
+    try {
+      fn();
+    } catch (const Error& e) {
+      errors.push_back(e.what());
+    }
+  };
+  const auto fw = frameworkSections();
+  attempt([&] { rc.pipeline = ini.resolve("pipeline", fw[0].keys, fw[0].num_keys); });
+  attempt([&] { rc.map = ini.resolve("map", fw[1].keys, fw[1].num_keys); });
+  attempt([&] { rc.topology = ini.resolve("topology", fw[2].keys, fw[2].num_keys); });
+  attempt([&] { rc.map3d = ini.resolve("map3d", fw[3].keys, fw[3].num_keys); });
+  attempt([&] {
+    if (rc.pipeline.has("navigation_map") && rc.pipeline.getString("navigation_map") != "scan2d" &&
+        !rc.pipeline.getBool("map3d"))
+      rc.pipeline.fail("navigation_map", "'" + rc.pipeline.getString("navigation_map") +
+                                             "' needs the 3D map: set [pipeline] map3d = true");
+  });
+  if (!ini.hasSection("pipeline"))
+    errors.insert(errors.begin(), ini.fileName() + ": no [pipeline] section");
+
+  for (const auto& d : Registry::defaultSearchPath()) registry.scanDirectory(d);
+  // Slots and plugin_path are read from the INI directly, so their errors are reported
+  // even when another [pipeline] key is invalid.
+  {
+    std::stringstream ss(ini.get("pipeline", "plugin_path"));
+    std::string d;
+    while (std::getline(ss, d, ':')) {
+      if (d.empty()) continue;
+      fs::path p(d);
+      if (p.is_relative() && !ini.baseDir().empty()) p = fs::path(ini.baseDir()) / p;
+      if (!fs::is_directory(p))
+        errors.push_back(ini.where("pipeline", "plugin_path") + ": [pipeline] plugin_path: '" +
+                         p.string() + "' is not a folder");
+      registry.scanDirectory(p.string());
+    }
+  }
+
+  for (std::size_t i = 0; i < std::size(kSlots); ++i) {
+    const std::string name = ini.get("pipeline", kSlots[i]);
+    if (name.empty()) continue;
+    try {
+      rc.slots[kSlots[i]] = registry.find(name, kSlotKinds[i]);
+    } catch (const PluginError& e) {
+      errors.push_back(ini.where("pipeline", kSlots[i]) + ": [pipeline] " + kSlots[i] + ": " +
+                       e.what());
+    }
+  }
+  if (rc.slots.count("policy") && rc.slots.count("source") && !rc.slots.count("segmenter"))
+    rc.warnings.push_back(
+        "[pipeline] a policy without a segmenter sees a topological graph "
+        "with no regions");
+
+  std::vector<std::string> known_sections;
+  for (const auto& s : fw) known_sections.push_back(s.name);
+  for (const auto& p : registry.plugins()) known_sections.push_back(p->name());
+  for (const auto& section : ini.sections()) {
+    bool framework = false;
+    for (const auto& s : fw) framework = framework || section == s.name;
+    if (framework) continue;
+    bool selected = false;
+    for (const auto& [slot, info] : rc.slots) selected = selected || info->name() == section;
+    if (selected) continue;
+    std::shared_ptr<const PluginInfo> other;
+    try {
+      other = registry.find(section);
+    } catch (const PluginError&) {
+    }
+    if (other) {
+      // Validated all the same, so a typo waits for no one to switch plugins.
+      attempt([&] { ini.resolve(section, other->descriptor->keys, other->descriptor->num_keys); });
+      rc.warnings.push_back(ini.where(section) + ": [" + section + "] configures plugin '" +
+                            section + "', which this pipeline does not use");
+      continue;
+    }
+    errors.push_back(ini.unknownSection(
+        section, known_sections,
+        "sections are [pipeline], [map], [topology], [map3d] and one per plugin, named after "
+        "it"));
+  }
+  for (const auto& [slot, info] : rc.slots) {
+    attempt([&, &info = info] {
+      rc.plugin_params[info->name()] =
+          ini.resolve(info->name(), info->descriptor->keys, info->descriptor->num_keys);
+    });
+  }
+  if (!errors.empty()) {
+    std::string msg;
+    for (const auto& e : errors) msg += (msg.empty() ? "" : "\n") + e;
+    throw ConfigError(msg);
+  }
+  return rc;
+}
+
+}  // namespace asf

@@ -1,0 +1,464 @@
+// One run of the pipeline: the loop's state and one method per stage (decide, sense,
+// optimize, update maps, segment, track), the final optimization reusing them, and the
+// summary.
+#include <asf/errors.h>
+#include <asf/run_report.h>
+#include <asf/text.h>
+#include <asf/trajectory_eval.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <optional>
+#include <sstream>
+
+#include "pipeline_impl.h"
+#include "recorder.h"
+
+namespace asf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double planarDistance(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b) {
+  return std::hypot(a.x() - b.x(), a.y() - b.y());
+}
+
+/// The [pipeline] keys the loop reads, once.
+struct RunLimits {
+  explicit RunLimits(const Params& p)
+      : max_steps(static_cast<long>(p.getInt("max_steps"))),
+        max_distance(p.getDouble("max_distance")),
+        optimize_every(static_cast<long>(p.getInt("optimize_every"))),
+        segment_every(static_cast<long>(p.getInt("segment_every"))),
+        max_failed(static_cast<int>(p.getInt("max_failed_goals"))),
+        max_idle(static_cast<int>(p.getInt("max_idle_decisions"))),
+        want_marginals(p.getBool("marginals")),
+        progress_interval(p.getDouble("progress_interval")),
+        snapshots(p.getDoubleList("snapshot_distances")) {
+    std::sort(snapshots.begin(), snapshots.end());
+  }
+  long max_steps;
+  double max_distance;
+  long optimize_every, segment_every;
+  int max_failed, max_idle;
+  bool want_marginals;
+  double progress_interval;
+  std::vector<double> snapshots;  ///< sorted
+};
+
+class RunState {
+ public:
+  RunState(PipelineParts& m, const std::atomic<bool>* stop)
+      : m_(m),
+        stop_(stop),
+        limits_(m.cfg.pipeline),
+        exploring_(m.policy && m.source->isActive()),
+        t_start_(Clock::now()),
+        last_progress_(t_start_),
+        rec_(m.out_dir, m.cfg) {}
+
+  RunSummary run();
+
+ private:
+  bool budgetSpent();
+  /// The policy's turn when the robot is idle; false when the run stops.
+  bool decide();
+  bool giveUp(NavStatus status);
+  /// One frame through the stages.
+  void step(const SensorFrame& frame);
+  /// Front-end (and the frame's 3D keyframes); true if the graph changed.
+  bool sense(const SensorFrame& frame);
+  void optimize();
+  /// The maps from the graph; true if the navigation grid changed.
+  bool updateMaps(bool graph_changed);
+  /// Segmentation and topological graph of the navigation grid; returns its time [ms].
+  double segment();
+  /// Poses, distance, pose error, the recorder's rows and snapshots.
+  void track(const SensorFrame& frame, bool map_changed);
+  /// Keyframes added since the last optimization are optimized once more at the end, so the
+  /// outputs (graph, map, ATE) are those of the whole graph, not of an earlier state of it.
+  void finalOptimization();
+  void summarize();
+  void writeOutputs();
+  void finish();
+  /// The planner's path home, logged after the outputs are on disk: a slow planner on a large
+  /// graph then costs time, never the run's files; an interrupted run skips it.
+  void checkPathHome();
+  void seriesRow(double pose_error);
+  void progress(bool force);
+  double currentPoseError() const { return err_n_ ? planarDistance(*last_truth_, last_est_) : -1; }
+  std::size_t loopClosures() const;
+
+  PipelineParts& m_;
+  const std::atomic<bool>* stop_;
+  const RunLimits limits_;
+  const bool exploring_;
+  const Clock::time_point t_start_;
+  Clock::time_point last_progress_;
+  Recorder rec_;
+  RunSummary sum_;
+
+  std::size_t next_snapshot_ = 0;
+  std::optional<mrpt::poses::CPose2D> gt0_, last_truth_;
+  mrpt::poses::CPose2D last_est_;
+  double err_sum_ = 0, t0_ = 0, now_t_ = 0;
+  long err_n_ = 0, nodes_since_opt_ = 0;
+  int failed_in_row_ = 0, idle_decisions_ = 0;
+  double idle_since_distance_ = 0;
+  Goal last_goal_;
+  bool have_goal_ = false;
+  // Compute time per stage since the last timeseries row, and per call for the summary.
+  struct StageMs {
+    double frontend = 0, backend = 0, map = 0, segment = 0, policy = 0;
+  } stage_;
+  std::vector<double> decision_ms_, segment_ms_;
+  SegmentationLog seg_log_;
+  double last_coverage_ = -1;
+};
+
+RunSummary RunState::run() {
+  try {
+    while (!budgetSpent()) {
+      if (exploring_ && m_.source->status() != NavStatus::Moving && !decide()) break;
+      std::optional<SensorFrame> frame = m_.source->next();
+      if (!frame) {
+        sum_.finished = !exploring_;
+        sum_.stop_reason = "source ended";
+        break;
+      }
+      step(*frame);
+    }
+    finalOptimization();
+  } catch (const std::exception& e) {
+    sum_.stop_reason = std::string("error: ") + e.what();
+    finish();
+    throw;
+  }
+  progress(true);
+  finish();
+  checkPathHome();
+  return sum_;
+}
+
+bool RunState::budgetSpent() {
+  if (stop_ && stop_->load()) {
+    sum_.stop_reason = "interrupted";
+  } else if (limits_.max_steps > 0 && sum_.steps >= limits_.max_steps) {
+    sum_.stop_reason = "step budget (" + std::to_string(limits_.max_steps) + ") spent";
+  } else if (limits_.max_distance > 0 && sum_.distance_m >= limits_.max_distance) {
+    sum_.stop_reason = "distance budget spent";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool RunState::giveUp(NavStatus st) {
+  failed_in_row_ =
+      (st == NavStatus::Unreachable || st == NavStatus::Blocked) ? failed_in_row_ + 1 : 0;
+  if (failed_in_row_ >= limits_.max_failed) {
+    sum_.stop_reason =
+        "the policy's last " + std::to_string(failed_in_row_) + " goals failed; giving up";
+    return true;
+  }
+  // Counts the decisions since the robot last moved 0.1 m (the previous one included).
+  if (sum_.distance_m - idle_since_distance_ >= 0.1) {
+    idle_since_distance_ = sum_.distance_m;
+    idle_decisions_ = 0;
+  } else if (sum_.decisions > 0 && ++idle_decisions_ >= limits_.max_idle) {
+    sum_.stop_reason = "no progress: the policy's last " + std::to_string(idle_decisions_) +
+                       " decisions moved the robot less than 0.1 m";
+    return true;
+  }
+  return false;
+}
+
+bool RunState::decide() {
+  const NavStatus st = have_goal_ ? m_.source->status() : NavStatus::Idle;
+  if (giveUp(st)) return false;
+  ExplorationState s;
+  s.topo = &m_.topo.graph();
+  s.robot = m_.frontend->currentPose(m_.graph);
+  s.map = m_.navMap().version ? &m_.navMap() : nullptr;
+  s.graph = &m_.graph;
+  s.marginals = m_.marginals.valid() ? &m_.marginals : nullptr;
+  s.planner = m_.planner.instance.get();
+  s.time = now_t_;
+  s.last_status = st;
+  s.last_goal = last_goal_;
+  s.segmentation = m_.seg.regions.empty() ? nullptr : &m_.seg;
+  s.world_topo = m_.have_world_topo ? &m_.world_topo : nullptr;
+  const auto t_dec = Clock::now();
+  const Decision d = m_.policy->decide(s);
+  const double dec_ms = msSince(t_dec);
+  stage_.policy += dec_ms;
+  decision_ms_.push_back(dec_ms);
+  ++sum_.decisions;
+  rec_.decision(sum_.steps, s.time, d, st);
+  if (d.type == Decision::Type::Done) {
+    sum_.finished = true;
+    sum_.stop_reason = "policy done: " + d.reason;
+    return false;
+  }
+  if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y))
+    throw Error("policy '" + m_.cfg.slots.at("policy")->name() + "' returned a non-finite goal");
+  NavigationContext ctx;
+  ctx.robot_estimate = s.robot;
+  ctx.map = s.map;
+  m_.logStr(mrpt::system::LVL_DEBUG, "goal (" + std::to_string(d.goal.x) + ", " +
+                                         std::to_string(d.goal.y) + "): " + d.reason);
+  m_.source->navigate(d.goal, ctx);
+  last_goal_ = d.goal;
+  have_goal_ = true;
+  return true;
+}
+
+void RunState::step(const SensorFrame& frame) {
+  if (sum_.steps == 0) t0_ = frame.timestamp;
+  ++sum_.steps;
+  now_t_ = frame.timestamp - t0_;
+  const bool changed = sense(frame);
+  if (changed) ++nodes_since_opt_;
+  if (changed && m_.backend && nodes_since_opt_ >= limits_.optimize_every) optimize();
+  const bool map_changed = updateMaps(changed);
+  if (map_changed && m_.segmenter && m_.navMap().version % limits_.segment_every == 0) {
+    const double ms = segment();
+    segment_ms_.push_back(ms);
+    seg_log_.add(m_.seg, ms);
+  }
+  track(frame, map_changed);
+}
+
+bool RunState::sense(const SensorFrame& frame) {
+  auto t_stage = Clock::now();
+  const std::size_t nodes_before = m_.graph.size();
+  const bool changed = m_.frontend->process(frame, m_.graph, m_.marginals);
+  stage_.frontend += msSince(t_stage);
+  t_stage = Clock::now();
+  m_.maps.addKeyframes3d(frame, m_.graph, nodes_before, m_);
+  stage_.map += msSince(t_stage);
+  return changed;
+}
+
+void RunState::optimize() {
+  const auto t_stage = Clock::now();
+  nodes_since_opt_ = 0;
+  m_.backend->optimize(m_.graph);
+  if (limits_.want_marginals) m_.marginals = m_.backend->marginals(m_.graph);
+  m_.marginals.graph_revision = m_.graph.revision;
+  stage_.backend += msSince(t_stage);
+  m_.maps.followGraph(m_.graph);
+}
+
+bool RunState::updateMaps(bool graph_changed) {
+  const auto t_stage = Clock::now();
+  const bool map_changed = m_.maps.update(m_.graph, graph_changed);
+  if (map_changed) m_.area.update(m_.navMap());  // every version: the change box holds
+  stage_.map += msSince(t_stage);
+  return map_changed;
+}
+
+double RunState::segment() {
+  const auto t_stage = Clock::now();
+  m_.seg = m_.segmenter->segment(m_.navMap(), m_.seg.regions.empty() ? nullptr : &m_.seg);
+  m_.seg.map_version = m_.navMap().version;
+  m_.topo.update(m_.seg, m_.navMap(), &m_.graph);
+  const double ms = msSince(t_stage);
+  stage_.segment += ms;
+  return ms;
+}
+
+void RunState::track(const SensorFrame& frame, bool map_changed) {
+  const mrpt::poses::CPose2D est = m_.frontend->currentPose(m_.graph);
+  m_.topo.observeRobot(est.x(), est.y(), now_t_);
+  std::optional<mrpt::poses::CPose2D> truth;
+  if (frame.ground_truth) {
+    if (!gt0_) gt0_ = *frame.ground_truth;
+    truth = *frame.ground_truth - *gt0_;  // in the map frame (first pose = origin)
+  }
+  if (sum_.steps > 1)
+    sum_.distance_m += (truth && last_truth_) ? planarDistance(*truth, *last_truth_)
+                                              : planarDistance(est, last_est_);
+  if (truth) {
+    err_sum_ += planarDistance(*truth, est);
+    ++err_n_;
+  }
+  last_truth_ = truth;
+  last_est_ = est;
+  m_.path.push_back(est);
+  rec_.step(
+      {sum_.steps, now_t_, est, truth, m_.graph.size(), m_.graph.edges.size(), sum_.distance_m});
+  const auto& snapshots = limits_.snapshots;
+  for (; next_snapshot_ < snapshots.size() && sum_.distance_m >= snapshots[next_snapshot_];
+       ++next_snapshot_)
+    rec_.snapshot(snapshots[next_snapshot_], m_.graph, m_.navMap(), m_.seg, m_.topo.graph(),
+                  m_.path);
+  if (map_changed) seriesRow(truth ? planarDistance(*truth, est) : -1);
+  progress(false);
+}
+
+void RunState::finalOptimization() {
+  if (!m_.backend || nodes_since_opt_ == 0 || m_.graph.size() < 2) return;
+  optimize();
+  // The whole 3D rebuild now: the final segmentation sees the final graph's map.
+  m_.maps.completeRebuild();
+  if (m_.maps.update(m_.graph, true) && m_.segmenter) segment();
+}
+
+std::size_t RunState::loopClosures() const {
+  return static_cast<std::size_t>(
+      std::count_if(m_.graph.edges.begin(), m_.graph.edges.end(),
+                    [](const PoseEdge& e) { return e.kind == EdgeKind::LoopClosure; }));
+}
+
+void RunState::seriesRow(double pose_error) {
+  Recorder::SeriesRow r;
+  r.step = sum_.steps;
+  r.time = now_t_;
+  r.distance = sum_.distance_m;
+  const auto t_area = Clock::now();
+  m_.area.update(m_.navMap());
+  stage_.map += msSince(t_area);
+  if (m_.coverage) last_coverage_ = r.coverage = m_.area.coverage();
+  r.explored_area = m_.area.freeArea();
+  r.pose_error = pose_error;
+  r.loop_closures = loopClosures();
+  r.nodes = m_.graph.size();
+  r.edges = m_.graph.edges.size();
+  r.regions = m_.seg.regions.size();
+  r.decisions = sum_.decisions;
+  r.ms = {stage_.frontend, stage_.backend, stage_.map, stage_.segment, stage_.policy};
+  r.segmentations = seg_log_.total;
+  r.incremental_segmentations = seg_log_.incremental;
+  r.changed_cells = seg_log_.takeChangedSinceRow();
+  rec_.series(r);
+  stage_ = {};
+}
+
+void RunState::progress(bool force) {
+  const auto now = Clock::now();
+  if (!force &&
+      (limits_.progress_interval <= 0 ||
+       std::chrono::duration<double>(now - last_progress_).count() < limits_.progress_interval))
+    return;
+  last_progress_ = now;
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2) << "step " << sum_.steps << "  dist " << sum_.distance_m
+     << " m  nodes " << m_.graph.size() << "  edges " << m_.graph.edges.size() << "  regions "
+     << m_.seg.regions.size() << "  decisions " << sum_.decisions;
+  if (last_coverage_ >= 0)
+    os << "  coverage " << std::setprecision(1) << 100 * last_coverage_ << "%"
+       << std::setprecision(2);
+  if (err_n_) os << "  pose error " << currentPoseError() << " m";
+  os << "  (" << std::setprecision(1) << std::chrono::duration<double>(now - t_start_).count()
+     << " s)";
+  m_.logStr(mrpt::system::LVL_INFO, os.str());
+}
+
+void RunState::summarize() {
+  sum_.nodes = m_.graph.size();
+  sum_.edges = m_.graph.edges.size();
+  sum_.regions = m_.seg.regions.size();
+  if (err_n_) {
+    sum_.mean_pose_error_m = err_sum_ / err_n_;
+    sum_.final_pose_error_m = currentPoseError();
+  }
+  std::vector<mrpt::poses::CPose2D> kf_est, kf_gt;
+  for (const PoseNode& n : m_.graph.nodes)
+    if (n.ground_truth) {
+      kf_est.push_back(n.pose);
+      kf_gt.push_back(*n.ground_truth);
+    }
+  if (kf_est.size() >= 2) {
+    const TrajectoryError te = evaluateMatched(kf_est, kf_gt);
+    sum_.ate_rmse_m = te.ate_rmse_m;
+    sum_.ate_max_m = te.ate_max_m;
+    sum_.ate_poses = te.poses;
+  }
+  sum_.loop_closures = loopClosures();
+  sum_.explored_area_m2 = freeArea(m_.navMap());
+  if (m_.coverage) {
+    sum_.coverage = m_.coverage->coverage(m_.navMap());
+    sum_.reachable_area_m2 = m_.coverage->reachableArea();
+  }
+  if (!decision_ms_.empty()) {
+    double total = 0;
+    for (double v : decision_ms_) total += v;
+    sum_.decision_ms_mean = total / decision_ms_.size();
+    sum_.decision_ms_max = *std::max_element(decision_ms_.begin(), decision_ms_.end());
+  }
+  if (!segment_ms_.empty()) {
+    std::vector<double> v = segment_ms_;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    sum_.segment_ms_median = v[v.size() / 2];
+  }
+  seg_log_.summarize(sum_);
+  if (m_.policy) sum_.policy = m_.cfg.slots.at("policy")->name();
+  sum_.seed = static_cast<long>(m_.cfg.pipeline.getInt("seed"));
+}
+
+void RunState::writeOutputs() {
+  std::string err;
+  rec_.finish(m_.graph, m_.navMap(), m_.seg, m_.topo.graph(), m_.path, sum_, err);
+  if (m_.maps.hasMap3d()) {
+    const Recorder::Map3dInfo info = m_.maps.map3dInfo();
+    rec_.finishMap3d(m_.maps.map3d(), m_.maps.projected(), m_.cfg.map3d, info, err);
+    if (info.keyframes == 0)
+      m_.logStr(mrpt::system::LVL_WARN,
+                "[pipeline] map3d: no 3D observation reached a keyframe (does the source give "
+                "any? e.g. [rawlog] observations3d = true)");
+  }
+  try {
+    writeRunReport(m_.out_dir);
+  } catch (const std::exception& e) {
+    err += std::string(err.empty() ? "" : "; ") + "report.html: " + e.what();
+  }
+  if (!err.empty()) m_.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
+  sum_.output_errors = err;
+}
+
+void RunState::finish() {
+  if (m_.maps.hasMap3d()) {
+    // A rebuild still under way is completed: the outputs show the final graph's map.
+    try {
+      m_.maps.completeRebuild();
+      m_.maps.update(m_.graph, false);
+    } catch (const std::exception& e) {
+      m_.logStr(mrpt::system::LVL_ERROR, std::string("map3d: ") + e.what());
+    }
+  }
+  summarize();
+  seriesRow(currentPoseError());
+  sum_.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start_).count();
+  writeOutputs();
+}
+
+void RunState::checkPathHome() {
+  if (!m_.planner || m_.graph.size() <= 1 || (stop_ && stop_->load())) return;
+  PlanRequest req;
+  req.graph = &m_.graph;
+  req.marginals = m_.marginals.valid() ? &m_.marginals : nullptr;
+  req.map = m_.navMap().version ? &m_.navMap() : nullptr;
+  req.start = static_cast<NodeId>(m_.graph.size() - 1);
+  req.goal = 0;
+  const PlanResult r = m_.planner->plan(req);
+  std::ostringstream os;
+  if (r.found)
+    os << "planner: path home (node " << req.start << " -> 0): " << r.nodes.size() << " nodes, "
+       << r.criterion << " " << r.cost;
+  else
+    os << "planner: no path home: " << r.reason;
+  m_.logStr(mrpt::system::LVL_INFO, os.str());
+}
+
+}  // namespace
+
+RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop) {
+  return RunState(parts, stop).run();
+}
+
+}  // namespace asf
