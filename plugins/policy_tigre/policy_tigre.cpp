@@ -74,7 +74,50 @@ class TigrePolicy final : public asf::Policy {
     if (!s.map || !s.map->grid || topo.nodes.size() <= 1) return wait(robot, "no regions yet");
     const asf::Reachability reach = asf::Reachability::compute(*s.map, robot, reach_opt_);
 
-    // Phase 2 of an edge crossing: into the next region, unless already there.
+    if (auto d = enterPendingRegion(s, reach)) return *d;
+    const RegionId here = topo.current;
+    // Not inside any region (the start, or the region vanished): the nearest one.
+    if (here <= 0 || !topo.node(here)) return toNearestRegion(s, reach, robot);
+    waits_ = 0;
+
+    int untraversed = 0, given_up = 0;
+    const std::vector<Option> options = edgeOptions(topo, reach, untraversed, given_up);
+    if (untraversed == 0) {
+      std::ostringstream why;
+      why << "every edge traversed";
+      if (given_up) why << " except " << given_up << " given up after failures";
+      why << " (" << topo.edges.size() << " edges)";
+      return asf::Decision::done(why.str());
+    }
+    if (auto d = tarryStep(topo, options, here)) return *d;
+    return relocate(topo, options, untraversed, here);
+  }
+
+ private:
+  struct Option {
+    int index = -1;
+    EdgeKey key;
+    Point2 goal;
+    double cost = asf::Reachability::kUnreachable;
+    bool untraversed = false;
+  };
+  struct Attempt {
+    EdgeKey key;
+    bool frontier = false;
+    Point2 goal;
+  };
+  struct Pending {
+    EdgeKey key;
+    RegionId region = 0;       ///< to enter
+    Point2 border;             ///< the goal on the border, reached first
+    bool was_visited = false;  ///< `region` had been visited when the edge was chosen
+  };
+  enum class NextGoal { Centre, CentreNew, Entry, None };
+
+  /// Phase 2 of an edge crossing: into the next region, unless already there.
+  std::optional<asf::Decision> enterPendingRegion(const asf::ExplorationState& s,
+                                                  const asf::Reachability& reach) {
+    const asf::TopoGraph& topo = *s.topo;
     if (pending_ && s.last_status == asf::NavStatus::Reached && topo.current != pending_->region) {
       const Pending p = *pending_;
       pending_.reset();
@@ -99,32 +142,35 @@ class TigrePolicy final : public asf::Policy {
       }
     }
     pending_.reset();
+    return std::nullopt;
+  }
 
-    const RegionId here = topo.current;
-    if (here <= 0 || !topo.node(here)) {
-      // Not inside any region (the start, or the region vanished): the nearest one.
-      double best = asf::Reachability::kUnreachable;
-      std::optional<Point2> goal;
-      RegionId target = 0;
-      for (const auto& n : topo.nodes) {
-        if (n.region == asf::kUnexplored) continue;
-        const auto g = regionGoal(s, reach, n.region);
-        if (g && reach.distanceTo(*g) < best) {
-          best = reach.distanceTo(*g);
-          goal = g;
-          target = n.region;
-        }
+  /// The robot is in no region: to the nearest reachable one.
+  asf::Decision toNearestRegion(const asf::ExplorationState& s, const asf::Reachability& reach,
+                                const Point2& robot) {
+    double best = asf::Reachability::kUnreachable;
+    std::optional<Point2> goal;
+    RegionId target = 0;
+    for (const auto& n : s.topo->nodes) {
+      if (n.region == asf::kUnexplored) continue;
+      const auto g = regionGoal(s, reach, n.region);
+      if (g && reach.distanceTo(*g) < best) {
+        best = reach.distanceTo(*g);
+        goal = g;
+        target = n.region;
       }
-      if (!goal) return wait(robot, "outside every region and none reachable");
-      last_ = Attempt{{target, target}, false, *goal};
-      return go(*goal, "not inside a region: to region " + std::to_string(target) + " (" +
-                           asf::formatFixed(best, 2) + " m)");
     }
-    waits_ = 0;
+    if (!goal) return wait(robot, "outside every region and none reachable");
+    last_ = Attempt{{target, target}, false, *goal};
+    return go(*goal, "not inside a region: to region " + std::to_string(target) + " (" +
+                         asf::formatFixed(best, 2) + " m)");
+  }
 
-    // Every edge of the graph: where its goal is and whether it is still untraversed.
+  /// Every edge of the graph not given up: where its goal is and whether it is still
+  /// untraversed (counted in `untraversed`; the given-up ones in `given_up`).
+  std::vector<Option> edgeOptions(const asf::TopoGraph& topo, const asf::Reachability& reach,
+                                  int& untraversed, int& given_up) {
     std::vector<Option> options;
-    int untraversed = 0, given_up = 0;
     for (std::size_t i = 0; i < topo.edges.size(); ++i) {
       const asf::TopoEdge& e = topo.edges[i];
       const EdgeKey k = keyOf(e);
@@ -139,44 +185,53 @@ class TigrePolicy final : public asf::Policy {
       o.index = static_cast<int>(i);
       o.key = k;
       if (e.frontier()) {
-        std::vector<Point2> cells;
-        for (const Point2& c : e.border)
-          if (!blacklisted(c)) cells.push_back(c);
-        double d = 0;
-        Point2 g;
-        if (cells.empty() || reach.closest(cells, snap_, &g, &d) < 0) continue;
-        o.goal = g;
-        o.cost = d;
-        o.untraversed = true;
+        if (!frontierGoal(e, reach, o)) continue;
       } else {
-        o.untraversed = e.traversals.empty();
-        const double half = 0.5 * e.width + snap_;
-        std::optional<Point2> g = reach.nearestReachable(e.midpoint, half);
-        if (!g) {
-          Point2 gc;
-          if (reach.closest(e.border, snap_, &gc) < 0) {
-            o.cost = asf::Reachability::kUnreachable;
-          } else {
-            g = gc;
-          }
-        }
-        if (g) {
-          o.goal = *g;
-          o.cost = reach.distanceTo(*g);
-        }
+        regionEdgeGoal(e, reach, o);
       }
       if (o.untraversed) ++untraversed;
       options.push_back(o);
     }
-    if (untraversed == 0) {
-      std::ostringstream why;
-      why << "every edge traversed";
-      if (given_up) why << " except " << given_up << " given up after failures";
-      why << " (" << topo.edges.size() << " edges)";
-      return asf::Decision::done(why.str());
-    }
+    return options;
+  }
 
-    // Tarry's rule at the current region.
+  /// The nearest reachable cell of a frontier, away from the frontier goals tried; false if
+  /// there is none.
+  bool frontierGoal(const asf::TopoEdge& e, const asf::Reachability& reach, Option& o) const {
+    std::vector<Point2> cells;
+    for (const Point2& c : e.border)
+      if (!blacklisted(c)) cells.push_back(c);
+    double d = 0;
+    Point2 g;
+    if (cells.empty() || reach.closest(cells, snap_, &g, &d) < 0) return false;
+    o.goal = g;
+    o.cost = d;
+    o.untraversed = true;
+    return true;
+  }
+
+  /// A reachable cell at the border's midpoint, else on the border; unreachable cost if none.
+  void regionEdgeGoal(const asf::TopoEdge& e, const asf::Reachability& reach, Option& o) const {
+    o.untraversed = e.traversals.empty();
+    const double half = 0.5 * e.width + snap_;
+    std::optional<Point2> g = reach.nearestReachable(e.midpoint, half);
+    if (!g) {
+      Point2 gc;
+      if (reach.closest(e.border, snap_, &gc) < 0) {
+        o.cost = asf::Reachability::kUnreachable;
+      } else {
+        g = gc;
+      }
+    }
+    if (g) {
+      o.goal = *g;
+      o.cost = reach.distanceTo(*g);
+    }
+  }
+
+  /// Tarry's rule at the current region; nothing when no edge of it is left.
+  std::optional<asf::Decision> tarryStep(const asf::TopoGraph& topo,
+                                         const std::vector<Option>& options, RegionId here) {
     const asf::TopoNode* node = topo.node(here);
     std::vector<asf::graph::TarryCandidate> cands;
     for (std::size_t j = 0; j < options.size(); ++j) {
@@ -198,32 +253,34 @@ class TigrePolicy final : public asf::Policy {
       cands.push_back(c);
     }
     const int pick = asf::graph::tarryChoose(cands, options_, rng_);
-    if (pick >= 0) {
-      const Option& o = options[pick];
-      const asf::TopoEdge& e = topo.edges[o.index];
-      const bool entrance = node->entrance_edge == o.index;
-      std::string why = "region " + std::to_string(here) + ": " + edgeName(o.key);
-      if (e.frontier()) {
-        why += " (" + asf::formatFixed(o.cost, 2) + " m)";
-        last_ = Attempt{o.key, true, o.goal};
-        return go(o.goal, why);
-      }
-      const RegionId next = e.a == here ? e.b : e.a;
-      const asf::TopoNode* other = topo.node(next);
-      why += entrance                    ? " (entrance edge, last resort"
-             : (other && other->visited) ? " (link to visited region"
-                                         : " (to unvisited region";
-      why += ", " + asf::formatFixed(o.cost, 2) + " m)";
-      last_ = Attempt{o.key, false, o.goal};
-      ++chosen_[o.key];
-      noteTry(o.key, here, topo.outwardTraversals(o.index, here));
-      if (next_goal_ != NextGoal::None)
-        pending_ = Pending{o.key, next, o.goal, other && other->visited};
-      return go(o.goal, why + ": border");
+    if (pick < 0) return std::nullopt;
+    const Option& o = options[pick];
+    const asf::TopoEdge& e = topo.edges[o.index];
+    const bool entrance = node->entrance_edge == o.index;
+    std::string why = "region " + std::to_string(here) + ": " + edgeName(o.key);
+    if (e.frontier()) {
+      why += " (" + asf::formatFixed(o.cost, 2) + " m)";
+      last_ = Attempt{o.key, true, o.goal};
+      return go(o.goal, why);
     }
+    const RegionId next = e.a == here ? e.b : e.a;
+    const asf::TopoNode* other = topo.node(next);
+    why += entrance                    ? " (entrance edge, last resort"
+           : (other && other->visited) ? " (link to visited region"
+                                       : " (to unvisited region";
+    why += ", " + asf::formatFixed(o.cost, 2) + " m)";
+    last_ = Attempt{o.key, false, o.goal};
+    ++chosen_[o.key];
+    noteTry(o.key, here, topo.outwardTraversals(o.index, here));
+    if (next_goal_ != NextGoal::None)
+      pending_ = Pending{o.key, next, o.goal, other && other->visited};
+    return go(o.goal, why + ": border");
+  }
 
-    // Nothing left here, but edges elsewhere are untraversed (the graph changed under the
-    // walk): go to the nearest of them.
+  /// Nothing left here, but edges elsewhere are untraversed (the graph changed under the
+  /// walk): to the nearest of them.
+  asf::Decision relocate(const asf::TopoGraph& topo, const std::vector<Option>& options,
+                         int untraversed, RegionId here) {
     const Option* best = nullptr;
     for (const Option& o : options)
       if (o.untraversed && std::isfinite(o.cost) && (!best || o.cost < best->cost)) best = &o;
@@ -244,27 +301,6 @@ class TigrePolicy final : public asf::Policy {
     return go(best->goal, "region " + std::to_string(here) + " done; relocating to " +
                               edgeName(best->key) + " (" + asf::formatFixed(best->cost, 2) + " m)");
   }
-
- private:
-  struct Option {
-    int index = -1;
-    EdgeKey key;
-    Point2 goal;
-    double cost = asf::Reachability::kUnreachable;
-    bool untraversed = false;
-  };
-  struct Attempt {
-    EdgeKey key;
-    bool frontier = false;
-    Point2 goal;
-  };
-  struct Pending {
-    EdgeKey key;
-    RegionId region = 0;       ///< to enter
-    Point2 border;             ///< the goal on the border, reached first
-    bool was_visited = false;  ///< `region` had been visited when the edge was chosen
-  };
-  enum class NextGoal { Centre, CentreNew, Entry, None };
 
   asf::Decision go(const Point2& g, const std::string& why) {
     return asf::Decision::goTo({g.x, g.y, tolerance_}, why);
