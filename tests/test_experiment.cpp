@@ -21,6 +21,7 @@
 #include <sstream>
 #include <thread>
 
+#include "process_launcher.h"
 #include "test_util.h"
 
 extern char** environ;
@@ -425,6 +426,151 @@ json readJson(const fs::path& p) { return json::parse(read(p)); }
 
 }  // namespace
 
+namespace {
+
+/// A RunLauncher without processes: a run "lasts" a number of polls, then writes the
+/// summary.json its policy is scripted to write and exits as scripted. Records the
+/// arguments, the most runs alive at once and the interrupts.
+class ScriptedLauncher : public asf::RunLauncher {
+ public:
+  struct Script {
+    int polls = 2;
+    std::string stop_reason = "policy done: test";  ///< empty: no summary.json
+    Exit exit;
+  };
+  std::map<std::string, Script> by_policy;
+  std::vector<std::vector<std::string>> started;
+  std::size_t max_alive = 0, interrupts = 0;
+  bool refuse_start = false;
+
+  long start(const std::vector<std::string>& args, const std::string& log,
+             std::string& error) override {
+    if (refuse_start) {
+      error = "test: cannot start";
+      return -1;
+    }
+    std::ofstream(log) << "scripted run\n";
+    Alive a;
+    a.dir = args.at(3);
+    a.policy = args.at(5).substr(std::string("pipeline.policy=").size());
+    a.polls_left = by_policy[a.policy].polls;
+    alive_[next_] = a;
+    started.push_back(args);
+    max_alive = std::max(max_alive, alive_.size());
+    return next_++;
+  }
+  std::optional<Exit> poll(long h) override {
+    Alive& a = alive_.at(h);
+    if (a.polls_left-- > 0) return std::nullopt;
+    const Script& sc = by_policy[a.policy];
+    if (!sc.stop_reason.empty())
+      std::ofstream(fs::path(a.dir) / "summary.json")
+          << json{{"stop_reason", sc.stop_reason}, {"distance_m", 2.5}}.dump();
+    alive_.erase(h);
+    return sc.exit;
+  }
+  void interrupt(long) override { ++interrupts; }
+  void kill(long) override {}
+
+ private:
+  struct Alive {
+    std::string dir, policy;
+    int polls_left = 0;
+  };
+  std::map<long, Alive> alive_;
+  long next_ = 7;
+};
+
+}  // namespace
+
+TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
+  const fs::path d = tempDir("scheduler");
+  write(d / "pipe.ini", "[pipeline]\n");
+  write(d / "exp.ini",
+        "[experiment]\npipeline = pipe.ini\npolicies = good, crash, broken\nreplications = 2\n"
+        "first_seed = 5\njobs = 2\nout = out\noverrides = map.resolution=0.1\n");
+  const asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
+  // good seed 5 finished in an earlier invocation: skipped, not started again.
+  write(d / "out/good/seed_5/summary.json", R"({"stop_reason": "source ended"})");
+  ScriptedLauncher L;
+  L.by_policy["crash"].exit = {asf::RunLauncher::Exit::How::Signaled, 11, ""};
+  L.by_policy["crash"].stop_reason = "";
+  L.by_policy["broken"].exit = {asf::RunLauncher::Exit::How::Exited, 1, ""};
+  L.by_policy["broken"].stop_reason = "error: scripted";
+  std::vector<std::string> lines;
+  const auto runs =
+      asf::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
+  std::string all;
+  for (const auto& l : lines) all += l + "\n";
+  ASSERT_EQ(runs.size(), 6u);
+  EXPECT_EQ(L.started.size(), 5u) << all;
+  EXPECT_EQ(L.max_alive, 2u) << "jobs = 2";
+  EXPECT_EQ(L.interrupts, 0u);
+  // Seeds outer, policies inner.
+  EXPECT_EQ(runs[0].policy, "good");
+  EXPECT_EQ(runs[1].policy, "crash");
+  EXPECT_EQ(runs[3].seed, 6);
+  EXPECT_TRUE(runs[0].skipped);
+  EXPECT_FALSE(runs[3].skipped);
+  EXPECT_EQ(runs[3].exit_code, 0);
+  EXPECT_EQ(runs[1].exit_code, 128 + 11);
+  EXPECT_EQ(runs[2].exit_code, 1);
+  EXPECT_TRUE(has(all, "[1/6] good seed 5: already finished, skipped")) << all;
+  EXPECT_TRUE(has(all, "crash seed 5: killed by signal 11")) << all;
+  EXPECT_TRUE(has(all, "broken seed 5: failed (exit 1, error: scripted)")) << all;
+  EXPECT_TRUE(has(all, "good seed 6: finished in")) << all;
+  EXPECT_TRUE(has(all, "[6/6] ")) << all;
+  const std::vector<std::string> expected{"run",
+                                          cfg.pipeline_ini,
+                                          "--out",
+                                          (fs::path(cfg.out_dir) / "crash/seed_5").string(),
+                                          "--set",
+                                          "pipeline.policy=crash",
+                                          "--set",
+                                          "pipeline.seed=5",
+                                          "--set",
+                                          "map.resolution=0.1",
+                                          "-v",
+                                          "WARN"};
+  EXPECT_EQ(L.started[0], expected);
+  const json j = readJson(d / "out/summary.json");
+  EXPECT_EQ(j["policies"]["good"]["finished"], 2);
+  EXPECT_EQ(j["policies"]["crash"]["finished"], 0);
+  EXPECT_EQ(j["policies"]["broken"]["finished"], 0);
+}
+
+TEST(ExperimentScheduler, StopInterruptsRunningRunsAndStartsNoMore) {
+  const fs::path d = tempDir("scheduler_stop");
+  write(d / "pipe.ini", "[pipeline]\n");
+  write(d / "exp.ini",
+        "[experiment]\npipeline = pipe.ini\npolicies = slow\nreplications = 4\njobs = 2\n"
+        "out = out\n");
+  const asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
+  ScriptedLauncher L;
+  L.by_policy["slow"].polls = 3;
+  L.by_policy["slow"].stop_reason = "interrupted";
+  L.by_policy["slow"].exit = {asf::RunLauncher::Exit::How::Exited, 130, ""};
+  std::atomic<bool> stop{false};
+  std::vector<std::string> lines;
+  const auto runs = asf::runExperiment(
+      cfg, L,
+      [&](const std::string& l) {
+        lines.push_back(l);
+        if (has(l, "started slow seed 2")) stop = true;  // Ctrl-C once two runs are going
+      },
+      &stop);
+  EXPECT_EQ(L.started.size(), 2u) << "no run starts after the stop";
+  EXPECT_EQ(L.interrupts, 2u) << "each running run is interrupted once";
+  EXPECT_EQ(runs[0].exit_code, 130);
+  EXPECT_EQ(runs[2].exit_code, 0) << "never started";
+  EXPECT_TRUE(fs::exists(d / "out/summary.md")) << "what exists is summarized";
+
+  L.refuse_start = true;
+  stop = false;
+  const auto failed = asf::runExperiment(cfg, L, nullptr, &stop);
+  EXPECT_EQ(failed[0].exit_code, 127) << "a run that cannot start";
+}
+
 TEST(ExperimentHost, RunsInParallelSummarizesAndResumes) {
   const fs::path d = tempDir("e2e");
   writePipeline(d);
@@ -537,8 +683,9 @@ TEST(ExperimentHost, FailedRunIsReportedAndNotCounted) {
   asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
   cfg.overrides = {"pipeline.no_such_key=1"};
   std::vector<std::string> lines;
-  const auto runs = asf::runExperiment(cfg, ASF_TEST_BINARY_DIR "/bin/asf",
-                                       [&](const std::string& l) { lines.push_back(l); });
+  asf::app::ProcessLauncher launcher(ASF_TEST_BINARY_DIR "/bin/asf");
+  const auto runs =
+      asf::runExperiment(cfg, launcher, [&](const std::string& l) { lines.push_back(l); });
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_EQ(runs[0].exit_code, 1);
   std::string all;

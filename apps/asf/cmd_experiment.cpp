@@ -7,6 +7,8 @@
 #include <asf/pipeline.h>
 #include <tclap/CmdLine.h>
 
+#include "process_launcher.h"
+
 #include <atomic>
 #include <csignal>
 #include <filesystem>
@@ -97,8 +99,10 @@ int cmdExperiment(int argc, char** argv) {
     std::signal(SIGTERM, onExperimentSignal);
     std::vector<ExperimentRun> runs;
     try {
+      ProcessLauncher launcher(exe);
       runs = runExperiment(
-          cfg, exe, [](const std::string& line) { std::cout << line << std::endl; }, &g_stop);
+          cfg, launcher, [](const std::string& line) { std::cout << line << std::endl; },
+          &g_stop);
     } catch (...) {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);

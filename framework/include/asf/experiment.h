@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ struct ExperimentConfig {
   std::vector<std::string> policies;  ///< plugin names
   int replications = 10;
   int first_seed = 1;
-  int jobs = 0;                       ///< concurrent runs; 0 = number of cores
+  int jobs = 0;  ///< concurrent runs; 0 = number of cores
   std::string out_dir;
   std::vector<std::string> overrides;  ///< section.key=value, applied to every run
 };
@@ -35,7 +36,7 @@ ExperimentConfig readExperimentConfig(const std::string& ini_path);
 struct ExperimentRun {
   std::string policy;
   int seed = 0;
-  std::string dir;      ///< out_dir/<policy>/seed_<seed>
+  std::string dir;       ///< out_dir/<policy>/seed_<seed>
   bool skipped = false;  ///< already finished in an earlier invocation
   int exit_code = 0;
 };
@@ -44,13 +45,41 @@ struct ExperimentRun {
 /// "interrupted" nor an error ("error..."): such a run is not run again.
 bool runFinished(const std::string& run_dir);
 
-/// Runs every (policy, seed) not finished yet with the host binary `asf_exe`, at most
-/// `cfg.jobs` at a time, each as its own process group with stdout and stderr in
-/// <run dir>/run.log; `progress` (may be empty) gets one line per started, skipped or ended
-/// run. A run counts as finished as runFinished() says. When `*stop` becomes true (the
-/// host's Ctrl-C handler), the running children get SIGINT (they write their outputs and
-/// exit), no new run starts, and what exists is still summarized (summarizeExperiment).
-std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, const std::string& asf_exe,
+/// Starts an experiment's runs as processes and watches them. The host implements it
+/// (apps/asf/process_launcher.h: the asf binary through posix_spawn): the library never
+/// starts a process itself.
+class RunLauncher {
+ public:
+  virtual ~RunLauncher() = default;
+  struct Exit {
+    enum class How { Exited, Signaled, Lost } how = How::Exited;
+    int code = 0;       ///< the exit status, or the signal number when Signaled
+    std::string error;  ///< Lost: why
+  };
+  /// Starts `asf ARGS` (ARGS without the program) with stdin from /dev/null, stdout and
+  /// stderr into `log`, in its own process group (a terminal's Ctrl-C reaches the
+  /// experiment only); returns a handle >= 0, or -1 with `error` saying why.
+  virtual long start(const std::vector<std::string>& args, const std::string& log,
+                     std::string& error) = 0;
+  /// Without blocking: how `handle` ended, once it has (the handle is then released).
+  virtual std::optional<Exit> poll(long handle) = 0;
+  /// Asks the run to stop (SIGINT: it writes its outputs and exits).
+  virtual void interrupt(long handle) = 0;
+  /// Ends the run at once (SIGKILL).
+  virtual void kill(long handle) = 0;
+};
+
+/// The `asf` arguments of one run: `run INI --out DIR --set pipeline.policy=P --set
+/// pipeline.seed=S`, the experiment's overrides, `-v WARN`.
+std::vector<std::string> runArguments(const ExperimentConfig& cfg, const ExperimentRun& run);
+
+/// Runs every (policy, seed) not finished yet through `launcher`, at most `cfg.jobs` at a
+/// time, each with stdout and stderr in <run dir>/run.log; `progress` (may be empty) gets
+/// one line per started, skipped or ended run. A run counts as finished as runFinished()
+/// says. When `*stop` becomes true (the host's Ctrl-C handler), the running runs are
+/// interrupted (they write their outputs and exit; killed after a grace period), no new run
+/// starts, and what exists is still summarized (summarizeExperiment).
+std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, RunLauncher& launcher,
                                          const std::function<void(const std::string&)>& progress,
                                          const std::atomic<bool>* stop = nullptr);
 

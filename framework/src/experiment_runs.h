@@ -1,0 +1,19 @@
+#pragma once
+// What the experiment's scheduler (experiment.cpp) and its summary (experiment_summary.cpp)
+// both read of a run folder. Private to the framework.
+#include <asf/experiment.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace asf::detail {
+
+std::string runDir(const ExperimentConfig& cfg, const std::string& policy, int seed);
+/// summary.json of a run, or null with `why` set.
+nlohmann::json readSummary(const std::string& dir, std::string& why);
+/// "finished", or why the run does not count (missing/invalid file, interrupted, error).
+std::string runStatus(const nlohmann::json& s, const std::string& why);
+/// A number of summary.json; NaN when absent.
+double number(const nlohmann::json& s, const char* key);
+
+}  // namespace asf::detail
