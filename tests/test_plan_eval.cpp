@@ -190,10 +190,10 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
   };
   const json pairs = json::array(
       {pair(0, false, false), pair(1, true, true), pair(3, false, true), pair(0, false, true)});
-  EXPECT_EQ(asf::app::errorExample(pairs, "mechanical_work")["start"].get<int>(), 3);
-  EXPECT_TRUE(asf::app::errorExample(pairs, "sum_dopt").is_null());
+  EXPECT_EQ(asf::eu::errorExample(pairs, "mechanical_work")["start"].get<int>(), 3);
+  EXPECT_TRUE(asf::eu::errorExample(pairs, "sum_dopt").is_null());
   EXPECT_TRUE(
-      asf::app::errorExample(json::array({pair(1, true, true)}), "mechanical_work").is_null());
+      asf::eu::errorExample(json::array({pair(1, true, true)}), "mechanical_work").is_null());
 
   asf::PoseGraph g;
   for (int i = 0; i < 6; ++i) {
@@ -204,7 +204,7 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
   const asf::Zone zone{1.5, -1, 2.5, 2};  // holds node 2 only
   json scen{{"name", "C"}, {"zone_index", 2}, {"factor", 10.0}, {"pair_results", pairs}};
   const fs::path dir = tempDir("figure");
-  const json rec = asf::app::writeScenarioFigures(g, zone, scen, dir.string());
+  const json rec = asf::eu::writeScenarioFigures(g, zone, scen, dir.string());
   EXPECT_EQ(rec["scenario"].get<std::string>(), "scenario_C.svg");
   ASSERT_TRUE(rec["error_example"].is_object());
   EXPECT_EQ(rec["error_example"]["start"].get<int>(), 3);
@@ -215,7 +215,7 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
   EXPECT_EQ(count(svg, "fill=\"#2c6fdc\"/>"), 1u) << "node 2 alone is in the zone";
   EXPECT_TRUE(svg.find("node 3 to node 5") != std::string::npos);
   // A path through a node the graph does not have is an input error.
-  EXPECT_THROW(asf::app::scenarioSvg(g, zone, {{"bad", "red", {0, 9}}}, "t"), asf::InputError);
+  EXPECT_THROW(asf::eu::scenarioSvg(g, zone, {{"bad", "red", {0, 9}}}, "t"), asf::InputError);
 }
 
 TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {

@@ -7,6 +7,7 @@
 #include <asf/errors.h>
 #include <asf/registry.h>
 #include <asf/run_report.h>
+#include <asf/segment_benchmark.h>
 #include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <asf/text.h>
@@ -73,21 +74,6 @@ SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::st
   return s;
 }
 
-/// The segmentation as an image raster; checks the segmenter's contract on the size.
-LabelRaster rasterOf(const Segmentation& seg, const GrayImage& image, const std::string& who) {
-  LabelRaster r = toRaster(seg.labels);
-  if (r.labels.empty() && seg.regions.empty()) {  // no region at all: an empty image
-    r.width = image.width;
-    r.height = image.height;
-    r.labels.assign(static_cast<std::size_t>(image.width) * image.height, 0);
-  }
-  if (r.width != image.width || r.height != image.height)
-    throw Error(who + ": the segmenter returned a " + std::to_string(r.width) + " x " +
-                std::to_string(r.height) + " label image for a " + std::to_string(image.width) +
-                " x " + std::to_string(image.height) + " map");
-  return r;
-}
-
 void writeTextAtomically(const std::string& path, const std::string& text) {
   writeFileAtomically(path, text);
 }
@@ -137,7 +123,7 @@ int cmdSegment(int argc, char** argv) {
     throw InputError(map_arg.getValue() + ": " + e.what());
   }
   const double ms = msSince(t0);
-  writeLabelImage(out.getValue(), rasterOf(s, image, map_arg.getValue()));
+  writeLabelImage(out.getValue(), segmentationRaster(s, image, map_arg.getValue()));
 
   TopoBuilder topo;
   topo.configure(setup.topology);
@@ -160,15 +146,7 @@ int cmdSegment(int argc, char** argv) {
 
 namespace {
 
-struct MapResult {
-  std::string name, variant;
-  SegmentationScore score;
-  ThesisProtocolScore thesis;  // the thesis' own scoring (Table 4.1)
-  double time_ms = 0;
-  bool incremental = false;
-  IncrementalResult inc;  // update_ms and final_score when `incremental`
-  ThesisProtocolScore inc_thesis;
-};
+using MapResult = BenchmarkMapResult;
 
 json thesisJson(const ThesisProtocolScore& t) {
   return {{"precision", t.precision},
@@ -432,126 +410,35 @@ int cmdSegmentEval(int argc, char** argv) {
   const SegmenterSetup setup =
       setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), false);
   const std::string name = setup.info->name();
-
-  std::error_code ec;
-  if (!fs::is_directory(plain.getValue(), ec))
-    throw InputError(plain.getValue() + ": no such folder (--plain)");
-  if (!fs::is_directory(gt.getValue(), ec))
-    throw InputError(gt.getValue() + ": no such folder (--gt)");
-  if (!furnished.getValue().empty() && !fs::is_directory(furnished.getValue(), ec))
-    throw InputError(furnished.getValue() + ": no such folder (--furnished)");
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(plain.getValue()))
-    if (e.is_regular_file() && lowercase(e.path().extension().string()) == ".png")
-      names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  if (!only.getValue().empty()) {
-    for (const auto& m : only.getValue())
-      if (std::find(names.begin(), names.end(), m) == names.end())
-        throw InputError(plain.getValue() + ": no map " + m + ".png (--map)");
-    names = only.getValue();
-  }
-  if (names.empty()) throw InputError(plain.getValue() + ": no .png maps");
-  if (!images.getValue().empty()) fs::create_directories(images.getValue());
-
-  ExplorationOptions explore;
-  explore.sensor_range = range.getValue();
-  explore.scan_spacing = spacing.getValue();
+  SegmentBenchmarkOptions o;
+  o.plain_dir = plain.getValue();
+  o.gt_dir = gt.getValue();
+  o.furnished_dir = furnished.getValue();
+  o.images_dir = images.getValue();
+  o.resolution = res.getValue();
+  o.incremental = incremental.getValue();
+  o.exploration = exploration.getValue();
+  o.incremental_on = incremental_on.getValue();
+  o.explore.sensor_range = range.getValue();
+  o.explore.scan_spacing = spacing.getValue();
+  const std::vector<std::string> names = benchmarkMapNames(o, only.getValue());
+  if (!o.images_dir.empty()) fs::create_directories(o.images_dir);
 
   std::vector<MapResult> results;
   std::string error, current;  // current: the map and variant being scored, for errors
-  const std::string protocol = incremental.getValue() ? exploration.getValue() : "";
+  const std::string protocol = o.incremental ? o.exploration : "";
   auto save = [&] {
     if (!json_out.getValue().empty())
       writeTextAtomically(json_out.getValue(),
                           reportJson(results, name, setup, protocol, error).dump(2) + "\n");
   };
-  auto imagePath = [&](const std::string& map, const std::string& what) {
-    return (fs::path(images.getValue()) / (map + "_" + what + ".png")).string();
-  };
-
   try {
-    for (std::size_t k = 0; k < names.size(); ++k) {
-      const std::string& n = names[k];
-      const std::string prefix =
-          "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + n;
-      const std::string gt_file = (fs::path(gt.getValue()) / (n + "_gt_segmentation.png")).string();
-      current = n + " (ground truth)";
-      const GrayImage gt_image = readGrayImage(gt_file);
-      const LabelRaster rooms = groundTruthRooms(gt_image);
-      if (std::none_of(rooms.labels.begin(), rooms.labels.end(),
-                       [](std::int32_t l) { return l > 0; }))
-        throw InputError(gt_file +
-                         ": no ground-truth room (no 8-connected component of pixels "
-                         "> 250 with more than 100 pixels)");
-
-      auto scoreVariant = [&](const std::string& variant, const std::string& file) {
-        current = n + " (" + variant + ")";
-        const GrayImage image = readGrayImage(file);
-        if (image.width != rooms.width || image.height != rooms.height)
-          throw InputError(file + ": " + std::to_string(image.width) + " x " +
-                           std::to_string(image.height) + " px, but " + gt_file + " is " +
-                           std::to_string(rooms.width) + " x " + std::to_string(rooms.height));
-        const GridMap map = gridFromImage(image, res.getValue());
-        auto seg = setup.create();
-        const auto t0 = std::chrono::steady_clock::now();
-        const Segmentation s = seg->segment(map, nullptr);
-        MapResult r;
-        r.time_ms = msSince(t0);
-        r.name = n;
-        r.variant = variant;
-        const LabelRaster labels = rasterOf(s, image, file);
-        r.score = scoreSegmentation(labels, rooms);
-        r.thesis = scoreThesisProtocol(labels, gt_image);
-        if (!images.getValue().empty()) {
-          writeSegmentationOverlay(imagePath(n, variant), map, s, nullptr, &rooms);
-          writeLabelImage(imagePath(n, variant + "_labels"), labels);
-        }
-        std::cerr << prefix << " " << variant << ": " << r.score.segments << " segments / "
-                  << r.score.rooms << " rooms, precision " << formatFixed(r.score.precision, 3)
-                  << ", recall " << formatFixed(r.score.recall, 3) << ", mcc "
-                  << formatFixed(r.score.mcc, 3) << " (" << formatFixed(r.time_ms, 1) << " ms)\n";
-        const std::string& on = incremental_on.getValue();
-        if (incremental.getValue() && (on == "both" || on == variant)) {
-          auto inc_seg = setup.create();
-          auto last_report = std::chrono::steady_clock::now();
-          std::unique_ptr<MapReveal> reveal;
-          if (exploration.getValue() == "raster_disks")
-            reveal = std::make_unique<RasterDiskReveal>(image, res.getValue());
-          else
-            reveal = std::make_unique<ExplorationSimulator>(image, res.getValue(), explore);
-          r.inc = evaluateIncremental(
-              *inc_seg, *reveal, rooms, [&](std::size_t updates, double coverage) {
-                if (msSince(last_report) < 5000) return;  // a line every 5 s of work
-                last_report = std::chrono::steady_clock::now();
-                std::cerr << prefix << " " << variant << " incremental: " << updates << " updates, "
-                          << formatFixed(100 * coverage, 0) << "% explored\n";
-              });
-          r.incremental = true;
-          r.inc_thesis =
-              scoreThesisProtocol(rasterOf(r.inc.final_segmentation, image, file), gt_image);
-          if (!images.getValue().empty())
-            writeSegmentationOverlay(
-                imagePath(n, variant == "plain" ? "incremental" : variant + "_incremental"),
-                r.inc.final_map, r.inc.final_segmentation, nullptr, &rooms);
-          std::cerr << prefix << " " << variant << " incremental: " << r.inc.update_ms.size()
-                    << " updates, mean " << formatFixed(meanStd(r.inc.update_ms).mean, 1)
-                    << " ms, median " << formatFixed(percentile(r.inc.update_ms, 50), 1)
-                    << " ms, p95 " << formatFixed(percentile(r.inc.update_ms, 95), 1)
-                    << " ms; final precision " << formatFixed(r.inc.final_score.precision, 3)
-                    << ", recall " << formatFixed(r.inc.final_score.recall, 3) << ", "
-                    << formatFixed(100 * r.inc.coverage, 1) << "% explored\n";
-          r.inc.final_map = GridMap();  // the report needs the numbers only
-          r.inc.final_segmentation = Segmentation();
-        }
-        results.push_back(std::move(r));
-        save();
-      };
-      scoreVariant("plain", (fs::path(plain.getValue()) / (n + ".png")).string());
-      if (!furnished.getValue().empty())
-        scoreVariant("furnished",
-                     (fs::path(furnished.getValue()) / (n + "_furnitures.png")).string());
-    }
+    for (std::size_t k = 0; k < names.size(); ++k)
+      scoreBenchmarkMap(
+          names[k],
+          "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + names[k], o,
+          [&] { return setup.create(); },
+          [](const std::string& line) { std::cerr << line << "\n"; }, results, current, save);
   } catch (const std::exception& e) {
     // Keep what was scored: the report and the JSON cover the maps done before the error.
     error = (current.empty() ? "" : current + ": ") + e.what();

@@ -1,9 +1,9 @@
 #include "plugin_cli.h"
 
-#include <algorithm>
 #include <asf/errors.h>
+
+#include <algorithm>
 #include <cctype>
-#include <iostream>
 
 namespace asf::app {
 
@@ -28,8 +28,8 @@ IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& 
     const bool has_section = dot != std::string::npos && dot < eq;
     if (has_section) {
       const std::string section = lowercase(a.substr(0, dot));
-      const bool extra = std::find(extra_sections.begin(), extra_sections.end(), section) !=
-                         extra_sections.end();
+      const bool extra =
+          std::find(extra_sections.begin(), extra_sections.end(), section) != extra_sections.end();
       if (!extra && section != lowercase(plugin))
         throw ConfigError("--set " + a + ": the " + what + " is '" + plugin + "', not '" +
                           a.substr(0, dot) + "'" + hint);
@@ -39,14 +39,6 @@ IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& 
   return ini;
 }
 
-void logToStderr(Plugin& p, const std::string& name) {
-  p.logging_enable_console_output = false;
-  p.logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
-                           std::string_view logger, const mrpt::Clock::time_point&) {
-    std::cerr << "[" << logger << "] " << msg;
-    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
-  });
-  p.setLoggerName(name);
-}
+void logToStderr(Plugin& p, const std::string& name) { logPluginToStderr(p, name); }
 
 }  // namespace asf::app

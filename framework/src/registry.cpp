@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <regex>
 #include <sstream>
 
@@ -66,8 +67,7 @@ std::shared_ptr<const PluginInfo> Registry::loadFile(const std::string& path) {
   dlerror();
   void* sym = dlsym(h, ASF_PLUGIN_ENTRY_SYMBOL);
   if (!sym)
-    throw PluginError(file + ": not an asf plugin (no '" ASF_PLUGIN_ENTRY_SYMBOL
-                             "' entry point)");
+    throw PluginError(file + ": not an asf plugin (no '" ASF_PLUGIN_ENTRY_SYMBOL "' entry point)");
   using EntryFn = const PluginDescriptor* (*)();
   const PluginDescriptor* d = nullptr;
   try {
@@ -169,8 +169,7 @@ std::shared_ptr<const PluginInfo> Registry::find(const std::string& name) const 
   return nullptr;
 }
 
-std::shared_ptr<const PluginInfo> Registry::find(const std::string& name,
-                                                 PluginKind kind) const {
+std::shared_ptr<const PluginInfo> Registry::find(const std::string& name, PluginKind kind) const {
   auto p = find(name);
   if (p && p->kind() == kind) return p;
   std::string msg;
@@ -196,7 +195,8 @@ std::unique_ptr<Plugin> Registry::instantiate(const PluginInfo& info) {
   } catch (const std::exception& e) {
     throw PluginError(info.file + ": plugin '" + info.name() + "': factory threw: " + e.what());
   } catch (...) {
-    throw PluginError(info.file + ": plugin '" + info.name() + "': factory threw a non-std exception");
+    throw PluginError(info.file + ": plugin '" + info.name() +
+                      "': factory threw a non-std exception");
   }
   if (!p) throw PluginError(info.file + ": plugin '" + info.name() + "': factory returned null");
   if (p->kind() != info.kind())
@@ -204,6 +204,16 @@ std::unique_ptr<Plugin> Registry::instantiate(const PluginInfo& info) {
                       kindName(info.kind()) + " but its object is a " + kindName(p->kind()));
   p->setLoggerName(info.name());
   return p;
+}
+
+void logPluginToStderr(Plugin& p, const std::string& name) {
+  p.logging_enable_console_output = false;
+  p.logRegisterCallback([](std::string_view msg, mrpt::system::VerbosityLevel,
+                           std::string_view logger, const mrpt::Clock::time_point&) {
+    std::cerr << "[" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n') std::cerr << "\n";
+  });
+  p.setLoggerName(name);
 }
 
 }  // namespace asf

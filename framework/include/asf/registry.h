@@ -84,4 +84,8 @@ PluginHandle<T> Registry::create(const std::shared_ptr<const PluginInfo>& info) 
   return h;
 }
 
+/// The plugin's log lines go to stderr as "[name] message", not to the console logger (for
+/// commands whose stdout is their report).
+void logPluginToStderr(Plugin& p, const std::string& name);
+
 }  // namespace asf

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace asf::app {
+namespace asf::eu {
 
 struct PathDrawing {
   std::string label;  ///< legend text
@@ -35,4 +35,4 @@ nlohmann::json errorExample(const nlohmann::json& pair_results, const std::strin
 nlohmann::json writeScenarioFigures(const PoseGraph& g, const Zone& zone,
                                     const nlohmann::json& scenario, const std::string& out_dir);
 
-}  // namespace asf::app
+}  // namespace asf::eu

@@ -3,10 +3,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace asf::app {
+namespace asf::eu {
 
 /// plan_eval.md from plan_eval.json's content: the error-rate table (scenario x planner),
 /// the zones and recognition probabilities, planning times, planner warnings.
 std::string planEvalMarkdown(const nlohmann::json& j);
 
-}  // namespace asf::app
+}  // namespace asf::eu

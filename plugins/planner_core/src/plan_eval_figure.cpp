@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-namespace asf::app {
+namespace asf::eu {
 
 namespace {
 
@@ -146,4 +146,4 @@ nlohmann::json writeScenarioFigures(const PoseGraph& g, const Zone& zone,
   return rec;
 }
 
-}  // namespace asf::app
+}  // namespace asf::eu

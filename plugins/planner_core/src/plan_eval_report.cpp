@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-namespace asf::app {
+namespace asf::eu {
 
 namespace {
 
@@ -114,4 +114,4 @@ std::string planEvalMarkdown(const nlohmann::json& j) {
   return md.str();
 }
 
-}  // namespace asf::app
+}  // namespace asf::eu

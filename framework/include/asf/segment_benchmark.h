@@ -1,0 +1,62 @@
+#pragma once
+/// \file segment_benchmark.h
+/// The protocol of `asf segment-eval` as a library: a segmenter scored on the room
+/// segmentation benchmark (Bormann et al., ICRA 2016) as ../shared/docs/roomseg-eval.md
+/// describes, per map and variant (plain, furnished), optionally also incrementally while the
+/// map is revealed (a simulated laser, or the thesis' raster of disks).
+#include <asf/registry.h>
+#include <asf/segmentation_eval.h>
+#include <asf/segmenter.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace asf {
+
+struct SegmentBenchmarkOptions {
+  std::string plain_dir, gt_dir;  ///< <name>.png; <name>_gt_segmentation.png
+  std::string furnished_dir;      ///< <name>_furnitures.png; empty: plain maps only
+  std::string images_dir;         ///< overlays and label images; empty: none
+  double resolution = 0.05;       ///< metres per pixel
+  bool incremental = false;
+  std::string exploration = "frontier";  ///< frontier | raster_disks
+  std::string incremental_on = "plain";  ///< plain | furnished | both
+  ExplorationOptions explore;            ///< exploration = frontier
+};
+
+/// One map variant's scores.
+struct BenchmarkMapResult {
+  std::string name, variant;
+  SegmentationScore score;
+  ThesisProtocolScore thesis;  ///< the thesis' own scoring (Table 4.1)
+  double time_ms = 0;
+  bool incremental = false;
+  IncrementalResult inc;  ///< update_ms and final_score when `incremental`
+  ThesisProtocolScore inc_thesis;
+};
+
+/// The plain maps' names, sorted, or `only` (each checked to exist). Throws InputError for a
+/// missing folder or map, or no map at all.
+std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
+                                           const std::vector<std::string>& only);
+
+/// A fresh, configured segmenter (segmenters keep id state between calls).
+using SegmenterFactory = std::function<PluginHandle<Segmenter>()>;
+/// Receives the progress lines of a benchmark (one per variant, incremental every 5 s).
+using ProgressSink = std::function<void(const std::string&)>;
+
+/// Scores map `name` (plain, then furnished when configured), appending one result per
+/// variant and calling `scored` after each. `current` names the map and variant being
+/// scored, for an error's message. Throws InputError for unreadable or inconsistent files.
+void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
+                       const SegmentBenchmarkOptions& o, const SegmenterFactory& segmenter,
+                       const ProgressSink& progress, std::vector<BenchmarkMapResult>& results,
+                       std::string& current, const std::function<void()>& scored);
+
+/// A segmentation as an image raster; checks the segmenter's contract on the size (`who`
+/// names the map in the error).
+LabelRaster segmentationRaster(const Segmentation& seg, const GrayImage& image,
+                               const std::string& who);
+
+}  // namespace asf

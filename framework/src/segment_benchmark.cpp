@@ -1,0 +1,169 @@
+#include <asf/errors.h>
+#include <asf/segment_benchmark.h>
+#include <asf/text.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+namespace asf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowercaseOf(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// What one map's scoring shares between its variants.
+struct MapContext {
+  const std::string& name;
+  const std::string& prefix;
+  const SegmentBenchmarkOptions& o;
+  const SegmenterFactory& segmenter;
+  const ProgressSink& progress;
+  std::string gt_file;
+  GrayImage gt_image;
+  LabelRaster rooms;
+
+  std::string imagePath(const std::string& what) const {
+    return (fs::path(o.images_dir) / (name + "_" + what + ".png")).string();
+  }
+};
+
+/// Reveals the map step by step, segmenting after every update (`r.inc`, `r.inc_thesis`).
+void scoreIncremental(const MapContext& m, const std::string& variant, const GrayImage& image,
+                      const std::string& file, BenchmarkMapResult& r) {
+  auto inc_seg = m.segmenter();
+  auto last_report = std::chrono::steady_clock::now();
+  std::unique_ptr<MapReveal> reveal;
+  if (m.o.exploration == "raster_disks")
+    reveal = std::make_unique<RasterDiskReveal>(image, m.o.resolution);
+  else
+    reveal = std::make_unique<ExplorationSimulator>(image, m.o.resolution, m.o.explore);
+  r.inc =
+      evaluateIncremental(*inc_seg, *reveal, m.rooms, [&](std::size_t updates, double coverage) {
+        if (msSince(last_report) < 5000) return;  // a line every 5 s of work
+        last_report = std::chrono::steady_clock::now();
+        m.progress(m.prefix + " " + variant + " incremental: " + std::to_string(updates) +
+                   " updates, " + formatFixed(100 * coverage, 0) + "% explored");
+      });
+  r.incremental = true;
+  r.inc_thesis =
+      scoreThesisProtocol(segmentationRaster(r.inc.final_segmentation, image, file), m.gt_image);
+  if (!m.o.images_dir.empty())
+    writeSegmentationOverlay(
+        m.imagePath(variant == "plain" ? "incremental" : variant + "_incremental"), r.inc.final_map,
+        r.inc.final_segmentation, nullptr, &m.rooms);
+  m.progress(m.prefix + " " + variant + " incremental: " + std::to_string(r.inc.update_ms.size()) +
+             " updates, mean " + formatFixed(meanStd(r.inc.update_ms).mean, 1) + " ms, median " +
+             formatFixed(percentile(r.inc.update_ms, 50), 1) + " ms, p95 " +
+             formatFixed(percentile(r.inc.update_ms, 95), 1) + " ms; final precision " +
+             formatFixed(r.inc.final_score.precision, 3) + ", recall " +
+             formatFixed(r.inc.final_score.recall, 3) + ", " +
+             formatFixed(100 * r.inc.coverage, 1) + "% explored");
+  r.inc.final_map = GridMap();  // the report needs the numbers only
+  r.inc.final_segmentation = Segmentation();
+}
+
+BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
+                                const std::string& file) {
+  const GrayImage image = readGrayImage(file);
+  if (image.width != m.rooms.width || image.height != m.rooms.height)
+    throw InputError(file + ": " + std::to_string(image.width) + " x " +
+                     std::to_string(image.height) + " px, but " + m.gt_file + " is " +
+                     std::to_string(m.rooms.width) + " x " + std::to_string(m.rooms.height));
+  const GridMap map = gridFromImage(image, m.o.resolution);
+  auto seg = m.segmenter();
+  const auto t0 = std::chrono::steady_clock::now();
+  const Segmentation s = seg->segment(map, nullptr);
+  BenchmarkMapResult r;
+  r.time_ms = msSince(t0);
+  r.name = m.name;
+  r.variant = variant;
+  const LabelRaster labels = segmentationRaster(s, image, file);
+  r.score = scoreSegmentation(labels, m.rooms);
+  r.thesis = scoreThesisProtocol(labels, m.gt_image);
+  if (!m.o.images_dir.empty()) {
+    writeSegmentationOverlay(m.imagePath(variant), map, s, nullptr, &m.rooms);
+    writeLabelImage(m.imagePath(variant + "_labels"), labels);
+  }
+  m.progress(m.prefix + " " + variant + ": " + std::to_string(r.score.segments) + " segments / " +
+             std::to_string(r.score.rooms) + " rooms, precision " +
+             formatFixed(r.score.precision, 3) + ", recall " + formatFixed(r.score.recall, 3) +
+             ", mcc " + formatFixed(r.score.mcc, 3) + " (" + formatFixed(r.time_ms, 1) + " ms)");
+  const std::string& on = m.o.incremental_on;
+  if (m.o.incremental && (on == "both" || on == variant))
+    scoreIncremental(m, variant, image, file, r);
+  return r;
+}
+
+}  // namespace
+
+std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
+                                           const std::vector<std::string>& only) {
+  std::error_code ec;
+  if (!fs::is_directory(o.plain_dir, ec))
+    throw InputError(o.plain_dir + ": no such folder (--plain)");
+  if (!fs::is_directory(o.gt_dir, ec)) throw InputError(o.gt_dir + ": no such folder (--gt)");
+  if (!o.furnished_dir.empty() && !fs::is_directory(o.furnished_dir, ec))
+    throw InputError(o.furnished_dir + ": no such folder (--furnished)");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(o.plain_dir))
+    if (e.is_regular_file() && lowercaseOf(e.path().extension().string()) == ".png")
+      names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  if (!only.empty()) {
+    for (const auto& m : only)
+      if (std::find(names.begin(), names.end(), m) == names.end())
+        throw InputError(o.plain_dir + ": no map " + m + ".png (--map)");
+    names = only;
+  }
+  if (names.empty()) throw InputError(o.plain_dir + ": no .png maps");
+  return names;
+}
+
+void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
+                       const SegmentBenchmarkOptions& o, const SegmenterFactory& segmenter,
+                       const ProgressSink& progress, std::vector<BenchmarkMapResult>& results,
+                       std::string& current, const std::function<void()>& scored) {
+  MapContext m{name, prefix, o, segmenter, progress, {}, {}, {}};
+  m.gt_file = (fs::path(o.gt_dir) / (name + "_gt_segmentation.png")).string();
+  current = name + " (ground truth)";
+  m.gt_image = readGrayImage(m.gt_file);
+  m.rooms = groundTruthRooms(m.gt_image);
+  if (std::none_of(m.rooms.labels.begin(), m.rooms.labels.end(),
+                   [](std::int32_t l) { return l > 0; }))
+    throw InputError(m.gt_file +
+                     ": no ground-truth room (no 8-connected component of pixels "
+                     "> 250 with more than 100 pixels)");
+  current = name + " (plain)";
+  results.push_back(scoreVariant(m, "plain", (fs::path(o.plain_dir) / (name + ".png")).string()));
+  scored();
+  if (o.furnished_dir.empty()) return;
+  current = name + " (furnished)";
+  results.push_back(scoreVariant(
+      m, "furnished", (fs::path(o.furnished_dir) / (name + "_furnitures.png")).string()));
+  scored();
+}
+
+LabelRaster segmentationRaster(const Segmentation& seg, const GrayImage& image,
+                               const std::string& who) {
+  LabelRaster r = toRaster(seg.labels);
+  if (r.labels.empty() && seg.regions.empty()) {  // no region at all: an empty image
+    r.width = image.width;
+    r.height = image.height;
+    r.labels.assign(static_cast<std::size_t>(image.width) * image.height, 0);
+  }
+  if (r.width != image.width || r.height != image.height)
+    throw Error(who + ": the segmenter returned a " + std::to_string(r.width) + " x " +
+                std::to_string(r.height) + " label image for a " + std::to_string(image.width) +
+                " x " + std::to_string(image.height) + " map");
+  return r;
+}
+
+}  // namespace asf
