@@ -322,6 +322,49 @@ void printReport(const std::vector<MapResult>& all) {
   }
 }
 
+/// Scores every map, writing the JSON report after each; the report on stdout. An error
+/// keeps what was scored (kError).
+int scoreBenchmark(const SegmenterSetup& setup, const SegmentBenchmarkOptions& o,
+                   const std::vector<std::string>& only, const std::string& json_out) {
+  const std::string name = setup.info->name();
+  const std::vector<std::string> names = benchmarkMapNames(o, only);
+  if (!o.images_dir.empty()) fs::create_directories(o.images_dir);
+
+  std::vector<MapResult> results;
+  std::string error, current;  // current: the map and variant being scored, for errors
+  const std::string protocol = o.incremental ? o.exploration : "";
+  auto save = [&] {
+    if (!json_out.empty())
+      writeTextAtomically(json_out,
+                          reportJson(results, name, setup, protocol, error).dump(2) + "\n");
+  };
+  try {
+    for (std::size_t k = 0; k < names.size(); ++k)
+      scoreBenchmarkMap(
+          names[k],
+          "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + names[k], o,
+          [&] { return setup.create(); },
+          [](const std::string& line) { std::cerr << line << "\n"; }, results, current, save);
+  } catch (const std::exception& e) {
+    // Keep what was scored: the report and the JSON cover the maps done before the error.
+    error = (current.empty() ? "" : current + ": ") + e.what();
+  }
+  printReport(results);
+  try {
+    save();
+  } catch (const std::exception& e) {
+    std::cerr << "asf segment-eval: error: " << e.what() << "\n";
+    return kError;
+  }
+  if (!json_out.empty()) std::cout << "wrote " << json_out << "\n";
+  if (!error.empty()) {
+    std::cerr << "asf segment-eval: error: " << error << " (" << results.size()
+              << " map scores kept above" << (json_out.empty() ? "" : " and in the JSON") << ")\n";
+    return kError;
+  }
+  return kOk;
+}
+
 }  // namespace
 
 int cmdSegmentEval(int argc, char** argv) {
@@ -409,7 +452,6 @@ int cmdSegmentEval(int argc, char** argv) {
 
   const SegmenterSetup setup =
       setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), false);
-  const std::string name = setup.info->name();
   SegmentBenchmarkOptions o;
   o.plain_dir = plain.getValue();
   o.gt_dir = gt.getValue();
@@ -421,43 +463,7 @@ int cmdSegmentEval(int argc, char** argv) {
   o.incremental_on = incremental_on.getValue();
   o.explore.sensor_range = range.getValue();
   o.explore.scan_spacing = spacing.getValue();
-  const std::vector<std::string> names = benchmarkMapNames(o, only.getValue());
-  if (!o.images_dir.empty()) fs::create_directories(o.images_dir);
-
-  std::vector<MapResult> results;
-  std::string error, current;  // current: the map and variant being scored, for errors
-  const std::string protocol = o.incremental ? o.exploration : "";
-  auto save = [&] {
-    if (!json_out.getValue().empty())
-      writeTextAtomically(json_out.getValue(),
-                          reportJson(results, name, setup, protocol, error).dump(2) + "\n");
-  };
-  try {
-    for (std::size_t k = 0; k < names.size(); ++k)
-      scoreBenchmarkMap(
-          names[k],
-          "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + names[k], o,
-          [&] { return setup.create(); },
-          [](const std::string& line) { std::cerr << line << "\n"; }, results, current, save);
-  } catch (const std::exception& e) {
-    // Keep what was scored: the report and the JSON cover the maps done before the error.
-    error = (current.empty() ? "" : current + ": ") + e.what();
-  }
-  printReport(results);
-  try {
-    save();
-  } catch (const std::exception& e) {
-    std::cerr << "asf segment-eval: error: " << e.what() << "\n";
-    return kError;
-  }
-  if (!json_out.getValue().empty()) std::cout << "wrote " << json_out.getValue() << "\n";
-  if (!error.empty()) {
-    std::cerr << "asf segment-eval: error: " << error << " (" << results.size()
-              << " map scores kept above" << (json_out.getValue().empty() ? "" : " and in the JSON")
-              << ")\n";
-    return kError;
-  }
-  return kOk;
+  return scoreBenchmark(setup, o, only.getValue(), json_out.getValue());
 }
 
 }  // namespace asf::app
