@@ -19,12 +19,13 @@ void printStreams(const std::vector<convert::StreamReport>& streams) {
     std::cout << "  " << std::left << std::setw(14) << s.stream << std::right << s.records
               << " records from " << s.lines << " lines of " << s.file;
     if (s.records > 0)
-      std::cout << std::fixed << std::setprecision(6) << ", t " << s.t_first << " .. "
-                << s.t_last << std::defaultfloat;
+      std::cout << std::fixed << std::setprecision(6) << ", t " << s.t_first << " .. " << s.t_last
+                << std::defaultfloat;
     std::cout << "\n";
     if (s.bad_lines > 0)
-      std::cout << "  " << std::setw(14) << "" << s.bad_lines << " bad lines skipped (first: "
-                << s.file << ":" << s.first_bad_line << ": " << s.first_bad_reason << ")\n";
+      std::cout << "  " << std::setw(14) << "" << s.bad_lines
+                << " bad lines skipped (first: " << s.file << ":" << s.first_bad_line << ": "
+                << s.first_bad_reason << ")\n";
   }
 }
 
@@ -64,8 +65,8 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
     throw TCLAP::CmdLineParseException("required (or --gt-only with --gt)", "-o/--out");
 
   if (gt_only.getValue()) {
-    const auto file = convert::findRawseedsStream(dir.getValue(), dataset.getValue(),
-                                                  gt_stream.getValue());
+    const auto file =
+        convert::findRawseedsStream(dir.getValue(), dataset.getValue(), gt_stream.getValue());
     const auto s = convert::rawseedsGroundTruthToFile(file, gt.getValue(), skip.getValue(),
                                                       quiet.getValue() ? nullptr : &std::cerr);
     std::cout << "rawseeds2rawlog: " << s.records << " ground-truth poses -> " << gt.getValue()
@@ -86,7 +87,8 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
   const auto r = convert::rawseedsToRawlog(o);
   std::cout << "rawseeds2rawlog: " << r.scans << " scans and " << r.odometry
             << " odometry readings -> " << o.output;
-  if (!o.gt_output.empty()) std::cout << "; " << r.gt_poses << " ground-truth poses -> " << o.gt_output;
+  if (!o.gt_output.empty())
+    std::cout << "; " << r.gt_poses << " ground-truth poses -> " << o.gt_output;
   std::cout << " in " << std::fixed << std::setprecision(1) << r.wall_time_s << " s\n"
             << std::defaultfloat;
   printStreams(r.streams);
@@ -159,6 +161,36 @@ int cmdRawlog2Rawseeds(int argc, char** argv) {
   return kOk;
 }
 
+namespace {
+
+void printCarmenReport(const convert::CarmenToRawlogOptions& o,
+                       const convert::CarmenToRawlogReport& r, bool synthesized) {
+  std::cout << "carmen2rawlog: " << r.scans << " scans (" << r.laser_message << ", " << r.rays
+            << " rays over " << r.aperture_deg << " deg) and " << r.odometry << " odometry readings"
+            << (synthesized ? " (synthesized)" : "") << " -> " << o.output;
+  if (!o.gt_output.empty())
+    std::cout << "; " << r.gt_poses << " ground-truth poses -> " << o.gt_output;
+  std::cout << " in " << std::fixed << std::setprecision(2) << r.wall_time_s << " s\n"
+            << std::defaultfloat;
+  std::cout << "  " << r.lines << " lines";
+  for (const auto& [name, n] : r.ignored) std::cout << ", " << n << " " << name << " skipped";
+  std::cout << "\n";
+  if (r.stamped_by_order)
+    std::cout << "  scans stamped from the log's order, " << r.scan_period_s << " s apart ("
+              << r.stamps_bad << " laser timestamps not a time, " << r.stamps_not_increasing
+              << " not increasing)\n";
+  if (r.raised_timestamps)
+    std::cout << "  " << r.raised_timestamps
+              << " scans stamped before the previous record: moved just after it\n";
+  if (r.odom_dropped)
+    std::cout << "  " << r.odom_dropped << " ODOM lines going back in time dropped\n";
+  if (r.bad_lines)
+    std::cout << "  " << r.bad_lines << " bad lines skipped (first: " << o.input << ":"
+              << r.first_bad_line << ": " << r.first_bad_reason << ")\n";
+}
+
+}  // namespace
+
 int cmdCarmen2Rawlog(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Converts a CARMEN log (FLASER or ROBOTLASER1, ODOM; plain or .gz) into an "
@@ -179,22 +211,21 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   const OdometryNoiseModel def;
   TCLAP::ValueArg<double> a1("", "a1", "Odometry model: x/y std per metre [m/m]", false, def.a1,
                              "A", cmd);
-  TCLAP::ValueArg<double> a2("", "a2", "Odometry model: x/y std per degree [m/deg]", false,
-                             def.a2, "A", cmd);
-  TCLAP::ValueArg<double> a3("", "a3", "Odometry model: phi std per metre [deg/m]", false,
-                             def.a3, "A", cmd);
+  TCLAP::ValueArg<double> a2("", "a2", "Odometry model: x/y std per degree [m/deg]", false, def.a2,
+                             "A", cmd);
+  TCLAP::ValueArg<double> a3("", "a3", "Odometry model: phi std per metre [deg/m]", false, def.a3,
+                             "A", cmd);
   TCLAP::ValueArg<double> a4("", "a4", "Odometry model: phi std per degree [deg/deg]", false,
                              def.a4, "A", cmd);
   TCLAP::ValueArg<double> min_xy("", "min-std-xy", "Odometry model: minimum x/y std [m]", false,
                                  def.min_std_xy, "S", cmd);
-  TCLAP::ValueArg<double> min_phi("", "min-std-phi", "Odometry model: minimum phi std [deg]",
-                                  false, def.min_std_phi_deg, "S", cmd);
+  TCLAP::ValueArg<double> min_phi("", "min-std-phi", "Odometry model: minimum phi std [deg]", false,
+                                  def.min_std_phi_deg, "S", cmd);
   TCLAP::ValueArg<double> fov("", "fov-deg",
                               "FLASER field of view [deg] (default: from PARAM lines, else 180)",
                               false, 0, "DEG", cmd);
-  TCLAP::ValueArg<double> max_range("", "max-range",
-                                    "Maximum range [m] (default: from the log, else 80)", false,
-                                    0, "M", cmd);
+  TCLAP::ValueArg<double> max_range(
+      "", "max-range", "Maximum range [m] (default: from the log, else 80)", false, 0, "M", cmd);
   std::vector<std::string> stamp_modes{"auto", "log", "order"};
   TCLAP::ValuesConstraint<std::string> stamp_allowed(stamp_modes);
   TCLAP::ValueArg<std::string> stamps(
@@ -215,16 +246,16 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   if (synth.getValue() && odom_lines.getValue())
     throw TCLAP::CmdLineParseException("use one of them", "--synth-odometry/--odom-lines");
   for (const auto* a : {&a1, &a2, &a3, &a4, &min_xy, &min_phi, &fov, &max_range, &period})
-    if (!(a->getValue() >= 0))
-      throw TCLAP::CmdLineParseException("must be >= 0", a->getName());
+    if (!(a->getValue() >= 0)) throw TCLAP::CmdLineParseException("must be >= 0", a->getName());
 
   convert::CarmenToRawlogOptions o;
   o.input = in.getValue();
   o.output = out.getValue();
   o.gt_output = gt.getValue();
   using Mode = convert::CarmenToRawlogOptions::Odometry;
-  o.odometry = synth.getValue() ? Mode::Synthetic : odom_lines.getValue() ? Mode::OdomLines
-                                                                          : Mode::Laser;
+  o.odometry = synth.getValue()        ? Mode::Synthetic
+               : odom_lines.getValue() ? Mode::OdomLines
+                                       : Mode::Laser;
   o.seed = seed.getValue();
   o.model.a1 = a1.getValue();
   o.model.a2 = a2.getValue();
@@ -244,28 +275,7 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   const auto r = convert::carmenToRawlog(o);
   for (const auto& w : r.warnings) std::cerr << "carmen2rawlog: warning: " << w << "\n";
 
-  std::cout << "carmen2rawlog: " << r.scans << " scans (" << r.laser_message << ", " << r.rays
-            << " rays over " << r.aperture_deg << " deg) and " << r.odometry
-            << " odometry readings" << (synth.getValue() ? " (synthesized)" : "") << " -> "
-            << o.output;
-  if (!o.gt_output.empty()) std::cout << "; " << r.gt_poses << " ground-truth poses -> " << o.gt_output;
-  std::cout << " in " << std::fixed << std::setprecision(2) << r.wall_time_s << " s\n"
-            << std::defaultfloat;
-  std::cout << "  " << r.lines << " lines";
-  for (const auto& [name, n] : r.ignored) std::cout << ", " << n << " " << name << " skipped";
-  std::cout << "\n";
-  if (r.stamped_by_order)
-    std::cout << "  scans stamped from the log's order, " << r.scan_period_s << " s apart ("
-              << r.stamps_bad << " laser timestamps not a time, " << r.stamps_not_increasing
-              << " not increasing)\n";
-  if (r.raised_timestamps)
-    std::cout << "  " << r.raised_timestamps
-              << " scans stamped before the previous record: moved just after it\n";
-  if (r.odom_dropped)
-    std::cout << "  " << r.odom_dropped << " ODOM lines going back in time dropped\n";
-  if (r.bad_lines)
-    std::cout << "  " << r.bad_lines << " bad lines skipped (first: " << o.input << ":"
-              << r.first_bad_line << ": " << r.first_bad_reason << ")\n";
+  printCarmenReport(o, r, synth.getValue());
   return kOk;
 }
 

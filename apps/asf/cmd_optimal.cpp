@@ -131,8 +131,8 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
         std::cerr << "asf optimal: " << name << ": iteration " << it << ", optimum in ["
                   << std::setprecision(6) << lower << ", " << upper << "], relative gap "
                   << std::setprecision(2) << (upper > 0 ? (upper - lower) / upper : 0) << ", "
-                  << std::setprecision(3) << std::chrono::duration<double>(now - t0).count()
-                  << " s" << std::endl;
+                  << std::setprecision(3) << std::chrono::duration<double>(now - t0).count() << " s"
+                  << std::endl;
       };
     const graph::OptimalDesign r = graph::optimalDesign(g, p, opt);
     if (large)
@@ -250,6 +250,64 @@ void exhaustive(const graph::Multigraph& g, const std::vector<double>& ps, int m
   }
 }
 
+/// What `asf optimal` was asked, from its command line.
+struct OptimalRequest {
+  std::string path, criteria = "D,A,E";
+  bool index_set = false;
+  int index = 0;
+  bool unit = false;
+  std::string reference = "median";
+  bool theorem = false;
+  double tolerance = 0, progress_interval = 5;
+  int walks = 0;
+  std::string walk_kind = "walk";
+  std::optional<int> start;
+  std::string plot, draw;
+  bool json = false;
+};
+
+int runOptimal(const OptimalRequest& rq) {
+  if (!(rq.progress_interval >= 0)) throw InputError("--progress-interval must be >= 0 seconds");
+  if (!rq.plot.empty() && rq.walks <= 0)
+    throw InputError("--plot draws the exhaustive search: give --walks D too");
+  const auto ps = parseCriteria(rq.criteria);
+  const std::string& path = rq.path;
+  const bool unit = rq.unit;
+  const NoiseReference ref = parseNoiseReference(rq.reference, "--noise-reference");
+  const LoadedGraph l = loadGraph(path, rq.index_set, rq.index, unit, ref);
+  if (rq.theorem && !l.pose_graph)
+    throw InputError(path + ": --theorem needs a pose graph (a .g2o file or a run directory)");
+  const graph::Multigraph& g = l.g;
+  const int line = l.line;
+  nlohmann::json j = {{"file", path},
+                      {"index", line ? nlohmann::json(line) : nullptr},
+                      {"n", g.n},
+                      {"m", g.m()},
+                      {"connected", g.connected()}};
+  std::ostringstream text;
+  text << std::setprecision(8) << path << (line ? ":" + std::to_string(line) : "") << ": " << g.n
+       << " nodes, " << g.m() << " edges, " << (g.connected() ? "connected" : "NOT connected")
+       << "\n";
+  if (l.noise) describeNoise(l, unit, ref, j, text);
+  const auto weights = designs(g, ps, rq.tolerance, rq.progress_interval, j, text);
+  if (rq.theorem) theoremTable(l, ps, j, text);
+  if (rq.walks > 0) exhaustive(g, ps, rq.walks, rq.walk_kind, rq.start, rq.plot, path, j, text);
+  if (!rq.draw.empty()) {
+    std::vector<graph::WeightPanel> panels;
+    for (std::size_t c = 0; c < ps.size(); ++c)
+      panels.push_back({graph::criterionName(ps[c]) + "-optimal weights", weights[c]});
+    const auto pos = l.positions.empty() ? graph::stressLayout(g) : l.positions;
+    graph::writeWeightsSvg(g, pos, panels, path + (line ? ":" + std::to_string(line) : ""),
+                           rq.draw);
+    text << "drawing: " << rq.draw << "\n";
+  }
+  if (rq.json)
+    std::cout << j.dump(2) << "\n";
+  else
+    std::cout << text.str();
+  return kOk;
+}
+
 }  // namespace
 
 int cmdOptimal(int argc, char** argv) {
@@ -332,50 +390,24 @@ int cmdOptimal(int argc, char** argv) {
       false, 5.0, "S", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
-  if (!(progress_interval.getValue() >= 0))
-    throw InputError("--progress-interval must be >= 0 seconds");
-  if (plot.isSet() && walks.getValue() <= 0)
-    throw InputError("--plot draws the exhaustive search: give --walks D too");
 
-  const auto ps = parseCriteria(criteria.getValue());
-  const std::string path = file.getValue();
-  const bool unit = model.getValue() == "unit";
-  const NoiseReference ref = parseNoiseReference(reference.getValue(), "--noise-reference");
-  const LoadedGraph l = loadGraph(path, index.isSet(), index.getValue(), unit, ref);
-  if (theorem.isSet() && !l.pose_graph)
-    throw InputError(path + ": --theorem needs a pose graph (a .g2o file or a run directory)");
-  const graph::Multigraph& g = l.g;
-  const int line = l.line;
-  nlohmann::json j = {{"file", path},
-                      {"index", line ? nlohmann::json(line) : nullptr},
-                      {"n", g.n},
-                      {"m", g.m()},
-                      {"connected", g.connected()}};
-  std::ostringstream text;
-  text << std::setprecision(8) << path << (line ? ":" + std::to_string(line) : "") << ": " << g.n
-       << " nodes, " << g.m() << " edges, " << (g.connected() ? "connected" : "NOT connected")
-       << "\n";
-  if (l.noise) describeNoise(l, unit, ref, j, text);
-  const auto weights = designs(g, ps, tolerance.getValue(), progress_interval.getValue(), j, text);
-  if (theorem.isSet()) theoremTable(l, ps, j, text);
-  if (walks.getValue() > 0)
-    exhaustive(g, ps, walks.getValue(), kind.getValue(),
-               start.isSet() ? std::optional<int>(start.getValue()) : std::nullopt, plot.getValue(),
-               path, j, text);
-  if (draw.isSet()) {
-    std::vector<graph::WeightPanel> panels;
-    for (std::size_t c = 0; c < ps.size(); ++c)
-      panels.push_back({graph::criterionName(ps[c]) + "-optimal weights", weights[c]});
-    const auto pos = l.positions.empty() ? graph::stressLayout(g) : l.positions;
-    graph::writeWeightsSvg(g, pos, panels, path + (line ? ":" + std::to_string(line) : ""),
-                           draw.getValue());
-    text << "drawing: " << draw.getValue() << "\n";
-  }
-  if (json.getValue())
-    std::cout << j.dump(2) << "\n";
-  else
-    std::cout << text.str();
-  return kOk;
+  OptimalRequest rq;
+  rq.path = file.getValue();
+  rq.criteria = criteria.getValue();
+  rq.index_set = index.isSet();
+  rq.index = index.getValue();
+  rq.unit = model.getValue() == "unit";
+  rq.reference = reference.getValue();
+  rq.theorem = theorem.isSet();
+  rq.tolerance = tolerance.getValue();
+  rq.progress_interval = progress_interval.getValue();
+  rq.walks = walks.getValue();
+  rq.walk_kind = kind.getValue();
+  if (start.isSet()) rq.start = start.getValue();
+  rq.plot = plot.getValue();
+  rq.draw = draw.getValue();
+  rq.json = json.getValue();
+  return runOptimal(rq);
 }
 
 }  // namespace asf::app

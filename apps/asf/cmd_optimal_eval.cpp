@@ -54,22 +54,22 @@ void writeEfficiencySvg(const std::string& path, const json& graphs,
   for (const auto& g : graphs)
     if (g["connected"].get<bool>()) ok.push_back(&g);
   std::ostringstream os;
-  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << panels * (W + 10) + 10
-     << "' height='" << H + 40 << "' font-family='sans-serif' font-size='11'>\n"
+  os << "<svg xmlns='http://www.w3.org/2000/svg' width='" << panels * (W + 10) + 10 << "' height='"
+     << H + 40 << "' font-family='sans-serif' font-size='11'>\n"
      << "<rect width='100%' height='100%' fill='white'/>\n";
   for (int p = 0; p < panels; ++p) {
     const int x0 = 10 + p * (W + 10);
     const int pw = W - L - 10, ph = H - T - B;
     os << "<g transform='translate(" << x0 << ",0)'>\n"
-       << "<text x='" << L + pw / 2 << "' y='15' text-anchor='middle'>efficiency, "
-       << names[p] << "-criterion</text>\n"
+       << "<text x='" << L + pw / 2 << "' y='15' text-anchor='middle'>efficiency, " << names[p]
+       << "-criterion</text>\n"
        << "<rect x='" << L << "' y='" << T << "' width='" << pw << "' height='" << ph
        << "' fill='none' stroke='black'/>\n";
     for (int k = 0; k <= 4; ++k) {
       const double y = T + ph - ph * k / 4.0;
       os << "<line x1='" << L << "' x2='" << L + pw << "' y1='" << y << "' y2='" << y
-         << "' stroke='#ddd'/><text x='" << L - 4 << "' y='" << y + 4
-         << "' text-anchor='end'>" << k * 25 << "%</text>\n";
+         << "' stroke='#ddd'/><text x='" << L - 4 << "' y='" << y + 4 << "' text-anchor='end'>"
+         << k * 25 << "%</text>\n";
     }
     os << "<text x='" << L + pw / 2 << "' y='" << H - 8
        << "' text-anchor='middle'>graph (file order)</text>\n";
@@ -82,9 +82,9 @@ void writeEfficiencySvg(const std::string& path, const json& graphs,
       }
       os << "\n";
       if (p == 0)
-        os << "<rect x='" << L + 6 + 62 * r << "' y='" << T + 4
-           << "' width='8' height='8' fill='" << colours[r] << "'/><text x='" << L + 17 + 62 * r
-           << "' y='" << T + 12 << "'>" << kRoutes[r] << "</text>\n";
+        os << "<rect x='" << L + 6 + 62 * r << "' y='" << T + 4 << "' width='8' height='8' fill='"
+           << colours[r] << "'/><text x='" << L + 17 + 62 * r << "' y='" << T + 12 << "'>"
+           << kRoutes[r] << "</text>\n";
     }
     os << "</g>\n";
   }
@@ -92,6 +92,38 @@ void writeEfficiencySvg(const std::string& path, const json& graphs,
   std::ofstream f(path);
   f << os.str();
   if (!f) throw Error(path + ": cannot write the plot");
+}
+
+/// One row of the text table: optima and the routes' efficiencies [%].
+void printGraphRow(const json& jg, int line, const graph::Multigraph& g,
+                   const std::vector<std::string>& names) {
+  std::cout << std::setw(6) << line << std::setw(5) << g.n << std::setw(5) << g.m() << "  "
+            << std::fixed << std::setprecision(4);
+  for (const auto& n : names) std::cout << jg["optimum"][n].get<double>() << ' ';
+  std::cout << std::setprecision(1) << "  ";
+  for (int r = 0; r < 4; ++r) {
+    for (const auto& n : names)
+      std::cout << 100 * jg["efficiency"][kRoutes[r]][n].get<double>() << (n == "E" ? "" : "/");
+    std::cout << (r < 3 ? " | " : "\n");
+  }
+  std::cout << std::defaultfloat;
+}
+
+/// The text summary: each route's efficiency per criterion (mean +- std) and the times.
+void printSummaryTable(const json& summary, const std::vector<std::string>& names,
+                       std::size_t connected, std::size_t graphs, double optimum_ms) {
+  std::cout << "\n"
+            << connected << " connected graphs of " << graphs << "; efficiency, mean +- std [%]:\n"
+            << std::fixed << std::setprecision(1);
+  for (const char* r : kRoutes) {
+    std::cout << "  " << std::left << std::setw(8) << r;
+    for (const auto& n : names)
+      std::cout << "  " << n << " " << 100 * summary["efficiency"][r][n]["mean"].get<double>()
+                << " +- " << 100 * summary["efficiency"][r][n]["std"].get<double>();
+    std::cout << "\n";
+  }
+  std::cout << std::setprecision(3) << "time " << summary["time_ms"].get<double>() / 1000
+            << " s (D/A/E optima " << optimum_ms / 1000 << " s, the rest routes and I/O)\n";
 }
 
 }  // namespace
@@ -108,8 +140,8 @@ int cmdOptimalEval(int argc, char** argv) {
   TCLAP::UnlabeledValueArg<std::string> file("list", "Graph-list file", true, "", "LIST", cmd);
   TCLAP::ValueArg<std::uint32_t> seed("s", "seed", "Seed of the Tarry walk's ties", false, 1,
                                       "SEED", cmd);
-  TCLAP::ValueArg<std::string> plot("p", "plot", "Write the efficiencies as an SVG plot", false,
-                                    "", "OUT.svg", cmd);
+  TCLAP::ValueArg<std::string> plot("p", "plot", "Write the efficiencies as an SVG plot", false, "",
+                                    "OUT.svg", cmd);
   TCLAP::SwitchArg json_out(
       "j", "json",
       "Print one JSON object: graphs [{index (line), n, m, connected, optimum {D,A,E}, gap "
@@ -138,7 +170,9 @@ int cmdOptimalEval(int argc, char** argv) {
     json jg{{"index", lg.line}, {"n", g.n}, {"m", g.m()}, {"connected", g.connected()}};
     if (!g.connected()) {
       graphs.push_back(jg);
-      if (text) std::cout << std::setw(6) << lg.line << std::setw(5) << g.n << std::setw(5) << g.m() << "  not connected: skipped\n";
+      if (text)
+        std::cout << std::setw(6) << lg.line << std::setw(5) << g.n << std::setw(5) << g.m()
+                  << "  not connected: skipped\n";
       continue;
     }
     ++connected;
@@ -146,7 +180,8 @@ int cmdOptimalEval(int argc, char** argv) {
     counts.push_back(Eigen::VectorXd::Ones(g.m()));
     auto asVector = [&](const graph::Walk& w) {
       const auto x = w.weights(g.m());
-      return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())).eval();
+      return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()))
+          .eval();
     };
     counts.push_back(asVector(graph::chinesePostman(g, 0).walk));
     counts.push_back(asVector(graph::travelingSalesman(g, 0).walk));
@@ -158,7 +193,8 @@ int cmdOptimalEval(int argc, char** argv) {
       optimum_ms += d.time_ms;
       jg["optimum"][names[c]] = d.value;
       jg["gap"][names[c]] = d.relative_gap;
-      jg["weights"][names[c]] = std::vector<double>(d.weights.data(), d.weights.data() + d.weights.size());
+      jg["weights"][names[c]] =
+          std::vector<double>(d.weights.data(), d.weights.data() + d.weights.size());
       for (int r = 0; r < 4; ++r) {
         const double e = graph::efficiency(g, counts[r], ps[c], d.value);
         jg["efficiency"][kRoutes[r]][names[c]] = e;
@@ -167,17 +203,7 @@ int cmdOptimalEval(int argc, char** argv) {
     }
     jg["time_ms"] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (text) {
-      std::cout << std::setw(6) << lg.line << std::setw(5) << g.n << std::setw(5) << g.m() << "  "
-                << std::fixed << std::setprecision(4);
-      for (const auto& n : names) std::cout << jg["optimum"][n].get<double>() << ' ';
-      std::cout << std::setprecision(1) << "  ";
-      for (int r = 0; r < 4; ++r) {
-        for (const auto& n : names) std::cout << 100 * jg["efficiency"][kRoutes[r]][n].get<double>() << (n == "E" ? "" : "/");
-        std::cout << (r < 3 ? " | " : "\n");
-      }
-      std::cout << std::defaultfloat;
-    }
+    if (text) printGraphRow(jg, lg.line, g, names);
     graphs.push_back(jg);
   }
   json summary{{"graphs", list.size()}, {"connected", connected}};
@@ -190,22 +216,11 @@ int cmdOptimalEval(int argc, char** argv) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
   summary["optimum_time_ms"] = optimum_ms;
   if (!plot.getValue().empty()) writeEfficiencySvg(plot.getValue(), graphs, names);
-  if (json_out.getValue()) {
+  if (json_out.getValue())
     std::cout << json{{"file", file.getValue()}, {"graphs", graphs}, {"summary", summary}}.dump(1)
               << "\n";
-  } else {
-    std::cout << "\n" << connected << " connected graphs of " << list.size()
-              << "; efficiency, mean +- std [%]:\n" << std::fixed << std::setprecision(1);
-    for (const char* r : kRoutes) {
-      std::cout << "  " << std::left << std::setw(8) << r;
-      for (const auto& n : names)
-        std::cout << "  " << n << " " << 100 * summary["efficiency"][r][n]["mean"].get<double>()
-                  << " +- " << 100 * summary["efficiency"][r][n]["std"].get<double>();
-      std::cout << "\n";
-    }
-    std::cout << std::setprecision(3) << "time " << summary["time_ms"].get<double>() / 1000
-              << " s (D/A/E optima " << optimum_ms / 1000 << " s, the rest routes and I/O)\n";
-  }
+  else
+    printSummaryTable(summary, names, connected, list.size(), optimum_ms);
   return kOk;
 }
 
@@ -220,8 +235,8 @@ int cmdGraphGen(int argc, char** argv) {
   TCLAP::ValuesConstraint<std::string> fc(fams);
   TCLAP::ValueArg<std::string> family("f", "family", "Graph family", false, "mixed", &fc, cmd);
   TCLAP::ValueArg<int> count("c", "count", "Number of graphs", false, 137, "N", cmd);
-  TCLAP::ValueArg<int> max_nodes("n", "max-nodes", "Largest graph (>= 4 nodes)", false, 120,
-                                 "N", cmd);
+  TCLAP::ValueArg<int> max_nodes("n", "max-nodes", "Largest graph (>= 4 nodes)", false, 120, "N",
+                                 cmd);
   TCLAP::ValueArg<std::uint64_t> seed("s", "seed", "Seed of the first graph", false, 1, "SEED",
                                       cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output graph-list file", true, "", "FILE", cmd);
@@ -236,7 +251,8 @@ int cmdGraphGen(int argc, char** argv) {
     << " --max-nodes " << max_nodes.getValue() << " --seed " << seed.getValue();
   graph::writeGraphList(out.getValue(), gs, c.str());
   std::size_t nmax = 0, mmax = 0;
-  for (const auto& g : gs) nmax = std::max<std::size_t>(nmax, g.n), mmax = std::max<std::size_t>(mmax, g.m());
+  for (const auto& g : gs)
+    nmax = std::max<std::size_t>(nmax, g.n), mmax = std::max<std::size_t>(mmax, g.m());
   std::cout << "graph-gen: " << gs.size() << " " << family.getValue() << " graphs (up to " << nmax
             << " nodes, " << mmax << " edges) written to " << out.getValue() << "\n";
   return kOk;

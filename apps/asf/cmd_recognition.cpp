@@ -42,6 +42,36 @@ nlohmann::json summary(const PoseGraph& g, const std::vector<double>& p) {
           {"q75", q(0.75)},    {"at_0", zero},           {"at_1", one}};
 }
 
+/// Thesis Fig. 3.3 for node n: scatter_<n>.svg in `dir`; its entry of recognition.json.
+nlohmann::json writeScatter(const PoseGraph& g, unsigned n, const RecognitionMcOptions& o,
+                            const std::filesystem::path& dir) {
+  const RecognitionTrial t = recognitionTrial(g, n, o);
+  const std::string file = (dir / ("scatter_" + std::to_string(n) + ".svg")).string();
+  std::ostringstream title;
+  title << "Monte Carlo place recognition at node " << n << " (" << std::fixed
+        << std::setprecision(2) << g.nodes[n].pose.x() << ", " << g.nodes[n].pose.y() << ")";
+  std::ofstream f(file);
+  f << recognitionScatterSvg(t, g.nodes[n], o, title.str());
+  if (!f) throw Error(file + ": cannot write");
+  std::size_t ok = 0;
+  for (const auto& s : t.samples) ok += s.success;
+  return {{"node", n}, {"p", t.p}, {"successes", ok}, {"file", file}};
+}
+
+void printSummary(const nlohmann::json& j, int samples, double seconds) {
+  const auto& s = j["summary"];
+  std::cout << std::fixed << std::setprecision(3) << "recognition: " << s["nodes"]
+            << " nodes with a scan, " << samples << " samples each, " << seconds << " s\n";
+  if (s["nodes"].get<std::size_t>() > 0)
+    std::cout << "p_recognition: mean " << s["mean"].get<double>() << ", quartiles "
+              << s["q25"].get<double>() << " / " << s["median"].get<double>() << " / "
+              << s["q75"].get<double>() << "; " << s["at_0"] << " nodes at 0, " << s["at_1"]
+              << " at 1\n";
+  for (const auto& sc : j["scatter"])
+    std::cout << "node " << sc["node"] << ": p " << sc["p"].get<double>() << " -> "
+              << sc["file"].get<std::string>() << "\n";
+}
+
 }  // namespace
 
 int cmdRecognition(int argc, char** argv) {
@@ -53,15 +83,15 @@ int cmdRecognition(int argc, char** argv) {
       "close to the node. Writes recognition.txt (node p, the planners' p_recognition_file), "
       "recognition.json and, for each --scatter node, Fig. 3.3 as scatter_<node>.svg.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> graph("graph", "The run's graph.g2o", true, "",
-                                              "GRAPH.g2o", cmd);
+  TCLAP::UnlabeledValueArg<std::string> graph("graph", "The run's graph.g2o", true, "", "GRAPH.g2o",
+                                              cmd);
   TCLAP::ValueArg<std::string> rawlog("r", "rawlog", "The log the run read (the nodes' scans)",
                                       true, "", "FILE", cmd);
-  TCLAP::ValueArg<std::string> keyframes(
-      "k", "keyframes", "The run's keyframes.txt (default: beside the graph)", false, "", "FILE",
-      cmd);
-  TCLAP::ValueArg<std::string> label("", "laser-label", "The run's [rawlog] laser_label", false,
-                                     "", "LABEL", cmd);
+  TCLAP::ValueArg<std::string> keyframes("k", "keyframes",
+                                         "The run's keyframes.txt (default: beside the graph)",
+                                         false, "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> label("", "laser-label", "The run's [rawlog] laser_label", false, "",
+                                     "LABEL", cmd);
   TCLAP::ValueArg<int> samples("n", "samples", "ICP samples per node", false, 40, "N", cmd);
   TCLAP::ValueArg<double> radius("", "map-radius", "Local map: other nodes' scans within [m]",
                                  false, 6.0, "M", cmd);
@@ -72,14 +102,13 @@ int cmdRecognition(int argc, char** argv) {
   TCLAP::ValueArg<double> success_xy("", "success-xy",
                                      "A sample succeeds within this distance of the node [m]",
                                      false, 0.1, "M", cmd);
-  TCLAP::ValueArg<double> success_phi("", "success-phi-deg",
-                                      "... and within this heading of the node [deg]", false, 5,
-                                      "DEG", cmd);
+  TCLAP::ValueArg<double> success_phi(
+      "", "success-phi-deg", "... and within this heading of the node [deg]", false, 5, "DEG", cmd);
   TCLAP::ValueArg<unsigned long> seed("", "seed", "Seed of the draws", false, 1, "N", cmd);
   TCLAP::ValueArg<unsigned> threads("j", "threads", "Threads (0: one per core)", false, 0, "N",
                                     cmd);
-  TCLAP::MultiArg<unsigned> scatter("s", "scatter", "Draw this node's samples (repeatable)",
-                                    false, "NODE", cmd);
+  TCLAP::MultiArg<unsigned> scatter("s", "scatter", "Draw this node's samples (repeatable)", false,
+                                    "NODE", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output folder", false, "recognition", "DIR", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
@@ -117,42 +146,26 @@ int cmdRecognition(int argc, char** argv) {
   const std::filesystem::path dir(out.getValue());
   writeRecognitionProbabilities((dir / "recognition.txt").string(), table);
 
-  nlohmann::json j{{"graph", graph.getValue()},  {"rawlog", rawlog.getValue()},
-                   {"samples", o.samples},       {"map_radius", o.map_radius},
-                   {"window_xy", o.half_x},      {"window_phi_deg", window_phi.getValue()},
-                   {"success_xy", o.success_xy}, {"success_phi_deg", success_phi.getValue()},
-                   {"seed", o.seed},             {"time_s", seconds},
-                   {"summary", summary(g, p)},   {"scatter", nlohmann::json::array()}};
-  for (unsigned n : scatter.getValue()) {
-    const RecognitionTrial t = recognitionTrial(g, n, o);
-    const std::string file = (dir / ("scatter_" + std::to_string(n) + ".svg")).string();
-    std::ostringstream title;
-    title << "Monte Carlo place recognition at node " << n << " (" << std::fixed
-          << std::setprecision(2) << g.nodes[n].pose.x() << ", " << g.nodes[n].pose.y() << ")";
-    std::ofstream f(file);
-    f << recognitionScatterSvg(t, g.nodes[n], o, title.str());
-    if (!f) throw Error(file + ": cannot write");
-    std::size_t ok = 0;
-    for (const auto& s : t.samples) ok += s.success;
-    j["scatter"].push_back({{"node", n}, {"p", t.p}, {"successes", ok}, {"file", file}});
-  }
+  nlohmann::json j{{"graph", graph.getValue()},
+                   {"rawlog", rawlog.getValue()},
+                   {"samples", o.samples},
+                   {"map_radius", o.map_radius},
+                   {"window_xy", o.half_x},
+                   {"window_phi_deg", window_phi.getValue()},
+                   {"success_xy", o.success_xy},
+                   {"success_phi_deg", success_phi.getValue()},
+                   {"seed", o.seed},
+                   {"time_s", seconds},
+                   {"summary", summary(g, p)},
+                   {"scatter", nlohmann::json::array()}};
+  for (unsigned n : scatter.getValue()) j["scatter"].push_back(writeScatter(g, n, o, dir));
   {
     const std::string file = (dir / "recognition.json").string();
     std::ofstream f(file);
     f << j.dump(1) << "\n";
     if (!f) throw Error(file + ": cannot write");
   }
-  const auto& s = j["summary"];
-  std::cout << std::fixed << std::setprecision(3) << "recognition: " << s["nodes"]
-            << " nodes with a scan, " << o.samples << " samples each, " << seconds << " s\n";
-  if (s["nodes"].get<std::size_t>() > 0)
-    std::cout << "p_recognition: mean " << s["mean"].get<double>() << ", quartiles "
-              << s["q25"].get<double>() << " / " << s["median"].get<double>() << " / "
-              << s["q75"].get<double>() << "; " << s["at_0"] << " nodes at 0, " << s["at_1"]
-              << " at 1\n";
-  for (const auto& sc : j["scatter"])
-    std::cout << "node " << sc["node"] << ": p " << sc["p"].get<double>() << " -> "
-              << sc["file"].get<std::string>() << "\n";
+  printSummary(j, o.samples, seconds);
   std::cout << "wrote " << (dir / "recognition.txt").string() << "\n";
   return kOk;
 }

@@ -1,11 +1,11 @@
 #include <asf/params.h>
 #include <asf/reachability.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <opencv2/imgproc.hpp>
 
 namespace asf {
 
@@ -34,9 +34,7 @@ std::vector<std::uint8_t> classifyCells(const mrpt::maps::COccupancyGridMap2D& g
   for (std::size_t u = 0; u < kValues; ++u) {
     const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(
         static_cast<CellT>(static_cast<CellU>(u)));  // MRPT stores p(free)
-    class_of[u] = 1.0 - p_free > o.occupied_threshold       ? kOccupied
-                  : std::abs(p_free - 0.5) < o.unknown_band ? kUnknown
-                                                            : kFree;
+    class_of[u] = cellStateOf(p_free, o.occupied_threshold, o.unknown_band);
   }
   const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
   std::vector<std::uint8_t> state(static_cast<std::size_t>(W) * H);
@@ -48,28 +46,19 @@ std::vector<std::uint8_t> classifyCells(const mrpt::maps::COccupancyGridMap2D& g
   return state;
 }
 
-Reachability Reachability::compute(const GridMap& map, const Point2& from,
-                                   const ReachabilityOptions& o) {
-  Reachability r;
-  const mrpt::maps::COccupancyGridMap2D* grid = map.grid.get();
-  if (!grid || grid->getSizeX() == 0 || grid->getSizeY() == 0) return r;
-  r.resolution_ = grid->getResolution();
-  r.origin_x_ = grid->getXMin();
-  r.origin_y_ = grid->getYMin();
-  r.width_ = static_cast<int>(grid->getSizeX());
-  r.height_ = static_cast<int>(grid->getSizeY());
-  const int W = r.width_, H = r.height_;
-  const double res = r.resolution_;
-  const std::size_t n = static_cast<std::size_t>(W) * H;
-  r.dist_.assign(n, std::numeric_limits<float>::infinity());
+namespace {
 
-  const int sx = static_cast<int>(std::floor((from.x - r.origin_x_) / res));
-  const int sy = static_cast<int>(std::floor((from.y - r.origin_y_) / res));
-  if (sx < 0 || sy < 0 || sx >= W || sy >= H) return r;  // start off the map: nothing known
+/// A box of grid cells, inclusive.
+struct CellBox {
+  int x0, y0, x1, y1;
+  int width() const { return x1 - x0 + 1; }
+  int height() const { return y1 - y0 + 1; }
+};
 
-  const std::vector<std::uint8_t> all = classifyCells(*grid, o);
-  // Only the box of known cells (plus the robot's footprint) can hold passable cells: the
-  // rest of the grid, often most of it (MapBuilder grows it with margins), is unknown.
+/// Only the box of known cells (plus the robot's footprint around the start cell) can hold
+/// passable cells: the rest of the grid, often most of it (MapBuilder grows it with
+/// margins), is unknown.
+CellBox knownBox(const std::vector<std::uint8_t>& all, int W, int H, int sx, int sy, int foot) {
   int bx0 = W, by0 = H, bx1 = -1, by1 = -1;
   for (int y = 0; y < H; ++y) {
     const std::uint8_t* row = &all[static_cast<std::size_t>(y) * W];
@@ -85,28 +74,28 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
     by0 = std::min(by0, y);
     by1 = std::max(by1, y);
   }
-  const int foot = static_cast<int>(std::ceil(o.robot_radius / res)) + 1;
-  bx0 = std::max(0, std::min(bx0, sx - foot));
-  by0 = std::max(0, std::min(by0, sy - foot));
-  bx1 = std::min(W - 1, std::max(bx1, sx + foot));
-  by1 = std::min(H - 1, std::max(by1, sy + foot));
-  const int BW = bx1 - bx0 + 1, BH = by1 - by0 + 1;
+  return {std::max(0, std::min(bx0, sx - foot)), std::max(0, std::min(by0, sy - foot)),
+          std::min(W - 1, std::max(bx1, sx + foot)), std::min(H - 1, std::max(by1, sy + foot))};
+}
 
-  std::vector<std::uint8_t> state(static_cast<std::size_t>(BW) * BH);
+/// The passable cells of box `b`, padded by one non-passable cell (so neighbour steps need no
+/// bounds checks): free cells whose clearance keeps the robot's radius, and the cells under
+/// the robot at `from`.
+std::vector<std::uint8_t> passableCells(const std::vector<std::uint8_t>& all, int W,
+                                        const CellBox& b, double origin_x, double origin_y,
+                                        double res, const Point2& from,
+                                        const ReachabilityOptions& o) {
+  const int BW = b.width(), BH = b.height();
   cv::Mat1b not_obstacle(BH, BW);
   bool any_obstacle = false;
   for (int y = 0; y < BH; ++y) {
-    const std::uint8_t* cells = &all[static_cast<std::size_t>(y + by0) * W + bx0];
+    const std::uint8_t* cells = &all[static_cast<std::size_t>(y + b.y0) * W + b.x0];
     std::uint8_t* mask_row = not_obstacle[y];
-    std::uint8_t* state_row = &state[static_cast<std::size_t>(y) * BW];
     for (int x = 0; x < BW; ++x) {
-      const std::uint8_t st = cells[x];
-      state_row[x] = st;
-      mask_row[x] = st == kOccupied ? 0 : 255;
-      any_obstacle |= st == kOccupied;
+      mask_row[x] = cells[x] == kOccupied ? 0 : 255;
+      any_obstacle |= cells[x] == kOccupied;
     }
   }
-
   // Clearance of a cell = distance from its centre to the nearest obstacle cell's edge
   // (centre distance minus half a cell), as the sim2d navigator measures it, so a cell
   // passable here is not lethal there. Outside the box there are no obstacles, so the
@@ -115,19 +104,17 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
   if (any_obstacle)
     cv::distanceTransform(not_obstacle, centre_dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   const float min_centre_dist = static_cast<float>(o.robot_radius / res + 0.5);
-
-  // Passable cells of the box, padded by one non-passable cell, so neighbour steps need no
-  // bounds checks.
   const int PW = BW + 2, PH = BH + 2;
   std::vector<std::uint8_t> passable(static_cast<std::size_t>(PW) * PH, 0);
   const double r2 = o.robot_radius * o.robot_radius;
   for (int y = 0; y < BH; ++y) {
     const float* dist_row = any_obstacle ? centre_dist[y] : nullptr;
+    const std::uint8_t* cells = &all[static_cast<std::size_t>(y + b.y0) * W + b.x0];
     for (int x = 0; x < BW; ++x) {
-      const double sdx = r.origin_x_ + (x + bx0 + 0.5) * res - from.x;
-      const double sdy = r.origin_y_ + (y + by0 + 0.5) * res - from.y;
+      const double sdx = origin_x + (x + b.x0 + 0.5) * res - from.x;
+      const double sdy = origin_y + (y + b.y0 + 0.5) * res - from.y;
       const bool under_robot = sdx * sdx + sdy * sdy <= r2;
-      const std::uint8_t st = state[static_cast<std::size_t>(y) * BW + x];
+      const std::uint8_t st = cells[x];
       // The robot's own footprint is free even where the sensor has not seen it (behind a
       // 270-degree laser at the start): unknown cells under it are passable.
       if (st == kOccupied || (st == kUnknown && !under_robot)) continue;
@@ -137,19 +124,24 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
       passable[static_cast<std::size_t>(y + 1) * PW + (x + 1)] = ok;
     }
   }
+  return passable;
+}
 
-  // Dijkstra in cell units with buckets one cell wide: every step costs >= 1, so no cell
-  // in the current bucket can improve another one there and the result is exact, in
-  // linear time (three buckets in a ring cover steps of 1 and sqrt(2)).
+/// Dijkstra in cell units over a padded passable raster `PW` wide, with buckets one cell
+/// wide: every step costs >= 1, so no cell in the current bucket can improve another one
+/// there and the result is exact, in linear time (three buckets in a ring cover steps of 1
+/// and sqrt(2)).
+std::vector<float> bucketDijkstra(const std::vector<std::uint8_t>& passable, int PW, int start) {
   std::vector<float> d(passable.size(), std::numeric_limits<float>::infinity());
   std::vector<std::uint8_t> settled(passable.size(), 0);
-  const int start = (sy - by0 + 1) * PW + (sx - bx0 + 1);
   std::vector<int> bucket[3];
   for (auto& b : bucket) b.reserve(1024);
   d[start] = 0;
   bucket[0].push_back(start);
   const int kOrtho[4] = {1, -1, PW, -PW};
-  const int kDiag[4][3] = {{PW + 1, 1, PW}, {PW - 1, -1, PW}, {-PW + 1, 1, -PW},
+  const int kDiag[4][3] = {{PW + 1, 1, PW},
+                           {PW - 1, -1, PW},
+                           {-PW + 1, 1, -PW},
                            {-PW - 1, -1, -PW}};  // step, and the two cells it passes
   const float kSqrt2 = static_cast<float>(M_SQRT2);
   int empty_in_a_row = 0;
@@ -183,13 +175,42 @@ Reachability Reachability::compute(const GridMap& map, const Point2& from,
     }
     cur.clear();
   }
+  return d;
+}
 
+}  // namespace
+
+Reachability Reachability::compute(const GridMap& map, const Point2& from,
+                                   const ReachabilityOptions& o) {
+  Reachability r;
+  const mrpt::maps::COccupancyGridMap2D* grid = map.grid.get();
+  if (!grid || grid->getSizeX() == 0 || grid->getSizeY() == 0) return r;
+  r.resolution_ = grid->getResolution();
+  r.origin_x_ = grid->getXMin();
+  r.origin_y_ = grid->getYMin();
+  r.width_ = static_cast<int>(grid->getSizeX());
+  r.height_ = static_cast<int>(grid->getSizeY());
+  const int W = r.width_, H = r.height_;
+  const double res = r.resolution_;
+  r.dist_.assign(static_cast<std::size_t>(W) * H, std::numeric_limits<float>::infinity());
+
+  const int sx = static_cast<int>(std::floor((from.x - r.origin_x_) / res));
+  const int sy = static_cast<int>(std::floor((from.y - r.origin_y_) / res));
+  if (sx < 0 || sy < 0 || sx >= W || sy >= H) return r;  // start off the map: nothing known
+
+  const std::vector<std::uint8_t> all = classifyCells(*grid, o);
+  const int foot = static_cast<int>(std::ceil(o.robot_radius / res)) + 1;
+  const CellBox b = knownBox(all, W, H, sx, sy, foot);
+  const int PW = b.width() + 2;
+  const std::vector<float> d =
+      bucketDijkstra(passableCells(all, W, b, r.origin_x_, r.origin_y_, res, from, o), PW,
+                     (sy - b.y0 + 1) * PW + (sx - b.x0 + 1));
   const float to_metres = static_cast<float>(res);
-  for (int y = 0; y < BH; ++y)
-    for (int x = 0; x < BW; ++x) {
+  for (int y = 0; y < b.height(); ++y)
+    for (int x = 0; x < b.width(); ++x) {
       const float v = d[static_cast<std::size_t>(y + 1) * PW + (x + 1)];
       if (v < std::numeric_limits<float>::infinity())
-        r.dist_[static_cast<std::size_t>(y + by0) * W + (x + bx0)] = v * to_metres;
+        r.dist_[static_cast<std::size_t>(y + b.y0) * W + (x + b.x0)] = v * to_metres;
     }
   return r;
 }
@@ -213,8 +234,7 @@ std::optional<Point2> Reachability::nearestReachable(const Point2& p, double rad
   // centre (border and frontier cells are), no other cell can be nearer.
   if (cellDistance(px, py) < kUnreachable) {
     const Point2 c = cellCenter(px, py);
-    if (radius < 0.5 * resolution_ ||
-        std::hypot(c.x - p.x, c.y - p.y) <= 1e-3 * resolution_)
+    if (radius < 0.5 * resolution_ || std::hypot(c.x - p.x, c.y - p.y) <= 1e-3 * resolution_)
       return c;
   }
   const int span = static_cast<int>(std::ceil(std::max(radius, 0.0) / resolution_)) + 1;

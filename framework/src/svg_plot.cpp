@@ -100,33 +100,45 @@ std::vector<double> niceTicks(double lo, double hi, int target) {
   return t;
 }
 
-std::string svg(const Figure& f) {
-  const double W = std::max(f.width, 200), H0 = std::max(f.height, 150);
+namespace {
 
-  // Legend below the plot, entries flowing left to right (never covers the data).
+/// Where everything goes: the plot box, with the legend below it (entries flowing left to
+/// right, so it never covers the data).
+struct Layout {
   struct LegendItem {
     double x, y;
     std::size_t series;
   };
+  double W = 0, H = 0, left = 70, right = 20, top = 16, bottom = 0, pw = 0, ph = 0;
   std::vector<LegendItem> legend;
-  const double left = 70, right = 20, top = f.title.empty() ? 16 : 36;
-  double lx = left, ly = 0;
+};
+
+Layout layoutOf(const Figure& f) {
+  Layout L;
+  L.W = std::max(f.width, 200);
+  const double H0 = std::max(f.height, 150);
+  L.top = f.title.empty() ? 16 : 36;
+  double lx = L.left;
   int legend_rows = f.series.empty() ? 0 : 1;
   for (std::size_t i = 0; i < f.series.size(); ++i) {
     const double w = 34 + 7.0 * f.series[i].label.size() + 16;
-    if (lx + w > W - right && lx > left) {
-      lx = left;
+    if (lx + w > L.W - L.right && lx > L.left) {
+      lx = L.left;
       ++legend_rows;
     }
-    legend.push_back({lx, (legend_rows - 1) * 18.0, i});
+    L.legend.push_back({lx, (legend_rows - 1) * 18.0, i});
     lx += w;
   }
   const double legend_h = legend_rows * 18.0;
-  const double H = H0 + legend_h;
-  const double bottom = 46 + legend_h;
-  const double pw = W - left - right, ph = H - top - bottom;
+  L.H = H0 + legend_h;
+  L.bottom = 46 + legend_h;
+  L.pw = L.W - L.left - L.right;
+  L.ph = L.H - L.top - L.bottom;
+  return L;
+}
 
-  Range xr, yr;
+/// The range of the finite data (lines and bands); false when no line has a finite point.
+bool dataRange(const Figure& f, Range& xr, Range& yr) {
   bool any = false;
   for (const auto& s : f.series) {
     const bool band = hasBand(s);
@@ -145,121 +157,158 @@ std::string svg(const Figure& f) {
       }
     }
   }
+  return any;
+}
 
-  std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << ' ' << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+/// The document, background, title, plot box and axis labels.
+void writeFrame(std::ostringstream& o, const Figure& f, const Layout& L) {
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << L.W << "\" height=\"" << L.H
+    << "\" viewBox=\"0 0 " << L.W << ' ' << L.H
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   if (!f.title.empty()) o << "<title>" << esc(f.title) << "</title>\n";
-  o << "<rect x=\"0\" y=\"0\" width=\"" << W << "\" height=\"" << H << "\" fill=\"white\"/>\n";
+  o << "<rect x=\"0\" y=\"0\" width=\"" << L.W << "\" height=\"" << L.H << "\" fill=\"white\"/>\n";
   if (!f.title.empty())
-    o << "<text x=\"" << formatFixed(W / 2, 1)
+    o << "<text x=\"" << formatFixed(L.W / 2, 1)
       << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\" "
       << "font-weight=\"bold\">" << esc(f.title) << "</text>\n";
-  o << "<rect x=\"" << formatFixed(left, 1) << "\" y=\"" << formatFixed(top, 1) << "\" width=\""
-    << formatFixed(pw, 1) << "\" height=\"" << formatFixed(ph, 1)
+  o << "<rect x=\"" << formatFixed(L.left, 1) << "\" y=\"" << formatFixed(L.top, 1) << "\" width=\""
+    << formatFixed(L.pw, 1) << "\" height=\"" << formatFixed(L.ph, 1)
     << "\" fill=\"none\" stroke=\"#444\"/>\n";
   // Axis labels.
-  o << "<text x=\"" << formatFixed(left + pw / 2, 1) << "\" y=\"" << formatFixed(top + ph + 38, 1)
-    << "\" text-anchor=\"middle\">" << esc(f.x_label) << "</text>\n";
-  o << "<text transform=\"translate(16," << formatFixed(top + ph / 2, 1)
+  o << "<text x=\"" << formatFixed(L.left + L.pw / 2, 1) << "\" y=\""
+    << formatFixed(L.top + L.ph + 38, 1) << "\" text-anchor=\"middle\">" << esc(f.x_label)
+    << "</text>\n";
+  o << "<text transform=\"translate(16," << formatFixed(L.top + L.ph / 2, 1)
     << ") rotate(-90)\" text-anchor=\"middle\">" << esc(f.y_label) << "</text>\n";
+}
 
-  if (!any) {
-    o << "<text x=\"" << formatFixed(left + pw / 2, 1) << "\" y=\"" << formatFixed(top + ph / 2, 1)
-      << "\" text-anchor=\"middle\" font-size=\"16\" fill=\"#888\">no data</text>\n";
-  } else {
-    if (f.y_from_zero) {
-      yr.add(0);
-    }
-    const std::vector<double> xt = niceTicks(xr.lo, xr.hi), yt = niceTicks(yr.lo, yr.hi);
-    const double x0 = xt.front(), x1 = xt.back(), y0 = yt.front(), y1 = yt.back();
-    const double xstep = xt.size() > 1 ? xt[1] - xt[0] : 1,
-                 ystep = yt.size() > 1 ? yt[1] - yt[0] : 1;
-    auto px = [&](double x) { return left + (x - x0) / (x1 - x0) * pw; };
-    auto py = [&](double y) { return top + ph - (y - y0) / (y1 - y0) * ph; };
-
-    o << "<g stroke=\"#e4e4e4\">\n";
-    for (double t : xt)
-      o << "<line x1=\"" << formatFixed(px(t), 1) << "\" y1=\"" << formatFixed(top, 1) << "\" x2=\""
-        << formatFixed(px(t), 1) << "\" y2=\"" << formatFixed(top + ph, 1) << "\"/>\n";
-    for (double t : yt)
-      o << "<line x1=\"" << formatFixed(left, 1) << "\" y1=\"" << formatFixed(py(t), 1)
-        << "\" x2=\"" << formatFixed(left + pw, 1) << "\" y2=\"" << formatFixed(py(t), 1)
-        << "\"/>\n";
-    o << "</g>\n<g fill=\"#333\">\n";
-    for (double t : xt)
-      o << "<text x=\"" << formatFixed(px(t), 1) << "\" y=\"" << formatFixed(top + ph + 16, 1)
-        << "\" text-anchor=\"middle\">" << tickLabel(t, xstep) << "</text>\n";
-    for (double t : yt)
-      o << "<text x=\"" << formatFixed(left - 6, 1) << "\" y=\"" << formatFixed(py(t) + 4, 1)
-        << "\" text-anchor=\"end\">" << tickLabel(t, ystep) << "</text>\n";
-    o << "</g>\n";
-
-    std::size_t pal = 0;
-    std::vector<std::string> colors;
-    for (const auto& s : f.series)
-      colors.push_back(s.color.empty() ? kPalette[pal++ % (sizeof kPalette / sizeof *kPalette)]
-                                       : s.color);
-    // Bands first, so every line is drawn over every band.
-    for (std::size_t k = 0; k < f.series.size(); ++k) {
-      const Series& s = f.series[k];
-      if (!hasBand(s)) continue;
-      for (auto [a, b] : runs(s.x.size(), [&](std::size_t i) {
-             return finite(s.x[i]) && finite(s.y_low[i]) && finite(s.y_high[i]);
-           })) {
-        o << "<polygon fill=\"" << esc(colors[k]) << "\" fill-opacity=\"0.18\" stroke=\"none\" "
-          << "points=\"";
-        for (std::size_t i = a; i < b; ++i)
-          o << formatFixed(px(s.x[i]), 1) << ',' << formatFixed(py(s.y_high[i]), 1) << ' ';
-        for (std::size_t i = b; i-- > a;)
-          o << formatFixed(px(s.x[i]), 1) << ',' << formatFixed(py(s.y_low[i]), 1) << ' ';
-        o << "\"/>\n";
-      }
-    }
-    for (std::size_t k = 0; k < f.series.size(); ++k) {
-      const Series& s = f.series[k];
-      const std::size_t n = std::min(s.x.size(), s.y.size());
-      const auto pieces = runs(n, [&](std::size_t i) { return finite(s.x[i]) && finite(s.y[i]); });
-      std::ostringstream d;
-      for (auto [a, b] : pieces) {
-        if (b - a == 1) {  // an isolated point: a dot, a path of one point is invisible
-          o << "<circle cx=\"" << formatFixed(px(s.x[a]), 1) << "\" cy=\""
-            << formatFixed(py(s.y[a]), 1) << "\" r=\"2.5\" fill=\"" << esc(colors[k]) << "\"/>\n";
-          continue;
-        }
-        for (std::size_t i = a; i < b; ++i)
-          d << (i == a ? 'M' : 'L') << formatFixed(px(s.x[i]), 1) << ','
-            << formatFixed(py(s.y[i]), 1) << ' ';
-      }
-      if (!d.str().empty())
-        o << "<path fill=\"none\" stroke=\"" << esc(colors[k]) << "\" stroke-width=\"1.8\" "
-          << "stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << " d=\""
-          << d.str() << "\"/>\n";
-    }
-    // Legend swatches use the same colours.
-    for (const auto& it : legend) {
-      const Series& s = f.series[it.series];
-      const double y = top + ph + 46 + it.y + 4;
-      if (hasBand(s))
-        o << "<rect x=\"" << formatFixed(it.x, 1) << "\" y=\"" << formatFixed(y - 6, 1)
-          << "\" width=\"26\" "
-          << "height=\"12\" fill=\"" << esc(colors[it.series]) << "\" fill-opacity=\"0.18\"/>\n";
-      o << "<line x1=\"" << formatFixed(it.x, 1) << "\" y1=\"" << formatFixed(y, 1) << "\" x2=\""
-        << formatFixed(it.x + 26, 1) << "\" y2=\"" << formatFixed(y, 1) << "\" stroke=\""
-        << esc(colors[it.series]) << "\" stroke-width=\"2\""
-        << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << "/>\n";
-      o << "<text x=\"" << formatFixed(it.x + 32, 1) << "\" y=\"" << formatFixed(y + 4, 1) << "\">"
-        << esc(s.label) << "</text>\n";
-    }
-    o << "</svg>\n";
-    return o.str();
+/// Data to plot coordinates over the ticks' range.
+struct Axes {
+  std::vector<double> xt, yt;
+  double x0, x1, y0, y1, xstep, ystep;
+  const Layout& L;
+  Axes(const Range& xr, const Range& yr, const Layout& layout)
+      : xt(niceTicks(xr.lo, xr.hi)), yt(niceTicks(yr.lo, yr.hi)), L(layout) {
+    x0 = xt.front(), x1 = xt.back(), y0 = yt.front(), y1 = yt.back();
+    xstep = xt.size() > 1 ? xt[1] - xt[0] : 1;
+    ystep = yt.size() > 1 ? yt[1] - yt[0] : 1;
   }
-  // No data: the legend still names the series.
-  for (const auto& it : legend) {
-    const double y = top + ph + 46 + it.y + 4;
+  double px(double x) const { return L.left + (x - x0) / (x1 - x0) * L.pw; }
+  double py(double y) const { return L.top + L.ph - (y - y0) / (y1 - y0) * L.ph; }
+};
+
+void writeGridAndTicks(std::ostringstream& o, const Axes& a) {
+  const Layout& L = a.L;
+  o << "<g stroke=\"#e4e4e4\">\n";
+  for (double t : a.xt)
+    o << "<line x1=\"" << formatFixed(a.px(t), 1) << "\" y1=\"" << formatFixed(L.top, 1)
+      << "\" x2=\"" << formatFixed(a.px(t), 1) << "\" y2=\"" << formatFixed(L.top + L.ph, 1)
+      << "\"/>\n";
+  for (double t : a.yt)
+    o << "<line x1=\"" << formatFixed(L.left, 1) << "\" y1=\"" << formatFixed(a.py(t), 1)
+      << "\" x2=\"" << formatFixed(L.left + L.pw, 1) << "\" y2=\"" << formatFixed(a.py(t), 1)
+      << "\"/>\n";
+  o << "</g>\n<g fill=\"#333\">\n";
+  for (double t : a.xt)
+    o << "<text x=\"" << formatFixed(a.px(t), 1) << "\" y=\"" << formatFixed(L.top + L.ph + 16, 1)
+      << "\" text-anchor=\"middle\">" << tickLabel(t, a.xstep) << "</text>\n";
+  for (double t : a.yt)
+    o << "<text x=\"" << formatFixed(L.left - 6, 1) << "\" y=\"" << formatFixed(a.py(t) + 4, 1)
+      << "\" text-anchor=\"end\">" << tickLabel(t, a.ystep) << "</text>\n";
+  o << "</g>\n";
+}
+
+void writeBand(std::ostringstream& o, const Series& s, const std::string& color, const Axes& a) {
+  for (auto [b0, b1] : runs(s.x.size(), [&](std::size_t i) {
+         return finite(s.x[i]) && finite(s.y_low[i]) && finite(s.y_high[i]);
+       })) {
+    o << "<polygon fill=\"" << esc(color) << "\" fill-opacity=\"0.18\" stroke=\"none\" "
+      << "points=\"";
+    for (std::size_t i = b0; i < b1; ++i)
+      o << formatFixed(a.px(s.x[i]), 1) << ',' << formatFixed(a.py(s.y_high[i]), 1) << ' ';
+    for (std::size_t i = b1; i-- > b0;)
+      o << formatFixed(a.px(s.x[i]), 1) << ',' << formatFixed(a.py(s.y_low[i]), 1) << ' ';
+    o << "\"/>\n";
+  }
+}
+
+void writeLine(std::ostringstream& o, const Series& s, const std::string& color, const Axes& a) {
+  const std::size_t n = std::min(s.x.size(), s.y.size());
+  const auto pieces = runs(n, [&](std::size_t i) { return finite(s.x[i]) && finite(s.y[i]); });
+  std::ostringstream d;
+  for (auto [b0, b1] : pieces) {
+    if (b1 - b0 == 1) {  // an isolated point: a dot, a path of one point is invisible
+      o << "<circle cx=\"" << formatFixed(a.px(s.x[b0]), 1) << "\" cy=\""
+        << formatFixed(a.py(s.y[b0]), 1) << "\" r=\"2.5\" fill=\"" << esc(color) << "\"/>\n";
+      continue;
+    }
+    for (std::size_t i = b0; i < b1; ++i)
+      d << (i == b0 ? 'M' : 'L') << formatFixed(a.px(s.x[i]), 1) << ','
+        << formatFixed(a.py(s.y[i]), 1) << ' ';
+  }
+  if (!d.str().empty())
+    o << "<path fill=\"none\" stroke=\"" << esc(color) << "\" stroke-width=\"1.8\" "
+      << "stroke-linejoin=\"round\"" << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << " d=\""
+      << d.str() << "\"/>\n";
+}
+
+/// Legend swatches in the lines' colours.
+void writeLegend(std::ostringstream& o, const Figure& f, const Layout& L,
+                 const std::vector<std::string>& colors) {
+  for (const auto& it : L.legend) {
+    const Series& s = f.series[it.series];
+    const double y = L.top + L.ph + 46 + it.y + 4;
+    if (hasBand(s))
+      o << "<rect x=\"" << formatFixed(it.x, 1) << "\" y=\"" << formatFixed(y - 6, 1)
+        << "\" width=\"26\" "
+        << "height=\"12\" fill=\"" << esc(colors[it.series]) << "\" fill-opacity=\"0.18\"/>\n";
+    o << "<line x1=\"" << formatFixed(it.x, 1) << "\" y1=\"" << formatFixed(y, 1) << "\" x2=\""
+      << formatFixed(it.x + 26, 1) << "\" y2=\"" << formatFixed(y, 1) << "\" stroke=\""
+      << esc(colors[it.series]) << "\" stroke-width=\"2\""
+      << (s.dashed ? " stroke-dasharray=\"6 4\"" : "") << "/>\n";
+    o << "<text x=\"" << formatFixed(it.x + 32, 1) << "\" y=\"" << formatFixed(y + 4, 1) << "\">"
+      << esc(s.label) << "</text>\n";
+  }
+}
+
+/// No data: a note in the box, and the legend still names the series.
+void writeNoData(std::ostringstream& o, const Figure& f, const Layout& L) {
+  o << "<text x=\"" << formatFixed(L.left + L.pw / 2, 1) << "\" y=\""
+    << formatFixed(L.top + L.ph / 2, 1)
+    << "\" text-anchor=\"middle\" font-size=\"16\" fill=\"#888\">no data</text>\n";
+  for (const auto& it : L.legend) {
+    const double y = L.top + L.ph + 46 + it.y + 4;
     o << "<text x=\"" << formatFixed(it.x + 32, 1) << "\" y=\"" << formatFixed(y + 4, 1)
       << "\" fill=\"#888\">" << esc(f.series[it.series].label) << "</text>\n";
   }
+}
+
+}  // namespace
+
+std::string svg(const Figure& f) {
+  const Layout L = layoutOf(f);
+  Range xr, yr;
+  const bool any = dataRange(f, xr, yr);
+  std::ostringstream o;
+  writeFrame(o, f, L);
+  if (!any) {
+    writeNoData(o, f, L);
+    o << "</svg>\n";
+    return o.str();
+  }
+  if (f.y_from_zero) yr.add(0);
+  const Axes a(xr, yr, L);
+  writeGridAndTicks(o, a);
+  std::size_t pal = 0;
+  std::vector<std::string> colors;
+  for (const auto& s : f.series)
+    colors.push_back(s.color.empty() ? kPalette[pal++ % (sizeof kPalette / sizeof *kPalette)]
+                                     : s.color);
+  // Bands first, so every line is drawn over every band.
+  for (std::size_t k = 0; k < f.series.size(); ++k)
+    if (hasBand(f.series[k])) writeBand(o, f.series[k], colors[k], a);
+  for (std::size_t k = 0; k < f.series.size(); ++k) writeLine(o, f.series[k], colors[k], a);
+  writeLegend(o, f, L, colors);
   o << "</svg>\n";
   return o.str();
 }

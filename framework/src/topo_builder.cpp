@@ -1,8 +1,8 @@
 #include <asf/topo_builder.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <unordered_map>
 
@@ -11,14 +11,15 @@ namespace asf {
 namespace {
 const KeySpec kTopoKeys[] = {
     keyDouble("min_border_width", "0.3",
-              "Two regions are joined when their shared free border is at least this wide [m]",
-              0.0, 100.0),
+              "Two regions are joined when their shared free border is at least this wide [m]", 0.0,
+              100.0),
     keyDouble("min_frontier_width", "0.5",
               "A region gets a frontier edge when it borders unknown space along a stretch of "
               "adjacent cells at least this wide [m]; shorter stretches are ignored",
               0.0, 100.0),
     keyDouble("unknown_band", "0.02",
-              "A cell is unknown when its probability differs from 0.5 by less than this", 0.0, 0.5),
+              "A cell is unknown when its probability differs from 0.5 by less than this", 0.0,
+              0.5),
 };
 
 using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)
@@ -26,6 +27,67 @@ Key edgeKey(RegionId a, RegionId b) {
   if (b == kUnexplored || a == kUnexplored) return {a == kUnexplored ? b : a, kUnexplored};
   return a < b ? Key{a, b} : Key{b, a};
 }
+
+/// The cells along one border (a region pair) or frontier (a region and unknown space).
+struct BorderAcc {
+  int cells = 0;
+  double sx = 0, sy = 0;
+  std::vector<Point2> border;       // cells on the side of the key's first region
+  std::vector<int> frontier_cells;  // frontier keys: label-image index of each border cell
+};
+
+/// Every border between two regions and every frontier of a region (cells next to unknown
+/// or unlabelled space whose grid cell is unknown, or off the grid), from the label image.
+std::map<Key, BorderAcc> accumulateBorders(const LabelImage& L,
+                                           const mrpt::maps::COccupancyGridMap2D* grid,
+                                           double unknown_band) {
+  std::map<Key, BorderAcc> acc;
+  auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
+  auto cellY = [&](double cy) { return L.origin_y + (cy + 0.5) * L.resolution; };
+  auto unknown = [&](int cx, int cy) {
+    if (!grid) return false;
+    const double x = cellX(cx), y = cellY(cy);
+    const int gx = grid->x2idx(x), gy = grid->y2idx(y);
+    if (gx < 0 || gy < 0 || gx >= static_cast<int>(grid->getSizeX()) ||
+        gy >= static_cast<int>(grid->getSizeY()))
+      return true;  // beyond the grid: never observed
+    return std::abs(grid->getCell(gx, gy) - 0.5) < unknown_band;
+  };
+  for (int cy = 0; cy < L.height; ++cy)
+    for (int cx = 0; cx < L.width; ++cx) {
+      const RegionId a = L.at(cx, cy);
+      if (a <= 0) continue;
+      bool frontier = false;
+      const int nb[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+      for (const auto& d : nb) {
+        const int nx = cx + d[0], ny = cy + d[1];
+        const bool inside = nx >= 0 && ny >= 0 && nx < L.width && ny < L.height;
+        const RegionId b = inside ? L.at(nx, ny) : 0;
+        if (b > 0 && b != a && (d[0] + d[1]) > 0) {  // each pair of cells once
+          const Key k = edgeKey(a, b);
+          auto& s = acc[k];
+          ++s.cells;
+          s.sx += 0.5 * (cellX(cx) + cellX(nx));
+          s.sy += 0.5 * (cellY(cy) + cellY(ny));
+          if (k.first == a)
+            s.border.push_back({cellX(cx), cellY(cy)});
+          else
+            s.border.push_back({cellX(nx), cellY(ny)});
+        }
+        if (b == 0 && (inside ? unknown(nx, ny) : true)) frontier = true;
+      }
+      if (frontier) {
+        auto& s = acc[edgeKey(a, kUnexplored)];
+        ++s.cells;
+        s.sx += cellX(cx);
+        s.sy += cellY(cy);
+        s.border.push_back({cellX(cx), cellY(cy)});
+        s.frontier_cells.push_back(cy * L.width + cx);
+      }
+    }
+  return acc;
+}
+
 }  // namespace
 
 void TopoBuilder::keepWideFrontiers(std::vector<int>& cells, int width, double resolution,
@@ -98,57 +160,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
 
   seg_ = seg;
   const LabelImage& L = seg.labels;
-  struct Acc {
-    int cells = 0;
-    double sx = 0, sy = 0;
-    std::vector<Point2> border;  // cells on the side of the key's first region
-    std::vector<int> frontier_cells;  // frontier keys: label-image index of each border cell
-  };
-  std::map<Key, Acc> acc;
-  auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
-  auto cellY = [&](double cy) { return L.origin_y + (cy + 0.5) * L.resolution; };
-  const mrpt::maps::COccupancyGridMap2D* grid = map.grid.get();
-  auto unknown = [&](int cx, int cy) {
-    if (!grid) return false;
-    const double x = cellX(cx), y = cellY(cy);
-    const int gx = grid->x2idx(x), gy = grid->y2idx(y);
-    if (gx < 0 || gy < 0 || gx >= static_cast<int>(grid->getSizeX()) ||
-        gy >= static_cast<int>(grid->getSizeY()))
-      return true;  // beyond the grid: never observed
-    return std::abs(grid->getCell(gx, gy) - 0.5) < unknown_band_;
-  };
-  for (int cy = 0; cy < L.height; ++cy)
-    for (int cx = 0; cx < L.width; ++cx) {
-      const RegionId a = L.at(cx, cy);
-      if (a <= 0) continue;
-      bool frontier = false;
-      const int nb[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-      for (const auto& d : nb) {
-        const int nx = cx + d[0], ny = cy + d[1];
-        const bool inside = nx >= 0 && ny >= 0 && nx < L.width && ny < L.height;
-        const RegionId b = inside ? L.at(nx, ny) : 0;
-        if (b > 0 && b != a && (d[0] + d[1]) > 0) {  // each pair of cells once
-          const Key k = edgeKey(a, b);
-          auto& s = acc[k];
-          ++s.cells;
-          s.sx += 0.5 * (cellX(cx) + cellX(nx));
-          s.sy += 0.5 * (cellY(cy) + cellY(ny));
-          if (k.first == a)
-            s.border.push_back({cellX(cx), cellY(cy)});
-          else
-            s.border.push_back({cellX(nx), cellY(ny)});
-        }
-        if (b == 0 && (inside ? unknown(nx, ny) : true)) frontier = true;
-      }
-      if (frontier) {
-        auto& s = acc[edgeKey(a, kUnexplored)];
-        ++s.cells;
-        s.sx += cellX(cx);
-        s.sy += cellY(cy);
-        s.border.push_back({cellX(cx), cellY(cy)});
-        s.frontier_cells.push_back(cy * L.width + cx);
-      }
-    }
+  std::map<Key, BorderAcc> acc = accumulateBorders(L, map.grid.get(), unknown_band_);
 
   TopoGraph g;
   g.current = graph_.current;
@@ -215,7 +227,8 @@ void TopoBuilder::replay(const PoseGraph& history) {
   };
   std::vector<Sample> path;
   const double t0 = history.nodes.empty() ? 0 : history.nodes.front().timestamp;
-  for (const PoseNode& n : history.nodes) path.push_back({n.pose.x(), n.pose.y(), n.timestamp - t0});
+  for (const PoseNode& n : history.nodes)
+    path.push_back({n.pose.x(), n.pose.y(), n.timestamp - t0});
   if (have_robot_) path.push_back({robot_x_, robot_y_, robot_t_});
 
   const double step = 0.5 * (seg_.labels.resolution > 0 ? seg_.labels.resolution : 0.05);

@@ -8,9 +8,9 @@
 
 namespace {
 
-using asf_sparse_lm::Kernel;
-using asf_sparse_lm::Method;
-using asf_sparse_lm::RobustEdges;
+using asf::sparse_lm::Kernel;
+using asf::sparse_lm::Method;
+using asf::sparse_lm::RobustEdges;
 
 class SparseLmBackend final : public asf::Backend {
  public:
@@ -55,8 +55,8 @@ class SparseLmBackend final : public asf::Backend {
   }
 
  private:
-  asf_sparse_lm::Options opt_;
-  asf_sparse_lm::SparseSe2 core_;
+  asf::sparse_lm::Options opt_;
+  asf::sparse_lm::SparseSe2 core_;
 };
 
 const asf::KeySpec kKeys[] = {

@@ -2,7 +2,7 @@
 // Private to backend_sparse_lm: the LAGO-style initial guess (lago_guess.cpp).
 #include "sparse_problem.h"
 
-namespace asf_sparse_lm::detail {
+namespace asf::sparse_lm::detail {
 
 /// A LAGO-style initial guess (orientations as in Carlone et al., "A fast and accurate
 /// approximation for planar pose graph optimization", IJRR 2014): orientations by linear
@@ -14,4 +14,4 @@ namespace asf_sparse_lm::detail {
 /// fixed node keep their pose. Returns false if the orientation system could not be solved.
 bool lagoGuess(const Problem& P, const Structure& S, Poses& x);
 
-}  // namespace asf_sparse_lm::detail
+}  // namespace asf::sparse_lm::detail

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <vector>
 
-namespace asf_sparse_lm::detail {
+namespace asf::sparse_lm::detail {
 
 /// The sparse inverse subset of a supernodal LL^T factor: Sigma = (L L^T)^-1 on the pattern
 /// of L, stored in L's own layout (one dense rows-by-columns block per supernode).
@@ -114,4 +114,4 @@ class SparseInverse {
   std::vector<double> x_;
 };
 
-}  // namespace asf_sparse_lm::detail
+}  // namespace asf::sparse_lm::detail

@@ -11,7 +11,7 @@
 
 #include "sparse_se2.h"
 
-namespace asf_sparse_lm::detail {
+namespace asf::sparse_lm::detail {
 
 using Poses = std::vector<Eigen::Vector3d>;
 
@@ -129,4 +129,4 @@ struct Structure {
   }
 };
 
-}  // namespace asf_sparse_lm::detail
+}  // namespace asf::sparse_lm::detail

@@ -29,7 +29,7 @@ int omp_get_max_active_levels() __attribute__((weak));
 void omp_set_max_active_levels(int) __attribute__((weak));
 }
 
-namespace asf_sparse_lm {
+namespace asf::sparse_lm {
 
 using namespace detail;
 
@@ -318,6 +318,13 @@ struct SparseSe2::Impl {
   asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
   double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r, int& steps,
                  int& accepted);
+  /// The damped step at `lambda` from the factored matrix: x_new = x + h, its cost, the
+  /// predicted decrease and the largest |h|.
+  struct Trial {
+    double F_new = 0, pred = 0, hmax = 0;
+  };
+  Trial tryStep(const Problem& P, const Poses& x, Poses& x_new, const Options& o, double lambda,
+                const std::vector<double>& D);
   asf::Marginals marginals(const asf::PoseGraph& g,
                            const std::vector<std::pair<NodeId, NodeId>>& cross, const Options& o);
 };
@@ -351,7 +358,7 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
   r.message = "reached max_iterations";
   double lambda = lm ? o.lambda_init : 0.0, nu = 2;
   double F = cost(P, x, o);
-  std::vector<double> D(n), rhs(n);
+  std::vector<double> D(n);
   Poses x_new = x;
   bool stop = false;
   while (!stop && r.iterations < o.max_iterations) {
@@ -383,25 +390,9 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
         }
         continue;
       }
-      for (int k = 0; k < n; ++k) rhs[k] = -b[k];
-      const std::vector<double> h = solve(rhs, 1);
-      double pred = 0, hmax = 0;
-      for (int k = 0; k < n; ++k) {
-        pred += -b[k] * h[k] + lambda * D[k] * h[k] * h[k];
-        hmax = std::max(hmax, std::abs(h[k]));
-      }
-      for (std::size_t i = 0; i < x.size(); ++i) {
-        const int f = S.free[i];
-        if (f < 0) continue;
-        x_new[i] = x[i] + Eigen::Vector3d(h[3 * f], h[3 * f + 1], h[3 * f + 2]);
-        x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
-      }
-      double F_new;
-      {
-        const Timer timer(counters.t_cost);
-        F_new = cost(P, x_new, o);
-      }
-      const double rho = (F - F_new) / pred;
+      const Trial t = tryStep(P, x, x_new, o, lambda, D);
+      const double F_new = t.F_new, hmax = t.hmax;
+      const double rho = (F - F_new) / t.pred;
       const bool ok = std::isfinite(F_new) && F_new < F;
       // A step at the resolution of the doubles cannot improve anything.
       const bool tiny = hmax <= 1e-12 * (1 + xmax);
@@ -454,6 +445,29 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
     }
   }
   return F;
+}
+
+SparseSe2::Impl::Trial SparseSe2::Impl::tryStep(const Problem& P, const Poses& x, Poses& x_new,
+                                                const Options& o, double lambda,
+                                                const std::vector<double>& D) {
+  const int n = S.dim();
+  std::vector<double> rhs(n);
+  for (int k = 0; k < n; ++k) rhs[k] = -b[k];
+  const std::vector<double> h = solve(rhs, 1);
+  Trial t;
+  for (int k = 0; k < n; ++k) {
+    t.pred += -b[k] * h[k] + lambda * D[k] * h[k] * h[k];
+    t.hmax = std::max(t.hmax, std::abs(h[k]));
+  }
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const int f = S.free[i];
+    if (f < 0) continue;
+    x_new[i] = x[i] + Eigen::Vector3d(h[3 * f], h[3 * f + 1], h[3 * f + 2]);
+    x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
+  }
+  const Timer timer(counters.t_cost);
+  t.F_new = cost(P, x_new, o);
+  return t;
 }
 
 asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
@@ -612,4 +626,4 @@ const std::string& SparseSe2::lastSymbolic() const { return impl_->last_symbolic
 std::size_t SparseSe2::lastCrossSolved() const { return impl_->last_cross_solved; }
 std::size_t SparseSe2::factorNonzeros() const { return impl_->L ? impl_->L->xsize : 0; }
 
-}  // namespace asf_sparse_lm
+}  // namespace asf::sparse_lm

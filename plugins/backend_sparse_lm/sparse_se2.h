@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace asf_sparse_lm {
+namespace asf::sparse_lm {
 
 enum class Method {
   LevenbergMarquardt,  ///< trust region by damping, Nielsen's update of lambda
@@ -105,4 +105,4 @@ class SparseSe2 {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace asf_sparse_lm
+}  // namespace asf::sparse_lm

@@ -361,23 +361,11 @@ class Decomposer {
     const Concavity c = analyse(r);
     std::vector<char> reflex(n, 0);
     for (int i = 0; i < n; ++i) reflex[i] = interiorAngle(r, i) > kPi + 1e-6;
-    // Pocket minima: the deepest reflex vertex of every pocket of the hierarchy.
-    std::vector<int> deepest(c.pockets, -1);
-    for (int i = 0; i < n; ++i) {
-      if (!reflex[i] || c.pocket[i] < 0 || c.value[i] <= tau_) continue;
-      int& d = deepest[c.pocket[i]];
-      if (d < 0 || c.value[i] > c.value[d]) d = i;
-    }
-    std::vector<int> pms;
-    for (int d : deepest)
-      if (d >= 0) pms.push_back(d);
+    const std::vector<int> pms = pocketMinima(c, reflex);
     if (pms.empty()) return false;
-    std::sort(pms.begin(), pms.end());
-
     std::vector<int> reflex_list;
     for (int i = 0; i < n; ++i)
       if (reflex[i]) reflex_list.push_back(i);
-
     std::vector<Candidate> cands;
     for (int pm : pms) addCandidates(w, c, reflex, reflex_list, pm, cands);
     if (cands.empty()) {
@@ -389,9 +377,38 @@ class Decomposer {
     }
     std::stable_sort(cands.begin(), cands.end(),
                      [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    const std::vector<Candidate> chosen = chooseCuts(r, cands, pms);
+    // Apply: insert edge end points, then split the ring along each cut in turn.
+    std::vector<End> ends;
+    for (const Candidate& cd : chosen) ends.push_back(cd.end);
+    Ring ring = r;
+    std::vector<int> vertex_pos;
+    const std::vector<int> endpos = insertEnds(ring, ends, &vertex_pos);
+    std::vector<std::vector<int>> pieces = splitAlongCuts(r, ring, chosen, vertex_pos, endpos);
+    if (pieces.size() == 1) return failSplit("cuts could not be applied");
+    return assemblePieces(w, ring, pieces, parts);
+  }
 
-    // Greedy: best score first, each minimum once, no crossing cuts.
-    std::vector<char> resolved(n, 0);
+  /// Pocket minima: the deepest reflex vertex (above tau) of every pocket of the hierarchy,
+  /// in vertex order.
+  std::vector<int> pocketMinima(const Concavity& c, const std::vector<char>& reflex) const {
+    std::vector<int> deepest(c.pockets, -1);
+    for (std::size_t i = 0; i < reflex.size(); ++i) {
+      if (!reflex[i] || c.pocket[i] < 0 || c.value[i] <= tau_) continue;
+      int& d = deepest[c.pocket[i]];
+      if (d < 0 || c.value[i] > c.value[d]) d = static_cast<int>(i);
+    }
+    std::vector<int> pms;
+    for (int d : deepest)
+      if (d >= 0) pms.push_back(d);
+    std::sort(pms.begin(), pms.end());
+    return pms;
+  }
+
+  /// Greedy: best score first, each minimum once, no crossing cuts.
+  std::vector<Candidate> chooseCuts(const Ring& r, const std::vector<Candidate>& cands,
+                                    const std::vector<int>& pms) const {
+    std::vector<char> resolved(r.size(), 0);
     std::vector<Candidate> chosen;
     for (const Candidate& cd : cands) {
       if (resolved[cd.pm]) continue;
@@ -413,22 +430,20 @@ class Decomposer {
         if (norm(r[pm] - a) <= opt_.resolve_radius || norm(r[pm] - b) <= opt_.resolve_radius)
           resolved[pm] = 1;
     }
+    return chosen;
+  }
 
-    // Apply: insert edge end points, then split the ring along each cut in turn.
-    std::vector<End> ends;
-    for (const Candidate& cd : chosen) ends.push_back(cd.end);
-    Ring ring = r;
-    std::vector<int> vertex_pos;
-    const std::vector<int> endpos = insertEnds(ring, ends, &vertex_pos);
-    std::vector<int> pmpos;
-    for (const Candidate& cd : chosen) pmpos.push_back(vertex_pos[cd.pm]);
-
+  /// The pieces (positions in `ring`, the ring with the cuts' end points inserted) after
+  /// splitting along each chosen cut in turn; the cuts applied are recorded.
+  std::vector<std::vector<int>> splitAlongCuts(const Ring& r, const Ring& ring,
+                                               const std::vector<Candidate>& chosen,
+                                               const std::vector<int>& vertex_pos,
+                                               const std::vector<int>& endpos) {
     std::vector<std::vector<int>> pieces(1);
     pieces[0].resize(ring.size());
     std::iota(pieces[0].begin(), pieces[0].end(), 0);
-    int applied = 0;
     for (std::size_t k = 0; k < chosen.size(); ++k) {
-      const int pa = pmpos[k], pb = endpos[k];
+      const int pa = vertex_pos[chosen[k].pm], pb = endpos[k];
       if (pa == pb) continue;
       bool done = false;
       for (std::size_t pi = 0; pi < pieces.size() && !done; ++pi) {
@@ -446,14 +461,16 @@ class Decomposer {
         pieces.push_back(std::move(B));
         done = true;
       }
-      if (done) {
-        ++applied;
-        res_.cuts.push_back({r[chosen[k].pm], chosen[k].end.p});
-      }
+      if (done) res_.cuts.push_back({r[chosen[k].pm], chosen[k].end.p});
     }
-    if (applied == 0) return failSplit("cuts could not be applied");
+    return pieces;
+  }
 
-    const double parent_area = signedArea(r);
+  /// The pieces as rings, checked (orientation, area adding up), with the holes kept whole
+  /// placed in the piece that contains them.
+  bool assemblePieces(Work& w, const Ring& ring, const std::vector<std::vector<int>>& pieces,
+                      std::vector<Work>& parts) {
+    const double parent_area = signedArea(w.outer);
     double total = 0;
     std::vector<Work> out;
     for (const auto& pc : pieces) {
@@ -470,7 +487,6 @@ class Decomposer {
     }
     if (std::abs(total - parent_area) > 1e-6 * std::max(1.0, parent_area))
       return failSplit("pieces do not add up to the polygon (self-intersecting boundary?)");
-    // Holes kept whole go to the piece that contains them.
     for (Ring& h : w.holes) {
       bool placed = false;
       for (Work& p : out)

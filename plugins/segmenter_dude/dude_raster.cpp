@@ -2,8 +2,6 @@
 // variant's post-processing (small-region merging, room layer).
 #include "dude_raster.h"
 
-#include "dude.h"
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -15,6 +13,8 @@
 #include <tuple>
 #include <unordered_map>
 #include <vector>
+
+#include "dude.h"
 
 namespace asf::dude::raster {
 
@@ -112,7 +112,8 @@ void mergeSmallRegions(cv::Mat& labels, int next_label, double res, int first_fr
       if (y + 1 < H) touch(a, L[(y + 1) * W + x]);
     }
   std::vector<std::vector<std::pair<int, long>>> nb(next_label);
-  for (const auto& [key, n] : border) nb[key / next_label].push_back({static_cast<int>(key % next_label), n});
+  for (const auto& [key, n] : border)
+    nb[key / next_label].push_back({static_cast<int>(key % next_label), n});
   std::vector<int> parent(next_label);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](int a) {
@@ -127,7 +128,7 @@ void mergeSmallRegions(cv::Mat& labels, int next_label, double res, int first_fr
   for (int l : order) {
     const int root = find(l);
     if (size[root] * cell >= min_region_area) continue;  // grew by earlier merges
-    std::map<int, long> by_root;  // ordered: deterministic ties
+    std::map<int, long> by_root;                         // ordered: deterministic ties
     for (const auto& [m, n] : nb[l]) {
       const int r = find(m);
       if (r != root) by_root[r] += n;
@@ -143,6 +144,52 @@ void mergeSmallRegions(cv::Mat& labels, int next_label, double res, int first_fr
   for (int i = 0; i < W * H; ++i)
     if (L[i] > 0) L[i] = find(L[i]);
 }
+
+namespace {
+
+/// Concavity of the union of labels a and b within `box` (their bounding boxes' union):
+/// the deepest reflex vertex of its simplified outline; infinity when it must stay apart (a
+/// hole at least hole_px wide, or no outline).
+double unionConcavity(const cv::Mat& labels, const cv::Rect& box, int a, int b, double res,
+                      double eps_px, double hole_px) {
+  const int W = labels.cols, H = labels.rows;
+  const cv::Rect r = box + cv::Size(2, 2) - cv::Point(1, 1);
+  cv::Mat m(r.size(), CV_8U, cv::Scalar(0));
+  for (int y = 0; y < r.height; ++y) {
+    const int yy = y + r.y;
+    if (yy < 0 || yy >= H) continue;
+    const int* l = labels.ptr<int>(yy);
+    unsigned char* o = m.ptr<unsigned char>(y);
+    for (int x = 0; x < r.width; ++x) {
+      const int xx = x + r.x;
+      if (xx >= 0 && xx < W && (l[xx] == a || l[xx] == b)) o[x] = 1;
+    }
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  std::vector<cv::Vec4i> hierarchy;
+  cv::findContours(m, contours, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
+  int outer = -1;
+  double best = -1;
+  for (int i = 0; i < static_cast<int>(contours.size()); ++i)
+    if (hierarchy[i][3] < 0) {
+      const double area = std::abs(cv::contourArea(contours[i]));
+      if (area > best) best = area, outer = i;
+    } else {
+      const cv::Rect hb = cv::boundingRect(contours[i]);
+      if (std::hypot(hb.width, hb.height) >= hole_px)
+        return std::numeric_limits<double>::infinity();
+    }
+  if (outer < 0) return std::numeric_limits<double>::infinity();
+  std::vector<cv::Point> poly;
+  cv::approxPolyDP(contours[outer], poly, std::max(eps_px, 0.5), true);
+  asf::dude::Ring ring;
+  for (const cv::Point& p : poly) ring.push_back({p.x * res, p.y * res});
+  ring = asf::dude::cleanRing(ring, true);
+  if (ring.empty()) return std::numeric_limits<double>::infinity();
+  return asf::dude::maxReflexConcavity(ring);
+}
+
+}  // namespace
 
 /// Room layer: neighbouring pieces whose union DuDe would not cut again (no reflex vertex
 /// deeper than merge_concavity, no hole wider than min_hole_extent) are merged, cheapest
@@ -160,8 +207,10 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
     for (int x = 0; x < W; ++x) {
       const int v = l[x];
       if (v <= 0) continue;
-      if (!present[v]) box[v] = cv::Rect(x, y, 1, 1), present[v] = 1;
-      else box[v] |= cv::Rect(x, y, 1, 1);
+      if (!present[v])
+        box[v] = cv::Rect(x, y, 1, 1), present[v] = 1;
+      else
+        box[v] |= cv::Rect(x, y, 1, 1);
     }
   }
   // Border lengths between labels (4-neighbourhood), kept up to date through merges.
@@ -182,41 +231,6 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
   const double eps_px = o.simplify_tolerance / res;
   const double hole_px = o.min_hole_extent / res;
   // Concavity of the union of a and b (infinity: must stay apart).
-  auto unionConcavity = [&](int a, int b) {
-    const cv::Rect r = (box[a] | box[b]) + cv::Size(2, 2) - cv::Point(1, 1);
-    cv::Mat m(r.size(), CV_8U, cv::Scalar(0));
-    for (int y = 0; y < r.height; ++y) {
-      const int yy = y + r.y;
-      if (yy < 0 || yy >= H) continue;
-      const int* l = labels.ptr<int>(yy);
-      unsigned char* o = m.ptr<unsigned char>(y);
-      for (int x = 0; x < r.width; ++x) {
-        const int xx = x + r.x;
-        if (xx >= 0 && xx < W && (l[xx] == a || l[xx] == b)) o[x] = 1;
-      }
-    }
-    std::vector<std::vector<cv::Point>> contours;
-    std::vector<cv::Vec4i> hierarchy;
-    cv::findContours(m, contours, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
-    int outer = -1;
-    double best = -1;
-    for (int i = 0; i < static_cast<int>(contours.size()); ++i)
-      if (hierarchy[i][3] < 0) {
-        const double area = std::abs(cv::contourArea(contours[i]));
-        if (area > best) best = area, outer = i;
-      } else {
-        const cv::Rect hb = cv::boundingRect(contours[i]);
-        if (std::hypot(hb.width, hb.height) >= hole_px) return std::numeric_limits<double>::infinity();
-      }
-    if (outer < 0) return std::numeric_limits<double>::infinity();
-    std::vector<cv::Point> poly;
-    cv::approxPolyDP(contours[outer], poly, std::max(eps_px, 0.5), true);
-    asf::dude::Ring ring;
-    for (const cv::Point& p : poly) ring.push_back({p.x * res, p.y * res});
-    ring = asf::dude::cleanRing(ring, true);
-    if (ring.empty()) return std::numeric_limits<double>::infinity();
-    return asf::dude::maxReflexConcavity(ring);
-  };
   // Candidate pairs, evaluated lazily and kept sorted by union concavity.
   std::set<std::tuple<double, int, int>> queue;
   std::map<std::pair<int, int>, double> score;
@@ -225,7 +239,8 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
       if (n < min_border_px || a < first_fresh || b < first_fresh) continue;
       const auto key = std::minmax(a, b);
       if (score.count(key)) continue;
-      const double c = unionConcavity(key.first, key.second);
+      const double c = unionConcavity(labels, box[key.first] | box[key.second], key.first,
+                                      key.second, res, eps_px, hole_px);
       score[key] = c;
       if (c <= o.merge_concavity) queue.insert({c, key.first, key.second});
     }
@@ -255,7 +270,8 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
     adj[a].erase(b);
     // Pairs involving a or b changed: drop their scores and evaluate a's again.
     for (auto it = score.begin(); it != score.end();)
-      if (it->first.first == a || it->first.second == a || it->first.first == b || it->first.second == b) {
+      if (it->first.first == a || it->first.second == a || it->first.first == b ||
+          it->first.second == b) {
         queue.erase({it->second, it->first.first, it->first.second});
         it = score.erase(it);
       } else {

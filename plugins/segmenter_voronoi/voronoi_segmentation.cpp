@@ -269,8 +269,10 @@ std::vector<int> criticalPoints(const std::vector<Chain>& chains, const float* D
       for (int side = 0; side < 2 && minimum; ++side)
         for (int t = 1; t <= reach; ++t) {
           int j = side ? k + t : k - t;
-          if (c.cyclic) j = (j + m) % m;
-          else if (j < 0 || j >= m) break;
+          if (c.cyclic)
+            j = (j + m) % m;
+          else if (j < 0 || j >= m)
+            break;
           const int cj = c.cells[j];
           if (D[cj] < d || (D[cj] == d && cj < ci)) {
             minimum = false;
@@ -320,8 +322,8 @@ void mergeRegions(std::vector<int>& lab, const Grid& g, int n, const Options& o)
       for (const auto& [t, len] : border[r])
         if (best < 0 || len > border[r][best]) best = t;
       const bool small = area[r] < o.min_room_area;
-      const bool split = area[r] < o.max_merge_area &&
-                         border[r][best] >= o.merge_border_ratio * perimeter[r];
+      const bool split =
+          area[r] < o.max_merge_area && border[r][best] >= o.merge_border_ratio * perimeter[r];
       if (small || split) {
         pick = r;
         into = best;
@@ -353,58 +355,47 @@ void mergeRegions(std::vector<int>& lab, const Grid& g, int n, const Options& o)
   }
 }
 
-}  // namespace
-
-cv::Mat segmentFreeSpace(const cv::Mat& free, const Options& o, Stats* stats) {
-  CV_Assert(free.type() == CV_8U);
-  Stats st;
-  cv::Mat free255;
-  // One obstacle cell of padding: neighbourhood reads below never leave the image.
-  cv::copyMakeBorder(free != 0, free255, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-  const Grid g(free255.cols, free255.rows);
-  const int N = g.W * g.H;
-
-  const cv::Mat open255 = openWithDisc(free255, o.robot_radius);
-  const cv::Mat clearance = distanceToZero(open255);
-  const float* D = clearance.ptr<float>();
-
-  std::vector<std::uint8_t> skel = skeletonize(open255, clearance, g);
-  pruneSpurs(skel, g, o.prune_length);
-  st.skeleton_cells = static_cast<int>(std::count(skel.begin(), skel.end(), 1));
-  const std::vector<int> critical = criticalPoints(traceChains(skel, g), D, o.neighborhood, o.min_rise);
-  st.critical_points = static_cast<int>(critical.size());
-  if (stats) {
-    st.skeleton = cv::Mat(g.H, g.W, CV_8U, skel.data())(cv::Rect(1, 1, g.W - 2, g.H - 2)).clone();
-    for (int ci : critical) st.critical.emplace_back(ci % g.W - 1, ci / g.W - 1);
+/// Obstacles (8-connected, the padding joins all that touch the map border) smaller than
+/// max_furniture_area are furniture: a gap between furniture and anything is no door.
+class FurnitureTest {
+ public:
+  FurnitureTest(const cv::Mat& free255, const Options& o, const Grid& g)
+      : obstacle255_(free255 == 0),
+        max_area_(o.max_furniture_area),
+        reach_(static_cast<int>(std::ceil(o.robot_radius)) + 2),
+        g_(g) {
+    if (max_area_ > 0)
+      cv::connectedComponentsWithStats(obstacle255_, id_, stats_, centroids_, 8, CV_32S);
   }
-
-  // Obstacles (8-connected, the padding joins all that touch the map border) smaller than
-  // max_furniture_area are furniture: a gap between furniture and anything is no door.
-  cv::Mat obstacle_id, obstacle_stats, obstacle_centroids;
-  const cv::Mat obstacle255 = free255 == 0;
-  if (o.max_furniture_area > 0)
-    cv::connectedComponentsWithStats(obstacle255, obstacle_id, obstacle_stats, obstacle_centroids,
-                                     8, CV_32S);
-  const int furniture_reach = static_cast<int>(std::ceil(o.robot_radius)) + 2;
-  auto onFurniture = [&](int bx, int by) {
-    if (o.max_furniture_area <= 0) return false;
-    // The basis point lies on the opened space's border: the obstacle it stands for is the
-    // nearest original obstacle cell.
+  /// Whether the basis point (bx, by) stands for furniture. It lies on the opened space's
+  /// border: the obstacle it stands for is the nearest original obstacle cell.
+  bool operator()(int bx, int by) const {
+    if (max_area_ <= 0) return false;
     int best = -1;
     double best_d2 = 1e18;
-    for (int y = std::max(0, by - furniture_reach); y <= std::min(g.H - 1, by + furniture_reach); ++y)
-      for (int x = std::max(0, bx - furniture_reach); x <= std::min(g.W - 1, bx + furniture_reach); ++x) {
-        if (!obstacle255.at<std::uint8_t>(y, x)) continue;
+    for (int y = std::max(0, by - reach_); y <= std::min(g_.H - 1, by + reach_); ++y)
+      for (int x = std::max(0, bx - reach_); x <= std::min(g_.W - 1, bx + reach_); ++x) {
+        if (!obstacle255_.at<std::uint8_t>(y, x)) continue;
         const double d2 = double(x - bx) * (x - bx) + double(y - by) * (y - by);
         if (d2 < best_d2) {
           best_d2 = d2;
-          best = obstacle_id.at<int>(y, x);
+          best = id_.at<int>(y, x);
         }
       }
-    return best > 0 && obstacle_stats.at<int>(best, cv::CC_STAT_AREA) < o.max_furniture_area;
-  };
+    return best > 0 && stats_.at<int>(best, cv::CC_STAT_AREA) < max_area_;
+  }
 
-  // Cut lines: through the two nearest obstacle cells (basis points) on opposite sides.
+ private:
+  cv::Mat obstacle255_, id_, stats_, centroids_;
+  double max_area_;
+  int reach_;
+  const Grid& g_;
+};
+
+/// Cut lines at the critical points: through the two nearest obstacle cells (basis points)
+/// on opposite sides, drawn as obstacles into the opened space (the result).
+cv::Mat drawCutLines(const cv::Mat& open255, const float* D, const std::vector<int>& critical,
+                     const FurnitureTest& onFurniture, const Grid& g, const Options& o, Stats& st) {
   cv::Mat cut255 = open255.clone();
   const double cos_max = std::cos(o.min_cut_angle);
   for (int ci : critical) {
@@ -423,8 +414,8 @@ cv::Mat segmentFreeSpace(const cv::Mat& free, const Options& o, Stats* stats) {
         if (dist <= reach) near.push_back({x, y, dist});
       }
     if (near.size() < 2) continue;
-    const Basis b1 = *std::min_element(near.begin(), near.end(),
-                                       [](const Basis& a, const Basis& b) { return a.dist < b.dist; });
+    const Basis b1 = *std::min_element(
+        near.begin(), near.end(), [](const Basis& a, const Basis& b) { return a.dist < b.dist; });
     const Basis* b2 = nullptr;
     double best_cos = 2;
     for (const Basis& b : near) {
@@ -441,15 +432,14 @@ cv::Mat segmentFreeSpace(const cv::Mat& free, const Options& o, Stats* stats) {
     st.cut_lines.emplace_back(b1.x - 1, b1.y - 1, b2->x - 1, b2->y - 1);
     ++st.cuts;
   }
+  return cut255;
+}
 
-  // 8-connected cut lines separate 4-connected regions.
-  cv::Mat components;
-  const int n_components = cv::connectedComponents(cut255, components, 4, CV_32S) - 1;
-  st.components = n_components;
-
-  // Wavefront fill: free cells outside the opened space and on cut lines join the region
-  // that reaches them first; free pockets no region reaches become regions of their own.
-  std::vector<int> lab(components.ptr<int>(), components.ptr<int>() + N);
+/// Wavefront fill: free cells outside the opened space and on cut lines join the region
+/// that reaches them first; free pockets no region reaches become regions of their own.
+/// Returns the number of labels.
+int wavefrontFill(const cv::Mat& free255, const Grid& g, int n_components, std::vector<int>& lab) {
+  const int N = g.W * g.H;
   std::vector<int> queue;
   queue.reserve(N);
   for (int i = 0; i < N; ++i)
@@ -472,6 +462,43 @@ cv::Mat segmentFreeSpace(const cv::Mat& free, const Options& o, Stats* stats) {
       }
     }
   }
+  return n_labels;
+}
+
+}  // namespace
+
+cv::Mat segmentFreeSpace(const cv::Mat& free, const Options& o, Stats* stats) {
+  CV_Assert(free.type() == CV_8U);
+  Stats st;
+  cv::Mat free255;
+  // One obstacle cell of padding: neighbourhood reads below never leave the image.
+  cv::copyMakeBorder(free != 0, free255, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  const Grid g(free255.cols, free255.rows);
+  const int N = g.W * g.H;
+
+  const cv::Mat open255 = openWithDisc(free255, o.robot_radius);
+  const cv::Mat clearance = distanceToZero(open255);
+  const float* D = clearance.ptr<float>();
+
+  std::vector<std::uint8_t> skel = skeletonize(open255, clearance, g);
+  pruneSpurs(skel, g, o.prune_length);
+  st.skeleton_cells = static_cast<int>(std::count(skel.begin(), skel.end(), 1));
+  const std::vector<int> critical =
+      criticalPoints(traceChains(skel, g), D, o.neighborhood, o.min_rise);
+  st.critical_points = static_cast<int>(critical.size());
+  if (stats) {
+    st.skeleton = cv::Mat(g.H, g.W, CV_8U, skel.data())(cv::Rect(1, 1, g.W - 2, g.H - 2)).clone();
+    for (int ci : critical) st.critical.emplace_back(ci % g.W - 1, ci / g.W - 1);
+  }
+
+  const FurnitureTest onFurniture(free255, o, g);
+  const cv::Mat cut255 = drawCutLines(open255, D, critical, onFurniture, g, o, st);
+  // 8-connected cut lines separate 4-connected regions.
+  cv::Mat components;
+  const int n_components = cv::connectedComponents(cut255, components, 4, CV_32S) - 1;
+  st.components = n_components;
+  std::vector<int> lab(components.ptr<int>(), components.ptr<int>() + N);
+  const int n_labels = wavefrontFill(free255, g, n_components, lab);
 
   mergeRegions(lab, g, n_labels, o);
   st.regions = lab.empty() ? 0 : *std::max_element(lab.begin(), lab.end());

@@ -1,18 +1,19 @@
 #include "sim2d_nav.h"
 
+#include <asf/grid_map.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <queue>
 
 namespace asf::sim2d {
 
 namespace {
 
-enum Cell : std::uint8_t { kFree = 0, kUnknown = 1, kOccupied = 2 };
+constexpr std::uint8_t kFree = kCellFree, kUnknown = kCellUnknown, kOccupied = kCellOccupied;
 
 struct Grid {
   double x0 = 0, y0 = 0, res = 0.05;
@@ -26,48 +27,10 @@ struct Grid {
   Point2 centre(int i, int j) const { return {x0 + (i + 0.5) * res, y0 + (j + 0.5) * res}; }
 };
 
-Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
-               const Point2& goal, double tolerance, const NavOptions& o,
-               const std::vector<Point2>& obstacles) {
-  Grid g;
-  g.res = map ? map->getResolution() : o.default_resolution;
-  Box2 box;
-  if (map) {
-    box.extend(map->getXMin(), map->getYMin());
-    box.extend(map->getXMax(), map->getYMax());
-  }
-  box.extend(start.x - o.border, start.y - o.border);
-  box.extend(start.x + o.border, start.y + o.border);
-  const double gb = o.border + tolerance;
-  box.extend(goal.x - gb, goal.y - gb);
-  box.extend(goal.x + gb, goal.y + gb);
-  g.x0 = box.min_x;
-  g.y0 = box.min_y;
-  g.nx = static_cast<int>(std::ceil((box.max_x - box.min_x) / g.res)) + 1;
-  g.ny = static_cast<int>(std::ceil((box.max_y - box.min_y) / g.res)) + 1;
-  g.state.assign(static_cast<std::size_t>(g.nx) * g.ny, kUnknown);
-  if (map) {
-    const int mx = static_cast<int>(map->getSizeX()), my = static_cast<int>(map->getSizeY());
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) {
-        const Point2 c = g.centre(i, j);
-        const int cx = map->x2idx(c.x), cy = map->y2idx(c.y);
-        if (cx < 0 || cy < 0 || cx >= mx || cy >= my) continue;
-        const double p_free = map->getCell(cx, cy);  // MRPT stores p(free)
-        std::uint8_t s = kFree;
-        if (1.0 - p_free > o.occupied_threshold)
-          s = kOccupied;
-        else if (std::abs(p_free - 0.5) < o.unknown_band)
-          s = kUnknown;
-        g.state[g.idx(i, j)] = s;
-      }
-  }
-
-  for (const Point2& q : obstacles) {
-    const int i = g.col(q.x), j = g.row(q.y);
-    if (g.inside(i, j)) g.state[g.idx(i, j)] = kOccupied;
-  }
-
+/// The step cost factor of every cell: lethal on obstacles and within the robot's radius of
+/// them (except on the way out for a robot that is already that close), rising through the
+/// inflation margin, times unknown_cost on unknown cells.
+void setCostFactors(Grid& g, const Point2& start, const NavOptions& o) {
   // Clearance: distance to the nearest obstacle cell (occupied, and unknown if blocked).
   cv::Mat1b free_mask(g.ny, g.nx);
   bool any_obstacle = false;
@@ -96,9 +59,9 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
       const bool obstacle = free_mask(j, i) == 0;
       const double clear = clearanceAt(i, j);
       const Point2 c = g.centre(i, j);
-      const bool escape = (i == si && j == sj) ||
-                          (std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius &&
-                           clear >= start_clear);
+      const bool escape =
+          (i == si && j == sj) ||
+          (std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius && clear >= start_clear);
       double f = 1.0;
       if (obstacle || (clear < o.robot_radius && !escape)) {
         f = inf;
@@ -110,6 +73,45 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
       }
       g.factor[k] = static_cast<float>(f);
     }
+}
+
+Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start, const Point2& goal,
+               double tolerance, const NavOptions& o, const std::vector<Point2>& obstacles) {
+  Grid g;
+  g.res = map ? map->getResolution() : o.default_resolution;
+  Box2 box;
+  if (map) {
+    box.extend(map->getXMin(), map->getYMin());
+    box.extend(map->getXMax(), map->getYMax());
+  }
+  box.extend(start.x - o.border, start.y - o.border);
+  box.extend(start.x + o.border, start.y + o.border);
+  const double gb = o.border + tolerance;
+  box.extend(goal.x - gb, goal.y - gb);
+  box.extend(goal.x + gb, goal.y + gb);
+  g.x0 = box.min_x;
+  g.y0 = box.min_y;
+  g.nx = static_cast<int>(std::ceil((box.max_x - box.min_x) / g.res)) + 1;
+  g.ny = static_cast<int>(std::ceil((box.max_y - box.min_y) / g.res)) + 1;
+  g.state.assign(static_cast<std::size_t>(g.nx) * g.ny, kUnknown);
+  if (map) {
+    const int mx = static_cast<int>(map->getSizeX()), my = static_cast<int>(map->getSizeY());
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i) {
+        const Point2 c = g.centre(i, j);
+        const int cx = map->x2idx(c.x), cy = map->y2idx(c.y);
+        if (cx < 0 || cy < 0 || cx >= mx || cy >= my) continue;
+        const double p_free = map->getCell(cx, cy);  // MRPT stores p(free)
+        g.state[g.idx(i, j)] = cellStateOf(p_free, o.occupied_threshold, o.unknown_band);
+      }
+  }
+
+  for (const Point2& q : obstacles) {
+    const int i = g.col(q.x), j = g.row(q.y);
+    if (g.inside(i, j)) g.state[g.idx(i, j)] = kOccupied;
+  }
+
+  setCostFactors(g, start, o);
   return g;
 }
 
@@ -128,17 +130,9 @@ float segmentMaxFactor(const Grid& g, const Point2& a, const Point2& b) {
   return worst;
 }
 
-}  // namespace
-
-NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
-                 const Point2& goal, double tolerance, const NavOptions& o,
-                 const std::vector<Point2>& obstacles) {
-  NavPlan plan;
-  const Grid g = buildGrid(map, start, goal, tolerance, o, obstacles);
-  const int si = g.col(start.x), sj = g.row(start.y);
-  const int s = g.idx(si, sj);
-
-  // Targets: non-lethal cells whose centre lies within the tolerance of the goal.
+/// Targets: non-lethal cells whose centre lies within the tolerance of the goal (and the
+/// goal's own cell); empty when there is none.
+std::vector<char> goalTargets(const Grid& g, const Point2& goal, double tolerance) {
   std::vector<char> target(g.state.size(), 0);
   bool any_target = false;
   const int span = static_cast<int>(std::ceil(tolerance / g.res)) + 1;
@@ -152,24 +146,26 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
         any_target = true;
       }
     }
-  if (!any_target) {
-    plan.reason = "no free cell within " + std::to_string(tolerance) +
-                  " m of the goal (obstacle, inflation or blocked unknown space)";
-    return plan;
-  }
+  if (!any_target) target.clear();
+  return target;
+}
 
+/// A* from cell (si, sj) to the first target cell; `parent` links the path. The target
+/// reached, or -1.
+int aStar(const Grid& g, int si, int sj, const std::vector<char>& target, const Point2& goal,
+          double tolerance, std::vector<int>& parent, std::size_t& expanded) {
   const auto h = [&](int i, int j) {
     const Point2 c = g.centre(i, j);
     return std::max(0.0, std::hypot(c.x - goal.x, c.y - goal.y) - tolerance);
   };
+  const int s = g.idx(si, sj);
   std::vector<double> cost(g.state.size(), std::numeric_limits<double>::infinity());
-  std::vector<int> parent(g.state.size(), -1);
+  parent.assign(g.state.size(), -1);
   std::vector<char> closed(g.state.size(), 0);
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   cost[s] = 0;
   open.push({h(si, sj), s});
-  int reached = -1;
   static const int kDi[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static const int kDj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
   while (!open.empty()) {
@@ -177,11 +173,8 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
     open.pop();
     if (closed[k]) continue;
     closed[k] = 1;
-    ++plan.expanded;
-    if (target[k]) {
-      reached = k;
-      break;
-    }
+    ++expanded;
+    if (target[k]) return k;
     const int i = k % g.nx, j = k / g.nx;
     for (int d = 0; d < 8; ++d) {
       const int ni = i + kDi[d], nj = j + kDj[d];
@@ -189,8 +182,8 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
       const int nk = g.idx(ni, nj);
       if (closed[nk] || !std::isfinite(g.factor[nk])) continue;
       // No corner cutting past lethal cells.
-      if (d >= 4 && (!std::isfinite(g.factor[g.idx(ni, j)]) ||
-                     !std::isfinite(g.factor[g.idx(i, nj)])))
+      if (d >= 4 &&
+          (!std::isfinite(g.factor[g.idx(ni, j)]) || !std::isfinite(g.factor[g.idx(i, nj)])))
         continue;
       const double step = (d >= 4 ? M_SQRT2 : 1.0) * g.res;
       const double fk = std::isfinite(g.factor[k]) ? g.factor[k] : 1.0;  // start may be lethal
@@ -202,26 +195,12 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
       }
     }
   }
-  if (reached < 0) {
-    plan.reason = "no collision-free path on the navigation grid";
-    return plan;
-  }
+  return -1;
+}
 
-  std::vector<Point2> cells;
-  for (int k = reached; k != -1; k = parent[k]) cells.push_back(g.centre(k % g.nx, k / g.nx));
-  std::reverse(cells.begin(), cells.end());
-  cells.front() = start;
-  // End exactly at the goal when its own cell is free (A* stops at the first cell within
-  // the tolerance, which may be a neighbour of it).
-  if (g.inside(gi, gj) && std::isfinite(g.factor[g.idx(gi, gj)])) {
-    if (cells.size() > 1 && std::isfinite(segmentMaxFactor(g, cells[cells.size() - 2], goal)))
-      cells.back() = goal;
-    else
-      cells.push_back(goal);
-  }
-
-  // String pulling: jump to the farthest cell reachable in a straight line without meeting
-  // a costlier cell than the grid path itself does.
+/// String pulling: jump to the farthest cell reachable in a straight line without meeting
+/// a costlier cell than the grid path itself does.
+void pullString(const Grid& g, const std::vector<Point2>& cells, NavPlan& plan) {
   std::size_t a = 0;
   while (a + 1 < cells.size()) {
     float path_max = 0;
@@ -237,6 +216,42 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
     plan.length += std::hypot(cells[best].x - cells[a].x, cells[best].y - cells[a].y);
     a = best;
   }
+}
+
+}  // namespace
+
+NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
+                 const Point2& goal, double tolerance, const NavOptions& o,
+                 const std::vector<Point2>& obstacles) {
+  NavPlan plan;
+  const Grid g = buildGrid(map, start, goal, tolerance, o, obstacles);
+  const std::vector<char> target = goalTargets(g, goal, tolerance);
+  if (target.empty()) {
+    plan.reason = "no free cell within " + std::to_string(tolerance) +
+                  " m of the goal (obstacle, inflation or blocked unknown space)";
+    return plan;
+  }
+  std::vector<int> parent;
+  const int reached =
+      aStar(g, g.col(start.x), g.row(start.y), target, goal, tolerance, parent, plan.expanded);
+  if (reached < 0) {
+    plan.reason = "no collision-free path on the navigation grid";
+    return plan;
+  }
+  std::vector<Point2> cells;
+  for (int k = reached; k != -1; k = parent[k]) cells.push_back(g.centre(k % g.nx, k / g.nx));
+  std::reverse(cells.begin(), cells.end());
+  cells.front() = start;
+  // End exactly at the goal when its own cell is free (A* stops at the first cell within
+  // the tolerance, which may be a neighbour of it).
+  const int gi = g.col(goal.x), gj = g.row(goal.y);
+  if (g.inside(gi, gj) && std::isfinite(g.factor[g.idx(gi, gj)])) {
+    if (cells.size() > 1 && std::isfinite(segmentMaxFactor(g, cells[cells.size() - 2], goal)))
+      cells.back() = goal;
+    else
+      cells.push_back(goal);
+  }
+  pullString(g, cells, plan);
   plan.found = true;
   return plan;
 }

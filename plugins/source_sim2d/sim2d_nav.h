@@ -1,6 +1,11 @@
 #pragma once
 // Path planning for the simulated robot on the *estimated* occupancy grid: A* over an
 // 8-connected grid, obstacles inflated by the robot radius, unknown space blocked or costly.
+// Cells are classified by asf::cellStateOf (grid_map.h), the definition the policies'
+// reachability uses too. What differs on purpose: this planner samples the map onto its own
+// grid around start and goal, lets unknown cells be crossed at a cost (a robot drives into
+// what its scans have not covered yet), and lets a robot closer than its radius to an
+// obstacle leave only through cells no closer to obstacles than where it stands.
 #include <asf/geometry.h>
 
 #include <string>

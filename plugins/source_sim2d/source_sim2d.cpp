@@ -32,6 +32,24 @@ using mrpt::poses::CPose2D;
 class Sim2dSource final : public asf::Source {
  public:
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
+    configureWorld(p);
+    configureStart(p);
+    configureSensors(p);
+    configureMotion(p);
+    configureRecording(p, ctx);
+    // Separate streams: changing the laser does not change the odometry noise (and so the
+    // path), which keeps runs comparable across sensor settings.
+    motion_rng_.seed(ctx.seed);
+    laser_rng_.seed(ctx.seed ^ 0x9e3779b97f4a7c15ULL);
+    tilted_rng_.seed(ctx.seed ^ 0xc2b2ae3d27d4eb4fULL);  // its own stream: see scanTilted()
+    believed_ = true_pose_;
+    step_ = 0;
+    status_ = asf::NavStatus::Idle;
+    next_scan_time_ = 0;
+  }
+
+  /// The true world: the built-in room, or a map image with obstacle heights.
+  void configureWorld(const asf::Params& p) {
     const std::string image = p.getString("map_image");
     std::vector<asf::sim2d::HeightClass> classes;
     try {
@@ -43,8 +61,9 @@ class Sim2dSource final : public asf::Source {
     try {
       if (image.empty()) {
         if (!classes.empty())
-          MRPT_LOG_WARN("obstacle_heights is ignored without map_image: the built-in room's "
-                        "walls are wall_height tall");
+          MRPT_LOG_WARN(
+              "obstacle_heights is ignored without map_image: the built-in room's "
+              "walls are wall_height tall");
         world_ = asf::sim2d::World::room(p.getDouble("room_width"), p.getDouble("room_height"),
                                          p.getDouble("resolution"), wall_height);
       } else {
@@ -65,6 +84,10 @@ class Sim2dSource final : public asf::Source {
     } catch (const std::runtime_error& e) {
       p.fail("map_image", e.what());
     }
+  }
+
+  /// The start pose (clear of the walls by the robot's radius) and the world's truth.
+  void configureStart(const asf::Params& p) {
     radius_ = p.getDouble("robot_radius");
     true_pose_ = CPose2D(p.getDouble("start_x"), p.getDouble("start_y"),
                          p.getDouble("start_phi_deg") * kDeg);
@@ -82,22 +105,25 @@ class Sim2dSource final : public asf::Source {
     truth->map_origin = true_pose_;
     truth->robot_radius = radius_;
     truth_ = std::move(truth);
+  }
 
+  /// The horizontal laser and the optional tilted one.
+  void configureSensors(const asf::Params& p) {
     rays_ = static_cast<int>(p.getInt("laser_rays"));
     fov_ = p.getDouble("laser_fov_deg") * kDeg;
     max_range_ = p.getDouble("laser_max_range");
     range_sigma_ = p.getDouble("range_sigma");
     laser_rate_ = p.getDouble("laser_rate");
-    sensor_pose_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"),
-                                        p.getDouble("sensor_z"), p.getDouble("sensor_yaw_deg") * kDeg,
-                                        0, 0);
+    sensor_pose_ =
+        mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"),
+                             p.getDouble("sensor_z"), p.getDouble("sensor_yaw_deg") * kDeg, 0, 0);
     // The horizontal laser sees only the obstacles taller than its height. With all of them
     // taller (the default) it scans the true grid itself, as before heights existed.
     laser_grid_ = world_.gridTallerThan(sensor_pose_.z());
     if (laser_grid_) {
       MRPT_LOG_INFO_STREAM(world_.cellsNotTallerThan(sensor_pose_.z())
-                           << " obstacle cells are not taller than sensor_z = "
-                           << sensor_pose_.z() << " m: the horizontal laser does not see them");
+                           << " obstacle cells are not taller than sensor_z = " << sensor_pose_.z()
+                           << " m: the horizontal laser does not see them");
       if (world_.cellsNotTallerThan(sensor_pose_.z()) == world_.wallCells())
         MRPT_LOG_WARN_STREAM("no obstacle is taller than sensor_z = "
                              << sensor_pose_.z() << " m: the horizontal laser sees nothing");
@@ -110,10 +136,13 @@ class Sim2dSource final : public asf::Source {
     if (tilted_sigma_ < 0) tilted_sigma_ = range_sigma_;
     // MRPT's CPose3D(x, y, z, yaw, pitch, roll): a positive pitch turns the sensor's x axis
     // down (towards -z), so the downward tilt is the pitch as given.
-    tilted_pose_ = mrpt::poses::CPose3D(p.getDouble("tilted_x"), p.getDouble("tilted_y"),
-                                        p.getDouble("tilted_z"),
-                                        p.getDouble("tilted_yaw_deg") * kDeg,
-                                        p.getDouble("tilted_pitch_deg") * kDeg, 0);
+    tilted_pose_ = mrpt::poses::CPose3D(
+        p.getDouble("tilted_x"), p.getDouble("tilted_y"), p.getDouble("tilted_z"),
+        p.getDouble("tilted_yaw_deg") * kDeg, p.getDouble("tilted_pitch_deg") * kDeg, 0);
+  }
+
+  /// Motion, odometry noise and the navigation on the estimated map.
+  void configureMotion(const asf::Params& p) {
     dt_ = p.getDouble("dt");
     step_length_ = p.getDouble("step_length");
     turn_step_ = p.getDouble("turn_step_deg") * kDeg;
@@ -134,7 +163,10 @@ class Sim2dSource final : public asf::Source {
     max_steps_ = p.getInt("max_steps");
     recovery_backup_ = p.getDouble("recovery_backup");
     replan_every_ = p.getInt("replan_every");
+  }
 
+  /// The rawlog and ground truth the run records ([sim2d] record).
+  void configureRecording(const asf::Params& p, const asf::PluginContext& ctx) {
     const bool record = p.getBool("record");
     const std::string name = p.getString("record_name");
     if (record && name.empty()) p.fail("record_name", "must not be empty when record = true");
@@ -145,24 +177,14 @@ class Sim2dSource final : public asf::Source {
       writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
       gt_writer_ = std::make_unique<asf::GroundTruthWriter>(gt_path_);
     }
-
-    // Separate streams: changing the laser does not change the odometry noise (and so the
-    // path), which keeps runs comparable across sensor settings.
-    motion_rng_.seed(ctx.seed);
-    laser_rng_.seed(ctx.seed ^ 0x9e3779b97f4a7c15ULL);
-    tilted_rng_.seed(ctx.seed ^ 0xc2b2ae3d27d4eb4fULL);  // its own stream: see scanTilted()
-    believed_ = true_pose_;
-    step_ = 0;
-    status_ = asf::NavStatus::Idle;
-    next_scan_time_ = 0;
   }
 
   ~Sim2dSource() override {
     if (collisions_)
       MRPT_LOG_WARN_STREAM(collisions_ << " moves were stopped by walls during the run");
     if (writer_)
-      MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to "
-                                       << rawlog_path_ << " (ground truth: " << gt_path_ << ")");
+      MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to " << rawlog_path_
+                                       << " (ground truth: " << gt_path_ << ")");
   }
 
   bool isActive() const override { return true; }
@@ -224,8 +246,8 @@ class Sim2dSource final : public asf::Source {
   // scan; false (and the reason logged) when there is no path.
   bool plan(bool first = true) {
     const asf::sim2d::NavPlan p =
-        asf::sim2d::planPath(plan_grid_.get(), {believed_.x(), believed_.y()},
-                             {goal_->x, goal_->y}, goal_->tolerance, nav_, scanObstacles());
+        asf::sim2d::planPath(plan_grid_.get(), {believed_.x(), believed_.y()}, {goal_->x, goal_->y},
+                             goal_->tolerance, nav_, scanObstacles());
     if (!p.found) {
       MRPT_LOG_INFO_STREAM("goal (" << goal_->x << ", " << goal_->y
                                     << ") unreachable: " << p.reason);
@@ -249,8 +271,8 @@ class Sim2dSource final : public asf::Source {
     if (!last_scan_) return std::nullopt;
     double best = -1, heading = 0;
     for (std::size_t i = 0; i < last_scan_->getScanSize(); ++i) {
-      const double r = last_scan_->getScanRangeValidity(i) ? last_scan_->getScanRange(i)
-                                                           : max_range_;
+      const double r =
+          last_scan_->getScanRangeValidity(i) ? last_scan_->getScanRange(i) : max_range_;
       if (r > best) {
         best = r;
         heading = believed_.phi() + last_scan_->sensorPose.yaw() + last_scan_->getScanAngle(i);
@@ -461,8 +483,7 @@ const asf::KeySpec kKeys[] = {
     asf::keyPath("map_image", "",
                  "World image (PNG/PGM/...; dark = wall). Empty: a built-in rectangular room "
                  "of room_width x room_height"),
-    asf::keyDouble("resolution", "0.04", "World cell size: metres per image pixel [m]", 1e-3,
-                   10),
+    asf::keyDouble("resolution", "0.04", "World cell size: metres per image pixel [m]", 1e-3, 10),
     asf::keyDouble("origin_x", "0", "World x of the image's lower-left corner [m]"),
     asf::keyDouble("origin_y", "0", "World y of the image's lower-left corner [m]"),
     asf::keyDouble("occupied_threshold", "0.5",
@@ -479,17 +500,17 @@ const asf::KeySpec kKeys[] = {
                 "Wall of this many pixels added around the image (for maps without an outer "
                 "wall)",
                 0, 1000),
-    asf::keyDouble("room_width", "8.0", "Built-in room width, when map_image is empty [m]",
-                   0.5, 1000),
-    asf::keyDouble("room_height", "6.0", "Built-in room height, when map_image is empty [m]",
-                   0.5, 1000),
+    asf::keyDouble("room_width", "8.0", "Built-in room width, when map_image is empty [m]", 0.5,
+                   1000),
+    asf::keyDouble("room_height", "6.0", "Built-in room height, when map_image is empty [m]", 0.5,
+                   1000),
     asf::keyDouble("start_x", "1.0", "True start position x, world frame [m]"),
     asf::keyDouble("start_y", "1.0", "True start position y, world frame [m]"),
     asf::keyDouble("start_phi_deg", "0", "True start heading [deg]", -360, 360),
     asf::keyInt("laser_rays", "361", "Rays per scan", 2, 100000),
     asf::keyDouble("laser_fov_deg", "180", "Laser field of view, centred ahead [deg]", 1, 360),
-    asf::keyDouble("laser_max_range", "8.0", "Maximum range; no echo beyond = invalid ray [m]",
-                   0.1, 1000),
+    asf::keyDouble("laser_max_range", "8.0", "Maximum range; no echo beyond = invalid ray [m]", 0.1,
+                   1000),
     asf::keyDouble("range_sigma", "0.01", "Std of the Gaussian range noise [m]", 0, 10),
     asf::keyDouble("laser_rate", "0",
                    "Scans per second of simulated time; 0 = one scan every step [Hz]", 0, 1e6),
@@ -502,8 +523,7 @@ const asf::KeySpec kKeys[] = {
     asf::keyBool("tilted_laser", "false",
                  "A second, tilted 2D laser ray cast over the 2.5D world: a scan labelled "
                  "TILTED_LASER in each frame's observations3d whenever the horizontal laser scans"),
-    asf::keyDouble("tilted_x", "0.1", "Tilted laser position on the robot, x (ahead) [m]", -10,
-                   10),
+    asf::keyDouble("tilted_x", "0.1", "Tilted laser position on the robot, x (ahead) [m]", -10, 10),
     asf::keyDouble("tilted_y", "0", "Tilted laser position on the robot, y (left) [m]", -10, 10),
     asf::keyDouble("tilted_z", "0.5", "Tilted laser height above the floor [m]", 1e-3, 100),
     asf::keyDouble("tilted_yaw_deg", "0", "Tilted laser heading on the robot [deg]", -360, 360),
@@ -516,8 +536,8 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("tilted_max_range", "4.0",
                    "Tilted laser maximum range; no echo beyond = invalid ray [m]", 0.1, 1000),
     asf::keyDouble("tilted_range_sigma", "-1",
-                   "Std of the tilted laser's Gaussian range noise; negative = range_sigma [m]",
-                   -1, 10),
+                   "Std of the tilted laser's Gaussian range noise; negative = range_sigma [m]", -1,
+                   10),
     asf::keyDouble("dt", "0.1", "Simulated time per step [s]", 1e-4, 100),
     asf::keyDouble("step_length", "0.05", "Distance driven per step [m]", 1e-3, 10),
     asf::keyDouble("turn_step_deg", "10", "Rotation in place per step [deg]", 0.01, 180),
@@ -532,10 +552,10 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("odo_a2", "0.001", "Odometry model: xy std per degree turned [m/deg]", 0, 10),
     asf::keyDouble("odo_a3", "1.0", "Odometry model: heading std per metre driven [deg/m]", 0,
                    1000),
-    asf::keyDouble("odo_a4", "0.05", "Odometry model: heading std per degree turned [deg/deg]",
+    asf::keyDouble("odo_a4", "0.05", "Odometry model: heading std per degree turned [deg/deg]", 0,
+                   10),
+    asf::keyDouble("odo_min_std_xy", "0.001", "Odometry model: minimum xy std of a moving step [m]",
                    0, 10),
-    asf::keyDouble("odo_min_std_xy", "0.001",
-                   "Odometry model: minimum xy std of a moving step [m]", 0, 10),
     asf::keyDouble("odo_min_std_phi_deg", "0.05",
                    "Odometry model: minimum heading std of a moving step [deg]", 0, 360),
     asf::keyDouble("recovery_backup", "0.15",
@@ -548,13 +568,12 @@ const asf::KeySpec kKeys[] = {
                 0, 1000000),
     asf::keyEnum("nav_unknown", "costly", "costly|blocked",
                  "Unknown cells of the estimated map: passable at nav_unknown_cost, or blocked"),
-    asf::keyDouble("nav_unknown_cost", "4.0", "Cost factor of driving through unknown space",
-                   1, 1e6),
+    asf::keyDouble("nav_unknown_cost", "4.0", "Cost factor of driving through unknown space", 1,
+                   1e6),
     asf::keyDouble("nav_safety_margin", "0.05",
                    "Paths keep robot_radius plus this from obstacles of the map [m]", 0.0, 1.0),
     asf::keyDouble("nav_inflation_margin", "0.4",
-                   "Beyond robot_radius, paths are penalised this close to obstacles [m]", 0,
-                   100),
+                   "Beyond robot_radius, paths are penalised this close to obstacles [m]", 0, 100),
     asf::keyDouble("nav_occupied_threshold", "0.65",
                    "Estimated-map cells with p(occupied) above this are obstacles", 0.5, 0.999),
     asf::keyBool("record", "true",

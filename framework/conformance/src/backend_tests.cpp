@@ -44,42 +44,46 @@ Trace standardRun(Backend& p) {
     tr.pose("node[" + std::to_string(i) + "]", g.nodes[i].pose);
   const Marginals m = p.marginals(g, kCross);
   tr.num("marginals.nodes", static_cast<double>(m.node.size()));
-  for (std::size_t i = 0; i < m.node.size(); ++i) tr.mat("cov[" + std::to_string(i) + "]", m.node[i]);
+  for (std::size_t i = 0; i < m.node.size(); ++i)
+    tr.mat("cov[" + std::to_string(i) + "]", m.node[i]);
   for (const auto& [ij, c] : m.cross)
     tr.mat("cross[" + std::to_string(ij.first) + "," + std::to_string(ij.second) + "]", c);
   return tr;
 }
 
-void registerBackendTests(const InfoPtr& info) {
+namespace {
+
+/// optimize(): no-ops, chi2, structure, errors, fixed nodes.
+void registerOptimizeTests(const InfoPtr& info) {
   using T = Backend;
 
-  addTest<T>(info, "empty_and_single_node_graphs_are_no_ops", Needs::Instance,
-             [](KindTest<T>& t) {
-               auto h = t.make();
-               {
-                 SCOPED_TRACE("empty graph");
-                 PoseGraph g;
-                 g.revision = 5;
-                 h->optimize(g);
-                 EXPECT_TRUE(g.empty());
-                 EXPECT_TRUE(g.edges.empty());
-                 EXPECT_EQ(g.revision, 5u) << "revision changed on an empty graph";
-               }
-               {
-                 SCOPED_TRACE("single node");
-                 PoseGraph g;
-                 g.addNode(CPose2D(), 1.0);
-                 g.revision = 5;
-                 h->optimize(g);
-                 ASSERT_EQ(g.size(), 1u);
-                 EXPECT_TRUE(samePoseExactly(g.nodes[0].pose, CPose2D())) << "node 0 moved";
-                 EXPECT_EQ(g.revision, 5u) << "revision changed on a single-node graph";
-                 const Marginals m = h->marginals(g);
-                 ASSERT_EQ(m.node.size(), 1u) << "marginals(): one block per node";
-                 EXPECT_LE(maxAbs(m.node[0]), 1e-6) << "node 0 (the gauge) must have zero "
-                                                       "covariance:\n" << m.node[0];
-               }
-             });
+  addTest<T>(info, "empty_and_single_node_graphs_are_no_ops", Needs::Instance, [](KindTest<T>& t) {
+    auto h = t.make();
+    {
+      SCOPED_TRACE("empty graph");
+      PoseGraph g;
+      g.revision = 5;
+      h->optimize(g);
+      EXPECT_TRUE(g.empty());
+      EXPECT_TRUE(g.edges.empty());
+      EXPECT_EQ(g.revision, 5u) << "revision changed on an empty graph";
+    }
+    {
+      SCOPED_TRACE("single node");
+      PoseGraph g;
+      g.addNode(CPose2D(), 1.0);
+      g.revision = 5;
+      h->optimize(g);
+      ASSERT_EQ(g.size(), 1u);
+      EXPECT_TRUE(samePoseExactly(g.nodes[0].pose, CPose2D())) << "node 0 moved";
+      EXPECT_EQ(g.revision, 5u) << "revision changed on a single-node graph";
+      const Marginals m = h->marginals(g);
+      ASSERT_EQ(m.node.size(), 1u) << "marginals(): one block per node";
+      EXPECT_LE(maxAbs(m.node[0]), 1e-6) << "node 0 (the gauge) must have zero "
+                                            "covariance:\n"
+                                         << m.node[0];
+    }
+  });
 
   addTest<T>(info, "optimize_never_increases_chi2_and_keeps_structure", Needs::Instance,
              [](KindTest<T>& t) {
@@ -96,7 +100,8 @@ void registerBackendTests(const InfoPtr& info) {
                EXPECT_LE(r.final_chi2, r.initial_chi2 * (1 + 1e-9) + 1e-12)
                    << "report: final chi2 above initial chi2";
                ASSERT_EQ(g.size(), before.size()) << "optimize() added or removed nodes";
-               ASSERT_EQ(g.edges.size(), before.edges.size()) << "optimize() added or removed edges";
+               ASSERT_EQ(g.edges.size(), before.edges.size())
+                   << "optimize() added or removed edges";
                EXPECT_EQ(g.fixed, before.fixed) << "optimize() changed graph.fixed";
                for (std::size_t i = 0; i < g.size(); ++i) {
                  EXPECT_EQ(g.nodes[i].id, before.nodes[i].id) << "node " << i << " id changed";
@@ -121,15 +126,14 @@ void registerBackendTests(const InfoPtr& info) {
                  EXPECT_EQ(g.revision, before.revision) << "revision changed but no pose moved";
              });
 
-  addTest<T>(info, "a_graph_with_non_finite_chi2_is_an_error", Needs::Instance,
-             [](KindTest<T>& t) {
-               auto h = t.make();
-               PoseGraph g = makeNoisyLoop(kGraphSeed);
-               g.nodes[3].pose = CPose2D(1e308, -1e308, 0);  // its residuals overflow
-               ASSERT_FALSE(std::isfinite(g.chi2()));
-               EXPECT_THROW(h->optimize(g), asf::Error)
-                   << "optimize() accepted a graph whose chi2 is " << g.chi2();
-             });
+  addTest<T>(info, "a_graph_with_non_finite_chi2_is_an_error", Needs::Instance, [](KindTest<T>& t) {
+    auto h = t.make();
+    PoseGraph g = makeNoisyLoop(kGraphSeed);
+    g.nodes[3].pose = CPose2D(1e308, -1e308, 0);  // its residuals overflow
+    ASSERT_FALSE(std::isfinite(g.chi2()));
+    EXPECT_THROW(h->optimize(g), asf::Error)
+        << "optimize() accepted a graph whose chi2 is " << g.chi2();
+  });
 
   addTest<T>(info, "fixed_nodes_are_held", Needs::Instance, [](KindTest<T>& t) {
     auto h = t.make();
@@ -144,40 +148,48 @@ void registerBackendTests(const InfoPtr& info) {
         << g.nodes[10].pose;
     EXPECT_LE(g.chi2(), before.chi2() * (1 + 1e-9) + 1e-12);
   });
+}
 
-  addTest<T>(info, "marginals_symmetric_psd_gauge_zero_with_requested_cross_blocks",
-             Needs::Instance, [](KindTest<T>& t) {
-               auto h = t.make();
-               PoseGraph g = makeNoisyLoop(kGraphSeed);
-               h->optimize(g);
-               const Marginals m = h->marginals(g, kCross);
-               ASSERT_EQ(m.node.size(), g.size()) << "marginals(): one block per node";
-               EXPECT_EQ(m.graph_revision, g.revision)
-                   << "Marginals::graph_revision must be the revision of the graph";
-               for (std::size_t i = 0; i < m.node.size(); ++i) {
-                 const auto ok = isSymmetricPsd(m.node[i]);
-                 EXPECT_TRUE(ok) << "Cov(x_" << i << ") (later nodes not checked)";
-                 if (!ok) break;
-               }
-               EXPECT_LE(maxAbs(m.node[0]), 1e-6)
-                   << "node 0 (the gauge) must have zero covariance:\n" << m.node[0];
-               for (const auto& ij : kCross)
-                 EXPECT_EQ(m.cross.count(ij), 1u)
-                     << "requested cross block (" << ij.first << ", " << ij.second << ") missing";
-               if (m.cross.count({3, 7}) && m.cross.count({7, 3})) {
-                 const Eigen::Matrix3d a = m.cross.at({3, 7}), b = m.cross.at({7, 3});
-                 EXPECT_LE((a - b.transpose()).cwiseAbs().maxCoeff(),
-                           1e-9 * std::max(1.0, maxAbs(a)))
-                     << "Cov(3,7) != Cov(7,3)^T:\n" << a << "\nvs\n" << b;
-                 // The joint covariance of (x_3, x_7) must be PSD too.
-                 Eigen::Matrix<double, 6, 6> j;
-                 j << m.node[3], a, a.transpose(), m.node[7];
-                 Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(
-                     0.5 * (j + j.transpose()), Eigen::EigenvaluesOnly);
-                 EXPECT_GE(es.eigenvalues().minCoeff(), -1e-9)
-                     << "the joint covariance of nodes 3 and 7 is not PSD:\n" << j;
-               }
-             });
+/// marginals(): symmetric PSD blocks, the gauge, cross blocks, disconnected nodes.
+void registerMarginalTests(const InfoPtr& info) {
+  using T = Backend;
+
+  addTest<T>(
+      info, "marginals_symmetric_psd_gauge_zero_with_requested_cross_blocks", Needs::Instance,
+      [](KindTest<T>& t) {
+        auto h = t.make();
+        PoseGraph g = makeNoisyLoop(kGraphSeed);
+        h->optimize(g);
+        const Marginals m = h->marginals(g, kCross);
+        ASSERT_EQ(m.node.size(), g.size()) << "marginals(): one block per node";
+        EXPECT_EQ(m.graph_revision, g.revision)
+            << "Marginals::graph_revision must be the revision of the graph";
+        for (std::size_t i = 0; i < m.node.size(); ++i) {
+          const auto ok = isSymmetricPsd(m.node[i]);
+          EXPECT_TRUE(ok) << "Cov(x_" << i << ") (later nodes not checked)";
+          if (!ok) break;
+        }
+        EXPECT_LE(maxAbs(m.node[0]), 1e-6) << "node 0 (the gauge) must have zero covariance:\n"
+                                           << m.node[0];
+        for (const auto& ij : kCross)
+          EXPECT_EQ(m.cross.count(ij), 1u)
+              << "requested cross block (" << ij.first << ", " << ij.second << ") missing";
+        if (m.cross.count({3, 7}) && m.cross.count({7, 3})) {
+          const Eigen::Matrix3d a = m.cross.at({3, 7}), b = m.cross.at({7, 3});
+          EXPECT_LE((a - b.transpose()).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, maxAbs(a)))
+              << "Cov(3,7) != Cov(7,3)^T:\n"
+              << a << "\nvs\n"
+              << b;
+          // The joint covariance of (x_3, x_7) must be PSD too.
+          Eigen::Matrix<double, 6, 6> j;
+          j << m.node[3], a, a.transpose(), m.node[7];
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(0.5 * (j + j.transpose()),
+                                                                        Eigen::EigenvaluesOnly);
+          EXPECT_GE(es.eigenvalues().minCoeff(), -1e-9)
+              << "the joint covariance of nodes 3 and 7 is not PSD:\n"
+              << j;
+        }
+      });
 
   addTest<T>(info, "marginals_of_disconnected_node_throw_asf_error", Needs::Instance,
              [](KindTest<T>& t) {
@@ -187,6 +199,13 @@ void registerBackendTests(const InfoPtr& info) {
                EXPECT_THROW(h->marginals(g), asf::Error)
                    << "a node not connected to node 0 has no defined covariance";
              });
+}
+
+}  // namespace
+
+void registerBackendTests(const InfoPtr& info) {
+  registerOptimizeTests(info);
+  registerMarginalTests(info);
 }
 
 }  // namespace asf::conformance::detail

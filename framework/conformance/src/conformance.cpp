@@ -398,8 +398,9 @@ void registerDescriptorTests(const InfoPtr& info) {
   });
 }
 
+/// The descriptor and configure(): kind, defaults, out-of-range values.
 template <class T>
-void registerCommonTests(const InfoPtr& info) {
+void registerDescriptorTests(const InfoPtr& info) {
   addTest<T>(info, "kind_matches_descriptor", Needs::Nothing, [](KindTest<T>& t) {
     auto p = Registry::instantiate(t.info());
     ASSERT_NE(p, nullptr) << "the factory returned null";
@@ -454,7 +455,11 @@ void registerCommonTests(const InfoPtr& info) {
       }
     }
   });
+}
 
+/// The standard input: no exception, determinism, thread-compatibility.
+template <class T>
+void registerBehaviourTests(const InfoPtr& info) {
   addTest<T>(info, "standard_input_raises_no_exception", Needs::Instance, [](KindTest<T>& t) {
     auto h = t.make();
     try {
@@ -506,6 +511,12 @@ void registerCommonTests(const InfoPtr& info) {
                EXPECT_EQ(firstDifference(sequential, tc), "")
                    << "thread 2 differs from a sequential run (hidden shared state?)";
              });
+}
+
+template <class T>
+void registerCommonTests(const InfoPtr& info) {
+  registerDescriptorTests<T>(info);
+  registerBehaviourTests<T>(info);
 }
 
 template <class T>

@@ -49,10 +49,9 @@ constexpr KeySpec keyUnknownBand() {
 /// unknown_band (unknown cells would count as obstacles).
 ReachabilityOptions reachabilityOptionsFrom(const Params& p);
 
-/// What a cell of the estimated map is, under the thresholds of `options`.
-enum CellState : std::uint8_t { kCellFree = 0, kCellUnknown = 1, kCellOccupied = 2 };
 
-/// Every cell of `grid` classified (row-major, getSizeX() per row), through a table over the
+/// Every cell of `grid` classified by cellStateOf (grid_map.h) under the thresholds of
+/// `options` (row-major, getSizeX() per row), through a table over the
 /// raw cell values (MRPT's cells are 8 or 16 bits): cheaper than a probability per cell.
 std::vector<std::uint8_t> classifyCells(const mrpt::maps::COccupancyGridMap2D& grid,
                                         const ReachabilityOptions& options);

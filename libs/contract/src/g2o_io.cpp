@@ -13,114 +13,146 @@
 
 namespace asf {
 
-PoseGraph parseG2o(const std::string& text, const std::string& name) {
-  std::map<long, mrpt::poses::CPose2D> vertices;
-  std::map<long, int> vertex_line;
+namespace {
+
+/// The records of a g2o text, checked line by line (errors name the file and line).
+class G2oRecords {
+ public:
   struct RawEdge {
     long from, to;
     PoseEdge e;
     int line;
   };
-  std::vector<RawEdge> raw;
-  std::vector<std::pair<long, int>> fixes;
+  explicit G2oRecords(const std::string& name) : name_(name) {}
 
-  std::istringstream is(text);
-  std::string line;
-  int n = 0;
-  auto fail = [&](const std::string& why) -> void {
-    throw InputError(name + ":" + std::to_string(n) + ": " + why);
-  };
+  void parse(const std::string& text) {
+    std::istringstream is(text);
+    std::string line;
+    while (std::getline(is, line)) {
+      ++n_;
+      std::istringstream ls(line);
+      std::string tag;
+      if (!(ls >> tag) || tag[0] == '#') continue;
+      if (tag == "VERTEX_SE2")
+        vertex(ls);
+      else if (tag == "EDGE_SE2")
+        edge(ls);
+      else if (tag == "FIX")
+        fix(ls);
+      else
+        fail("unknown record '" + tag + "' (expected VERTEX_SE2, EDGE_SE2 or FIX)");
+    }
+  }
+
+  std::map<long, mrpt::poses::CPose2D> vertices;
+  std::vector<RawEdge> raw;
+  std::vector<std::pair<long, int>> fixes;  ///< id, line
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InputError(name_ + ":" + std::to_string(n_) + ": " + why);
+  }
   // Anything after a record's values but a comment means the line is not what we think.
-  auto requireEnd = [&](std::istringstream& ls, const std::string& record) {
+  void requireEnd(std::istringstream& ls, const std::string& record) const {
     std::string extra;
     if (ls >> extra && extra[0] != '#')
       fail("malformed " + record + ": unexpected '" + extra + "' after its values");
-  };
-  while (std::getline(is, line)) {
-    ++n;
-    std::istringstream ls(line);
-    std::string tag;
-    if (!(ls >> tag) || tag[0] == '#') continue;
-    if (tag == "VERTEX_SE2") {
-      long id;
-      double x, y, th;
-      if (!(ls >> id >> x >> y >> th)) fail("malformed VERTEX_SE2 (expected: id x y theta)");
-      requireEnd(ls, "VERTEX_SE2");
-      if (id < 0) fail("negative vertex id");
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(th))
-        fail("vertex " + std::to_string(id) + " has a non-finite pose");
-      if (vertices.count(id))
-        fail("vertex " + std::to_string(id) + " defined twice (first at line " +
-             std::to_string(vertex_line[id]) + ")");
-      vertices[id] = mrpt::poses::CPose2D(x, y, th);
-      vertex_line[id] = n;
-    } else if (tag == "EDGE_SE2") {
-      RawEdge r;
-      double dx, dy, dth, i11, i12, i13, i22, i23, i33;
-      if (!(ls >> r.from >> r.to >> dx >> dy >> dth >> i11 >> i12 >> i13 >> i22 >> i23 >> i33))
-        fail("malformed EDGE_SE2 (expected: from to dx dy dtheta I11 I12 I13 I22 I23 I33)");
-      requireEnd(ls, "EDGE_SE2");
-      if (!std::isfinite(dx) || !std::isfinite(dy) || !std::isfinite(dth))
-        fail("edge " + std::to_string(r.from) + " -> " + std::to_string(r.to) +
-             " has a non-finite measurement");
-      Eigen::Matrix3d I;
-      I << i11, i12, i13, i12, i22, i23, i13, i23, i33;
-      if (!I.allFinite())
-        fail("information matrix of edge " + std::to_string(r.from) + " -> " +
-             std::to_string(r.to) + " is not finite");
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
-      if (es.eigenvalues().minCoeff() <= 0)
-        fail("information matrix of edge " + std::to_string(r.from) + " -> " +
-             std::to_string(r.to) + " is not positive definite");
-      r.e.mean = mrpt::poses::CPose2D(dx, dy, dth);
-      r.e.information = I;
-      r.e.kind = std::abs(r.to - r.from) == 1 ? EdgeKind::Odometry : EdgeKind::LoopClosure;
-      r.line = n;
-      raw.push_back(r);
-    } else if (tag == "FIX") {
-      long id;
-      int count = 0;
-      while (ls >> id) {
-        fixes.emplace_back(id, n);
-        ++count;
-      }
-      if (!ls.eof()) {  // stopped on something that is not an id
-        ls.clear();
-        std::string extra;
-        ls >> extra;
-        if (extra[0] != '#') fail("malformed FIX: '" + extra + "' is not a vertex id");
-      }
-      if (count == 0) fail("malformed FIX (expected: FIX id [id ...])");
-    } else {
-      fail("unknown record '" + tag + "' (expected VERTEX_SE2, EDGE_SE2 or FIX)");
-    }
   }
 
-  PoseGraph g;
-  long max_id = -1;
-  if (!vertices.empty()) {
-    max_id = vertices.rbegin()->first;
+  void vertex(std::istringstream& ls) {
+    long id;
+    double x, y, th;
+    if (!(ls >> id >> x >> y >> th)) fail("malformed VERTEX_SE2 (expected: id x y theta)");
+    requireEnd(ls, "VERTEX_SE2");
+    if (id < 0) fail("negative vertex id");
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(th))
+      fail("vertex " + std::to_string(id) + " has a non-finite pose");
+    if (vertices.count(id))
+      fail("vertex " + std::to_string(id) + " defined twice (first at line " +
+           std::to_string(vertex_line_[id]) + ")");
+    vertices[id] = mrpt::poses::CPose2D(x, y, th);
+    vertex_line_[id] = n_;
+  }
+
+  void edge(std::istringstream& ls) {
+    RawEdge r;
+    double dx, dy, dth, i11, i12, i13, i22, i23, i33;
+    if (!(ls >> r.from >> r.to >> dx >> dy >> dth >> i11 >> i12 >> i13 >> i22 >> i23 >> i33))
+      fail("malformed EDGE_SE2 (expected: from to dx dy dtheta I11 I12 I13 I22 I23 I33)");
+    requireEnd(ls, "EDGE_SE2");
+    const std::string which = std::to_string(r.from) + " -> " + std::to_string(r.to);
+    if (!std::isfinite(dx) || !std::isfinite(dy) || !std::isfinite(dth))
+      fail("edge " + which + " has a non-finite measurement");
+    Eigen::Matrix3d I;
+    I << i11, i12, i13, i12, i22, i23, i13, i23, i33;
+    if (!I.allFinite()) fail("information matrix of edge " + which + " is not finite");
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(I);
+    if (es.eigenvalues().minCoeff() <= 0)
+      fail("information matrix of edge " + which + " is not positive definite");
+    r.e.mean = mrpt::poses::CPose2D(dx, dy, dth);
+    r.e.information = I;
+    r.e.kind = std::abs(r.to - r.from) == 1 ? EdgeKind::Odometry : EdgeKind::LoopClosure;
+    r.line = n_;
+    raw.push_back(r);
+  }
+
+  void fix(std::istringstream& ls) {
+    long id;
+    int count = 0;
+    while (ls >> id) {
+      fixes.emplace_back(id, n_);
+      ++count;
+    }
+    if (!ls.eof()) {  // stopped on something that is not an id
+      ls.clear();
+      std::string extra;
+      ls >> extra;
+      if (extra[0] != '#') fail("malformed FIX: '" + extra + "' is not a vertex id");
+    }
+    if (count == 0) fail("malformed FIX (expected: FIX id [id ...])");
+  }
+
+  const std::string& name_;
+  int n_ = 0;  ///< the line being read
+  std::map<long, int> vertex_line_;
+};
+
+/// The nodes: the vertices (ids 0..n-1), or for an edge-only file the composed odometry chain.
+void addNodes(const G2oRecords& rec, const std::string& name, PoseGraph& g) {
+  if (!rec.vertices.empty()) {
+    const long max_id = rec.vertices.rbegin()->first;
     for (long i = 0; i <= max_id; ++i)
-      if (!vertices.count(i))
+      if (!rec.vertices.count(i))
         throw InputError(name + ": vertex ids must be 0..n-1; vertex " + std::to_string(i) +
                          " is missing");
-    for (const auto& [id, p] : vertices) g.addNode(p);
-  } else if (!raw.empty()) {
-    for (const auto& r : raw) max_id = std::max({max_id, r.from, r.to});
-    // Edge-only file: initial guess by composing the odometry chain i -> i+1.
-    std::map<long, const PoseEdge*> chain;
-    for (const auto& r : raw)
-      if (r.to == r.from + 1 && !chain.count(r.from)) chain[r.from] = &r.e;
-    g.addNode(mrpt::poses::CPose2D());
-    for (long i = 1; i <= max_id; ++i) {
-      auto it = chain.find(i - 1);
-      if (it == chain.end())
-        throw InputError(name + ": no VERTEX lines and no odometry edge " + std::to_string(i - 1) +
-                         " -> " + std::to_string(i) + " to compose an initial guess");
-      g.addNode(g.nodes.back().pose + it->second->mean);
-    }
+    for (const auto& [id, p] : rec.vertices) g.addNode(p);
+    return;
   }
-  for (const auto& r : raw) {
+  if (rec.raw.empty()) return;
+  long max_id = -1;
+  for (const auto& r : rec.raw) max_id = std::max({max_id, r.from, r.to});
+  // Edge-only file: initial guess by composing the odometry chain i -> i+1.
+  std::map<long, const PoseEdge*> chain;
+  for (const auto& r : rec.raw)
+    if (r.to == r.from + 1 && !chain.count(r.from)) chain[r.from] = &r.e;
+  g.addNode(mrpt::poses::CPose2D());
+  for (long i = 1; i <= max_id; ++i) {
+    auto it = chain.find(i - 1);
+    if (it == chain.end())
+      throw InputError(name + ": no VERTEX lines and no odometry edge " + std::to_string(i - 1) +
+                       " -> " + std::to_string(i) + " to compose an initial guess");
+    g.addNode(g.nodes.back().pose + it->second->mean);
+  }
+}
+
+}  // namespace
+
+PoseGraph parseG2o(const std::string& text, const std::string& name) {
+  G2oRecords rec(name);
+  rec.parse(text);
+  PoseGraph g;
+  addNodes(rec, name, g);
+  for (const auto& r : rec.raw) {
     if (r.from < 0 || r.to < 0 || r.from >= static_cast<long>(g.nodes.size()) ||
         r.to >= static_cast<long>(g.nodes.size()))
       throw InputError(name + ":" + std::to_string(r.line) + ": edge " + std::to_string(r.from) +
@@ -130,7 +162,7 @@ PoseGraph parseG2o(const std::string& text, const std::string& name) {
     e.to = static_cast<NodeId>(r.to);
     g.edges.push_back(e);
   }
-  for (const auto& [id, l] : fixes) {
+  for (const auto& [id, l] : rec.fixes) {
     if (id < 0 || id >= static_cast<long>(g.nodes.size()))
       throw InputError(name + ":" + std::to_string(l) + ": FIX names undefined vertex " +
                        std::to_string(id));

@@ -94,13 +94,11 @@ SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivat
   return r;
 }
 
-SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter,
-                         const IterationReport& report) {
-  const int m = D.m;
-  VectorXd x = VectorXd::Constant(m, 1.0 / m);
-  SmoothResult out;
-  // Warm start: multiplicative updates x_j <- x_j (g_j / x^T g)^(1/(1-p)) (Silvey-Titterington-
-  // Torsney; monotone for D) are cheap (no Hessian) and remove most of the initial error.
+namespace {
+
+// Warm start: multiplicative updates x_j <- x_j (g_j / x^T g)^(1/(1-p)) (Silvey-Titterington-
+// Torsney; monotone for D) are cheap (no Hessian) and remove most of the initial error.
+void warmStart(const Design& D, double p, VectorXd& x) {
   for (int w = 0; w < 3; ++w) {
     SmoothEval e0 = evalSmooth(D, x, p, false, true);
     if (!e0.ok) break;
@@ -109,6 +107,117 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter,
     xt /= xt.sum();
     x = xt;
   }
+}
+
+/// Factors K = -H on the free set F (regularized; more if the first attempt fails).
+void factorNewton(const SmoothEval& ev, const std::vector<int>& F, Eigen::LLT<MatrixXd>& c) {
+  const int f = static_cast<int>(F.size());
+  MatrixXd K(f, f);
+  for (int b = 0; b < f; ++b)
+    for (int a = 0; a < f; ++a) K(a, b) = -ev.H(F[a], F[b]);
+  const double reg = 1e-13 * K.diagonal().mean();
+  K.diagonal().array() += reg;
+  c.compute(K);
+  if (c.info() != Eigen::Success) {
+    K.diagonal().array() += 1e-8 * K.diagonal().mean();
+    c.compute(K);
+  }
+}
+
+/// The Newton step on the free set F: K d = g - l 1 with sum d = 0. Zero weights whose step
+/// would be negative are then fixed at zero; the system without them is solved with the
+/// same Cholesky factor through the bordered (capacitance) formula, not refactored: with E
+/// the columns of the fixed variables and C = E^T K^-1 E, the solution of the reduced system
+/// is K^-1 r - K^-1 E C^-1 E^T K^-1 r (zero on the fixed variables).
+VectorXd newtonStep(const Eigen::LLT<MatrixXd>& c, const SmoothEval& ev, const std::vector<int>& F,
+                    const VectorXd& x) {
+  const int f = static_cast<int>(F.size()), m = static_cast<int>(x.size());
+  VectorXd gF(f);
+  for (int b = 0; b < f; ++b) gF[b] = ev.g[F[b]];
+  const VectorXd Kg0 = c.solve(gF), K10 = c.solve(VectorXd::Ones(f));
+  std::vector<int> fixed;  // positions in F
+  std::vector<char> isFixed(f, 0);
+  VectorXd d = VectorXd::Zero(m);
+  for (int pass = 0; pass < 8; ++pass) {
+    VectorXd Kg = Kg0, K1 = K10;
+    if (!fixed.empty()) {
+      const int r = static_cast<int>(fixed.size());
+      MatrixXd E = MatrixXd::Zero(f, r);
+      for (int q = 0; q < r; ++q) E(fixed[q], q) = 1.0;
+      const MatrixXd KE = c.solve(E);
+      MatrixXd C(r, r);
+      VectorXd eg(r), e1(r);
+      for (int q = 0; q < r; ++q) {
+        C.row(q) = KE.row(fixed[q]);
+        eg[q] = Kg0[fixed[q]];
+        e1[q] = K10[fixed[q]];
+      }
+      const Eigen::LDLT<MatrixXd> cC(0.5 * (C + C.transpose()));
+      Kg -= KE * cC.solve(eg);
+      K1 -= KE * cC.solve(e1);
+      for (int q : fixed) Kg[q] = K1[q] = 0;
+    }
+    const double l = Kg.sum() / K1.sum();
+    const VectorXd dF = Kg - l * K1;
+    d.setZero();
+    int added = 0;
+    for (int a = 0; a < f; ++a) {
+      if (isFixed[a]) continue;
+      d[F[a]] = dF[a];
+      if (x[F[a]] <= 0 && dF[a] < 0) {  // zero weights that would go negative stay at zero
+        isFixed[a] = 1;
+        fixed.push_back(a);
+        ++added;
+      }
+    }
+    if (added == 0) break;
+    d.setZero();
+  }
+  return d;
+}
+
+/// Projection arc (Bertsekas): x(a) = P_simplex-ish(x + a d) by clipping at zero, so several
+/// weights can reach zero in one step; Armijo test along the arc. False when no step is
+/// accepted; `ev` is brought up to the new x.
+bool arcSearch(const Design& D, double p, const VectorXd& d, double ratio, VectorXd& x,
+               SmoothEval& ev) {
+  double a = 1.0;
+  bool accepted = false, evaluated = false;
+  for (int ls = 0; ls < 60 && !accepted; ++ls, a *= 0.5) {
+    VectorXd xt = (x + a * d).cwiseMax(0.0);
+    xt /= xt.sum();
+    const SmoothEval trial = evalSmooth(D, xt, p, false);
+    if (!trial.ok) continue;
+    const double pred = ev.g.dot(xt - x);
+    // Round-off dominates the Armijo test once steps are tiny: accept a non-decrease.
+    if (trial.F >= ev.F + 1e-4 * pred || (a < 1e-10 && trial.F >= ev.F)) {
+      x = xt;
+      accepted = true;
+    } else if (ls == 0 && pred <= 1e-9 * std::abs(ev.F)) {
+      // The full Newton step promises an increase of F below its round-off, so F can not
+      // rank the points; the certificate (the quantity that matters) can: take the step
+      // if it lowers bound / value.
+      SmoothEval full = evalSmooth(D, xt, p, true);
+      if (full.ok && full.g.maxCoeff() / xt.dot(full.g) < ratio) {
+        x = xt;
+        ev = std::move(full);
+        accepted = evaluated = true;
+      }
+    }
+  }
+  if (!accepted) return false;
+  if (!evaluated) ev = evalSmooth(D, x, p, true);
+  return ev.ok;
+}
+
+}  // namespace
+
+SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter,
+                         const IterationReport& report) {
+  const int m = D.m;
+  VectorXd x = VectorXd::Constant(m, 1.0 / m);
+  SmoothResult out;
+  warmStart(D, p, x);
   SmoothEval ev = evalSmooth(D, x, p, true);
   if (!ev.ok) throw Error("optimal design: the uniform weights have no information");
   Eigen::LLT<MatrixXd> c;  // Newton system factor (kept for chord steps)
@@ -127,102 +236,16 @@ SmoothResult solveSmooth(const Design& D, double p, double tol, int max_iter,
     std::vector<int> F;
     for (int j = 0; j < m; ++j)
       if (x[j] > 0 || ev.g[j] > lam) F.push_back(j);
-    // Newton step on the free set: K d = g - l 1 with sum d = 0, K = -H. Zero weights whose
-    // step would be negative are then fixed at zero; the system without them is solved with
-    // the same Cholesky factor through the bordered (capacitance) formula, not refactored:
-    // with E the columns of the fixed variables and C = E^T K^-1 E, the solution of the
-    // reduced system is K^-1 r - K^-1 E C^-1 E^T K^-1 r (zero on the fixed variables).
     // Close to the optimum (relative gap below 1e-4) with an unchanged free set, the factor
     // of the previous Hessian is reused (a chord step: it converges fast there, and the
     // certificate does not depend on it); the step after a chord step uses a fresh Hessian.
-    const int f = static_cast<int>(F.size());
-    VectorXd gF(f);
-    for (int b = 0; b < f; ++b) gF[b] = ev.g[F[b]];
     const bool chord = F == Fprev && ratio - 1.0 < 1e-4 * ratio && !lastChord;
-    if (!chord) {
-      MatrixXd K(f, f);
-      for (int b = 0; b < f; ++b)
-        for (int a = 0; a < f; ++a) K(a, b) = -ev.H(F[a], F[b]);
-      const double reg = 1e-13 * K.diagonal().mean();
-      K.diagonal().array() += reg;
-      c.compute(K);
-      if (c.info() != Eigen::Success) {
-        K.diagonal().array() += 1e-8 * K.diagonal().mean();
-        c.compute(K);
-      }
-    }
+    if (!chord) factorNewton(ev, F, c);
     lastChord = chord;
     Fprev = F;
-    const VectorXd Kg0 = c.solve(gF), K10 = c.solve(VectorXd::Ones(f));
-    std::vector<int> fixed;  // positions in F
-    std::vector<char> isFixed(f, 0);
-    VectorXd d = VectorXd::Zero(m);
-    for (int pass = 0; pass < 8; ++pass) {
-      VectorXd Kg = Kg0, K1 = K10;
-      if (!fixed.empty()) {
-        const int r = static_cast<int>(fixed.size());
-        MatrixXd E = MatrixXd::Zero(f, r);
-        for (int q = 0; q < r; ++q) E(fixed[q], q) = 1.0;
-        const MatrixXd KE = c.solve(E);
-        MatrixXd C(r, r);
-        VectorXd eg(r), e1(r);
-        for (int q = 0; q < r; ++q) {
-          C.row(q) = KE.row(fixed[q]);
-          eg[q] = Kg0[fixed[q]];
-          e1[q] = K10[fixed[q]];
-        }
-        const Eigen::LDLT<MatrixXd> cC(0.5 * (C + C.transpose()));
-        Kg -= KE * cC.solve(eg);
-        K1 -= KE * cC.solve(e1);
-        for (int q : fixed) Kg[q] = K1[q] = 0;
-      }
-      const double l = Kg.sum() / K1.sum();
-      const VectorXd dF = Kg - l * K1;
-      d.setZero();
-      int added = 0;
-      for (int a = 0; a < f; ++a) {
-        if (isFixed[a]) continue;
-        d[F[a]] = dF[a];
-        if (x[F[a]] <= 0 && dF[a] < 0) {  // zero weights that would go negative stay at zero
-          isFixed[a] = 1;
-          fixed.push_back(a);
-          ++added;
-        }
-      }
-      if (added == 0) break;
-      d.setZero();
-    }
-    const double slope = ev.g.dot(d);
-    if (!(slope > 0)) break;  // no ascent left at machine precision
-    // Projection arc (Bertsekas): x(a) = P_simplex-ish(x + a d) by clipping at zero, so
-    // several weights can reach zero in one step; Armijo test along the arc.
-    double a = 1.0;
-    bool accepted = false, evaluated = false;
-    for (int ls = 0; ls < 60 && !accepted; ++ls, a *= 0.5) {
-      VectorXd xt = (x + a * d).cwiseMax(0.0);
-      xt /= xt.sum();
-      const SmoothEval trial = evalSmooth(D, xt, p, false);
-      if (!trial.ok) continue;
-      const double pred = ev.g.dot(xt - x);
-      // Round-off dominates the Armijo test once steps are tiny: accept a non-decrease.
-      if (trial.F >= ev.F + 1e-4 * pred || (a < 1e-10 && trial.F >= ev.F)) {
-        x = xt;
-        accepted = true;
-      } else if (ls == 0 && pred <= 1e-9 * std::abs(ev.F)) {
-        // The full Newton step promises an increase of F below its round-off, so F can not
-        // rank the points; the certificate (the quantity that matters) can: take the step
-        // if it lowers bound / value.
-        SmoothEval full = evalSmooth(D, xt, p, true);
-        if (full.ok && full.g.maxCoeff() / xt.dot(full.g) < ratio) {
-          x = xt;
-          ev = std::move(full);
-          accepted = evaluated = true;
-        }
-      }
-    }
-    if (!accepted) break;
-    if (!evaluated) ev = evalSmooth(D, x, p, true);
-    if (!ev.ok) break;
+    const VectorXd d = newtonStep(c, ev, F, x);
+    if (!(ev.g.dot(d) > 0)) break;  // no ascent left at machine precision
+    if (!arcSearch(D, p, d, ratio, x, ev)) break;
   }
   return out;
 }

@@ -23,10 +23,10 @@ int omp_get_max_active_levels() __attribute__((weak));
 namespace {
 
 using mrpt::poses::CPose2D;
-using asf_sparse_lm::Kernel;
-using asf_sparse_lm::Method;
-using asf_sparse_lm::Options;
-using asf_sparse_lm::SparseSe2;
+using asf::sparse_lm::Kernel;
+using asf::sparse_lm::Method;
+using asf::sparse_lm::Options;
+using asf::sparse_lm::SparseSe2;
 
 std::shared_ptr<const asf::PluginInfo> loadPlugin(const std::string& file) {
   return asf::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
@@ -358,12 +358,12 @@ TEST(SparseLm, RobustCostAndWeightAreConsistent) {
   for (Kernel k : {Kernel::None, Kernel::Huber, Kernel::Cauchy, Kernel::Dcs})
     for (double s : {0.01, 0.5, 2.0, 9.0, 400.0}) {
       const double h = 1e-6 * s;
-      const double num = (asf_sparse_lm::robustCost(k, 1.5, s + h) -
-                          asf_sparse_lm::robustCost(k, 1.5, s - h)) / (2 * h);
-      EXPECT_NEAR(asf_sparse_lm::robustWeight(k, 1.5, s), num, 1e-6) << int(k) << " s " << s;
-      EXPECT_LE(asf_sparse_lm::robustCost(k, 1.5, s), s + 1e-12);
+      const double num = (asf::sparse_lm::robustCost(k, 1.5, s + h) -
+                          asf::sparse_lm::robustCost(k, 1.5, s - h)) / (2 * h);
+      EXPECT_NEAR(asf::sparse_lm::robustWeight(k, 1.5, s), num, 1e-6) << int(k) << " s " << s;
+      EXPECT_LE(asf::sparse_lm::robustCost(k, 1.5, s), s + 1e-12);
     }
-  EXPECT_EQ(asf_sparse_lm::robustCost(Kernel::Huber, 2, 3.0), 3.0);  // quadratic below delta^2
+  EXPECT_EQ(asf::sparse_lm::robustCost(Kernel::Huber, 2, 3.0), 3.0);  // quadratic below delta^2
 }
 
 TEST(SparseLm, SymbolicAnalysisIsReusedAndExtendedWhenTheGraphGrows) {

@@ -14,10 +14,10 @@
 
 namespace {
 
-using asf_sparse_lm::Kernel;
-using asf_sparse_lm::Options;
-using asf_sparse_lm::RobustEdges;
-using asf_sparse_lm::SparseSe2;
+using asf::sparse_lm::Kernel;
+using asf::sparse_lm::Options;
+using asf::sparse_lm::RobustEdges;
+using asf::sparse_lm::SparseSe2;
 using mrpt::poses::CPose2D;
 
 constexpr int kPerLap = 40, kLaps = 4;
@@ -174,7 +174,7 @@ TEST_P(SparseLmOutliers, DcsDisownsThirtyPercentWrongCrossEdges) {
       const auto& e = robust.edges[k];
       if (e.kind == asf::EdgeKind::Odometry) continue;
       const Eigen::Vector3d r = robust.edgeError(e);
-      const double weight = asf_sparse_lm::robustWeight(Kernel::Dcs, 2.8, r.dot(e.information * r));
+      const double weight = asf::sparse_lm::robustWeight(Kernel::Dcs, 2.8, r.dot(e.information * r));
       if (w < sc.wrong.size() && sc.wrong[w] == k) {
         ++w;
         EXPECT_LT(weight, 1e-3) << "false loop " << e.from << "-" << e.to;

@@ -32,26 +32,83 @@ using namespace detail;
 
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+struct Scored {
+  double cost, distance;
+  std::size_t index;
+  std::string label;
+};
+
+/// Why a request cannot be planned under criterion c; empty when it can.
+std::string requestProblem(const PlanRequest& req, Criterion c) {
+  if (!req.graph) return "no pose graph given";
+  const PoseGraph& g = *req.graph;
+  if (req.start >= g.size() || req.goal >= g.size())
+    return "node " + std::to_string(req.start >= g.size() ? req.start : req.goal) +
+           " does not exist (the graph has " + std::to_string(g.size()) + " nodes)";
+  if (c != Criterion::Distance && (!req.marginals || req.marginals->node.size() != g.size()))
+    return std::string(criterionName(c)) +
+           " needs the node marginal covariances (none given, or not one per node)";
+  return "";
+}
+
+/// The cheapest; costs within tie_tolerance (relative) of it are equally good, and the
+/// shortest of those (metres, then fewer nodes, then the first found) is chosen.
+const Scored& pickBest(const std::vector<Scored>& scored,
+                       const std::vector<std::vector<NodeId>>& paths, double tie_tolerance) {
+  double best = scored[0].cost;
+  for (const auto& sc : scored) best = std::min(best, sc.cost);
+  const double limit = best + tie_tolerance * std::abs(best);
+  const Scored* pick = nullptr;
+  for (const auto& sc : scored) {
+    if (!(sc.cost <= limit)) continue;
+    const auto& p = paths[sc.index];
+    if (!pick || sc.distance < pick->distance ||
+        (sc.distance == pick->distance && p.size() < paths[pick->index].size()))
+      pick = &sc;
+  }
+  return *pick;
+}
+
+/// What limited the search or the evaluation, for the planner's warning.
+std::string searchNote(const PathSearchResult& paths, const PathSearchOptions& search,
+                       bool out_of_time, std::size_t evaluated, std::size_t missing) {
+  std::string note;
+  if (paths.timed_out)
+    note += "path search stopped by the time budget (" + std::to_string(search.max_seconds) +
+            " s) after " + std::to_string(paths.paths.size()) + " paths; the best may be missing. ";
+  else if (paths.capped)
+    note += "path search capped at " + std::to_string(search.max_paths) +
+            " paths (reduced graph: " + std::to_string(paths.reduced_nodes) + " vertices, " +
+            std::to_string(paths.reduced_edges) + " edges); the best may be missing. ";
+  else if (paths.fell_back)
+    note += "enumeration given up past " + std::to_string(search.max_paths) + " simple routes or " +
+            std::to_string(std::max<std::size_t>(64 * search.max_paths, 4096)) +
+            " expansions (reduced graph: " + std::to_string(paths.reduced_nodes) + " vertices, " +
+            std::to_string(paths.reduced_edges) + " edges): Yen's " +
+            std::to_string(search.k_paths) + " shortest routes (and " +
+            std::to_string(paths.diverse_added) + " of the penalty method) evaluated instead. ";
+  if (out_of_time)
+    note += "time budget of " + std::to_string(search.max_seconds) + " s spent after " +
+            std::to_string(evaluated) + " of " + std::to_string(paths.paths.size()) +
+            " candidate paths; the best may be missing. ";
+  if (missing)
+    note += std::to_string(missing) +
+            " relocalization queries lacked a cross-covariance block (treated as zero).";
+  return note;
+}
+
+}  // namespace
+
 PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions& o,
                     const PathSearchOptions& search, std::string* note) {
   PlanResult res;
   res.criterion = criterionName(c);
-  if (!req.graph) {
-    res.reason = "no pose graph given";
-    return res;
-  }
+  res.reason = requestProblem(req, c);
+  if (!res.reason.empty()) return res;
   const PoseGraph& g = *req.graph;
-  if (req.start >= g.size() || req.goal >= g.size()) {
-    res.reason = "node " + std::to_string(req.start >= g.size() ? req.start : req.goal) +
-                 " does not exist (the graph has " + std::to_string(g.size()) + " nodes)";
-    return res;
-  }
   const bool needs_marginals = c != Criterion::Distance;
-  if (needs_marginals && (!req.marginals || req.marginals->node.size() != g.size())) {
-    res.reason = std::string(criterionName(c)) +
-                 " needs the node marginal covariances (none given, or not one per node)";
-    return res;
-  }
   // Partially explored maps: the virtual edges of the map's GVG.
   std::vector<gvg::VirtualEdge> virtual_edges;
   std::string voronoi_note;
@@ -76,11 +133,6 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
   std::size_t missing = 0, evaluated = 0;
   const auto t0 = std::chrono::steady_clock::now();
   bool out_of_time = false;
-  struct Scored {
-    double cost, distance;
-    std::size_t index;
-    std::string label;
-  };
   std::vector<Scored> scored;
   for (std::size_t i = 0; i < paths.paths.size(); ++i) {
     const auto& p = paths.paths[i];
@@ -102,51 +154,14 @@ PlanResult planBest(const PlanRequest& req, Criterion c, const CriterionOptions&
     }
     scored.push_back({pc.cost, distance, i, pc.label});
   }
-  // The cheapest; costs within tie_tolerance (relative) of it are equally good, and the
-  // shortest of those (metres, then fewer nodes, then the first found) is chosen.
   if (!scored.empty()) {
-    double best = scored[0].cost;
-    for (const auto& sc : scored) best = std::min(best, sc.cost);
-    const double limit = best + o.tie_tolerance * std::abs(best);
-    const Scored* pick = nullptr;
-    for (const auto& sc : scored) {
-      if (!(sc.cost <= limit)) continue;
-      const auto& p = paths.paths[sc.index];
-      if (!pick || sc.distance < pick->distance ||
-          (sc.distance == pick->distance && p.size() < paths.paths[pick->index].size()))
-        pick = &sc;
-    }
+    const Scored& pick = pickBest(scored, paths.paths, o.tie_tolerance);
     res.found = true;
-    res.cost = pick->cost;
-    res.nodes = paths.paths[pick->index];
-    res.criterion = pick->label;
+    res.cost = pick.cost;
+    res.nodes = paths.paths[pick.index];
+    res.criterion = pick.label;
   }
-  if (note) {
-    *note = voronoi_note;
-    if (paths.timed_out)
-      *note += "path search stopped by the time budget (" + std::to_string(search.max_seconds) +
-               " s) after " + std::to_string(paths.paths.size()) +
-               " paths; the best may be missing. ";
-    else if (paths.capped)
-      *note += "path search capped at " + std::to_string(search.max_paths) +
-               " paths (reduced graph: " + std::to_string(paths.reduced_nodes) + " vertices, " +
-               std::to_string(paths.reduced_edges) + " edges); the best may be missing. ";
-    else if (paths.fell_back)
-      *note += "enumeration given up past " + std::to_string(search.max_paths) +
-               " simple routes or " +
-               std::to_string(std::max<std::size_t>(64 * search.max_paths, 4096)) +
-               " expansions (reduced graph: " + std::to_string(paths.reduced_nodes) +
-               " vertices, " + std::to_string(paths.reduced_edges) + " edges): Yen's " +
-               std::to_string(search.k_paths) + " shortest routes (and " +
-               std::to_string(paths.diverse_added) + " of the penalty method) evaluated instead. ";
-    if (out_of_time)
-      *note += "time budget of " + std::to_string(search.max_seconds) + " s spent after " +
-               std::to_string(evaluated) + " of " + std::to_string(paths.paths.size()) +
-               " candidate paths; the best may be missing. ";
-    if (missing)
-      *note += std::to_string(missing) +
-               " relocalization queries lacked a cross-covariance block (treated as zero).";
-  }
+  if (note) *note = voronoi_note + searchNote(paths, search, out_of_time, evaluated, missing);
   return res;
 }
 

@@ -453,6 +453,105 @@ PathSearchResult searchPaths(const PoseGraph& g, NodeId start, NodeId goal,
 
 namespace {
 
+using Route = std::vector<std::pair<std::size_t, bool>>;  // reduced edges taken, forward?
+
+/// Depth-first enumeration of the simple routes. search = auto gives up (for Yen's) once it
+/// has more than max_paths routes or has spent 64 x max_paths expansions: a loopy graph can
+/// hide few routes in a huge search tree (out.fell_back, and no routes).
+std::vector<Route> enumerateRoutes(const SearchGraph& sg, const PathSearchOptions& o,
+                                   PathSearchResult& out) {
+  const std::size_t nv = sg.members.size();
+  std::vector<Route> routes;
+  const bool automatic = o.method == SearchMethod::Auto;
+  const std::size_t max_expansions = automatic ? std::max<std::size_t>(64 * o.max_paths, 4096) : 0;
+  std::vector<std::vector<std::pair<std::size_t, bool>>> inc(nv);
+  for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i) {
+    inc[sg.reduced.edges[i].a].emplace_back(i, true);
+    inc[sg.reduced.edges[i].b].emplace_back(i, false);
+  }
+  std::vector<char> on_path(nv, 0);
+  Route stack;
+  bool stop = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::size_t expansions = 0;
+  std::function<void(NodeId)> dfs = [&](NodeId v) {
+    if (stop) return;
+    ++expansions;
+    if (o.max_seconds > 0 && (expansions & 4095) == 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
+            o.max_seconds) {
+      out.timed_out = true;
+      stop = true;
+      return;
+    }
+    if (automatic && expansions > max_expansions) {
+      out.fell_back = true;
+      stop = true;
+      return;
+    }
+    if (v == sg.goal) {
+      if (routes.size() >= o.max_paths) {
+        if (automatic)
+          out.fell_back = true;
+        else
+          out.capped = true;
+        stop = true;
+        return;
+      }
+      routes.push_back(stack);
+      return;
+    }
+    on_path[v] = 1;
+    for (const auto& [i, fwd] : inc[v]) {
+      const NodeId w = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
+      if (on_path[w]) continue;
+      stack.emplace_back(i, fwd);
+      dfs(w);
+      stack.pop_back();
+      if (stop) break;
+    }
+    on_path[v] = 0;
+  };
+  dfs(sg.start);
+  if (automatic && out.timed_out) out.fell_back = true;
+  if (out.timed_out && !automatic) out.capped = true;
+  if (out.fell_back) {
+    routes.clear();
+    out.timed_out = false;
+  }
+  return routes;
+}
+
+/// Yen's k shortest simple routes, plus the penalty method's diverse ones.
+std::vector<Route> yenRoutes(const SearchGraph& sg, const PathSearchOptions& o,
+                             PathSearchResult& out) {
+  const std::size_t nv = sg.members.size();
+  std::vector<WeightedEdge> we;
+  for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i)
+    we.push_back({sg.reduced.edges[i].a, sg.reduced.edges[i].b, sg.length[i]});
+  auto edge_paths = kShortestSimplePaths(nv, we, sg.start, sg.goal, o.k_paths);
+  if (o.diverse_paths > 0) {
+    std::set<std::vector<std::size_t>> have(edge_paths.begin(), edge_paths.end());
+    for (auto& p : diversePaths(nv, we, sg.start, sg.goal, o.diverse_paths, o.diverse_penalty))
+      if (have.insert(p).second) {
+        edge_paths.push_back(std::move(p));
+        ++out.diverse_added;
+      }
+  }
+  std::vector<Route> routes;
+  for (const auto& p : edge_paths) {
+    Route r;
+    NodeId at = sg.start;
+    for (std::size_t i : p) {
+      const bool fwd = sg.reduced.edges[i].a == at;
+      r.emplace_back(i, fwd);
+      at = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
+    }
+    routes.push_back(std::move(r));
+  }
+  return routes;
+}
+
 PathSearchResult searchPathsImpl(const PoseGraph& g, NodeId start, NodeId goal,
                                  const PathSearchOptions& o, std::size_t first_virtual) {
   checkNodes(g, start, goal);
@@ -467,96 +566,13 @@ PathSearchResult searchPathsImpl(const PoseGraph& g, NodeId start, NodeId goal,
   out.reduced_nodes = sg.reduced.kept.size();
   out.reduced_edges = sg.reduced.edges.size();
   out.merged_vertices = sg.merged_vertices;
-  const std::size_t nv = sg.members.size();
-  std::vector<std::vector<std::pair<std::size_t, bool>>> routes;  // reduced edges taken
-
-  if (o.method != SearchMethod::Yen) {
-    // Depth-first enumeration of the simple routes. search = auto gives up (for Yen's) once
-    // it has more than max_paths routes or has spent 64 x max_paths expansions: a loopy
-    // graph can hide few routes in a huge search tree.
-    const bool automatic = o.method == SearchMethod::Auto;
-    const std::size_t max_expansions =
-        automatic ? std::max<std::size_t>(64 * o.max_paths, 4096) : 0;
-    std::vector<std::vector<std::pair<std::size_t, bool>>> inc(nv);
-    for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i) {
-      inc[sg.reduced.edges[i].a].emplace_back(i, true);
-      inc[sg.reduced.edges[i].b].emplace_back(i, false);
-    }
-    std::vector<char> on_path(nv, 0);
-    std::vector<std::pair<std::size_t, bool>> stack;
-    bool stop = false;
-    const auto t0 = std::chrono::steady_clock::now();
-    std::size_t expansions = 0;
-    std::function<void(NodeId)> dfs = [&](NodeId v) {
-      if (stop) return;
-      ++expansions;
-      if (o.max_seconds > 0 && (expansions & 4095) == 0 &&
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() >
-              o.max_seconds) {
-        out.timed_out = true;
-        stop = true;
-        return;
-      }
-      if (automatic && expansions > max_expansions) {
-        out.fell_back = true;
-        stop = true;
-        return;
-      }
-      if (v == sg.goal) {
-        if (routes.size() >= o.max_paths) {
-          if (automatic)
-            out.fell_back = true;
-          else
-            out.capped = true;
-          stop = true;
-          return;
-        }
-        routes.push_back(stack);
-        return;
-      }
-      on_path[v] = 1;
-      for (const auto& [i, fwd] : inc[v]) {
-        const NodeId w = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
-        if (on_path[w]) continue;
-        stack.emplace_back(i, fwd);
-        dfs(w);
-        stack.pop_back();
-        if (stop) break;
-      }
-      on_path[v] = 0;
-    };
-    dfs(sg.start);
-    if (automatic && out.timed_out) out.fell_back = true;
-    if (out.timed_out && !automatic) out.capped = true;
-    if (out.fell_back) {
-      routes.clear();
-      out.timed_out = false;
-    }
-  }
+  std::vector<Route> routes;
+  if (o.method != SearchMethod::Yen) routes = enumerateRoutes(sg, o, out);
   if (o.method == SearchMethod::Yen || out.fell_back) {
     out.method = SearchMethod::Yen;
-    std::vector<WeightedEdge> we;
-    for (std::size_t i = 0; i < sg.reduced.edges.size(); ++i)
-      we.push_back({sg.reduced.edges[i].a, sg.reduced.edges[i].b, sg.length[i]});
-    auto edge_paths = kShortestSimplePaths(nv, we, sg.start, sg.goal, o.k_paths);
-    if (o.diverse_paths > 0) {
-      std::set<std::vector<std::size_t>> have(edge_paths.begin(), edge_paths.end());
-      for (auto& p : diversePaths(nv, we, sg.start, sg.goal, o.diverse_paths, o.diverse_penalty))
-        if (have.insert(p).second) {
-          edge_paths.push_back(std::move(p));
-          ++out.diverse_added;
-        }
-    }
-    for (const auto& p : edge_paths) {
-      std::vector<std::pair<std::size_t, bool>> r;
-      NodeId at = sg.start;
-      for (std::size_t i : p) {
-        const bool fwd = sg.reduced.edges[i].a == at;
-        r.emplace_back(i, fwd);
-        at = fwd ? sg.reduced.edges[i].b : sg.reduced.edges[i].a;
-      }
-      routes.push_back(std::move(r));
-    }
+    std::vector<Route> yen = yenRoutes(sg, o, out);
+    routes.insert(routes.end(), std::make_move_iterator(yen.begin()),
+                  std::make_move_iterator(yen.end()));
   }
   std::set<std::vector<NodeId>> seen;
   for (const auto& r : routes) {

@@ -1,15 +1,15 @@
 // The generalized Voronoi graph of an occupancy grid (raster: clearance by exact distance
-// transform, Guo-Hall thinning, corner spurs pruned) and the virtual edges it adds to a pose graph in a
-// partially explored map (thesis section 3.6).
+// transform, Guo-Hall thinning, corner spurs pruned) and the virtual edges it adds to a pose graph
+// in a partially explored map (thesis section 3.6).
 #include <asf/errors.h>
 #include <asf/voronoi_graph.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <numeric>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -40,22 +40,23 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 std::size_t Gvg::junctions() const {
-  return static_cast<std::size_t>(
-      std::count_if(vertices.begin(), vertices.end(), [](const Vertex& v) { return v.degree >= 3; }));
+  return static_cast<std::size_t>(std::count_if(vertices.begin(), vertices.end(),
+                                                [](const Vertex& v) { return v.degree >= 3; }));
 }
 std::size_t Gvg::ends() const {
-  return static_cast<std::size_t>(
-      std::count_if(vertices.begin(), vertices.end(), [](const Vertex& v) { return v.degree == 1; }));
+  return static_cast<std::size_t>(std::count_if(vertices.begin(), vertices.end(),
+                                                [](const Vertex& v) { return v.degree == 1; }));
 }
 Eigen::Vector2d Gvg::cellCentre(int index) const {
-  return {origin_x + (index % width + 0.5) * resolution, origin_y + (index / width + 0.5) * resolution};
+  return {origin_x + (index % width + 0.5) * resolution,
+          origin_y + (index / width + 0.5) * resolution};
 }
 
 namespace {
 
 /// Padded working raster: cell (cx, cy) of the grid is (cx + 1, cy + 1) here.
 struct Work {
-  int W = 0, H = 0;              ///< padded size
+  int W = 0, H = 0;                ///< padded size
   std::vector<std::uint8_t> free;  ///< p(free) > threshold
   std::vector<std::uint8_t> skel;
   int padded(int grid_index, int grid_w) const {
@@ -115,20 +116,10 @@ void pruneCornerSpurs(std::vector<std::uint8_t>& s, const std::vector<float>& D,
   (void)H;
 }
 
-Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
-  if (!map.grid) throw Error("GVG: the map has no grid");
-  if (!(o.free_threshold >= 0 && o.free_threshold < 1))
-    throw Error("GVG: free_threshold must be in [0, 1)");
-  if (!(o.clearance >= 0)) throw Error("GVG: clearance must be >= 0");
-  const auto& grid = *map.grid;
-  out.width = static_cast<int>(grid.getSizeX());
-  out.height = static_cast<int>(grid.getSizeY());
-  out.resolution = grid.getResolution();
-  out.origin_x = grid.getXMin();
-  out.origin_y = grid.getYMin();
-  Work w;
-  w.W = out.width + 2;
-  w.H = out.height + 2;
+/// The free cells and the pruned medial axis of the cells farther than the clearance from
+/// every non-free cell centre, on the padded raster.
+void skeletonCells(const mrpt::maps::COccupancyGridMap2D& grid, const GvgOptions& o, const Gvg& out,
+                   Work& w) {
   const int N = w.W * w.H;
   w.free.assign(N, 0);
   cv::Mat free255(w.H, w.W, CV_8U, cv::Scalar(0));
@@ -148,16 +139,18 @@ Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
     if (w.free[i] && d0.ptr<float>()[i] > limit) core.data[i] = 255;
   cv::Mat d1;
   cv::distanceTransform(core, d1, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  std::vector<std::uint8_t> mask(core.data, core.data + N);
   std::vector<float> clearance(d1.ptr<float>(), d1.ptr<float>() + N);
   cv::Mat thin;
   cv::ximgproc::thinning(core, thin, cv::ximgproc::THINNING_GUOHALL);
   w.skel.assign(N, 0);
   for (int i = 0; i < N; ++i) w.skel[i] = thin.data[i] ? 1 : 0;
   pruneCornerSpurs(w.skel, clearance, w.W, w.H);
+}
 
-  // The readable graph: vertices = 8-connected clusters of cells of degree != 2.
-  const Ring ring(w.W);
+/// The readable graph's vertices: 8-connected clusters of skeleton cells of degree != 2.
+/// Returns each padded cell's vertex (-1: none); fills the skeleton image and its count.
+std::vector<int> clusterVertices(const Work& w, const Ring& ring, Gvg& out) {
+  const int N = w.W * w.H;
   out.skeleton.assign(static_cast<std::size_t>(out.width) * out.height, 0);
   std::vector<int> deg(N, 0), vertex(N, -1);
   for (int i = 0; i < N; ++i) {
@@ -186,23 +179,31 @@ Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
     }
     std::sort(out.vertices[id].cells.begin(), out.vertices[id].cells.end());
   }
-  std::vector<std::uint8_t> visited(N, 0);
-  auto step = [&](int a, int b) {
-    return (a - b == 1 || b - a == 1 || a - b == w.W || b - a == w.W ? 1.0 : M_SQRT2) *
-           out.resolution;
-  };
-  auto addEdge = [&](int va, const std::vector<int>& cells, int vb) {
-    Gvg::Edge e;
-    e.a = va;
-    e.b = vb;
-    for (std::size_t t = 1; t < cells.size(); ++t) e.length += step(cells[t - 1], cells[t]);
-    // A two-cell detour around a junction's own cells is thinning residue, not a loop.
-    if (va == vb && cells.size() < 5) return;
-    for (int c : cells) e.cells.push_back(w.unpadded(c, out.width));
-    ++out.vertices[va].degree;
-    ++out.vertices[vb].degree;
-    out.edges.push_back(std::move(e));
-  };
+  return vertex;
+}
+
+void addSkeletonEdge(const Work& w, Gvg& out, int va, const std::vector<int>& cells, int vb) {
+  Gvg::Edge e;
+  e.a = va;
+  e.b = vb;
+  for (std::size_t t = 1; t < cells.size(); ++t) {
+    const int a = cells[t - 1], b = cells[t];
+    e.length +=
+        (a - b == 1 || b - a == 1 || a - b == w.W || b - a == w.W ? 1.0 : M_SQRT2) * out.resolution;
+  }
+  // A two-cell detour around a junction's own cells is thinning residue, not a loop.
+  if (va == vb && cells.size() < 5) return;
+  for (int c : cells) e.cells.push_back(w.unpadded(c, out.width));
+  ++out.vertices[va].degree;
+  ++out.vertices[vb].degree;
+  out.edges.push_back(std::move(e));
+}
+
+/// The edges: chains of degree-2 cells from a vertex to a vertex (`visited` marks their
+/// cells).
+void traceEdges(const Work& w, const Ring& ring, const std::vector<int>& vertex,
+                std::vector<std::uint8_t>& visited, Gvg& out) {
+  const int N = w.W * w.H;
   for (int i = 0; i < N; ++i) {
     if (!w.skel[i] || vertex[i] < 0) continue;
     for (int k = 0; k < 8; ++k) {
@@ -229,10 +230,15 @@ Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
           cur = next;
         }
       }
-      if (end >= 0) addEdge(vertex[i], cells, vertex[end]);
+      if (end >= 0) addSkeletonEdge(w, out, vertex[i], cells, vertex[end]);
     }
   }
-  // Closed loops without any vertex: one vertex on the loop (its smallest cell).
+}
+
+/// Closed loops without any vertex: one vertex on the loop (its smallest cell).
+void closeLoops(const Work& w, const Ring& ring, std::vector<int>& vertex,
+                std::vector<std::uint8_t>& visited, Gvg& out) {
+  const int N = w.W * w.H;
   for (int i = 0; i < N; ++i) {
     if (!w.skel[i] || vertex[i] >= 0 || visited[i]) continue;
     const int id = static_cast<int>(out.vertices.size());
@@ -255,8 +261,30 @@ Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
       cur = next;
     }
     visited[i] = 1;
-    if (cells.size() > 2 && cells.back() == i) addEdge(id, cells, id);
+    if (cells.size() > 2 && cells.back() == i) addSkeletonEdge(w, out, id, cells, id);
   }
+}
+
+Work skeletonOf(const GridMap& map, const GvgOptions& o, Gvg& out) {
+  if (!map.grid) throw Error("GVG: the map has no grid");
+  if (!(o.free_threshold >= 0 && o.free_threshold < 1))
+    throw Error("GVG: free_threshold must be in [0, 1)");
+  if (!(o.clearance >= 0)) throw Error("GVG: clearance must be >= 0");
+  const auto& grid = *map.grid;
+  out.width = static_cast<int>(grid.getSizeX());
+  out.height = static_cast<int>(grid.getSizeY());
+  out.resolution = grid.getResolution();
+  out.origin_x = grid.getXMin();
+  out.origin_y = grid.getYMin();
+  Work w;
+  w.W = out.width + 2;
+  w.H = out.height + 2;
+  skeletonCells(grid, o, out, w);
+  const Ring ring(w.W);
+  std::vector<int> vertex = clusterVertices(w, ring, out);
+  std::vector<std::uint8_t> visited(static_cast<std::size_t>(w.W) * w.H, 0);
+  traceEdges(w, ring, vertex, visited, out);
+  closeLoops(w, ring, vertex, visited, out);
   for (auto& v : out.vertices) {
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
     for (int cell : v.cells) c += out.cellCentre(cell);
@@ -300,33 +328,18 @@ Eigen::Matrix3d driveCovariance(const mrpt::poses::CPose2D& from, const mrpt::po
   return 0.5 * (r + r.transpose());
 }
 
-}  // namespace
+double stepLength(int k, double res) { return (k % 2 ? M_SQRT2 : 1.0) * res; }
 
-Gvg computeGvg(const GridMap& map, const GvgOptions& o) {
-  Gvg out;
-  skeletonOf(map, o, out);
-  return out;
-}
-
-VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
-                                 const VirtualEdgeOptions& o) {
-  if (!(o.attach_radius >= 0)) throw Error("virtual edges: attach_radius must be >= 0");
-  if (!(o.detour >= 1)) throw Error("virtual edges: detour must be >= 1");
-  if (!(o.covariance_scale > 0)) throw Error("virtual edges: covariance_scale must be > 0");
-  if (!(o.odometry_step >= 0)) throw Error("virtual edges: odometry_step must be >= 0");
-  VirtualEdges out;
-  const Work w = skeletonOf(map, o.gvg, out.gvg);
+/// Attaches each node to the skeleton: a geodesic search through free cells from the node's
+/// cell, up to attach_radius (attach_cell, attach_distance, attached).
+void attachNodes(const PoseGraph& g, const Work& w, const Ring& ring, double attach_radius,
+                 VirtualEdges& out) {
   const Gvg& gvg = out.gvg;
-  const Ring ring(w.W);
-  const int N = w.W * w.H;
   const double res = gvg.resolution;
-  auto stepLength = [&](int k) { return (k % 2 ? M_SQRT2 : 1.0) * res; };
   const std::size_t n = g.size();
   out.attach_cell.assign(n, -1);
   out.attach_distance.assign(n, kInf);
-
-  // Attach: geodesic search through free cells from each node's cell, up to attach_radius.
-  std::vector<double> dist(N, kInf);
+  std::vector<double> dist(static_cast<std::size_t>(w.W) * w.H, kInf);
   std::vector<int> touched;
   using Item = std::pair<double, int>;
   for (std::size_t v = 0; v < n; ++v) {
@@ -353,27 +366,34 @@ VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
       for (int k = 0; k < 8; ++k) {
         const int j = c + ring.offset[k];
         if (!w.free[j]) continue;  // the node's own cell may be non-free; the rest may not
-        if (k % 2) {  // no diagonal squeeze between two non-free cells
+        if (k % 2) {               // no diagonal squeeze between two non-free cells
           const int a = c + ring.offset[k - 1], b = c + ring.offset[(k + 1) % 8];
           if (!w.free[a] && !w.free[b]) continue;
         }
-        const double nd = d + stepLength(k);
-        if (nd > o.attach_radius + 1e-9 || nd >= dist[j]) continue;
+        const double nd = d + stepLength(k, res);
+        if (nd > attach_radius + 1e-9 || nd >= dist[j]) continue;
         if (dist[j] == kInf) touched.push_back(j);
         dist[j] = nd;
         open.emplace(nd, j);
       }
     }
   }
+}
 
-  // Ports: attach cells; representative = shortest leg, then smallest id.
+/// Candidate pairs of attached nodes and their length along the skeleton: nodes sharing an
+/// attach cell (a port; its representative is the node with the shortest leg, then the
+/// smallest id), and ports whose regions along the skeleton touch.
+std::map<std::pair<NodeId, NodeId>, double> skeletonPairs(const Work& w, const Ring& ring,
+                                                          const VirtualEdges& out) {
+  const Gvg& gvg = out.gvg;
+  const double res = gvg.resolution;
+  const int N = w.W * w.H;
   std::map<int, std::vector<NodeId>> port_nodes;  // padded cell -> nodes
-  for (std::size_t v = 0; v < n; ++v)
+  for (std::size_t v = 0; v < out.attach_cell.size(); ++v)
     if (out.attach_cell[v] >= 0)
       port_nodes[w.padded(out.attach_cell[v], gvg.width)].push_back(static_cast<NodeId>(v));
   std::vector<int> port_cell;
   std::vector<NodeId> rep;
-  std::vector<std::pair<NodeId, NodeId>> pairs;  // candidate pairs
   std::map<std::pair<NodeId, NodeId>, double> skel_len;
   for (const auto& [cell, nodes] : port_nodes) {
     NodeId r = nodes[0];
@@ -387,28 +407,26 @@ VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
   // Regions of the ports along the skeleton; ports whose regions touch are joined.
   std::vector<double> sd(N, kInf);
   std::vector<int> owner(N, -1);
-  {
-    std::priority_queue<std::tuple<double, int, int>, std::vector<std::tuple<double, int, int>>,
-                        std::greater<>>
-        open;
-    for (std::size_t p = 0; p < port_cell.size(); ++p) {
-      sd[port_cell[p]] = 0;
-      owner[port_cell[p]] = static_cast<int>(p);
-      open.emplace(0.0, static_cast<int>(p), port_cell[p]);
-    }
-    while (!open.empty()) {
-      const auto [d, p, c] = open.top();
-      open.pop();
-      if (d > sd[c] || owner[c] != p) continue;
-      for (int k = 0; k < 8; ++k) {
-        const int j = c + ring.offset[k];
-        if (!w.skel[j]) continue;
-        const double nd = d + stepLength(k);
-        if (nd < sd[j] || (nd == sd[j] && p < owner[j])) {
-          sd[j] = nd;
-          owner[j] = p;
-          open.emplace(nd, p, j);
-        }
+  std::priority_queue<std::tuple<double, int, int>, std::vector<std::tuple<double, int, int>>,
+                      std::greater<>>
+      open;
+  for (std::size_t p = 0; p < port_cell.size(); ++p) {
+    sd[port_cell[p]] = 0;
+    owner[port_cell[p]] = static_cast<int>(p);
+    open.emplace(0.0, static_cast<int>(p), port_cell[p]);
+  }
+  while (!open.empty()) {
+    const auto [d, p, c] = open.top();
+    open.pop();
+    if (d > sd[c] || owner[c] != p) continue;
+    for (int k = 0; k < 8; ++k) {
+      const int j = c + ring.offset[k];
+      if (!w.skel[j]) continue;
+      const double nd = d + stepLength(k, res);
+      if (nd < sd[j] || (nd == sd[j] && p < owner[j])) {
+        sd[j] = nd;
+        owner[j] = p;
+        open.emplace(nd, p, j);
       }
     }
   }
@@ -419,7 +437,7 @@ VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
       if (!w.skel[j] || owner[j] < 0 || owner[j] == owner[c]) continue;
       const NodeId a = rep[owner[c]], b = rep[owner[j]];
       const std::pair<NodeId, NodeId> key{std::min(a, b), std::max(a, b)};
-      const double len = sd[c] + stepLength(k) + sd[j];
+      const double len = sd[c] + stepLength(k, res) + sd[j];
       auto it = skel_len.find(key);
       if (it == skel_len.end())
         skel_len.emplace(key, len);
@@ -427,56 +445,93 @@ VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
         it->second = std::min(it->second, len);
     }
   }
-  out.candidates = skel_len.size();
+  return skel_len;
+}
 
-  // The pose graph's own connections: direct edges and bounded Dijkstra (metres).
-  std::vector<std::vector<NodeId>> adj(n);
-  std::set<std::pair<NodeId, NodeId>> direct;
-  for (const auto& e : g.edges) {
-    if (e.from == e.to || e.from >= n || e.to >= n) continue;
-    adj[e.from].push_back(e.to);
-    adj[e.to].push_back(e.from);
-    direct.insert({std::min(e.from, e.to), std::max(e.from, e.to)});
+/// The pose graph's own connections: direct edges, and a Dijkstra (metres between node
+/// positions) bounded by a length.
+class GraphDistance {
+ public:
+  explicit GraphDistance(const PoseGraph& g) : g_(g), adj_(g.size()), gd_(g.size(), kInf) {
+    const std::size_t n = g.size();
+    for (const auto& e : g.edges) {
+      if (e.from == e.to || e.from >= n || e.to >= n) continue;
+      adj_[e.from].push_back(e.to);
+      adj_[e.to].push_back(e.from);
+      direct_.insert({std::min(e.from, e.to), std::max(e.from, e.to)});
+    }
   }
-  auto planar = [&](NodeId a, NodeId b) {
-    return std::hypot(g.nodes[a].pose.x() - g.nodes[b].pose.x(),
-                      g.nodes[a].pose.y() - g.nodes[b].pose.y());
-  };
-  std::vector<double> gd(n, kInf);
-  std::vector<NodeId> gtouched;
-  auto graphWithin = [&](NodeId a, NodeId b, double bound) {
-    for (NodeId v : gtouched) gd[v] = kInf;
-    gtouched.clear();
+  bool direct(const std::pair<NodeId, NodeId>& key) const { return direct_.count(key) > 0; }
+  /// True if b is within `bound` metres of a through the graph.
+  bool within(NodeId a, NodeId b, double bound) {
+    for (NodeId v : touched_) gd_[v] = kInf;
+    touched_.clear();
     std::priority_queue<std::pair<double, NodeId>, std::vector<std::pair<double, NodeId>>,
                         std::greater<>>
         open;
-    gd[a] = 0;
-    gtouched.push_back(a);
+    gd_[a] = 0;
+    touched_.push_back(a);
     open.emplace(0.0, a);
     while (!open.empty()) {
       const auto [d, v] = open.top();
       open.pop();
-      if (d > gd[v]) continue;
+      if (d > gd_[v]) continue;
       if (v == b) return true;
-      for (NodeId u : adj[v]) {
+      for (NodeId u : adj_[v]) {
         const double nd = d + planar(v, u);
-        if (nd > bound || nd >= gd[u]) continue;
-        if (gd[u] == kInf) gtouched.push_back(u);
-        gd[u] = nd;
+        if (nd > bound || nd >= gd_[u]) continue;
+        if (gd_[u] == kInf) touched_.push_back(u);
+        gd_[u] = nd;
         open.emplace(nd, u);
       }
     }
     return false;
-  };
+  }
+
+ private:
+  double planar(NodeId a, NodeId b) const {
+    return std::hypot(g_.nodes[a].pose.x() - g_.nodes[b].pose.x(),
+                      g_.nodes[a].pose.y() - g_.nodes[b].pose.y());
+  }
+  const PoseGraph& g_;
+  std::vector<std::vector<NodeId>> adj_;
+  std::set<std::pair<NodeId, NodeId>> direct_;
+  std::vector<double> gd_;
+  std::vector<NodeId> touched_;
+};
+
+}  // namespace
+
+Gvg computeGvg(const GridMap& map, const GvgOptions& o) {
+  Gvg out;
+  skeletonOf(map, o, out);
+  return out;
+}
+
+VirtualEdges computeVirtualEdges(const PoseGraph& g, const GridMap& map,
+                                 const VirtualEdgeOptions& o) {
+  if (!(o.attach_radius >= 0)) throw Error("virtual edges: attach_radius must be >= 0");
+  if (!(o.detour >= 1)) throw Error("virtual edges: detour must be >= 1");
+  if (!(o.covariance_scale > 0)) throw Error("virtual edges: covariance_scale must be > 0");
+  if (!(o.odometry_step >= 0)) throw Error("virtual edges: odometry_step must be >= 0");
+  VirtualEdges out;
+  const Work w = skeletonOf(map, o.gvg, out.gvg);
+  const Ring ring(w.W);
+  attachNodes(g, w, ring, o.attach_radius, out);
+  const auto skel_len = skeletonPairs(w, ring, out);
+  out.candidates = skel_len.size();
+  // A pair the pose graph already joins directly, or within `detour` times the virtual
+  // edge's length, needs no virtual edge.
+  GraphDistance graph(g);
   for (const auto& [key, sl] : skel_len) {
     const auto [a, b] = key;
-    if (direct.count(key)) continue;
+    if (graph.direct(key)) continue;
     VirtualEdge e;
     e.a = a;
     e.b = b;
     e.skeleton_length = sl;
     e.length = out.attach_distance[a] + sl + out.attach_distance[b];
-    if (graphWithin(a, b, o.detour * e.length + 1e-9)) continue;
+    if (graph.within(a, b, o.detour * e.length + 1e-9)) continue;
     e.covariance_ab = driveCovariance(g.nodes[a].pose, g.nodes[b].pose, e.length, o);
     e.covariance_ba = driveCovariance(g.nodes[b].pose, g.nodes[a].pose, e.length, o);
     out.edges.push_back(e);

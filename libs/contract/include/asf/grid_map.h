@@ -3,6 +3,7 @@
 /// The occupancy grid built from the pose graph (a framework service, see map_builder.h).
 #include <asf/geometry.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 
@@ -26,5 +27,16 @@ struct GridMap {
   /// True when known structure moved (loop closure -> rebuild), not only new cells.
   bool rebuilt = false;
 };
+
+/// What a cell of an occupancy grid is for driving, the one definition the policies'
+/// reachability (reachability.h) and the simulator's navigation use: an obstacle when
+/// p(occupied) = 1 - p(free) exceeds `occupied_threshold`, unknown (not known to be free;
+/// frontiers border it) when |p(free) - 0.5| is below `unknown_band`, free otherwise.
+enum CellState : std::uint8_t { kCellFree = 0, kCellUnknown = 1, kCellOccupied = 2 };
+inline CellState cellStateOf(double p_free, double occupied_threshold, double unknown_band) {
+  if (1.0 - p_free > occupied_threshold) return kCellOccupied;
+  if (std::abs(p_free - 0.5) < unknown_band) return kCellUnknown;
+  return kCellFree;
+}
 
 }  // namespace asf
