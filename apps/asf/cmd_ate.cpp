@@ -2,6 +2,7 @@
 // command behind the SLAM accuracy figures (asf's keyframes.txt, icp-slam's estimated path).
 #include <asf/abi.h>
 #include <asf/errors.h>
+#include <asf/rawlog_io.h>
 #include <asf/trajectory_eval.h>
 #include <tclap/CmdLine.h>
 

@@ -12,12 +12,9 @@
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "region_render.h"
+#include <asf/map_views.h>
 
 namespace asf {
 
@@ -49,9 +46,6 @@ json gridGeometry(const mrpt::maps::COccupancyGridMap2D& g) {
 void writeAtomically(const std::string& path, const std::string& text) {
   writeFileAtomically(path, text);
 }
-
-using render::MapImage;
-using render::renderGrid;
 
 }  // namespace
 
@@ -170,30 +164,7 @@ void Recorder::decision(long step, double time, const Decision& d, NavStatus pre
 void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
                              const Segmentation& seg, const TopoGraph& topo,
                              const std::vector<mrpt::poses::CPose2D>& path) {
-  if (!map.grid) return;
-  MapImage m = renderGrid(*map.grid);
-  auto drawPath = [&](MapImage& img) {
-    for (std::size_t i = 1; i < path.size(); ++i)
-      cv::line(img.img, img.px(path[i - 1].x(), path[i - 1].y()), img.px(path[i].x(), path[i].y()),
-               {200, 80, 0}, 1, cv::LINE_AA);
-  };
-  if (!seg.labels.labels.empty()) {
-    MapImage regions{m.img.clone(), m.x0, m.y0, m.res};
-    render::drawRegions(regions, seg.labels);
-    // topology.svg: the regions as the background, graph and trajectory as vectors.
-    std::vector<Point2> pts;
-    pts.reserve(path.size());
-    for (const auto& p : path) pts.push_back({p.x(), p.y()});
-    writeAtomically(prefix + "topology.svg", render::topologySvg(regions, regions.img, topo, pts));
-    drawPath(regions);
-    render::drawTopology(regions, topo);
-    if (!cv::imwrite(prefix + "regions.png", regions.img))
-      throw Error(prefix + "regions.png: cannot write");
-  }
-  drawPath(m);
-  for (const auto& n : graph.nodes)
-    cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
-  if (!cv::imwrite(prefix + "map.png", m.img)) throw Error(prefix + "map.png: cannot write");
+  asf::writeMapViews(prefix, graph, map, seg, topo, path);
 }
 
 void Recorder::snapshot(double distance, const PoseGraph& graph, const GridMap& map,
@@ -285,9 +256,7 @@ void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Par
   attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
   attempt("map3d.ot", [&] { map.writeOt(dir_ + "/map3d.ot"); });
   attempt("map3d_grid.png", [&] {
-    if (!projected.grid) return;
-    MapImage m = renderGrid(*projected.grid);
-    if (!cv::imwrite(dir_ + "/map3d_grid.png", m.img)) throw Error("cannot write");
+    if (projected.grid) writeGridPng(dir_ + "/map3d_grid.png", projected);
   });
   attempt("map3d.json", [&] {
     const Map3dStats st = map.stats();

@@ -13,8 +13,8 @@
 /// RawlogWriter writes action/sensory-frame pairs, one per SensorFrame, so a replayed stream
 /// equals the written one.
 ///
-/// Ground-truth files are text, one pose per line: `timestamp x y phi` (seconds, metres,
-/// radians); `#` starts a comment line.
+/// Ground-truth files: asf/ground_truth.h.
+#include <asf/ground_truth.h>
 #include <asf/map3d.h>
 #include <asf/odometry_noise.h>
 #include <asf/sensor_frame.h>
@@ -28,40 +28,10 @@
 
 namespace asf {
 
-struct GroundTruthPose {
-  double t = 0;
-  mrpt::poses::CPose2D pose;
-};
-
 /// The cause in one of MRPT's exception texts (nested "Exception while parsing typed object"
 /// frames around it, call traces, a "==== MRPT exception ====" banner), with the objects it
 /// happened in: "(EOF?) Cannot read ... (in CSensoryFrame > CObservation2DRangeScan)".
 std::string mrptExceptionCause(const std::string& what);
-
-/// Reads a ground-truth file. Throws asf::InputError naming the file and line on a bad line.
-/// Lines must have increasing timestamps.
-std::vector<GroundTruthPose> readGroundTruth(const std::string& path);
-
-/// Pose at time t by linear interpolation (angles on the circle) between the neighbouring
-/// lines; std::nullopt outside [first, last] or in a gap wider than max_gap seconds.
-/// A t within 1 us of a line (the resolution GT files are usually printed with) is that
-/// line's pose, also next to a gap or just past an end.
-std::optional<mrpt::poses::CPose2D> interpolateGroundTruth(const std::vector<GroundTruthPose>& gt,
-                                                           double t, double max_gap = 0.5);
-
-/// Writes a ground-truth file line by line (flushed as it goes, so a crash keeps the lines
-/// written so far).
-class GroundTruthWriter {
- public:
-  explicit GroundTruthWriter(const std::string& path);  ///< throws asf::InputError
-  ~GroundTruthWriter();
-  void write(double t, const mrpt::poses::CPose2D& pose);
-  void flush();
-
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-};
 
 struct RawlogReaderOptions {
   /// Which CObservation2DRangeScan to use, by sensorLabel. Empty: the first laser seen;

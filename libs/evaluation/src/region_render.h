@@ -1,6 +1,6 @@
 #pragma once
-// Drawing of grids, regions and topological graphs (private to the framework): shared by the
-// run recorder (map.png, regions.png) and asf segment / segment-eval overlays.
+// Drawing of grids, regions and topological graphs with OpenCV (private to asf::evaluation):
+// behind the run's map views (map_views.h) and the segmentation overlays.
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
 

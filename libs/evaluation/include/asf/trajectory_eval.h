@@ -2,7 +2,7 @@
 /// \file trajectory_eval.h
 /// Trajectory accuracy against ground truth: absolute trajectory error (ATE) after the rigid
 /// SE(2) alignment that minimises it, the measure SLAM papers and MRPT's tools report.
-#include <asf/rawlog_io.h>
+#include <asf/ground_truth.h>
 
 #include <mrpt/poses/CPose2D.h>
 
