@@ -8,7 +8,9 @@
 #      libasf_contract and none of them,
 #   3. runs the example's CTest tests (the conformance kit, run by the installed host),
 #   4. installs the example plugin into the same prefix and checks that the installed host
-#      (`asf plugins`) finds every installed plugin, the example's included.
+#      (`asf plugins`) finds every installed plugin, the example's included,
+#   5. builds a program against find_package(asf COMPONENTS graph) with the same packages
+#      hidden, checks it links libasf_graph and none of the runtime's libraries, and runs it.
 # Any failing step stops the script with a message naming it and a non-zero exit code.
 # Set ASF_KEEP_TMP=1 to keep the temporary folder for inspection.
 set -euo pipefail
@@ -117,6 +119,42 @@ for so in "${installed[@]}"; do
 done
 grep -q '"name": "nearest_region"' "$work/plugins.json" ||
   fail "asf plugins does not list the example plugin nearest_region"
+
+step "a program using the graph library alone (find_package(asf COMPONENTS graph))"
+graph_src="$work/graph-consumer"
+mkdir -p "$graph_src"
+cat >"$graph_src/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.16)
+project(graph_consumer CXX)
+set(CMAKE_CXX_STANDARD 17)
+find_package(asf REQUIRED COMPONENTS graph)
+add_executable(postman main.cpp)
+target_link_libraries(postman PRIVATE asf::graph)
+CMAKE
+cat >"$graph_src/main.cpp" <<'CPP'
+// A triangle with a pendant edge: the Chinese postman walk repeats the pendant edge.
+#include <asf/graph_routes.h>
+#include <iostream>
+int main() {
+  asf::graph::Multigraph g;
+  g.n = 4;
+  g.edges = {{0, 1}, {1, 2}, {2, 0}, {2, 3}};
+  std::cout << "postman length " << asf::graph::chinesePostman(g, 0).walk.length << "\n";
+}
+CPP
+cmake -S "$graph_src" -B "$work/graph-build" -DCMAKE_PREFIX_PATH="$prefix" \
+      --no-warn-unused-cli "${launcher[@]}" "${hide[@]}"
+cmake --build "$work/graph-build" -j2
+needed=$(readelf -d "$work/graph-build/postman" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
+echo "$needed"
+grep -q '^libasf_graph\.so' <<<"$needed" || fail "the graph program does not link libasf_graph"
+if grep -E '^lib(asf_framework|asf_evaluation|asf_planning|opencv|octomap|mrpt-(maps|obs|slam))' \
+     <<<"$needed"; then
+  fail "the graph program links more than the graph library and the contract (above)"
+fi
+out=$(LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" "$work/graph-build/postman")
+echo "$out"
+[[ "$out" == "postman length 5" ]] || fail "expected 'postman length 5', got '$out'"
 
 echo
 echo "install_example.sh: OK (${#installed[@]} installed plugins found by the installed host)"
