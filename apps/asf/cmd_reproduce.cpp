@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "commands.h"
-#include "reproduce.h"
+#include "reproduce_runner.h"
 
 namespace asf::app {
 

@@ -2,6 +2,8 @@
 // after the other, each an exec of asf), `jobs` cores at a time, ready stages started in
 // list order. A stage that finished writes OUT/<id>/done.json with the settings it depends on,
 // so a rerun under the same ones keeps it (resume after Ctrl-C or a failure).
+#include "reproduce_runner.h"
+
 #include <asf/errors.h>
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -15,12 +17,11 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
-#include "reproduce.h"
-
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -199,20 +200,6 @@ void printRunning(const std::vector<Stage>& stages, const Settings& s,
 
 }  // namespace
 
-std::string stageSettings(const Settings& s, const Stage& st) {
-  return "data=" + s.shared + (st.settings.empty() ? "" : " " + st.settings);
-}
-
-std::string recordedSettings(const Settings& s, const Stage& st) {
-  std::ifstream in(s.out + "/" + st.id + "/done.json");
-  if (!in) return "";
-  try {
-    return nlohmann::json::parse(in).value("settings", "");
-  } catch (const std::exception&) {
-    return "";
-  }
-}
-
 int interruptingSignal() { return g_interrupted; }
 
 std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s) {
@@ -308,4 +295,4 @@ std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s
   return res;
 }
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce

@@ -5,7 +5,7 @@
 
 #include "reproduce_collector.h"
 
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace {
 
@@ -121,4 +121,4 @@ Report collect(const Settings& s, const std::vector<Stage>& stages,
   return c.report;
 }
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce

@@ -1,16 +1,18 @@
 #pragma once
-// asf reproduce: the thesis' tables and figures of chapters 3-6 rerun by asf, one report.
-// The work is a list of stages (each one or more asf commands writing into its own folder),
-// run by a small scheduler (reproduce_runner.cpp) that resumes from the stages already done;
-// then every row (figure | thesis value | asf value | difference | note) is read back from
-// the stages' outputs (reproduce_rows.cpp) and written as report.md/.html/.json
-// (reproduce_report.cpp).
+/// \file reproduce.h
+/// `asf reproduce`: the thesis' tables and figures of chapters 3-6 rerun by asf, one report.
+/// The work is a list of stages (each one or more asf commands writing into its own folder,
+/// plan()), run by the host's scheduler (apps/asf/reproduce_runner.h: it starts the
+/// processes) that resumes from the stages already done (stageSettings, recordedSettings);
+/// then every row (figure | thesis value | asf value | difference | note) is read back from
+/// the stages' outputs (collect()) and written as report.md/.html/.json (write()).
+#include <cstddef>
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 /// What the command line chose; `fingerprint()` names it all (for the report), each stage
 /// records the part its results depend on (stageSettings).
@@ -49,9 +51,6 @@ struct Stage {
   std::string settings = "";
 };
 
-/// The signal (SIGINT, SIGTERM) that stopped the last run(); 0 when none did.
-int interruptingSignal();
-
 /// What a stage's done.json must record for it to be kept: the data folder and st.settings.
 std::string stageSettings(const Settings& s, const Stage& st);
 
@@ -67,11 +66,6 @@ struct StageResult {
 
 /// The stages of the reproduction under `s`.
 std::vector<Stage> plan(const Settings& s);
-
-/// Runs the stages not done yet, `s.jobs` cores at a time, each command's stderr in
-/// OUT/<id>/stage.log; prints progress to stderr. Ctrl-C stops the running stages and returns
-/// what finished. Results are in the order of `stages`.
-std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s);
 
 /// One line of the report.
 struct Row {
@@ -109,4 +103,4 @@ Report collect(const Settings& s, const std::vector<Stage>& stages,
 void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
            const std::vector<StageResult>& results);
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce

@@ -1,6 +1,7 @@
 #pragma once
 // Internal to `asf reproduce`: how the rows are collected (reproduce_rows*.cpp, one file per
 // chapter of the thesis) and the number formats they share.
+#include <asf/reproduce.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -9,12 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "reproduce.h"
-
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -112,4 +112,4 @@ void chapter3(Collector& c);
 void chapters4and5(Collector& c);
 void chapter6(Collector& c);
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce

@@ -7,7 +7,7 @@
 
 #include "reproduce_collector.h"
 
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace {
 
@@ -382,4 +382,4 @@ void chapters4and5(Collector& c) {
   figs511(c);
 }
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce

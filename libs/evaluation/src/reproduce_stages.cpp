@@ -4,18 +4,18 @@
 // with fewer start/goal pairs (the full sweep takes 100 min) and, under --quick, smoke-run
 // sizes.
 #include <asf/errors.h>
+#include <asf/reproduce.h>
 #include <asf/text.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
-#include "reproduce.h"
-
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace fs = std::filesystem;
 using Argv = std::vector<std::string>;
@@ -405,4 +405,18 @@ std::vector<Stage> plan(const Settings& s) {
           theoremStage(s)};
 }
 
-}  // namespace asf::app::reproduce
+std::string stageSettings(const Settings& s, const Stage& st) {
+  return "data=" + s.shared + (st.settings.empty() ? "" : " " + st.settings);
+}
+
+std::string recordedSettings(const Settings& s, const Stage& st) {
+  std::ifstream in(s.out + "/" + st.id + "/done.json");
+  if (!in) return "";
+  try {
+    return nlohmann::json::parse(in).value("settings", "");
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace asf::reproduce

@@ -2,7 +2,7 @@
 // 3.1-3.5 and Table 3.2.
 #include "reproduce_collector.h"
 
-namespace asf::app::reproduce {
+namespace asf::reproduce {
 
 namespace {
 
@@ -239,4 +239,4 @@ void chapter3(Collector& c) {
   table32(c);
 }
 
-}  // namespace asf::app::reproduce
+}  // namespace asf::reproduce
