@@ -58,7 +58,7 @@ int cmdOptimize(int argc, char** argv) {
   const Params params = setOverrides(set.getValue(), name, "back-end")
                             .resolve(name, info->descriptor->keys, info->descriptor->num_keys);
   auto be = Registry::create<Backend>(info);
-  logToStderr(*be, name);
+  logPluginToStderr(*be, name);
   be->configure(params, PluginContext{});
 
   PoseGraph g = readG2o(file.getValue());

@@ -245,10 +245,10 @@ int cmdPlan(int argc, char** argv) {
   PluginContext ctx;
   ctx.seed = seed.getValue();
   auto pl = Registry::create<Planner>(pinfo);
-  logToStderr(*pl, pinfo->name());
+  logPluginToStderr(*pl, pinfo->name());
   pl->configure(pparams, ctx);
   auto be = Registry::create<Backend>(binfo);
-  logToStderr(*be, binfo->name());
+  logPluginToStderr(*be, binfo->name());
   be->configure(
       Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys),
       PluginContext{});

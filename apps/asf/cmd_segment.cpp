@@ -42,7 +42,7 @@ struct SegmenterSetup {
 
   PluginHandle<Segmenter> create() const {
     auto s = Registry::create<Segmenter>(info);
-    logToStderr(*s, info->name());
+    logPluginToStderr(*s, info->name());
     s->configure(params, PluginContext{});
     return s;
   }

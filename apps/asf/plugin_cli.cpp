@@ -12,12 +12,6 @@ void scanPlugins(Registry& reg, const std::vector<std::string>& extra) {
   for (const auto& d : extra) reg.scanDirectory(d);
 }
 
-std::string lowercase(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
 IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& plugin,
                        const std::string& what, const std::vector<std::string>& extra_sections,
                        const std::string& hint) {
@@ -38,7 +32,5 @@ IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& 
   }
   return ini;
 }
-
-void logToStderr(Plugin& p, const std::string& name) { logPluginToStderr(p, name); }
 
 }  // namespace asf::app

@@ -4,6 +4,7 @@
 #include <asf/config.h>
 #include <asf/plugin.h>
 #include <asf/registry.h>
+#include <asf/text.h>
 
 #include <chrono>
 #include <string>
@@ -19,17 +20,10 @@ void scanPlugins(Registry& reg, const std::vector<std::string>& extra);
 /// else is a ConfigError "--set A: the <what> is 'plugin', not 'section'" followed by `hint`.
 /// Resolve the result with IniConfig::resolve, which reports unknown keys.
 IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& plugin,
-                       const std::string& what,
-                       const std::vector<std::string>& extra_sections = {},
+                       const std::string& what, const std::vector<std::string>& extra_sections = {},
                        const std::string& hint = "");
 
-/// The plugin's log lines go to stderr as "[name] message", not to the console logger.
-void logToStderr(Plugin& p, const std::string& name);
-
-std::string lowercase(std::string s);
-
-inline double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+// Plugin log lines on stderr: asf::logPluginToStderr (registry.h); lowercase and
+// secondsSince: asf/text.h.
 
 }  // namespace asf::app

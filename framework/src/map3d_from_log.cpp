@@ -18,10 +18,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 /// The robot pose of each observation: integrated odometry, or the ground truth.
 struct PoseSource {
   const std::vector<GroundTruthPose>& gt;

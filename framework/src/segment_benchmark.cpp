@@ -14,11 +14,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string lowercaseOf(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 /// What one map's scoring shares between its variants.
 struct MapContext {
   const std::string& name;
@@ -114,7 +109,7 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
     throw InputError(o.furnished_dir + ": no such folder (--furnished)");
   std::vector<std::string> names;
   for (const auto& e : fs::directory_iterator(o.plain_dir))
-    if (e.is_regular_file() && lowercaseOf(e.path().extension().string()) == ".png")
+    if (e.is_regular_file() && lowercase(e.path().extension().string()) == ".png")
       names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
   if (!only.empty()) {

@@ -210,10 +210,6 @@ std::optional<LaserLine> parseRobotLaser(const Tokens& tok, const CarmenToRawlog
   return l;
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 /// The laser stamps of a log (first pass): the laser message is the first FLASER or
 /// ROBOTLASER1; every message ends with "ipc_timestamp ipc_hostname logger_timestamp".
 struct StampSurvey {

@@ -1,5 +1,6 @@
 #include <asf/errors.h>
 #include <asf/rawlog_io.h>
+#include <asf/text.h>
 #include <asf_convert/rawseeds.h>
 #include <asf_convert/text_io.h>
 #include <mrpt/math/wrap2pi.h>
@@ -254,10 +255,6 @@ std::string percent(double p) {
   char b[16];
   std::snprintf(b, sizeof b, "%.0f%%", 100 * p);
   return b;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <asf/text.h>
 
+#include <cctype>
 #include <cstdio>
 #include <sstream>
 
@@ -47,6 +48,11 @@ std::string htmlEscape(const std::string& text) {
     }
   }
   return o;
+}
+
+std::string lowercase(std::string s) {
+  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
 }
 
 }  // namespace asf

@@ -15,6 +15,7 @@
 #include <asf/pose_graph.h>
 #include <asf/rawlog_io.h>
 #include <asf/registry.h>
+#include <asf/text.h>
 #include <asf/unreliable_zone.h>
 
 #include <Eigen/LU>
@@ -45,18 +46,6 @@ namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
-
-std::string lowercase(std::string s) {
-  for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// The plugins' log lines go to stderr: stdout stays the report.
-void logToStderr(Plugin& p, const std::string& name) { logPluginToStderr(p, name); }
 
 constexpr const char* kSection = "plan_eval";
 
@@ -345,7 +334,7 @@ void prepareScenario(Scenario& s, const RunData& run, const std::vector<char>& i
   const ZoneMaskOptions mo = maskOptionsFrom(p, s.factor);
   s.graph = maskZone(run.graph, in_zone, mo, run.log ? &*run.log : nullptr, &s.mask);
   auto be = Registry::create<Backend>(binfo);
-  logToStderr(*be, binfo->name());
+  logPluginToStderr(*be, binfo->name());
   PluginContext bctx;
   bctx.seed = static_cast<std::uint64_t>(p.getInt("seed"));
   be->configure(bparams, bctx);

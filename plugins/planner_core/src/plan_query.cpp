@@ -1,5 +1,6 @@
 #include <asf/errors.h>
 #include <asf/plan_query.h>
+#include <asf/text.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,10 +13,6 @@ namespace asf::eu {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 /// Steps first+1 .. first+steps of a path model, as a path of its own from n_first.
 PathModel slice(const PathModel& m, std::size_t first, std::size_t steps) {

@@ -19,6 +19,14 @@ std::string formatSignificant(double v, int digits);
 /// `text` with & < > " escaped, for HTML and SVG text and attributes.
 std::string htmlEscape(const std::string& text);
 
+/// `s` with ASCII letters in lower case (INI sections, keys, file extensions).
+std::string lowercase(std::string s);
+
+/// Seconds elapsed since `t0` on the steady clock.
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 /// Milliseconds elapsed since `t0` on the steady clock.
 inline double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
