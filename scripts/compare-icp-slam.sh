@@ -37,10 +37,12 @@ WORK=${1:-results/compare-icp-slam}
 LOGS=/usr/share/mrpt/datasets/graphslam-engine-demos/action_observations_map
 ICP_INI=/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_LM.ini
 [[ -x "$ASF" ]] || { echo "compare-icp-slam: $ASF not built (run scripts/build.sh)" >&2; exit 2; }
-command -v icp-slam >/dev/null || {
-  echo "compare-icp-slam: icp-slam not found (apt-get install mrpt-apps)" >&2; exit 2; }
-[[ -f "$ICP_INI" ]] || {
-  echo "compare-icp-slam: MRPT's icp-slam config missing (apt-get install mrpt-apps)" >&2; exit 2; }
+if ((ICP)); then
+  command -v icp-slam >/dev/null || {
+    echo "compare-icp-slam: icp-slam not found (apt-get install mrpt-apps)" >&2; exit 2; }
+  [[ -f "$ICP_INI" ]] || {
+    echo "compare-icp-slam: MRPT's icp-slam config missing (apt-get install mrpt-apps)" >&2; exit 2; }
+fi
 mkdir -p "$WORK"
 WORK=$(cd "$WORK" && pwd)
 

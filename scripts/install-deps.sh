@@ -6,7 +6,7 @@ set -euo pipefail
 
 PKGS=(
   build-essential cmake pkg-config ccache
-  libmrpt-dev mrpt-common
+  libmrpt-dev mrpt-common libnanoflann-dev
   libeigen3-dev libopencv-dev liboctomap-dev libsuitesparse-dev libcgal-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
   libbz2-dev zlib1g-dev

@@ -47,6 +47,28 @@ TEST(Host, HelpAndUsage) {
   EXPECT_EQ(r.code, 2) << r.out;
 }
 
+// The launcher answers --version without the commands' library, and says where it looked
+// when that library is missing (a copied or half-installed binary).
+TEST(Host, LauncherVersionAloneAndAMissingHostLibraryIsNamed) {
+  auto r = asf("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out, "asf " ASF_VERSION_STRING " (plugin ABI " + std::to_string(ASF_ABI_VERSION) +
+                       ")\n");
+  const fs::path dir = fs::temp_directory_path() / "asf_launcher_alone" / "bin";
+  fs::create_directories(dir);
+  fs::copy_file(ASF_TEST_BINARY_DIR "/bin/asf", dir / "asf", fs::copy_options::overwrite_existing);
+  const std::string exe = (dir / "asf").string();
+  auto run = [](const std::string& cmd) { return asf_test::runCommand(cmd + " 2>&1"); };
+  r = run(exe + " --version");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(has(r.out, "asf " ASF_VERSION_STRING)) << r.out;
+  r = run(exe + " plugins");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, "cannot load the host library")) << r.out;
+  EXPECT_TRUE(has(r.out, "lib/asf/libasf_host.so")) << r.out;
+  fs::remove_all(dir.parent_path());
+}
+
 TEST(Host, PluginsListsEveryKindAsJson) {
   const auto r = asf("plugins --json");
   ASSERT_EQ(r.code, 0) << r.out;

@@ -53,13 +53,8 @@ struct HostResult {
   std::string out;  ///< stdout and stderr
 };
 
-/// Runs the built host, `asf <args>` (a shell command line), and collects what it printed:
-/// stdout and stderr, or stdout only (stderr dropped) with merge_stderr = false. `prefix`
-/// goes before the host's path (e.g. "timeout -s KILL 60 ").
-inline HostResult runHost(const std::string& args, bool merge_stderr = true,
-                          const std::string& prefix = "") {
-  const std::string cmd =
-      prefix + ASF_TEST_BINARY_DIR "/bin/asf " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+/// Runs a shell command line and collects its stdout and exit code.
+inline HostResult runCommand(const std::string& cmd) {
   FILE* p = popen(cmd.c_str(), "r");
   HostResult r{-1, {}};
   if (!p) return r;
@@ -69,6 +64,15 @@ inline HostResult runHost(const std::string& args, bool merge_stderr = true,
   const int st = pclose(p);
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+/// Runs the built host, `asf <args>` (a shell command line), and collects what it printed:
+/// stdout and stderr, or stdout only (stderr dropped) with merge_stderr = false. `prefix`
+/// goes before the host's path (e.g. "timeout -s KILL 60 ").
+inline HostResult runHost(const std::string& args, bool merge_stderr = true,
+                          const std::string& prefix = "") {
+  return runCommand(prefix + ASF_TEST_BINARY_DIR "/bin/asf " + args +
+                    (merge_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 /// Starts the built host, `asf <args...>`, without waiting for it (to signal it), its stdout

@@ -259,14 +259,8 @@ class IcpGraphFrontend final : public asf::Frontend {
             ? asf::icp_graph::loopAlignment(ref, *clouds_[j], est, searchFor(Crel), why, how)
             : std::optional<MatchResult>(
                   asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_));
-    if (!found) return;
+    if (!found || !found->ran || !loopGateFailure(*found, est, Crel).empty()) return;
     const MatchResult& m = *found;
-    if (!m.ran || m.goodness < loop_min_goodness_ || m.inlier_ratio < loop_min_inliers_ ||
-        m.rmse > loop_max_rmse_ || !sigmasOk(m.cov))
-      return;
-    const Eigen::Vector3d d = poseDiff(m.pose, est);
-    const double chi2 = d.dot((*Crel + m.cov + icp_floor_).ldlt().solve(d));
-    if (!(chi2 <= loop_chi2_)) return;
     if (confirm_) {  // held like a loop closure until another agrees
       if (acceptLoop(g, {k, j, m.pose, m.cov + icp_floor_}, "revisit, " + how)) ++n_revisits_;
       return;
@@ -280,6 +274,32 @@ class IcpGraphFrontend final : public asf::Frontend {
     g.addEdge(e);
     ++g.revision;
     ++n_revisits_;
+  }
+
+  /// The quality gates of a loop (or revisit) alignment `m` against the estimate `est` of the
+  /// candidate's relative pose with covariance `Crel`: empty when it passes, else why not
+  /// (`chi2`, when given, receives its chi^2 against the estimate).
+  std::string loopGateFailure(const MatchResult& m, const CPose2D& est,
+                              const std::optional<Eigen::Matrix3d>& Crel,
+                              double* chi2 = nullptr) const {
+    std::ostringstream why;
+    if (m.goodness < loop_min_goodness_)
+      why << "goodness " << m.goodness;
+    else if (m.inlier_ratio < loop_min_inliers_)
+      why << "inlier ratio " << m.inlier_ratio;
+    else if (m.rmse > loop_max_rmse_)
+      why << "rmse " << m.rmse;
+    else if (!sigmasOk(m.cov))
+      why << "ill-conditioned alignment";
+    else if (!Crel)
+      why << "no covariance for the relative pose";
+    else {
+      const Eigen::Vector3d d = poseDiff(m.pose, est);
+      const double c = d.dot((*Crel + m.cov + icp_floor_).ldlt().solve(d));
+      if (chi2) *chi2 = c;
+      if (!(c <= loop_chi2_)) why << "chi2 " << c << " > " << loop_chi2_;
+    }
+    return why.str();
   }
 
   bool sequentialGate(const MatchResult& m, const CPose2D& acc, const Eigen::Matrix3d& acc_cov,
@@ -420,48 +440,15 @@ class IcpGraphFrontend final : public asf::Frontend {
     if (static_cast<long>(j) - loop_skip_ <= 0) return;
     const auto cur = clouds_[j];
     const CPose2D& xj = g.nodes[j].pose;
-    struct Cand {
-      asf::NodeId id;
-      double d2, dist;
-    };
-    std::vector<Cand> cands;
-    for (asf::NodeId i = 0; static_cast<long>(i) < static_cast<long>(j) - loop_skip_; ++i) {
-      if (!g.nodes[i].scan) continue;
-      const CPose2D rel = CPose2D() - g.nodes[i].pose + xj;
-      const double dist = std::hypot(rel.x(), rel.y());
-      double d2 = dist <= loop_radius_ ? 0.0 : std::numeric_limits<double>::infinity();
-      if (marg && Cj && i < marg->node.size()) {
-        // Could the true distance be within the radius? Mahalanobis distance of the part of the
-        // relative translation beyond the radius, with the relative covariance.
-        auto it = marg->cross.find({i, prev});
-        // Cov(xi, xj) ~ Cov(xi, xprev) A^T, A = d xj / d xprev (first order).
-        Eigen::Matrix3d Cij = Eigen::Matrix3d::Zero();
-        if (it != marg->cross.end()) {
-          const CPose2D& xp = g.nodes[prev].pose;
-          const CPose2D u = CPose2D() - xp + xj;
-          Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
-          A(0, 2) = -std::sin(xp.phi()) * u.x() - std::cos(xp.phi()) * u.y();
-          A(1, 2) = std::cos(xp.phi()) * u.x() - std::sin(xp.phi()) * u.y();
-          Cij = it->second * A.transpose();
-        }
-        const Eigen::Matrix3d Cr = relativeCov(g.nodes[i].pose, xj, marg->node[i], *Cj, Cij);
-        const Eigen::Vector2d t(rel.x(), rel.y());
-        const Eigen::Vector2d beyond = dist > loop_radius_
-                                           ? Eigen::Vector2d(t * (1 - loop_radius_ / dist))
-                                           : Eigen::Vector2d::Zero();
-        const Eigen::Matrix2d S = Cr.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
-        d2 = std::min(d2, beyond.dot(S.ldlt().solve(beyond)));
-      }
-      if (d2 <= loop_gate_) cands.push_back({i, d2, dist});
-    }
-    std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
-      return a.dist != b.dist ? a.dist < b.dist : a.id < b.id;
-    });
-    if (static_cast<int>(cands.size()) > loop_max_cand_) cands.resize(loop_max_cand_);
+    asf::icp_graph::CandidateGate cg;
+    cg.skip_recent = loop_skip_;
+    cg.radius = loop_radius_;
+    cg.gate_chi2 = loop_gate_;
+    cg.max_candidates = loop_max_cand_;
+    const std::vector<asf::NodeId> cands = asf::icp_graph::loopCandidates(g, j, prev, marg, Cj, cg);
 
     int accepted = 0;
-    for (const Cand& c : cands) {
-      const asf::NodeId i = c.id;
+    for (const asf::NodeId i : cands) {
       const asf::NodeId first = i >= static_cast<asf::NodeId>(loop_submap_) ? i - loop_submap_ : 0;
       const asf::NodeId last = std::min<asf::NodeId>(
           i + loop_submap_,
@@ -475,42 +462,24 @@ class IcpGraphFrontend final : public asf::Frontend {
         Crel = chainCov(g, i, j);
       }
       std::string how, searched;
+      const asf::icp_graph::LoopGate gate = [&](const MatchResult& m) {
+        return loopGateFailure(m, est, Crel);
+      };
       const std::optional<MatchResult> best =
-          asf::icp_graph::loopAlignment(ref, *cur, est, searchFor(Crel), searched, how);
-      std::ostringstream why;
-      why << searched;
-      if (best) {
-        if (best->goodness < loop_min_goodness_)
-          why << "goodness " << best->goodness;
-        else if (best->inlier_ratio < loop_min_inliers_)
-          why << "inlier ratio " << best->inlier_ratio;
-        else if (best->rmse > loop_max_rmse_)
-          why << "rmse " << best->rmse;
-        else if (!sigmasOk(best->cov))
-          why << "ill-conditioned alignment";
-        else {
-          if (!Crel)
-            why << "no covariance for the chain " << i << " -> " << j;
-          else {
-            const Eigen::Vector3d d = poseDiff(best->pose, est);
-            const Eigen::Matrix3d C = *Crel + best->cov + icp_floor_;
-            const double chi2 = d.dot(C.ldlt().solve(d));
-            if (!(chi2 <= loop_chi2_))
-              why << "chi2 " << chi2 << " > " << loop_chi2_;
-            else {
-              std::ostringstream said;
-              said << "chi2 " << chi2 << ", inliers " << best->inlier_ratio << ", rmse "
-                   << best->rmse << ", " << how;
-              if (acceptLoop(g, {i, j, best->pose, best->cov + icp_floor_}, said.str()) &&
-                  ++accepted >= loop_max_accept_)
-                return;
-              continue;
-            }
-          }
-        }
+          asf::icp_graph::loopAlignment(ref, *cur, est, searchFor(Crel), searched, how, gate);
+      double chi2 = 0;
+      const std::string failed = best ? loopGateFailure(*best, est, Crel, &chi2) : searched;
+      if (failed.empty()) {
+        std::ostringstream said;
+        said << "chi2 " << chi2 << ", inliers " << best->inlier_ratio << ", rmse " << best->rmse
+             << ", " << how;
+        if (acceptLoop(g, {i, j, best->pose, best->cov + icp_floor_}, said.str()) &&
+            ++accepted >= loop_max_accept_)
+          return;
+        continue;
       }
       ++n_loop_rejects_;
-      MRPT_LOG_DEBUG_STREAM("loop candidate " << i << " -> " << j << " rejected: " << why.str());
+      MRPT_LOG_DEBUG_STREAM("loop candidate " << i << " -> " << j << " rejected: " << failed);
     }
   }
 
@@ -634,7 +603,8 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("loop_submap_half", "1",
                 "Loop reference: the candidate's scan plus this many keyframes each side", 0, 100),
     asf::keyEnum("loop_search", "icp", "icp|correlative",
-                 "Loop verification: icp = ICP from the estimate and 6 perturbed guesses; "
+                 "Loop verification: icp = ICP from the estimate, then (if it passes the "
+                 "gates) up to 6 perturbed guesses that must converge to it; "
                  "correlative = correlative scan matching over a window (branch and bound), "
                  "refused when ambiguous, then ICP from its best pose"),
     asf::keyDouble("loop_csm_resolution", "0.1", "Correlative search: grid cell [m]", 0.005, 10),
@@ -676,7 +646,8 @@ const asf::KeySpec kKeys[] = {
                    "Loop verification: initial guesses turned by +-this [deg]", 0, 180),
     asf::keyInt("loop_min_agree", "4",
                 "Of the 7 ICP runs (estimate and 6 perturbed guesses), at least this many must "
-                "converge to the best one",
+                "converge to the estimate's run, which must pass the loop gates first; the "
+                "perturbed runs stop once this many agree or too few are left",
                 1, 7),
     asf::keyDouble("loop_min_goodness", "0.6", "Loop ICP: minimum CICP goodness", 0, 1),
     asf::keyDouble("loop_min_inlier_ratio", "0.6",

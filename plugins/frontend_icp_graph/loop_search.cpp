@@ -3,7 +3,9 @@
 #include <asf/pose_graph.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -83,7 +85,7 @@ CorrelativeLoopResult correlativeLoopSearch(const Cloud& ref, const Cloud& cur,
 std::optional<MatchResult> loopAlignment(const Cloud& ref, const Cloud& cur,
                                          const mrpt::poses::CPose2D& est,
                                          const LoopSearchOptions& o, std::string& why,
-                                         std::string& how) {
+                                         std::string& how, const LoopGate& gate) {
   using mrpt::poses::CPose2D;
   constexpr double kTwoDeg = 2 * M_PI / 180;
   std::ostringstream said;
@@ -109,37 +111,43 @@ std::optional<MatchResult> loopAlignment(const Cloud& ref, const Cloud& cur,
     how = said.str();
     return m;
   }
-  std::vector<CPose2D> guesses{est};
-  for (int sgn : {-1, 1}) {
-    guesses.push_back(est + CPose2D(sgn * o.perturb_xy, 0, 0));
-    guesses.push_back(est + CPose2D(0, sgn * o.perturb_xy, 0));
-    guesses.push_back(est + CPose2D(0, 0, sgn * o.perturb_phi));
-  }
-  std::vector<MatchResult> res;
-  for (const auto& q : guesses) res.push_back(match(ref, cur, q, o.icp, o.min_points));
-  const MatchResult* best = nullptr;
-  for (const auto& m : res)
-    if (m.ran && (!best || m.inlier_ratio > best->inlier_ratio ||
-                  (m.inlier_ratio == best->inlier_ratio && m.rmse < best->rmse)))
-      best = &m;
-  if (!best) {
-    why = "no ICP result";
+  const MatchResult first = match(ref, cur, est, o.icp, o.min_points);
+  if (!first.ran) {
+    why = first.reason;
     return std::nullopt;
   }
-  int agree = 0;
-  for (const auto& m : res) {
-    const Eigen::Vector3d d = poseDiff(m.pose, best->pose);
+  if (gate) {
+    const std::string failed = gate(first);
+    if (!failed.empty()) {
+      why = "from the estimate: " + failed;
+      return std::nullopt;
+    }
+  }
+  std::vector<CPose2D> perturbed;
+  for (int sgn : {-1, 1}) {
+    perturbed.push_back(est + CPose2D(sgn * o.perturb_xy, 0, 0));
+    perturbed.push_back(est + CPose2D(0, sgn * o.perturb_xy, 0));
+    perturbed.push_back(est + CPose2D(0, 0, sgn * o.perturb_phi));
+  }
+  const int runs = 1 + static_cast<int>(perturbed.size());
+  // The perturbed runs only test the basin: the result is the run from the estimate.
+  int agree = 1, tried = 1;
+  for (const CPose2D& q : perturbed) {
+    if (agree >= o.min_agree || agree + (runs - tried) < o.min_agree) break;
+    const MatchResult m = match(ref, cur, q, o.icp, o.min_points);
+    ++tried;
+    const Eigen::Vector3d d = poseDiff(m.pose, first.pose);
     if (m.ran && std::hypot(d.x(), d.y()) <= 2 * o.icp.inlier_dist && std::abs(d.z()) <= kTwoDeg)
       ++agree;
   }
   if (agree < o.min_agree) {
-    said << "only " << agree << " of " << res.size() << " guesses agree";
+    said << "only " << agree << " of " << tried << " guesses agree (" << o.min_agree << " needed)";
     why = said.str();
     return std::nullopt;
   }
-  said << agree << "/" << res.size() << " guesses agree";
+  said << agree << "/" << tried << " guesses agree";
   how = said.str();
-  return *best;
+  return first;
 }
 
 mrpt::poses::CPose2D inverseWithCov(const mrpt::poses::CPose2D& p, const Eigen::Matrix3d& C,
@@ -184,6 +192,54 @@ Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
   const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
   R.topLeftCorner<2, 2>() << c, -s, s, c;
   return R * e.information.inverse() * R.transpose();
+}
+
+std::vector<asf::NodeId> loopCandidates(const asf::PoseGraph& g, asf::NodeId j, asf::NodeId prev,
+                                        const asf::Marginals* marg,
+                                        const std::optional<Eigen::Matrix3d>& Cj,
+                                        const CandidateGate& o) {
+  using mrpt::poses::CPose2D;
+  struct Cand {
+    asf::NodeId id;
+    double dist;
+  };
+  std::vector<Cand> cands;
+  const CPose2D& xj = g.nodes[j].pose;
+  for (asf::NodeId i = 0; static_cast<long>(i) < static_cast<long>(j) - o.skip_recent; ++i) {
+    if (!g.nodes[i].scan) continue;
+    const CPose2D rel = CPose2D() - g.nodes[i].pose + xj;
+    const double dist = std::hypot(rel.x(), rel.y());
+    double d2 = dist <= o.radius ? 0.0 : std::numeric_limits<double>::infinity();
+    if (marg && Cj && i < marg->node.size()) {
+      // Could the true distance be within the radius? Mahalanobis distance of the part of the
+      // relative translation beyond the radius, with the relative covariance.
+      auto it = marg->cross.find({i, prev});
+      // Cov(xi, xj) ~ Cov(xi, xprev) A^T, A = d xj / d xprev (first order).
+      Eigen::Matrix3d Cij = Eigen::Matrix3d::Zero();
+      if (it != marg->cross.end()) {
+        const CPose2D& xp = g.nodes[prev].pose;
+        const CPose2D u = CPose2D() - xp + xj;
+        Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+        A(0, 2) = -std::sin(xp.phi()) * u.x() - std::cos(xp.phi()) * u.y();
+        A(1, 2) = std::cos(xp.phi()) * u.x() - std::sin(xp.phi()) * u.y();
+        Cij = it->second * A.transpose();
+      }
+      const Eigen::Matrix3d Cr = relativeCov(g.nodes[i].pose, xj, marg->node[i], *Cj, Cij);
+      const Eigen::Vector2d t(rel.x(), rel.y());
+      const Eigen::Vector2d beyond =
+          dist > o.radius ? Eigen::Vector2d(t * (1 - o.radius / dist)) : Eigen::Vector2d::Zero();
+      const Eigen::Matrix2d S = Cr.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
+      d2 = std::min(d2, beyond.dot(S.ldlt().solve(beyond)));
+    }
+    if (d2 <= o.gate_chi2) cands.push_back({i, dist});
+  }
+  std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
+    return a.dist != b.dist ? a.dist < b.dist : a.id < b.id;
+  });
+  if (static_cast<int>(cands.size()) > o.max_candidates) cands.resize(o.max_candidates);
+  std::vector<asf::NodeId> ids;
+  for (const Cand& c : cands) ids.push_back(c.id);
+  return ids;
 }
 
 }  // namespace asf::icp_graph

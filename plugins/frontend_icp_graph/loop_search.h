@@ -8,10 +8,13 @@
 /// much of the scan the submap explains) and the best score outside a disc around it (a
 /// repetitive place, such as a corridor of identical doors, explains the scan about as well
 /// elsewhere: ambiguous, refused). ICP then refines the best pose (the caller's gates).
+#include <asf/pose_graph.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "correlative_matcher.h"
 #include "scan_matcher.h"
@@ -57,15 +60,22 @@ struct LoopSearchOptions {
   int min_agree = 4;          ///< icp: runs of the 7 that must converge to the best
 };
 
+/// The caller's quality gates for a loop alignment: empty when `m` passes, else why not.
+using LoopGate = std::function<std::string(const MatchResult&)>;
+
 /// The alignment of `cur` in the loop candidate's submap `ref` near the estimate `est`, or
-/// nullopt with the reason in `why`; `how` says what found it. icp: the best ICP run (most
-/// inliers) if min_agree of the 7 converge to it (within 2 inlier distances and 2 degrees).
+/// nullopt with the reason in `why`; `how` says what found it.
+/// icp: the ICP run from the estimate, if it passes `gate` (when given) and min_agree of the
+/// 7 runs (it and the six perturbed guesses, tried in a fixed order) converge to it (within 2
+/// inlier distances and 2 degrees). The cheap check comes first: an estimate's run that fails
+/// the gate costs one ICP, not seven, and the perturbed guesses stop as soon as min_agree
+/// agree or too few are left to reach it.
 /// correlative: the search's best pose, unambiguous, refined by ICP, which must stay within
 /// two grid cells and 2 degrees of it. The caller applies its quality gates to the result.
 std::optional<MatchResult> loopAlignment(const Cloud& ref, const Cloud& cur,
                                          const mrpt::poses::CPose2D& est,
                                          const LoopSearchOptions& o, std::string& why,
-                                         std::string& how);
+                                         std::string& how, const LoopGate& gate = {});
 
 /// A loop closure hypothesis: keyframe `to` seen from keyframe `from` (`mean`, its covariance
 /// as additive x, y, phi in the frame of `from`).
@@ -98,12 +108,25 @@ Eigen::Matrix3d relativeCov(const mrpt::poses::CPose2D& xi, const mrpt::poses::C
 
 }  // namespace asf::icp_graph
 
-namespace asf {
-struct PoseEdge;
-}
-
 namespace asf::icp_graph {
 /// Covariance of an edge's mean as additive (x, y, phi) in the frame of `from`, recovered from
 /// its information (inverse of edgeInformation without the floor).
 Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e);
+
+struct CandidateGate {
+  int skip_recent = 20;     ///< the last this many keyframes are not candidates
+  double radius = 3;        ///< old keyframes within this distance are candidates [m]
+  double gate_chi2 = 9.21;  ///< ... and those whose distance beyond it is this likely (2 dof)
+  int max_candidates = 3;   ///< the nearest this many
+};
+
+/// Loop candidates for the new keyframe j (previous keyframe `prev`), nearest first: old
+/// keyframes with a scan within `radius` of j's estimate or, with the back-end's marginals
+/// (`marg`, and `Cj` = Cov(x_j) propagated from x_prev), whose translation beyond the radius
+/// has a Mahalanobis distance^2 below gate_chi2 under the relative covariance (with the cross
+/// term Cov(x_i, x_prev) when the marginals hold it).
+std::vector<asf::NodeId> loopCandidates(const asf::PoseGraph& g, asf::NodeId j, asf::NodeId prev,
+                                        const asf::Marginals* marg,
+                                        const std::optional<Eigen::Matrix3d>& Cj,
+                                        const CandidateGate& o);
 }  // namespace asf::icp_graph

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <nanoflann.hpp>
 
 namespace asf::icp_graph {
 
@@ -18,18 +19,68 @@ constexpr double kDeg = M_PI / 180.0;
 constexpr double kLineRatio = 0.1;
 }  // namespace
 
-Cloud::Cloud() : map_(std::make_unique<mrpt::maps::CSimplePointsMap>()) {}
+/// The cloud's points as nanoflann sees them. The vectors' buffers are read through pointers
+/// taken at build time; the index is dropped whenever the points change or move.
+struct Cloud::Index {
+  struct Points {
+    const float* x;
+    const float* y;
+    std::size_t n;
+    std::size_t kdtree_get_point_count() const { return n; }
+    float kdtree_get_pt(std::size_t i, std::size_t dim) const { return dim == 0 ? x[i] : y[i]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Points>,
+                                                   Points, 2, std::size_t>;
+  explicit Index(const Points& p) : points(p), tree(2, points, {10}) {}
+  Points points;
+  Tree tree;
+};
+
+Cloud::Cloud() = default;
 Cloud::~Cloud() = default;
-Cloud::Cloud(Cloud&&) noexcept = default;
-Cloud& Cloud::operator=(Cloud&&) noexcept = default;
+Cloud::Cloud(Cloud&& o) noexcept
+    : x_(std::move(o.x_)),
+      y_(std::move(o.y_)),
+      map_(std::move(o.map_)),
+      normals_(std::move(o.normals_)),
+      normal_done_(std::move(o.normal_done_)),
+      normals_ok_(o.normals_ok_),
+      normal_k_(o.normal_k_),
+      normal_radius_(o.normal_radius_) {
+  o.dropCaches();
+}
+Cloud& Cloud::operator=(Cloud&& o) noexcept {
+  x_ = std::move(o.x_);
+  y_ = std::move(o.y_);
+  map_ = std::move(o.map_);
+  index_.reset();
+  normals_ = std::move(o.normals_);
+  normal_done_ = std::move(o.normal_done_);
+  normals_ok_ = o.normals_ok_;
+  normal_k_ = o.normal_k_;
+  normal_radius_ = o.normal_radius_;
+  o.dropCaches();
+  return *this;
+}
+
+void Cloud::dropCaches() {
+  map_.reset();
+  index_.reset();
+  normals_ok_ = false;
+}
 
 Cloud Cloud::fromScan(const mrpt::obs::CObservation2DRangeScan& scan) {
   Cloud c;
+  mrpt::maps::CSimplePointsMap m;
   // Keep every valid return: the default 2 cm thinning would bias the residual statistics.
-  c.map_->insertionOptions.minDistBetweenLaserPoints = 0;
-  c.map_->loadFromRangeScan(scan);
-  const auto& xs = c.map_->getPointsBufferRef_x();
-  const auto& ys = c.map_->getPointsBufferRef_y();
+  m.insertionOptions.minDistBetweenLaserPoints = 0;
+  m.loadFromRangeScan(scan);
+  const auto& xs = m.getPointsBufferRef_x();
+  const auto& ys = m.getPointsBufferRef_y();
   c.x_.assign(xs.begin(), xs.end());
   c.y_.assign(ys.begin(), ys.end());
   return c;
@@ -37,27 +88,46 @@ Cloud Cloud::fromScan(const mrpt::obs::CObservation2DRangeScan& scan) {
 
 Cloud Cloud::fromPoints(const std::vector<float>& x, const std::vector<float>& y) {
   Cloud c;
-  for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {
-    c.x_.push_back(x[i]);
-    c.y_.push_back(y[i]);
-    c.map_->insertPoint(x[i], y[i], 0);
-  }
+  const std::size_t n = std::min(x.size(), y.size());
+  c.x_.assign(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(n));
+  c.y_.assign(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(n));
   return c;
 }
 
 void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
   const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  x_.reserve(x_.size() + other.size());
+  y_.reserve(y_.size() + other.size());
   for (std::size_t i = 0; i < other.size(); ++i) {
-    const double x = pose.x() + c * other.x_[i] - s * other.y_[i];
-    const double y = pose.y() + s * other.x_[i] + c * other.y_[i];
-    x_.push_back(static_cast<float>(x));
-    y_.push_back(static_cast<float>(y));
-    map_->insertPoint(static_cast<float>(x), static_cast<float>(y), 0);
+    x_.push_back(static_cast<float>(pose.x() + c * other.x_[i] - s * other.y_[i]));
+    y_.push_back(static_cast<float>(pose.y() + s * other.x_[i] + c * other.y_[i]));
   }
-  normals_ok_ = false;
+  dropCaches();
 }
 
 std::size_t Cloud::size() const { return x_.size(); }
+
+const mrpt::maps::CSimplePointsMap& Cloud::map() const {
+  if (!map_) {
+    map_ = std::make_unique<mrpt::maps::CSimplePointsMap>();
+    map_->reserve(size());
+    for (std::size_t i = 0; i < size(); ++i) map_->insertPointFast(x_[i], y_[i], 0);
+    map_->mark_as_modified();
+  }
+  return *map_;
+}
+
+const Cloud::Index& Cloud::index() const {
+  if (!index_) index_ = std::make_unique<Index>(Index::Points{x_.data(), y_.data(), size()});
+  return *index_;
+}
+
+std::size_t Cloud::nearest(float x, float y, float& d2) const {
+  const float q[2] = {x, y};
+  std::size_t k = 0;
+  index().tree.knnSearch(q, 1, &k, &d2);
+  return k;
+}
 
 Eigen::Vector2d Cloud::normal(std::size_t i) const {
   // Per point on first use: a match only asks for the normals of the reference points
@@ -75,18 +145,21 @@ Eigen::Vector2d Cloud::normal(std::size_t i) const {
 }
 
 Eigen::Vector2d Cloud::computeNormal(std::size_t i) const {
-  std::vector<float> nx, ny, nd;
-  map_->kdTreeNClosestPoint2D(x_[i], y_[i], normal_k_, nx, ny, nd);
+  std::vector<std::size_t> idx(normal_k_);
+  std::vector<float> nd(normal_k_);
+  const float q[2] = {x_[i], y_[i]};
+  const std::size_t found = index().tree.knnSearch(q, normal_k_, idx.data(), nd.data());
+  const double r2 = normal_radius_ * normal_radius_;
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   int n = 0;
-  for (std::size_t k = 0; k < nx.size(); ++k)
-    if (nd[k] <= normal_radius_ * normal_radius_) mean += Eigen::Vector2d(nx[k], ny[k]), ++n;
+  for (std::size_t k = 0; k < found; ++k)
+    if (nd[k] <= r2) mean += Eigen::Vector2d(x_[idx[k]], y_[idx[k]]), ++n;
   if (n < 4) return Eigen::Vector2d::Zero();
   mean /= n;
   Eigen::Matrix2d S = Eigen::Matrix2d::Zero();
-  for (std::size_t k = 0; k < nx.size(); ++k)
-    if (nd[k] <= normal_radius_ * normal_radius_) {
-      const Eigen::Vector2d d = Eigen::Vector2d(nx[k], ny[k]) - mean;
+  for (std::size_t k = 0; k < found; ++k)
+    if (nd[k] <= r2) {
+      const Eigen::Vector2d d = Eigen::Vector2d(x_[idx[k]], y_[idx[k]]) - mean;
       S += d * d.transpose();
     }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(S);
@@ -114,28 +187,27 @@ Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose
                     std::vector<double>* abs_res = nullptr) {
   Residuals out;
   const double c = std::cos(pose.phi()), s = std::sin(pose.phi());
+  // Cauchy weight and cost of a squared residual (plain least squares without a kernel).
+  auto robust = [&](double r2, double& w) {
+    if (kernel_c <= 0) {
+      w = 1;
+      return r2;
+    }
+    const double u = r2 / (kernel_c * kernel_c);
+    w = 1 / (1 + u);
+    return kernel_c * kernel_c * std::log1p(u);
+  };
   const double in2 = inlier_dist * inlier_dist;
   for (std::size_t i = 0; i < cur.size(); ++i) {
     const double px = cur.xs()[i], py = cur.ys()[i];
     const Eigen::Vector2d q(pose.x() + c * px - s * py, pose.y() + s * px + c * py);
-    float mx, my, d2;
-    const std::size_t k = ref.map().kdTreeClosestPoint2D(static_cast<float>(q.x()),
-                                                         static_cast<float>(q.y()), mx, my, d2);
+    float d2 = 0;
+    const std::size_t k = ref.nearest(static_cast<float>(q.x()), static_cast<float>(q.y()), d2);
     if (d2 > in2) continue;
     ++out.inliers;
     const Eigen::Vector2d dq_dphi(-s * px - c * py, c * px - s * py);
-    const Eigen::Vector2d e = q - Eigen::Vector2d(mx, my);
+    const Eigen::Vector2d e = q - Eigen::Vector2d(ref.xs()[k], ref.ys()[k]);
     const Eigen::Vector2d n = ref.normal(k);
-    // Cauchy weight and cost of a squared residual (plain least squares without a kernel).
-    auto robust = [&](double r2, double& w) {
-      if (kernel_c <= 0) {
-        w = 1;
-        return r2;
-      }
-      const double u = r2 / (kernel_c * kernel_c);
-      w = 1 / (1 + u);
-      return kernel_c * kernel_c * std::log1p(u);
-    };
     double w = 1;
     if (n.squaredNorm() > 0) {
       const Eigen::RowVector3d J(n.x(), n.y(), n.dot(dq_dphi));
@@ -159,17 +231,28 @@ Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose
   }
   return out;
 }
-}  // namespace
 
-MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
-                  const IcpOptions& o, std::size_t min_points) {
-  MatchResult r;
-  r.pose = guess;
-  if (ref.size() < min_points || cur.size() < min_points) {
-    r.reason = "too few points (reference " + std::to_string(ref.size()) + ", current " +
-               std::to_string(cur.size()) + ")";
-    return r;
-  }
+/// The Gauss-Newton step of `res`, leaving out the directions its J^T J barely constrains
+/// (eigenvalues below 1e-6 of the largest: a corridor's axis is not moved).
+Eigen::Vector3d gaussNewtonStep(const Residuals& res) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
+  const Eigen::Vector3d ev = es.eigenvalues();
+  Eigen::Vector3d step = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k)
+    if (ev(k) > 1e-6 * ev(2))
+      step -= es.eigenvectors().col(k) * (es.eigenvectors().col(k).dot(res.b) / ev(k));
+  return step;
+}
+
+mrpt::poses::CPose2D applyStep(const mrpt::poses::CPose2D& p, const Eigen::Vector3d& step) {
+  mrpt::poses::CPose2D next(p.x() + step.x(), p.y() + step.y(), p.phi() + step.z());
+  next.normalizePhi();
+  return next;
+}
+
+/// MRPT's CICP (LM variant) from `guess`: fills pose, goodness, iterations and cicp_cov of `r`.
+void alignCicp(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
+               const IcpOptions& o, MatchResult& r) {
   mrpt::slam::CICP icp;
   icp.options.ICP_algorithm = mrpt::slam::icpLevenbergMarquardt;
   icp.options.maxIterations = static_cast<unsigned>(o.max_iterations);
@@ -181,18 +264,33 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
   icp.options.doRANSAC = false;
   mrpt::slam::CICP::TReturnInfo info;
   const auto pdf = icp.AlignPDF(&ref.map(), &cur.map(), mrpt::poses::CPosePDFGaussian(guess), info);
-  r.ran = true;
   r.pose = pdf->getMeanVal();
   r.pose.normalizePhi();
   r.goodness = info.goodness;
   r.iterations = info.nIterations;
   if (auto g = std::dynamic_pointer_cast<mrpt::poses::CPosePDFGaussian>(pdf))
     r.cicp_cov = g->cov.asEigen();
+}
+
+}  // namespace
+
+MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
+                  const IcpOptions& o, std::size_t min_points) {
+  MatchResult r;
+  r.pose = guess;
+  if (ref.size() < min_points || cur.size() < min_points) {
+    r.reason = "too few points (reference " + std::to_string(ref.size()) + ", current " +
+               std::to_string(cur.size()) + ")";
+    return r;
+  }
+  r.ran = true;
+  alignCicp(ref, cur, guess, o, r);
 
   // CICP minimizes point-to-point distances, which sparse scans of the same wall bias by up to
-  // half the point spacing; a few Gauss-Newton steps on point-to-line residuals (point-to-point
-  // where the reference has no line) remove that. Directions the scene leaves unconstrained
-  // (a corridor's axis) are not moved.
+  // half the point spacing, and it sees every decimation-th point only; a few Gauss-Newton
+  // steps on point-to-line residuals of all points (point-to-point where the reference has no
+  // line) remove that. Directions the scene leaves unconstrained (a corridor's axis) are not
+  // moved.
   // Robust scale: the Cauchy kernel's c from the median absolute residual at CICP's solution
   // (1.4826 MAD = sigma for Gaussian noise; c = 2.385 sigma is the kernel's 95% efficiency).
   double kc = 0;
@@ -204,19 +302,13 @@ MatchResult match(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D
       kc = 2.385 * std::max(o.sigma_floor, 1.4826 * a[a.size() / 2]);
     }
   }
-  Residuals res = residuals(ref, cur, r.pose, o.inlier_dist, kc);
+  const double inlier = o.inlier_dist;
+  Residuals res = residuals(ref, cur, r.pose, inlier, kc);
   for (int it = 0; it < o.refine_iterations && res.rows > 3; ++it) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(res.H);
-    const Eigen::Vector3d ev = es.eigenvalues();
-    Eigen::Vector3d step = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k)
-      if (ev(k) > 1e-6 * ev(2))
-        step -= es.eigenvectors().col(k) * (es.eigenvectors().col(k).dot(res.b) / ev(k));
+    const Eigen::Vector3d step = gaussNewtonStep(res);
     if (!step.allFinite()) break;
-    mrpt::poses::CPose2D next(r.pose.x() + step.x(), r.pose.y() + step.y(),
-                              r.pose.phi() + step.z());
-    next.normalizePhi();
-    Residuals nres = residuals(ref, cur, next, o.inlier_dist, kc);
+    const mrpt::poses::CPose2D next = applyStep(r.pose, step);
+    Residuals nres = residuals(ref, cur, next, inlier, kc);
     // Keep the step only if it lowers the mean residual without losing inliers.
     if (nres.rows < res.rows * 0.95 || nres.sum_r2 / std::max<std::size_t>(nres.rows, 1) >
                                            res.sum_r2 / std::max<std::size_t>(res.rows, 1))

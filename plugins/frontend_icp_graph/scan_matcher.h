@@ -1,10 +1,10 @@
 #pragma once
 /// \file scan_matcher.h
 /// Scan matching for the icp_graph front-end: point clouds from 2D scans, MRPT's CICP
-/// (Levenberg-Marquardt variant) for the alignment, a point-to-line refinement, and our own
-/// residual statistics and point-to-line covariance at the solution (CICP's LM covariance is the
-/// inverse of its damped Gauss-Newton matrix of kernelized squared distances, not a covariance in
-/// metres).
+/// (Levenberg-Marquardt variant) for the alignment, a point-to-line refinement on a kd-tree
+/// cached with the reference cloud, and our own residual statistics and point-to-line
+/// covariance at the solution (CICP's LM covariance is the inverse of its damped Gauss-Newton
+/// matrix of kernelized squared distances, not a covariance in metres).
 #include <mrpt/poses/CPose2D.h>
 
 #include <Eigen/Core>
@@ -22,13 +22,17 @@ class CSimplePointsMap;
 namespace asf::icp_graph {
 
 /// Points of one or more scans in one frame, with a normal per point where the
-/// neighbourhood is line-like (computed per point on first use, for a reference cloud).
+/// neighbourhood is line-like (computed per point on first use, for a reference cloud). The
+/// kd-tree over the points (and MRPT's point map, for CICP) is built on first use and kept
+/// until points are added, so every match against the same reference shares it.
 class Cloud {
  public:
   Cloud();
   ~Cloud();
   Cloud(Cloud&&) noexcept;
   Cloud& operator=(Cloud&&) noexcept;
+  Cloud(const Cloud&) = delete;
+  Cloud& operator=(const Cloud&) = delete;
 
   /// The valid returns of `scan`, in the robot frame (the scan's sensorPose applied).
   static Cloud fromScan(const mrpt::obs::CObservation2DRangeScan& scan);
@@ -38,7 +42,10 @@ class Cloud {
   void add(const Cloud& other, const mrpt::poses::CPose2D& pose);
 
   std::size_t size() const;
-  const mrpt::maps::CSimplePointsMap& map() const { return *map_; }
+  /// The points as MRPT's point map (built on first use), for CICP.
+  const mrpt::maps::CSimplePointsMap& map() const;
+  /// Index of the point nearest to (x, y) and its squared distance (size() must be > 0).
+  std::size_t nearest(float x, float y, float& d2) const;
   const std::vector<float>& xs() const { return x_; }
   const std::vector<float>& ys() const { return y_; }
 
@@ -52,9 +59,13 @@ class Cloud {
   }
 
  private:
+  struct Index;  // nanoflann's kd-tree, kept out of this header
   Eigen::Vector2d computeNormal(std::size_t i) const;
-  std::unique_ptr<mrpt::maps::CSimplePointsMap> map_;
+  const Index& index() const;
+  void dropCaches();
   std::vector<float> x_, y_;
+  mutable std::unique_ptr<mrpt::maps::CSimplePointsMap> map_;
+  mutable std::unique_ptr<Index> index_;
   mutable std::vector<Eigen::Vector2d> normals_;
   mutable std::vector<char> normal_done_;
   mutable bool normals_ok_ = false;

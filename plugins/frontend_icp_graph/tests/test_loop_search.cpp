@@ -63,15 +63,27 @@ LoopSearchOptions options(bool correlative) {
 
 }  // namespace
 
+/// The corridor of identical doors (a door every 3 m): the first visit's scans every 1.5 m
+/// along it in the frame of the one at xi = (15, 1, 0), and a scan of the revisit at xj.
+struct DoorsLoop {
+  World w = doors(40);
+  CPose2D xi{15, 1, 0}, xj{15.4, 1.1, 0.05};
+  Cloud ref, cur;
+  CPose2D truth;
+  DoorsLoop() {
+    std::vector<CPose2D> visit{xi};
+    for (double x = 3; x <= 30; x += 1.5) visit.emplace_back(x, 1, 0);
+    ref = submap(w, visit, 12);
+    cur = scan(w, xj, 8, 7);
+    truth = CPose2D() - xi + xj;
+  }
+};
+
 TEST(LoopSearch, RepeatedDoorsFoolIcpNotTheCorrelativeSearch) {
-  const World w = doors(40);
-  const CPose2D xi(15, 1, 0), xj(15.4, 1.1, 0.05);
-  // The first visit: scans every 1.5 m along the corridor, in the frame of the one at xi.
-  std::vector<CPose2D> visit{xi};
-  for (double x = 3; x <= 30; x += 1.5) visit.emplace_back(x, 1, 0);
-  const Cloud ref = submap(w, visit, 12);
-  const Cloud cur = scan(w, xj, 8, 7);
-  const CPose2D truth = CPose2D() - xi + xj;
+  const DoorsLoop d;
+  const Cloud& ref = d.ref;
+  const Cloud& cur = d.cur;
+  const CPose2D& truth = d.truth;
   // Drift of one door period, and a little more.
   const CPose2D est = truth + CPose2D(3.05, 0.04, 0.02);
 
@@ -108,6 +120,61 @@ TEST(LoopSearch, TheCorrelativeSearchFindsALoopFromAnEstimateFarOff) {
     EXPECT_LT(std::hypot(d.x(), d.y()), 0.02) << how;
     EXPECT_LT(std::abs(d.z()), 0.01);
   }
+}
+
+// The ICP verification's cheap check first: a run from the estimate that fails the caller's
+// gate ends the verification (one ICP); one that passes is tested by the perturbed guesses
+// in order, which stop as soon as min_agree agree, and the result is the estimate's run.
+TEST(LoopSearch, IcpVerificationStopsAtTheGateAndOnceEnoughAgree) {
+  const World w = room();
+  const CPose2D xi(3, 2, 0), xj(3.3, 1.8, 0.1);
+  const Cloud ref = submap(w, {xi}, 12);
+  const Cloud cur = scan(w, xj, 12, 9);
+  const CPose2D truth = CPose2D() - xi + xj;
+  const CPose2D est = truth + CPose2D(0.05, -0.04, 0.02);
+  LoopSearchOptions o = options(false);
+  int gate_calls = 0;
+  asf::icp_graph::MatchResult gated;
+  const asf::icp_graph::LoopGate refuse = [&](const asf::icp_graph::MatchResult& m) {
+    ++gate_calls;
+    gated = m;
+    return std::string("rmse too high (test)");
+  };
+  std::string why, how;
+  EXPECT_FALSE(asf::icp_graph::loopAlignment(ref, cur, est, o, why, how, refuse));
+  EXPECT_EQ(gate_calls, 1);
+  EXPECT_EQ(why, "from the estimate: rmse too high (test)");
+  const Eigen::Vector3d g = poseDiff(gated.pose, truth);
+  EXPECT_LT(std::hypot(g.x(), g.y()), 0.02) << "the gate saw the estimate's ICP run";
+
+  for (int need : {1, 4, 7}) {
+    SCOPED_TRACE(need);
+    o.min_agree = need;
+    why.clear();
+    const auto found = asf::icp_graph::loopAlignment(
+        ref, cur, est, o, why, how,
+        [](const asf::icp_graph::MatchResult&) { return std::string(); });
+    ASSERT_TRUE(found) << why;
+    EXPECT_EQ(how, std::to_string(need) + "/" + std::to_string(need) + " guesses agree");
+    const Eigen::Vector3d d = poseDiff(found->pose, truth);
+    EXPECT_LT(std::hypot(d.x(), d.y()), 0.02);
+    EXPECT_LT(std::abs(d.z()), 0.01);
+  }
+}
+
+// Guesses that cannot all reach the same pose: a corridor of identical doors seen from an
+// estimate between two of them. The verification gives up as soon as min_agree is out of
+// reach, and says how many it tried.
+TEST(LoopSearch, IcpVerificationGivesUpWhenAgreementIsOutOfReach) {
+  const DoorsLoop d;
+  LoopSearchOptions o = options(false);
+  o.min_agree = 7;
+  o.perturb_xy = 1.5;  // half a door period: the shifted guesses fall into other doors
+  std::string why, how;
+  const auto found = asf::icp_graph::loopAlignment(d.ref, d.cur, d.truth, o, why, how);
+  ASSERT_FALSE(found) << how;
+  EXPECT_EQ(why.rfind("only ", 0), 0u) << why;
+  EXPECT_NE(why.find("(7 needed)"), std::string::npos) << why;
 }
 
 TEST(LoopSearch, TwoLoopClosuresAgreeOnlyWhenTheirCycleCloses) {

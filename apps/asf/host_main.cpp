@@ -1,5 +1,7 @@
-// asf: the host application. Loads plugins through the registry and runs pipelines
-// described by MRPT-style INI files.
+// The host's commands behind one entry point, asf_host_main, which the `asf` launcher
+// (launcher.cpp) loads on demand: this library pulls in MRPT, OpenCV, CGAL and the rest, about
+// 300 libraries whose loading is most of a short command's time. Loads plugins through the
+// registry and runs pipelines described by MRPT-style INI files.
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <tclap/CmdLine.h>
@@ -69,14 +71,16 @@ void usage(std::ostream& os) {
   os << "asf " ASF_VERSION_STRING " (plugin ABI " << ASF_ABI_VERSION
      << "): Active SLAM framework\n\nUsage: asf <command> [options]   (asf <command> --help)\n\n"
         "Commands:\n";
-  for (const auto& c : kCommands) os << "  " << std::left << std::setw(17) << c.name << c.summary << "\n";
+  for (const auto& c : kCommands)
+    os << "  " << std::left << std::setw(17) << c.name << c.summary << "\n";
   os << "\nPlugins are searched in <asf>/../lib/asf/plugins, $ASF_PLUGIN_PATH and the INI's "
         "[pipeline] plugin_path.\n";
 }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+/// What `asf` does with its command line (argv[0] is the program).
+extern "C" __attribute__((visibility("default"))) int asf_host_main(int argc, char** argv) {
   if (argc < 2) {
     usage(std::cerr);
     return asf::app::kUsage;

@@ -1,0 +1,55 @@
+// asf: the host's launcher. It answers --version itself and loads the commands (libasf_host.so,
+// host_main.cpp) only when one runs: that library needs about 300 others (MRPT, OpenCV, CGAL,
+// ...) whose loading and relocation take most of a short command's time (docs/BENCHMARKS.md).
+#include <asf/abi.h>
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+/// Directory of this executable, or "" if /proc/self/exe cannot be read.
+std::string exeDir() {
+  std::vector<char> buf(4096);
+  const ssize_t n = readlink("/proc/self/exe", buf.data(), buf.size() - 1);
+  if (n <= 0) return "";
+  std::string path(buf.data(), static_cast<std::size_t>(n));
+  return path.substr(0, path.find_last_of('/'));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 2 && std::strcmp(argv[1], "--version") == 0) {
+    std::printf("asf " ASF_VERSION_STRING " (plugin ABI %u)\n", ASF_ABI_VERSION);
+    return 0;
+  }
+  const std::string dir = exeDir();
+  // The build tree and an install with lib/ as its library directory: <exe>/../lib/asf, where
+  // the plugins' directory is too; else the configured install library directory.
+  const std::string candidates[] = {dir + "/../lib/asf/libasf_host.so",
+                                    dir + "/../" ASF_HOST_INSTALL_DIR "/libasf_host.so"};
+  std::string errors;
+  for (const std::string& lib : candidates) {
+    if (access(lib.c_str(), F_OK) != 0) continue;
+    void* handle = dlopen(lib.c_str(), RTLD_LAZY | RTLD_GLOBAL);
+    if (!handle) {
+      errors += std::string("\n  ") + dlerror();
+      continue;
+    }
+    using HostMain = int (*)(int, char**);
+    const auto host_main = reinterpret_cast<HostMain>(dlsym(handle, "asf_host_main"));
+    if (!host_main) {
+      std::fprintf(stderr, "asf: error: %s has no asf_host_main\n", lib.c_str());
+      return 1;
+    }
+    return host_main(argc, argv);
+  }
+  std::fprintf(stderr, "asf: error: cannot load the host library (looked for %s and %s)%s\n",
+               candidates[0].c_str(), candidates[1].c_str(), errors.c_str());
+  return 1;
+}
