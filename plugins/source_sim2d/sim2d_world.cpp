@@ -67,8 +67,18 @@ World World::fromImage(const ImageWorldOptions& o) {
   if (!read)
     throw std::runtime_error(o.file +
                              ": cannot read the map image (missing, damaged or not an image)");
-  const int w = static_cast<int>(img.getWidth()), h = static_cast<int>(img.getHeight());
-  if (w < 2 || h < 2) throw std::runtime_error(o.file + ": map image is smaller than 2x2 px");
+  const int iw = static_cast<int>(img.getWidth()), ih = static_cast<int>(img.getHeight());
+  if (iw < 2 || ih < 2) throw std::runtime_error(o.file + ": map image is smaller than 2x2 px");
+  if (o.tiles < 1) throw std::runtime_error(o.file + ": tiles must be at least 1");
+  // The tiled image's size, and the source pixel of one of its pixels (mirrored tiles).
+  const int w = iw * o.tiles, h = ih * o.tiles;
+  auto source = [&](int col, int row) {
+    const int tc = col / iw, tr = row / ih;
+    int c = col % iw, r = row % ih;
+    if (tc % 2) c = iw - 1 - c;
+    if (tr % 2) r = ih - 1 - r;
+    return img.at<std::uint8_t>(static_cast<unsigned>(c), static_cast<unsigned>(r));
+  };
   const int pad = o.pad_wall_px;
   const double res = o.resolution;
   // Height of each gray level: the nearest class (a tie goes to the darker one).
@@ -100,8 +110,7 @@ World World::fromImage(const ImageWorldOptions& o) {
       float height = static_cast<float>(o.wall_height);
       if (col >= 0 && col < w && row_from_bottom >= 0 && row_from_bottom < h) {
         // Image rows go top-down, grid rows bottom-up.
-        const auto v = img.at<std::uint8_t>(static_cast<unsigned>(col),
-                                            static_cast<unsigned>(h - 1 - row_from_bottom));
+        const auto v = source(col, h - 1 - row_from_bottom);
         wall = 1.0 - v / 255.0 > o.occupied_threshold;
         height = height_of[v];
       } else if (pad == 0) {

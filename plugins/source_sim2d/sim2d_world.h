@@ -28,11 +28,15 @@ struct HeightClass {
 std::vector<HeightClass> parseHeightClasses(const std::string& text);
 
 struct ImageWorldOptions {
-  std::string file;                ///< PNG/PGM/...: dark = wall
-  double resolution = 0.04;        ///< metres per pixel
+  std::string file;                   ///< PNG/PGM/...: dark = wall
+  double resolution = 0.04;           ///< metres per pixel
   double origin_x = 0, origin_y = 0;  ///< world coordinates of the image's lower-left corner
-  double occupied_threshold = 0.5;  ///< a pixel with 1 - gray/255 above this is a wall
-  int pad_wall_px = 0;             ///< wall of this many pixels added around the image
+  double occupied_threshold = 0.5;    ///< a pixel with 1 - gray/255 above this is a wall
+  int pad_wall_px = 0;                ///< wall of this many pixels added around the image
+  /// The world is tiles x tiles copies of the image, every other one mirrored (horizontally
+  /// in odd columns, vertically in odd rows) so the walls meet at the seams: bigger worlds of
+  /// the same kind, for scaling measurements. The padding goes around the whole.
+  int tiles = 1;
   /// Height of every obstacle pixel without classes, and of the padding frame [m].
   double wall_height = 2.0;
   /// When not empty, an obstacle pixel of gray level v is as tall as the class whose `gray`

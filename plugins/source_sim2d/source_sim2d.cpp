@@ -74,6 +74,7 @@ class Sim2dSource final : public asf::Source {
         o.origin_y = p.getDouble("origin_y");
         o.occupied_threshold = p.getDouble("occupied_threshold");
         o.pad_wall_px = static_cast<int>(p.getInt("pad_wall_px"));
+        o.tiles = static_cast<int>(p.getInt("map_tiles"));
         o.wall_height = wall_height;
         o.height_classes = classes;
         world_ = asf::sim2d::World::fromImage(o);
@@ -500,6 +501,10 @@ const asf::KeySpec kKeys[] = {
                 "Wall of this many pixels added around the image (for maps without an outer "
                 "wall)",
                 0, 1000),
+    asf::keyInt("map_tiles", "1",
+                "The world is map_tiles x map_tiles copies of the image, every other one "
+                "mirrored so the walls meet at the seams (bigger worlds for scaling runs)",
+                1, 64),
     asf::keyDouble("room_width", "8.0", "Built-in room width, when map_image is empty [m]", 0.5,
                    1000),
     asf::keyDouble("room_height", "6.0", "Built-in room height, when map_image is empty [m]", 0.5,

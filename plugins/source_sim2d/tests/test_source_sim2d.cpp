@@ -116,6 +116,37 @@ TEST(Sim2dWorld, RoomHasWallsExactlyOnItsBoundary) {
   EXPECT_FALSE(w.sweepCollides({1, 1}, {3.5, 1}, 0.2));
 }
 
+// map_tiles: n x n copies, odd columns mirrored left-right and odd rows top-bottom, so a
+// wall touching one side of the image meets itself across the seam.
+TEST(Sim2dWorld, TiledImageMirrorsEveryOtherTile) {
+  asf::sim2d::ImageWorldOptions o;
+  o.file = ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png";
+  o.resolution = 0.04;
+  const auto one = asf::sim2d::World::fromImage(o);
+  o.tiles = 3;
+  const auto three = asf::sim2d::World::fromImage(o);
+  const asf::Box2 b = three.bounds();
+  EXPECT_NEAR(b.max_x - b.min_x, 60.0, 1e-3);
+  EXPECT_NEAR(b.max_y - b.min_y, 60.0, 1e-3);
+  EXPECT_EQ(three.wallCells(), 9 * one.wallCells());
+  int checked = 0, walls = 0;
+  for (double x = 0.02; x < 20; x += 0.52)
+    for (double y = 0.02; y < 20; y += 0.52) {
+      const bool v = one.occupiedAt(x, y);
+      walls += v;
+      ++checked;
+      EXPECT_EQ(three.occupiedAt(x, y), v);               // tile (0, 0): as is
+      EXPECT_EQ(three.occupiedAt(40 - x, y), v);          // (1, 0): mirrored in x
+      EXPECT_EQ(three.occupiedAt(x, 40 - y), v);          // (0, 1): mirrored in y
+      EXPECT_EQ(three.occupiedAt(40 - x, 40 - y), v);     // (1, 1): both
+      EXPECT_EQ(three.occupiedAt(40 + x, 40 + y), v);     // (2, 2): as is again
+    }
+  EXPECT_GT(walls, checked / 10) << "the probe points see walls and free space";
+  EXPECT_LT(walls, checked * 9 / 10);
+  o.tiles = 0;
+  EXPECT_THROW(asf::sim2d::World::fromImage(o), std::runtime_error);
+}
+
 TEST(Sim2dWorld, CaveImageIsTwentyMetresWithPaddedWall) {
   asf::sim2d::ImageWorldOptions o;
   o.file = ASF_TEST_SOURCE_DIR "/datasets/cave/cave_filled.png";
