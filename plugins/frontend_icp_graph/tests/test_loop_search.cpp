@@ -79,6 +79,19 @@ struct DoorsLoop {
   }
 };
 
+/// A room seen from xi = (3, 2, 0) (the candidate's submap) and from `xj` (the new scan).
+struct RoomLoop {
+  World w = room();
+  CPose2D xi{3, 2, 0}, xj;
+  Cloud ref, cur;
+  CPose2D truth;
+  explicit RoomLoop(const CPose2D& j) : xj(j) {
+    ref = submap(w, {xi}, 12);
+    cur = scan(w, xj, 12, 9);
+    truth = CPose2D() - xi + xj;
+  }
+};
+
 TEST(LoopSearch, RepeatedDoorsFoolIcpNotTheCorrelativeSearch) {
   const DoorsLoop d;
   const Cloud& ref = d.ref;
@@ -105,11 +118,10 @@ TEST(LoopSearch, RepeatedDoorsFoolIcpNotTheCorrelativeSearch) {
 }
 
 TEST(LoopSearch, TheCorrelativeSearchFindsALoopFromAnEstimateFarOff) {
-  const World w = room();
-  const CPose2D xi(3, 2, 0), xj(3.6, 1.7, 0.3);
-  const Cloud ref = submap(w, {xi}, 12);
-  const Cloud cur = scan(w, xj, 12, 9);
-  const CPose2D truth = CPose2D() - xi + xj;
+  const RoomLoop r(CPose2D(3.6, 1.7, 0.3));
+  const Cloud& ref = r.ref;
+  const Cloud& cur = r.cur;
+  const CPose2D& truth = r.truth;
   for (const CPose2D& error : {CPose2D(1.0, -0.8, 0.25), CPose2D(-1.7, 1.2, -0.3)}) {
     SCOPED_TRACE(error.asString());
     std::string why, how;
@@ -126,11 +138,10 @@ TEST(LoopSearch, TheCorrelativeSearchFindsALoopFromAnEstimateFarOff) {
 // gate ends the verification (one ICP); one that passes is tested by the perturbed guesses
 // in order, which stop as soon as min_agree agree, and the result is the estimate's run.
 TEST(LoopSearch, IcpVerificationStopsAtTheGateAndOnceEnoughAgree) {
-  const World w = room();
-  const CPose2D xi(3, 2, 0), xj(3.3, 1.8, 0.1);
-  const Cloud ref = submap(w, {xi}, 12);
-  const Cloud cur = scan(w, xj, 12, 9);
-  const CPose2D truth = CPose2D() - xi + xj;
+  const RoomLoop r(CPose2D(3.3, 1.8, 0.1));
+  const Cloud& ref = r.ref;
+  const Cloud& cur = r.cur;
+  const CPose2D& truth = r.truth;
   const CPose2D est = truth + CPose2D(0.05, -0.04, 0.02);
   LoopSearchOptions o = options(false);
   int gate_calls = 0;
