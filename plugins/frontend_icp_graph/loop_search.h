@@ -1,7 +1,8 @@
 #pragma once
 /// \file loop_search.h
 /// Loop-closure alignment for the icp_graph front-end, two ways. `icp`: ICP from the estimated
-/// relative pose and six perturbed guesses. `correlative`: correlative scan matching
+/// relative pose, then (if it passes the caller's gates) from perturbed guesses that must
+/// converge to it. `correlative`: correlative scan matching
 /// (correlative_matcher.h): the new keyframe's scan is searched over a window around the estimated
 /// relative pose in a likelihood field of the candidate's submap, so a drifted estimate does not
 /// decide what ICP converges to. Two cues come from the search: the best pose's score (how
