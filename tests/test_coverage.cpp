@@ -9,7 +9,9 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace {
 
@@ -182,4 +184,52 @@ TEST(MapAreaTracker, UntrustedBoxesAreRecounted) {
   EXPECT_DOUBLE_EQ(no_meter.freeArea(), asf::freeArea(run.builder.map()));
   no_meter.update(asf::GridMap{});
   EXPECT_EQ(no_meter.freeArea(), 0.0);
+}
+
+// The counts through a GridIndex (cell positions computed once per grid geometry, cells read
+// from the raw buffer) are the direct ones: the same cells, the same threshold. The free-cell
+// count is checked against getCell() cell by cell.
+TEST(CoverageMeter, GridIndexCountsEqualTheDirectOnes) {
+  MappingRun run;
+  ASSERT_TRUE(run.step({11, 2, 0}));
+  ASSERT_TRUE(run.step({8, 2.2, 0.4}));
+  const auto& g = *run.builder.map().grid;
+  const asf::CoverageMeter::GridIndex index = run.meter.indexFor(g);
+  ASSERT_TRUE(index.fits(g));
+  ASSERT_EQ(index.cell.size(), run.meter.reachableCells());
+  const std::size_t seen = run.meter.observedCount(g);
+  EXPECT_GT(seen, 100u);
+  EXPECT_EQ(run.meter.observedCount(g, index), seen);
+  for (const asf::Box2& box : {asf::Box2{0, 0, 5, 4}, asf::Box2{6.5, 1, 12, 3.5},
+                               asf::Box2{-3, -3, 30, 30}, asf::Box2{7.1, 2.1, 7.3, 2.2}}) {
+    std::size_t v1 = 0, v2 = 0;
+    EXPECT_EQ(run.meter.observedIn(g, box, index, v1), run.meter.observedIn(g, box, v2));
+    EXPECT_EQ(v1, v2);
+  }
+  std::size_t free_cells = 0;
+  for (unsigned y = 0; y < g.getSizeY(); ++y)
+    for (unsigned x = 0; x < g.getSizeX(); ++x)
+      if (g.getCell(x, y) >= 0.5f + 0.02f) ++free_cells;
+  EXPECT_GT(free_cells, 100u);
+  const double r = g.getResolution();
+  EXPECT_DOUBLE_EQ(asf::freeArea(run.builder.map()), static_cast<double>(free_cells) * r * r);
+
+  // A grid that covers part of the world, its cells set at random: the cells off it count as
+  // unobserved both ways.
+  mrpt::maps::COccupancyGridMap2D small(1.0f, 5.0f, 0.5f, 3.0f, 0.05f);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> p(0.f, 1.f);
+  for (unsigned y = 0; y < small.getSizeY(); ++y)
+    for (unsigned x = 0; x < small.getSizeX(); ++x)
+      small.setCell(x, y, p(rng) < 0.3 ? 0.5f : p(rng));
+  const asf::CoverageMeter::GridIndex part = run.meter.indexFor(small);
+  const std::size_t off =
+      static_cast<std::size_t>(std::count(part.cell.begin(), part.cell.end(), std::int32_t{-1}));
+  EXPECT_GT(off, run.meter.reachableCells() / 2) << "most of the world is off this grid";
+  EXPECT_GT(run.meter.observedCount(small), 100u);
+  EXPECT_EQ(run.meter.observedCount(small, part), run.meter.observedCount(small));
+  std::size_t v1 = 0, v2 = 0;
+  const asf::Box2 box{0, 0, 4, 4};
+  EXPECT_EQ(run.meter.observedIn(small, box, part, v1), run.meter.observedIn(small, box, v2));
+  EXPECT_FALSE(part.fits(g));
 }

@@ -79,8 +79,8 @@ std::size_t CoverageMeter::observedCount(const mrpt::maps::COccupancyGridMap2D& 
   return seen;
 }
 
-std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& grid, const Box2& box,
-                                      std::size_t& visited) const {
+template <class Count>
+std::size_t CoverageMeter::inBox(const Box2& box, std::size_t& visited, Count count) const {
   if (cells_.empty() || box.empty()) return 0;
   const auto clampX = [&](double x) {
     return std::clamp(static_cast<int>(std::floor((x - bx0_) / bucket_)), 0, bw_ - 1);
@@ -96,10 +96,62 @@ std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& gri
         const Point2& p = cells_[i];
         if (p.x < box.min_x || p.x > box.max_x || p.y < box.min_y || p.y > box.max_y) continue;
         ++visited;
-        if (observed(grid, p)) ++n;
+        if (count(i)) ++n;
       }
     }
   return n;
+}
+
+std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& grid, const Box2& box,
+                                      std::size_t& visited) const {
+  return inBox(box, visited, [&](std::size_t i) { return observed(grid, cells_[i]); });
+}
+
+bool CoverageMeter::GridIndex::fits(const mrpt::maps::COccupancyGridMap2D& g) const {
+  return g.getXMin() == x_min && g.getYMin() == y_min && g.getResolution() == resolution &&
+         g.getSizeX() == size_x && g.getSizeY() == size_y;
+}
+
+CoverageMeter::GridIndex CoverageMeter::indexFor(const mrpt::maps::COccupancyGridMap2D& g) const {
+  GridIndex ix;
+  ix.x_min = g.getXMin(), ix.y_min = g.getYMin(), ix.resolution = g.getResolution();
+  ix.size_x = g.getSizeX(), ix.size_y = g.getSizeY();
+  ix.cell.resize(cells_.size());
+  for (std::size_t i = 0; i < cells_.size(); ++i) {
+    // The arithmetic of observed(): the same cell, or off the grid.
+    const int x = g.x2idx(cells_[i].x), y = g.y2idx(cells_[i].y);
+    const bool on =
+        x >= 0 && y >= 0 && x < static_cast<int>(ix.size_x) && y < static_cast<int>(ix.size_y);
+    ix.cell[i] = on ? static_cast<std::int32_t>(y * static_cast<int>(ix.size_x) + x) : -1;
+  }
+  return ix;
+}
+
+namespace {
+/// observed() on a cell of the buffer (the index of GridIndex::cell).
+inline bool observedCell(const std::vector<mrpt::maps::COccupancyGridMap2D::cellType>& raw,
+                         std::int32_t k, double band) {
+  // float |p - 0.5| against the double band, exactly as observed() compares them.
+  return k >= 0 && std::abs(mrpt::maps::COccupancyGridMap2D::l2p(raw[static_cast<std::size_t>(k)]) -
+                            0.5f) >= band;
+}
+}  // namespace
+
+std::size_t CoverageMeter::observedCount(const mrpt::maps::COccupancyGridMap2D& g,
+                                         const GridIndex& index) const {
+  const auto& raw = g.getRawMap();
+  const double band = unknown_band_;
+  std::size_t seen = 0;
+  for (const std::int32_t k : index.cell)
+    if (observedCell(raw, k, band)) ++seen;
+  return seen;
+}
+
+std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& g, const Box2& box,
+                                      const GridIndex& index, std::size_t& visited) const {
+  const auto& raw = g.getRawMap();
+  const double band = unknown_band_;
+  return inBox(box, visited, [&](std::size_t i) { return observedCell(raw, index.cell[i], band); });
 }
 
 double CoverageMeter::coverage(const GridMap& map) const {
@@ -116,10 +168,14 @@ std::size_t freeCells(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, 
   x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
   y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
   const float thr = 0.5f + static_cast<float>(unknown_band);
+  const auto& raw = g.getRawMap();
+  const std::size_t sx = g.getSizeX();
   std::size_t n = 0;
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      if (g.getCell(x, y) >= thr) ++n;
+  for (int y = y0; y <= y1; ++y) {
+    const auto* row = raw.data() + static_cast<std::size_t>(y) * sx;
+    for (int x = x0; x <= x1; ++x)  // getCell(x, y) of a cell inside the grid
+      if (mrpt::maps::COccupancyGridMap2D::l2p(row[x]) >= thr) ++n;
+  }
   return n;
 }
 
@@ -144,7 +200,7 @@ void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
   visited_ += static_cast<std::size_t>(g.getSizeX()) * g.getSizeY();
   free_cells_ = allFreeCells(g, band_);
   if (meter_) {
-    observed_ = meter_->observedCount(g);
+    observed_ = meter_->observedCount(g, indexFor(g));
     visited_ += meter_->reachableCells();
   }
 }
@@ -185,9 +241,20 @@ void MapAreaTracker::update(const GridMap& map) {
   const std::size_t before = freeCells(*old, x0 + dx, x1 + dx, y0 + dy, y1 + dy, band_);
   visited_ += 2 * static_cast<std::size_t>(std::max(0, x1 - x0 + 1)) * std::max(0, y1 - y0 + 1);
   free_cells_ = free_cells_ + now - before;
-  if (meter_)
-    observed_ =
-        observed_ + meter_->observedIn(g, box, visited_) - meter_->observedIn(*old, box, visited_);
+  if (meter_) {
+    // Both grids have the same cells here only if they have the same geometry; a grown grid
+    // (cells shifted by whole cells) goes through the arithmetic once.
+    const std::size_t now_seen = meter_->observedIn(g, box, indexFor(g), visited_);
+    const std::size_t before_seen = index_.fits(*old)
+                                        ? meter_->observedIn(*old, box, index_, visited_)
+                                        : meter_->observedIn(*old, box, visited_);
+    observed_ = observed_ + now_seen - before_seen;
+  }
+}
+
+const CoverageMeter::GridIndex& MapAreaTracker::indexFor(const mrpt::maps::COccupancyGridMap2D& g) {
+  if (!index_.fits(g)) index_ = meter_->indexFor(g);
+  return index_;
 }
 
 double MapAreaTracker::freeArea() const {

@@ -32,9 +32,30 @@ class CoverageMeter {
   std::size_t observedCount(const mrpt::maps::COccupancyGridMap2D& grid) const;
   std::size_t reachableCells() const { return cells_.size(); }
 
+  /// Where each reachable cell falls in grids of `grid`'s geometry (origin, resolution,
+  /// size): its index in the grid's cell buffer, or -1 off the grid. Computed once per
+  /// geometry by a caller that counts many versions of a growing map (MapAreaTracker); the
+  /// overloads below then read the cells without the coordinate arithmetic.
+  struct GridIndex {
+    double x_min = 0, y_min = 0, resolution = 0;
+    unsigned size_x = 0, size_y = 0;
+    std::vector<std::int32_t> cell;  ///< per reachable cell, in this meter's order
+    bool fits(const mrpt::maps::COccupancyGridMap2D& grid) const;
+  };
+  GridIndex indexFor(const mrpt::maps::COccupancyGridMap2D& grid) const;
+  /// As observedCount(grid) and observedIn(grid, box, visited), with `index` made for a grid
+  /// of the same geometry (index.fits(grid)); the same counts.
+  std::size_t observedCount(const mrpt::maps::COccupancyGridMap2D& grid,
+                            const GridIndex& index) const;
+  std::size_t observedIn(const mrpt::maps::COccupancyGridMap2D& grid, const Box2& box,
+                         const GridIndex& index, std::size_t& visited) const;
+
  private:
   void indexCells(double bucket);
   bool observed(const mrpt::maps::COccupancyGridMap2D& g, const Point2& p) const;
+  /// observedIn's walk over the buckets under `box`: count(i) for each cell i inside it.
+  template <class Count>
+  std::size_t inBox(const Box2& box, std::size_t& visited, Count count) const;
 
   std::vector<Point2> cells_;  ///< reachable world cells, map frame, sorted by bucket
   /// Bucket index over cells_: bucket (bx, by) of side `bucket_` holds
@@ -68,7 +89,11 @@ class MapAreaTracker {
   bool sameCells(const mrpt::maps::COccupancyGridMap2D& a,
                  const mrpt::maps::COccupancyGridMap2D& b) const;
 
+  /// The meter's cells in the current grid's geometry (rebuilt when the grid grows).
+  const CoverageMeter::GridIndex& indexFor(const mrpt::maps::COccupancyGridMap2D& g);
+
   const CoverageMeter* meter_;
+  CoverageMeter::GridIndex index_;
   double band_;
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> last_;  ///< the grid counted
   std::uint64_t version_ = 0;
