@@ -90,10 +90,6 @@ extern "C" __attribute__((visibility("default"))) int asf_host_main(int argc, ch
     usage(std::cout);
     return asf::app::kOk;
   }
-  if (sub == "--version") {
-    std::cout << "asf " ASF_VERSION_STRING " (plugin ABI " << ASF_ABI_VERSION << ")\n";
-    return asf::app::kOk;
-  }
   for (const auto& c : kCommands) {
     if (sub != c.name) continue;
     try {

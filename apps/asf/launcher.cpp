@@ -24,7 +24,8 @@ std::string exeDir() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc == 2 && std::strcmp(argv[1], "--version") == 0) {
+  // The only place --version is answered (words after it are ignored, as before).
+  if (argc >= 2 && std::strcmp(argv[1], "--version") == 0) {
     std::printf("asf " ASF_VERSION_STRING " (plugin ABI %u)\n", ASF_ABI_VERSION);
     return 0;
   }
