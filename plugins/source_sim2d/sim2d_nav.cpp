@@ -58,12 +58,14 @@ void setCostFactors(Grid& g, const Point2& start, const NavOptions& o) {
       const int k = g.idx(i, j);
       const bool obstacle = free_mask(j, i) == 0;
       const double clear = clearanceAt(i, j);
-      const Point2 c = g.centre(i, j);
-      const bool escape =
-          (i == si && j == sj) ||
-          (std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius && clear >= start_clear);
+      // Only cells within the radius of an obstacle need the escape test (and its hypot).
+      const auto escape = [&] {
+        const Point2 c = g.centre(i, j);
+        return (i == si && j == sj) ||
+               (std::hypot(c.x - start.x, c.y - start.y) <= o.robot_radius && clear >= start_clear);
+      };
       double f = 1.0;
-      if (obstacle || (clear < o.robot_radius && !escape)) {
+      if (obstacle || (clear < o.robot_radius && !escape())) {
         f = inf;
       } else {
         if (g.state[k] == kUnknown) f *= o.unknown_cost;
@@ -96,14 +98,21 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start, 
   g.state.assign(static_cast<std::size_t>(g.nx) * g.ny, kUnknown);
   if (map) {
     const int mx = static_cast<int>(map->getSizeX()), my = static_cast<int>(map->getSizeY());
-    for (int j = 0; j < g.ny; ++j)
+    // The map cell under each column and row centre, computed once (a cell centre's map
+    // index depends only on its column, resp. row).
+    std::vector<int> map_col(g.nx), map_row(g.ny);
+    for (int i = 0; i < g.nx; ++i) map_col[i] = map->x2idx(g.centre(i, 0).x);
+    for (int j = 0; j < g.ny; ++j) map_row[j] = map->y2idx(g.centre(0, j).y);
+    for (int j = 0; j < g.ny; ++j) {
+      const int cy = map_row[j];
+      if (cy < 0 || cy >= my) continue;
       for (int i = 0; i < g.nx; ++i) {
-        const Point2 c = g.centre(i, j);
-        const int cx = map->x2idx(c.x), cy = map->y2idx(c.y);
-        if (cx < 0 || cy < 0 || cx >= mx || cy >= my) continue;
+        const int cx = map_col[i];
+        if (cx < 0 || cx >= mx) continue;
         const double p_free = map->getCell(cx, cy);  // MRPT stores p(free)
         g.state[g.idx(i, j)] = cellStateOf(p_free, o.occupied_threshold, o.unknown_band);
       }
+    }
   }
 
   for (const Point2& q : obstacles) {
