@@ -4,12 +4,13 @@
 #include <asf/segment_world.h>
 #include <asf/topo_builder.h>
 #include <gtest/gtest.h>
-
-#include <algorithm>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <set>
 
 namespace {
 
@@ -113,8 +114,8 @@ TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {
   std::size_t n;
   const asf::KeySpec* k = asf::TopoBuilder::keys(n);
   asf::TopoBuilder tb;
-  tb.configure(asf::Params::fromSpecs("topology", k, n,
-                                      {{"min_border_width", "0.3"}, {"min_frontier_width", "0.3"}}));
+  tb.configure(asf::Params::fromSpecs(
+      "topology", k, n, {{"min_border_width", "0.3"}, {"min_frontier_width", "0.3"}}));
   tb.update(seg, map);
   const auto& t = tb.graph();
   ASSERT_EQ(t.nodes.size(), 3u);  // two regions + unexplored
@@ -198,8 +199,8 @@ TEST(TopoBuilder, FrontierEdgesNeedAStretchOfAdjacentCells) {
     for (int y = 0; y < 8; ++y)
       for (int x = 0; x < 12; ++x) {
         const bool wall = y == 0 || y == 7 || x == 0 || x == 11;
-        const bool unknown = x == 11 && std::find(unknown_rows.begin(), unknown_rows.end(), y) !=
-                                            unknown_rows.end();
+        const bool unknown =
+            x == 11 && std::find(unknown_rows.begin(), unknown_rows.end(), y) != unknown_rows.end();
         grid->setCell(x, y, unknown ? 0.5f : wall ? 0.0f : 1.0f);
         if (!wall) L.labels[y * 12 + x] = 1;
       }
@@ -227,6 +228,79 @@ TEST(TopoBuilder, FrontierEdgesNeedAStretchOfAdjacentCells) {
   const auto mixed = frontierEdges({1, 2, 3, 6});
   ASSERT_EQ(mixed.size(), 1u);
   EXPECT_EQ(mixed[0].border.size(), 3u);
+}
+
+// The builder keeps its borders in stripes of rows between updates and recomputes only the
+// stripes whose labels or grid lookups changed: after every update of a random sequence
+// (labels repainted in a patch, grid cells turned unknown or known, the same grid object
+// again) its graph must equal that of a builder that sees only the current input.
+TEST(TopoBuilder, StripeCacheGivesWhatAFreshBuilderGives) {
+  constexpr int W = 37, H = 70;  // several stripes; width not a multiple of anything
+  std::mt19937 rng(7);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  asf::Segmentation seg;
+  auto& L = seg.labels;
+  L.width = W, L.height = H, L.resolution = 0.1, L.origin_x = -1.0, L.origin_y = 0.5;
+  L.labels.assign(W * H, 0);
+  auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(-1.0f, 2.7f, 0.5f, 7.5f, 0.1f);
+  ASSERT_EQ(grid->getSizeX(), static_cast<unsigned>(W));
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) grid->setCell(x, y, 1.0f);
+  // Paints the rectangle with a label (0: unlabelled) and, for the grid, a cell value.
+  auto paint = [&](int x0, int y0, int w, int h, int label, float p) {
+    for (int y = y0; y < std::min(y0 + h, H); ++y)
+      for (int x = x0; x < std::min(x0 + w, W); ++x) {
+        if (label >= 0) L.labels[y * W + x] = label;
+        if (p >= 0) grid->setCell(x, y, p);
+      }
+  };
+  for (int y = 0; y < H; y += 10)  // rooms with unlabelled walls between them
+    for (int x = 0; x < W; x += 9) paint(x + 1, y + 1, 8, 9, 1 + (x / 9) + 5 * (y / 10), -1);
+  std::size_t n;
+  const asf::KeySpec* k = asf::TopoBuilder::keys(n);
+  const auto params = asf::Params::fromSpecs(
+      "topology", k, n, {{"min_border_width", "0.2"}, {"min_frontier_width", "0.2"}});
+  asf::TopoBuilder incremental;
+  incremental.configure(params);
+  asf::GridMap map;
+  for (int step = 0; step < 60; ++step) {
+    const int kind = pick(0, 3);
+    if (kind == 0 || kind == 3)  // a patch relabelled or cleared
+      paint(pick(0, W - 1), pick(0, H - 1), pick(1, 8), pick(1, 8), std::max(0, pick(-10, 40)), -1);
+    if (kind == 1 || kind == 3) {  // a patch of the grid unknown, free or occupied
+      grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(*grid);
+      const float values[3] = {0.5f, 1.0f, 0.0f};
+      paint(pick(0, W - 1), pick(0, H - 1), pick(1, 6), pick(1, 6), -1, values[pick(0, 2)]);
+    }
+    // kind 2: nothing changes (the same grid object, the same labels)
+    seg.regions.clear();
+    std::set<int> ids(L.labels.begin(), L.labels.end());
+    for (int id : ids)
+      if (id > 0) seg.regions.push_back(asf::Region{id, {}, {}, 1.0, {0, 0}});
+    map.grid = grid;
+    ++map.version;
+    incremental.update(seg, map);
+    asf::TopoBuilder fresh;
+    fresh.configure(params);
+    fresh.update(seg, map);
+    const auto& a = incremental.graph().edges;
+    const auto& b = fresh.graph().edges;
+    ASSERT_EQ(a.size(), b.size()) << "step " << step;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].a, b[i].a) << "step " << step;
+      EXPECT_EQ(a[i].b, b[i].b) << "step " << step;
+      EXPECT_EQ(a[i].width, b[i].width) << "step " << step;
+      EXPECT_EQ(a[i].midpoint.x, b[i].midpoint.x) << "step " << step;
+      EXPECT_EQ(a[i].midpoint.y, b[i].midpoint.y) << "step " << step;
+      ASSERT_EQ(a[i].border.size(), b[i].border.size()) << "step " << step;
+      for (std::size_t j = 0; j < a[i].border.size(); ++j)
+        EXPECT_TRUE(a[i].border[j].x == b[i].border[j].x && a[i].border[j].y == b[i].border[j].y);
+    }
+    if (step == 30) {  // a copy carries the cache and goes on alone
+      asf::TopoBuilder copy = incremental;
+      incremental = copy;
+    }
+  }
 }
 
 TEST(Geometry, PolygonAreaAndCentroid) {

@@ -8,6 +8,44 @@
 
 namespace asf {
 
+namespace detail {
+using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)
+
+/// The cells along one border (a region pair) or frontier (a region and unknown space).
+struct BorderAcc {
+  int cells = 0;
+  /// Region pairs: sums of (cx + nx + 1) and (cy + ny + 1) over the cell pairs, i.e. twice
+  /// the border midpoint in cells (integers: stripes add up exactly in any order).
+  long long twice_x = 0, twice_y = 0;
+  std::vector<Point2> border;       // cells on the side of the key's first region
+  std::vector<int> frontier_cells;  // frontier keys: label-image index of each border cell
+};
+using BorderMap = std::map<Key, BorderAcc>;
+
+/// One stripe of label rows: its borders, and every grid lookup it made (label-image cell
+/// index, whether it was unknown), which is all it read of the grid.
+struct BorderStripe {
+  BorderMap acc;
+  std::vector<std::pair<int, char>> probes;
+};
+
+/// The borders of the last update in stripes of rows: an update recomputes a stripe only
+/// when its labels (or those of the rows next to it) changed, or one of its grid lookups
+/// answers differently now; then the stripes are added up in row order.
+struct TopoBorderCache {
+  bool valid = false;
+  int width = 0, height = 0;
+  double resolution = 0, origin_x = 0, origin_y = 0;
+  std::vector<BorderStripe> stripes;
+};
+
+}  // namespace detail
+using detail::BorderAcc;
+using detail::BorderMap;
+using detail::BorderStripe;
+using detail::Key;
+using detail::TopoBorderCache;
+
 namespace {
 const KeySpec kTopoKeys[] = {
     keyDouble("min_border_width", "0.3",
@@ -22,38 +60,39 @@ const KeySpec kTopoKeys[] = {
               0.5),
 };
 
-using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)
 Key edgeKey(RegionId a, RegionId b) {
   if (b == kUnexplored || a == kUnexplored) return {a == kUnexplored ? b : a, kUnexplored};
   return a < b ? Key{a, b} : Key{b, a};
 }
 
-/// The cells along one border (a region pair) or frontier (a region and unknown space).
-struct BorderAcc {
-  int cells = 0;
-  double sx = 0, sy = 0;
-  std::vector<Point2> border;       // cells on the side of the key's first region
-  std::vector<int> frontier_cells;  // frontier keys: label-image index of each border cell
-};
-
-/// Every border between two regions and every frontier of a region (cells next to unknown
-/// or unlabelled space whose grid cell is unknown, or off the grid), from the label image.
-std::map<Key, BorderAcc> accumulateBorders(const LabelImage& L,
-                                           const mrpt::maps::COccupancyGridMap2D* grid,
-                                           double unknown_band) {
-  std::map<Key, BorderAcc> acc;
-  auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
-  auto cellY = [&](double cy) { return L.origin_y + (cy + 0.5) * L.resolution; };
-  auto unknown = [&](int cx, int cy) {
+/// Is label-image cell (cx, cy) unknown on the grid (off the grid counts as unknown; no
+/// grid: never)?
+struct UnknownProbe {
+  const LabelImage& L;
+  const mrpt::maps::COccupancyGridMap2D* grid;
+  double band;
+  bool operator()(int cx, int cy) const {
     if (!grid) return false;
-    const double x = cellX(cx), y = cellY(cy);
+    const double x = L.origin_x + (cx + 0.5) * L.resolution;
+    const double y = L.origin_y + (cy + 0.5) * L.resolution;
     const int gx = grid->x2idx(x), gy = grid->y2idx(y);
     if (gx < 0 || gy < 0 || gx >= static_cast<int>(grid->getSizeX()) ||
         gy >= static_cast<int>(grid->getSizeY()))
       return true;  // beyond the grid: never observed
-    return std::abs(grid->getCell(gx, gy) - 0.5) < unknown_band;
-  };
-  for (int cy = 0; cy < L.height; ++cy)
+    return std::abs(grid->getCell(gx, gy) - 0.5) < band;
+  }
+};
+
+/// Rows [y0, y1) of the borders between two regions and the frontiers of a region (cells
+/// next to unknown or unlabelled space whose grid cell is unknown, or off the grid), from
+/// the label image. A row's result depends on its own labels, those of the rows next to it
+/// and the grid lookups recorded in `out.probes`.
+void accumulateBorders(const LabelImage& L, const UnknownProbe& unknown, int y0, int y1,
+                       BorderStripe& out) {
+  auto cellX = [&](double cx) { return L.origin_x + (cx + 0.5) * L.resolution; };
+  auto cellY = [&](double cy) { return L.origin_y + (cy + 0.5) * L.resolution; };
+  BorderMap& acc = out.acc;
+  for (int cy = y0; cy < y1; ++cy)
     for (int cx = 0; cx < L.width; ++cx) {
       const RegionId a = L.at(cx, cy);
       if (a <= 0) continue;
@@ -67,25 +106,89 @@ std::map<Key, BorderAcc> accumulateBorders(const LabelImage& L,
           const Key k = edgeKey(a, b);
           auto& s = acc[k];
           ++s.cells;
-          s.sx += 0.5 * (cellX(cx) + cellX(nx));
-          s.sy += 0.5 * (cellY(cy) + cellY(ny));
+          s.twice_x += cx + nx + 1;
+          s.twice_y += cy + ny + 1;
           if (k.first == a)
             s.border.push_back({cellX(cx), cellY(cy)});
           else
             s.border.push_back({cellX(nx), cellY(ny)});
         }
-        if (b == 0 && (inside ? unknown(nx, ny) : true)) frontier = true;
+        if (b == 0 && !inside) frontier = true;
+        if (b == 0 && inside) {
+          const bool u = unknown(nx, ny);
+          out.probes.emplace_back(ny * L.width + nx, u);
+          frontier |= u;
+        }
       }
       if (frontier) {
         auto& s = acc[edgeKey(a, kUnexplored)];
         ++s.cells;
-        s.sx += cellX(cx);
-        s.sy += cellY(cy);
         s.border.push_back({cellX(cx), cellY(cy)});
         s.frontier_cells.push_back(cy * L.width + cx);
       }
     }
-  return acc;
+}
+
+constexpr int kStripeRows = 16;
+
+}  // namespace
+
+TopoBuilder::TopoBuilder() = default;
+TopoBuilder::~TopoBuilder() = default;
+TopoBuilder::TopoBuilder(const TopoBuilder& o)
+    : min_border_width_(o.min_border_width_),
+      min_frontier_width_(o.min_frontier_width_),
+      unknown_band_(o.unknown_band_),
+      seg_(o.seg_),
+      graph_(o.graph_),
+      have_robot_(o.have_robot_),
+      robot_x_(o.robot_x_),
+      robot_y_(o.robot_y_),
+      robot_t_(o.robot_t_) {
+  if (o.borders_) borders_ = std::make_unique<TopoBorderCache>(*o.borders_);
+}
+TopoBuilder& TopoBuilder::operator=(const TopoBuilder& o) {
+  if (this != &o) {
+    TopoBuilder copy(o);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+TopoBuilder::TopoBuilder(TopoBuilder&&) noexcept = default;
+TopoBuilder& TopoBuilder::operator=(TopoBuilder&&) noexcept = default;
+
+namespace {
+
+/// Which stripes of the new label image `L` need recomputing: all when the cache cannot be
+/// compared (first call, other image geometry); else those next to a row whose labels
+/// differ from `old`, and those with a grid lookup that now answers differently (checked
+/// every time: a few thousand lookups, and right even for a grid changed in place).
+std::vector<char> dirtyStripes(const TopoBorderCache& c, const LabelImage& old, const LabelImage& L,
+                               const UnknownProbe& unknown) {
+  const int n = (L.height + kStripeRows - 1) / kStripeRows;
+  const bool same_image = c.valid && c.width == L.width && c.height == L.height &&
+                          c.resolution == L.resolution && c.origin_x == L.origin_x &&
+                          c.origin_y == L.origin_y && old.width == L.width &&
+                          old.height == L.height && static_cast<int>(c.stripes.size()) == n;
+  if (!same_image) return std::vector<char>(n, 1);
+  std::vector<char> dirty(n, 0);
+  for (int y = 0; y < L.height; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * L.width;
+    if (std::equal(L.labels.begin() + row, L.labels.begin() + row + L.width,
+                   old.labels.begin() + row))
+      continue;
+    for (int r = std::max(y - 1, 0); r <= std::min(y + 1, L.height - 1); ++r)
+      dirty[r / kStripeRows] = 1;  // its stripe and those reading it as a neighbour
+  }
+  for (int i = 0; i < n; ++i) {
+    if (dirty[i]) continue;
+    for (const auto& [cell, was] : c.stripes[i].probes)
+      if (unknown(cell % L.width, cell / L.width) != static_cast<bool>(was)) {
+        dirty[i] = 1;
+        break;
+      }
+  }
+  return dirty;
 }
 
 }  // namespace
@@ -144,7 +247,44 @@ void TopoBuilder::configure(const Params& p) {
   min_border_width_ = p.getDouble("min_border_width");
   min_frontier_width_ = p.getDouble("min_frontier_width");
   unknown_band_ = p.getDouble("unknown_band");
+  borders_.reset();
 }
+
+namespace {
+/// The borders and frontiers of label image `L` (the previous one `old`) on `map`: the stripes
+/// of the cache `c` that changed are recomputed, then all are added up in row order (the same
+/// as one pass over the image).
+BorderMap borders(TopoBorderCache& c, const LabelImage& old, const LabelImage& L,
+                  const GridMap& map, double unknown_band) {
+  const UnknownProbe unknown{L, map.grid.get(), unknown_band};
+  const std::vector<char> dirty = dirtyStripes(c, old, L, unknown);
+  c.stripes.resize(dirty.size());
+  for (std::size_t i = 0; i < dirty.size(); ++i) {
+    if (!dirty[i]) continue;
+    c.stripes[i] = BorderStripe{};
+    const int y0 = static_cast<int>(i) * kStripeRows;
+    accumulateBorders(L, unknown, y0, std::min(y0 + kStripeRows, L.height), c.stripes[i]);
+  }
+  c.valid = true;
+  c.width = L.width;
+  c.height = L.height;
+  c.resolution = L.resolution;
+  c.origin_x = L.origin_x;
+  c.origin_y = L.origin_y;
+  BorderMap acc;
+  for (const BorderStripe& stripe : c.stripes)
+    for (const auto& [k, s] : stripe.acc) {
+      BorderAcc& t = acc[k];
+      t.cells += s.cells;
+      t.twice_x += s.twice_x;
+      t.twice_y += s.twice_y;
+      t.border.insert(t.border.end(), s.border.begin(), s.border.end());
+      t.frontier_cells.insert(t.frontier_cells.end(), s.frontier_cells.begin(),
+                              s.frontier_cells.end());
+    }
+  return acc;
+}
+}  // namespace
 
 void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const PoseGraph* history) {
   // Carry over what persists by region id / region pair.
@@ -158,9 +298,10 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
       old_entrance[n.region] =
           edgeKey(graph_.edges[n.entrance_edge].a, graph_.edges[n.entrance_edge].b);
 
-  seg_ = seg;
   const LabelImage& L = seg.labels;
-  std::map<Key, BorderAcc> acc = accumulateBorders(L, map.grid.get(), unknown_band_);
+  if (!borders_) borders_ = std::make_unique<TopoBorderCache>();
+  BorderMap acc = borders(*borders_, seg_.labels, L, map, unknown_band_);
+  seg_ = seg;
 
   TopoGraph g;
   g.current = graph_.current;
@@ -182,11 +323,6 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
     if (is_frontier) {
       // Width, midpoint from the stretches kept.
       s.cells = static_cast<int>(s.border.size());
-      s.sx = s.sy = 0;
-      for (const Point2& b : s.border) {
-        s.sx += b.x;
-        s.sy += b.y;
-      }
       if (s.cells == 0) continue;
     }
     const double width = s.cells * L.resolution;
@@ -195,7 +331,14 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
     e.a = k.first;
     e.b = k.second;
     e.width = width;
-    e.midpoint = {s.sx / s.cells, s.sy / s.cells};
+    if (is_frontier) {
+      double sx = 0, sy = 0;
+      for (const Point2& b : s.border) sx += b.x, sy += b.y;
+      e.midpoint = {sx / s.cells, sy / s.cells};
+    } else {
+      e.midpoint = {L.origin_x + L.resolution * static_cast<double>(s.twice_x) / (2.0 * s.cells),
+                    L.origin_y + L.resolution * static_cast<double>(s.twice_y) / (2.0 * s.cells)};
+    }
     e.border = s.border;
     auto t = old_trav.find(k);
     if (t != old_trav.end()) e.traversals = t->second;

@@ -11,10 +11,23 @@
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
 
+#include <memory>
+
 namespace asf {
+
+namespace detail {
+struct TopoBorderCache;
+}
 
 class TopoBuilder {
  public:
+  TopoBuilder();
+  ~TopoBuilder();
+  TopoBuilder(const TopoBuilder& other);
+  TopoBuilder& operator=(const TopoBuilder& other);
+  TopoBuilder(TopoBuilder&&) noexcept;
+  TopoBuilder& operator=(TopoBuilder&&) noexcept;
+
   static const KeySpec* keys(std::size_t& n);  ///< the [topology] section
   void configure(const Params& p);
 
@@ -46,6 +59,9 @@ class TopoBuilder {
   TopoGraph graph_;
   bool have_robot_ = false;
   double robot_x_ = 0, robot_y_ = 0, robot_t_ = 0;
+  /// The last update's borders in stripes of rows, so that an update recomputes only the
+  /// rows that changed (topo_builder.cpp).
+  std::unique_ptr<detail::TopoBorderCache> borders_;
 };
 
 }  // namespace asf
