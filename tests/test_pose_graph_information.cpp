@@ -273,8 +273,10 @@ TEST(PoseGraphInformation, AsfOptimalOnACaveRun) {
   EXPECT_EQ(j["edge_information"]["model"], "bounded");
   const auto& alpha = j["edge_information"]["alpha"];
   ASSERT_EQ(alpha.size(), j["m"].get<std::size_t>());
-  EXPECT_GT(j["edge_information"]["alpha_max"].get<double>(), 2.0)
-      << "odometry and scan-match edges carry different information";
+  // The weakest edge has alpha 1; ICP edges carry their own covariances (and an odometry
+  // fallback edge, when the run has one, far less information): the weights differ.
+  EXPECT_GT(j["edge_information"]["alpha_max"].get<double>(), 1.1)
+      << "the edges' information differs";
   for (const char* c : {"D", "A", "E"}) {
     const auto& t = j["theorem"][c];
     EXPECT_LE(t["edge_sum"].get<double>(), t["bound"].get<double>() * (1 + 1e-9)) << c;

@@ -68,6 +68,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     loop_ = p.getBool("loop_closure");
     loop_skip_ = static_cast<int>(p.getInt("loop_skip_recent"));
     loop_radius_ = p.getDouble("loop_radius");
+    loop_skip_linked_ = p.getBool("loop_skip_linked");
     loop_gate_ = p.getDouble("loop_gate_chi2");
     loop_max_cand_ = static_cast<int>(p.getInt("loop_max_candidates"));
     loop_max_accept_ = static_cast<int>(p.getInt("loop_max_per_keyframe"));
@@ -445,6 +446,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     cg.radius = loop_radius_;
     cg.gate_chi2 = loop_gate_;
     cg.max_candidates = loop_max_cand_;
+    cg.skip_linked = loop_skip_linked_;
     const std::vector<asf::NodeId> cands = asf::icp_graph::loopCandidates(g, j, prev, marg, Cj, cg);
 
     int accepted = 0;
@@ -493,7 +495,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   double normal_radius_ = 0.3;
   std::size_t min_points_ = 20;
   double min_goodness_ = 0.5, max_sigma_xy_ = 0.1, max_sigma_phi_ = 2 * kDeg, odo_chi2_ = 16;
-  bool loop_ = true;
+  bool loop_ = true, loop_skip_linked_ = false;
   int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1;
   double loop_radius_ = 3, loop_gate_ = 9.21;
   double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05,
@@ -591,6 +593,11 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("loop_radius", "3",
                    "Loop candidates: old keyframes within this distance of the new one [m]", 0,
                    1e6),
+    asf::keyBool("loop_skip_linked", "true",
+                 "Loop candidates leave out old keyframes linked to the previous keyframe "
+                 "through edges between keyframes within loop_radius (a place the graph has "
+                 "tied already: matching it again closes no loop; revisit edges keep tying "
+                 "it)"),
     asf::keyDouble("loop_gate_chi2", "9.21",
                    "With valid marginals, also candidates whose distance beyond loop_radius has "
                    "a Mahalanobis distance^2 below this (2 dof; 9.21 = 99%)",

@@ -194,6 +194,32 @@ Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
   return R * e.information.inverse() * R.transpose();
 }
 
+std::vector<char> linkedNear(const asf::PoseGraph& g, asf::NodeId start,
+                             const mrpt::poses::CPose2D& centre, double radius,
+                             asf::NodeId exclude) {
+  const std::size_t n = g.size();
+  std::vector<char> inside(n, 0), linked(n, 0);
+  for (asf::NodeId k = 0; k < n; ++k)
+    inside[k] = k != exclude && std::hypot(g.nodes[k].pose.x() - centre.x(),
+                                           g.nodes[k].pose.y() - centre.y()) <= radius;
+  if (start >= n || !inside[start]) return linked;
+  std::vector<std::vector<asf::NodeId>> adjacent(n);
+  for (const asf::PoseEdge& e : g.edges)
+    if (e.from < n && e.to < n && inside[e.from] && inside[e.to]) {
+      adjacent[e.from].push_back(e.to);
+      adjacent[e.to].push_back(e.from);
+    }
+  std::vector<asf::NodeId> todo{start};
+  linked[start] = 1;
+  while (!todo.empty()) {
+    const asf::NodeId k = todo.back();
+    todo.pop_back();
+    for (const asf::NodeId m : adjacent[k])
+      if (!linked[m]) linked[m] = 1, todo.push_back(m);
+  }
+  return linked;
+}
+
 std::vector<asf::NodeId> loopCandidates(const asf::PoseGraph& g, asf::NodeId j, asf::NodeId prev,
                                         const asf::Marginals* marg,
                                         const std::optional<Eigen::Matrix3d>& Cj,
@@ -205,8 +231,10 @@ std::vector<asf::NodeId> loopCandidates(const asf::PoseGraph& g, asf::NodeId j, 
   };
   std::vector<Cand> cands;
   const CPose2D& xj = g.nodes[j].pose;
+  const std::vector<char> linked =
+      o.skip_linked ? linkedNear(g, prev, xj, o.radius, j) : std::vector<char>();
   for (asf::NodeId i = 0; static_cast<long>(i) < static_cast<long>(j) - o.skip_recent; ++i) {
-    if (!g.nodes[i].scan) continue;
+    if (!g.nodes[i].scan || (!linked.empty() && linked[i])) continue;
     const CPose2D rel = CPose2D() - g.nodes[i].pose + xj;
     const double dist = std::hypot(rel.x(), rel.y());
     double d2 = dist <= o.radius ? 0.0 : std::numeric_limits<double>::infinity();

@@ -119,7 +119,18 @@ struct CandidateGate {
   double radius = 3;        ///< old keyframes within this distance are candidates [m]
   double gate_chi2 = 9.21;  ///< ... and those whose distance beyond it is this likely (2 dof)
   int max_candidates = 3;   ///< the nearest this many
+  /// Leave out keyframes already linked to the new one (linkedNear from the previous
+  /// keyframe): their relative pose is constrained by scan matches already, so matching them
+  /// again closes no loop (Karto's "near linked scans").
+  bool skip_linked = false;
 };
+
+/// Keyframes reachable from `start` through edges of `g` whose both ends lie within `radius`
+/// of `centre` (a flag per node; `start` itself is flagged when it is inside). Node `exclude`
+/// is never entered (the new keyframe: its own edges were added by this keyframe).
+std::vector<char> linkedNear(const asf::PoseGraph& g, asf::NodeId start,
+                             const mrpt::poses::CPose2D& centre, double radius,
+                             asf::NodeId exclude);
 
 /// Loop candidates for the new keyframe j (previous keyframe `prev`), nearest first: old
 /// keyframes with a scan within `radius` of j's estimate or, with the back-end's marginals

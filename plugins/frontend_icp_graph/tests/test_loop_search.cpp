@@ -4,6 +4,7 @@
 // estimate); the correlative search sees both doors in its window and refuses. In a room,
 // the correlative search finds the loop from estimates 2 m and 17 degrees off.
 #include <gtest/gtest.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <array>
 #include <cmath>
@@ -223,4 +224,60 @@ TEST(LoopSearch, InverseCovarianceMatchesFiniteDifferences) {
   const CPose2D q = asf::icp_graph::inverseWithCov(p, C, out);
   EXPECT_LT(poseDiff(q, CPose2D() - p).norm(), 1e-12);
   EXPECT_LT((out - J * C * J.transpose()).norm(), 1e-8);
+}
+
+namespace {
+
+/// A first pass along y = 0 (nodes 0..9, 0.5 m apart), an excursion far away (10..29), and
+/// a second pass (30, 31, then the new keyframe 32) back along y = 0.2; every node has a
+/// scan and consecutive nodes are joined. `links` adds edges (from, to).
+asf::PoseGraph secondPass(const std::vector<std::pair<asf::NodeId, asf::NodeId>>& links) {
+  asf::PoseGraph g;
+  for (int k = 0; k < 10; ++k) g.addNode(CPose2D(0.5 * k, 0, 0));
+  for (int k = 10; k < 30; ++k) g.addNode(CPose2D(0, 50 + k, 0));
+  g.addNode(CPose2D(1.0, 0.2, 0));
+  g.addNode(CPose2D(1.5, 0.2, 0));
+  g.addNode(CPose2D(2.0, 0.2, 0));
+  auto any_scan = std::make_shared<const mrpt::obs::CObservation2DRangeScan>();
+  for (auto& n : g.nodes) n.scan = any_scan;
+  auto join = [&](asf::NodeId a, asf::NodeId b) {
+    asf::PoseEdge e;
+    e.from = a;
+    e.to = b;
+    g.addEdge(e);
+  };
+  for (asf::NodeId k = 0; k + 1 < g.size(); ++k) join(k, k + 1);
+  for (const auto& [a, b] : links) join(a, b);
+  return g;
+}
+
+std::vector<asf::NodeId> candidates(const asf::PoseGraph& g, bool skip_linked) {
+  asf::icp_graph::CandidateGate o;
+  o.skip_recent = 20;
+  o.radius = 3;
+  o.max_candidates = 3;
+  o.skip_linked = skip_linked;
+  return asf::icp_graph::loopCandidates(g, 32, 31, nullptr, std::nullopt, o);
+}
+
+}  // namespace
+
+// Karto's "near linked scans": a first-pass keyframe the graph already ties to the previous
+// keyframe through edges between keyframes near the new one is no loop candidate; one tied
+// only through keyframes far away (or through the new keyframe's own edges) still is.
+TEST(LoopSearch, CandidatesLeaveOutKeyframesLinkedNearby) {
+  const std::vector<asf::NodeId> nearest{4, 3, 5};  // (2, 0), (1.5, 0), (2.5, 0)
+  EXPECT_EQ(candidates(secondPass({}), true), nearest) << "no link: a loop";
+  EXPECT_EQ(candidates(secondPass({{2, 30}}), false), nearest) << "skip_linked off";
+  EXPECT_TRUE(candidates(secondPass({{2, 30}}), true).empty())
+      << "30 -> 2 ties the whole first pass to the previous keyframe";
+  EXPECT_EQ(candidates(secondPass({{30, 15}, {15, 3}}), true), nearest)
+      << "a tie through node 15, 50 m away, is no tie near the new keyframe";
+  EXPECT_EQ(candidates(secondPass({{7, 32}}), true), nearest)
+      << "the new keyframe's own edges do not count";
+
+  const asf::PoseGraph g = secondPass({{2, 30}});
+  const std::vector<char> linked = asf::icp_graph::linkedNear(g, 31, g.nodes[32].pose, 3, 32);
+  for (asf::NodeId k = 0; k < g.size(); ++k)
+    EXPECT_EQ(linked[k], k < 10 || k == 30 || k == 31) << "node " << k;
 }
