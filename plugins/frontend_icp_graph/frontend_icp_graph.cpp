@@ -54,6 +54,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     icp_.refine_iterations = static_cast<int>(p.getInt("icp_refine_iterations"));
     icp_.robust = p.getBool("icp_robust");
     normal_k_ = static_cast<std::size_t>(p.getInt("icp_normal_neighbours"));
+    ref_cell_ = p.getDouble("icp_reference_cell");
     normal_radius_ = p.getDouble("icp_normal_radius");
     icp_floor_ =
         diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
@@ -142,6 +143,7 @@ class IcpGraphFrontend final : public asf::Frontend {
       if (submap_radius_ > 0)
         addScans(g, last,
                  nearbyKeyframes(g, g.nodes[last].pose + acc, last >= span ? last - span : 0), ref);
+      ref.thin(ref_cell_);
       const MatchResult m = asf::icp_graph::match(ref, *cur, acc, icp_, min_points_);
       std::string why;
       if (sequentialGate(m, acc, acc_cov, why)) {
@@ -248,6 +250,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     Cloud ref;
     ref.setNormalNeighbourhood(normal_k_, normal_radius_);
     addScans(g, k, near, ref);
+    ref.thin(ref_cell_);
     const CPose2D inv = CPose2D() - g.nodes[k].pose;
     const CPose2D est = inv + xj;
     const auto Crel = chainCov(g, k, j);
@@ -492,6 +495,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   int submap_ = 1, submap_nearby_ = 5;
   double submap_radius_ = 0;
   std::size_t normal_k_ = 8;
+  double ref_cell_ = 0;
   double normal_radius_ = 0.3;
   std::size_t min_points_ = 20;
   double min_goodness_ = 0.5, max_sigma_xy_ = 0.1, max_sigma_phi_ = 2 * kDeg, odo_chi2_ = 16;
@@ -552,6 +556,10 @@ const asf::KeySpec kKeys[] = {
     asf::keyBool("icp_robust", "false",
                  "Point-to-line refinement with a Cauchy kernel (IRLS, scale from the median "
                  "residual): far or mismatched points weigh less"),
+    asf::keyDouble("icp_reference_cell", "0",
+                   "The sequential and revisit ICP references keep one point per square of "
+                   "this side (the scans of several keyframes overlap); 0: all points [m]",
+                   0, 10),
     asf::keyInt("icp_normal_neighbours", "8",
                 "Reference normals: PCA of this many nearest points (more for noisier scans)", 3,
                 1000),

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <nanoflann.hpp>
+#include <unordered_set>
 
 namespace asf::icp_graph {
 
@@ -102,6 +103,26 @@ void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
     x_.push_back(static_cast<float>(pose.x() + c * other.x_[i] - s * other.y_[i]));
     y_.push_back(static_cast<float>(pose.y() + s * other.x_[i] + c * other.y_[i]));
   }
+  dropCaches();
+}
+
+void Cloud::thin(double cell) {
+  if (!(cell > 0) || x_.empty()) return;
+  std::unordered_set<std::uint64_t> taken;
+  taken.reserve(x_.size());
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const auto cx = static_cast<std::int64_t>(std::floor(x_[i] / cell));
+    const auto cy = static_cast<std::int64_t>(std::floor(y_[i] / cell));
+    const std::uint64_t key = (static_cast<std::uint64_t>(cx) << 32) ^
+                              static_cast<std::uint64_t>(static_cast<std::uint32_t>(cy));
+    if (!taken.insert(key).second) continue;
+    x_[kept] = x_[i];
+    y_[kept] = y_[i];
+    ++kept;
+  }
+  x_.resize(kept);
+  y_.resize(kept);
   dropCaches();
 }
 

@@ -8,6 +8,7 @@
 #include <asf/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
+#include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -194,6 +195,27 @@ TEST(IcpGraphMatcher, RecoversAKnownOffsetBetweenTwoScansOfARoom) {
   EXPECT_LT(m.rmse, 0.03);
   EXPECT_TRUE(m.cov.allFinite());
   EXPECT_GT(m.cov.determinant(), 0);
+}
+
+// Thinning keeps the first point of each square (cells aligned with the frame's origin,
+// negative coordinates included), in order, and drops the caches built before: the kd-tree
+// and MRPT's map answer for the thinned points.
+TEST(IcpGraphMatcher, ThinningKeepsTheFirstPointOfEachCell) {
+  auto c = asf::icp_graph::Cloud::fromPoints({0.01f, 0.04f, 0.06f, -0.01f, -0.04f, 0.011f, 0.3f},
+                                             {0.01f, 0.02f, 0.01f, 0.01f, 0.01f, -0.02f, 0.3f});
+  float d2 = 0;
+  EXPECT_EQ(c.nearest(0.04f, 0.02f, d2), 1u);  // builds the kd-tree before thinning
+  EXPECT_EQ(c.map().size(), 7u);
+  c.thin(0.05);
+  // Cells: (0,0) <- 0.01 (0.04 and its y 0.02 are the same cell), (1,0) <- 0.06,
+  // (-1,0) <- -0.01 (-0.04 too), (0,-1) <- 0.011, (6,6) <- 0.3.
+  EXPECT_EQ(c.xs(), (std::vector<float>{0.01f, 0.06f, -0.01f, 0.011f, 0.3f}));
+  EXPECT_EQ(c.ys(), (std::vector<float>{0.01f, 0.01f, 0.01f, -0.02f, 0.3f}));
+  EXPECT_EQ(c.nearest(0.04f, 0.02f, d2), 1u) << "the kd-tree of the thinned points (0.06)";
+  EXPECT_NEAR(d2, 0.02f * 0.02f + 0.01f * 0.01f, 1e-7);
+  EXPECT_EQ(c.map().size(), 5u);
+  c.thin(0);  // off
+  EXPECT_EQ(c.size(), 5u);
 }
 
 // ------------------------------------------------------------------------ front-end
