@@ -154,12 +154,53 @@ std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& g, 
   return inBox(box, visited, [&](std::size_t i) { return observedCell(raw, index.cell[i], band); });
 }
 
+long CoverageMeter::observedChangeIn(const mrpt::maps::COccupancyGridMap2D& now,
+                                     const mrpt::maps::COccupancyGridMap2D& before, const Box2& box,
+                                     const GridIndex& index, std::size_t& visited) const {
+  const auto& a = now.getRawMap();
+  const auto& b = before.getRawMap();
+  const double band = unknown_band_;
+  long change = 0;
+  std::size_t cells = 0;
+  inBox(box, cells, [&](std::size_t i) {
+    const std::int32_t k = index.cell[i];
+    if (k >= 0 && a[static_cast<std::size_t>(k)] != b[static_cast<std::size_t>(k)])
+      change +=
+          static_cast<long>(observedCell(a, k, band)) - static_cast<long>(observedCell(b, k, band));
+    return false;
+  });
+  visited += 2 * cells;
+  return change;
+}
+
 double CoverageMeter::coverage(const GridMap& map) const {
   if (!map.grid || cells_.empty()) return 0;
   return static_cast<double>(observedCount(*map.grid)) / cells_.size();
 }
 
 namespace {
+
+/// Free cells of `now` minus those of `before` (a grid of the same geometry) in the cell
+/// range [x0, x1] x [y0, y1] (clamped): only cells whose stored values differ are compared.
+long freeCellChange(const mrpt::maps::COccupancyGridMap2D& now,
+                    const mrpt::maps::COccupancyGridMap2D& before, int x0, int x1, int y0, int y1,
+                    double unknown_band) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, static_cast<int>(now.getSizeX()) - 1);
+  y1 = std::min(y1, static_cast<int>(now.getSizeY()) - 1);
+  const float thr = 0.5f + static_cast<float>(unknown_band);
+  const std::size_t sx = now.getSizeX();
+  long change = 0;
+  for (int y = y0; y <= y1; ++y) {
+    const auto* a = now.getRawMap().data() + static_cast<std::size_t>(y) * sx;
+    const auto* b = before.getRawMap().data() + static_cast<std::size_t>(y) * sx;
+    for (int x = x0; x <= x1; ++x)
+      if (a[x] != b[x])
+        change += static_cast<long>(mrpt::maps::COccupancyGridMap2D::l2p(a[x]) >= thr) -
+                  static_cast<long>(mrpt::maps::COccupancyGridMap2D::l2p(b[x]) >= thr);
+  }
+  return change;
+}
 
 /// Free cells of `g` in the cell range [x0, x1] x [y0, y1] (clamped to the grid).
 std::size_t freeCells(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, int y0, int y1,
@@ -237,11 +278,23 @@ void MapAreaTracker::update(const GridMap& map) {
   // The same cells in the old grid: shifted by the whole number of cells between origins.
   const int dx = static_cast<int>(std::lround((g.getXMin() - old->getXMin()) / r));
   const int dy = static_cast<int>(std::lround((g.getYMin() - old->getYMin()) / r));
-  const std::size_t now = freeCells(g, x0, x1, y0, y1, band_);
-  const std::size_t before = freeCells(*old, x0 + dx, x1 + dx, y0 + dy, y1 + dy, band_);
+  // The same geometry (the usual case): one pass over both grids, comparing only the cells
+  // whose stored values differ.
+  const bool same_geometry =
+      dx == 0 && dy == 0 && g.getSizeX() == old->getSizeX() && g.getSizeY() == old->getSizeY();
   visited_ += 2 * static_cast<std::size_t>(std::max(0, x1 - x0 + 1)) * std::max(0, y1 - y0 + 1);
-  free_cells_ = free_cells_ + now - before;
-  if (meter_) {
+  if (same_geometry) {
+    free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) +
+                                           freeCellChange(g, *old, x0, x1, y0, y1, band_));
+  } else {
+    const std::size_t now = freeCells(g, x0, x1, y0, y1, band_);
+    const std::size_t before = freeCells(*old, x0 + dx, x1 + dx, y0 + dy, y1 + dy, band_);
+    free_cells_ = free_cells_ + now - before;
+  }
+  if (meter_ && same_geometry && index_.fits(*old)) {
+    observed_ = static_cast<std::size_t>(static_cast<long>(observed_) +
+                                         meter_->observedChangeIn(g, *old, box, index_, visited_));
+  } else if (meter_) {
     // Both grids have the same cells here only if they have the same geometry; a grown grid
     // (cells shifted by whole cells) goes through the arithmetic once.
     const std::size_t now_seen = meter_->observedIn(g, box, indexFor(g), visited_);

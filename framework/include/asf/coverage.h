@@ -49,6 +49,11 @@ class CoverageMeter {
                             const GridIndex& index) const;
   std::size_t observedIn(const mrpt::maps::COccupancyGridMap2D& grid, const Box2& box,
                          const GridIndex& index, std::size_t& visited) const;
+  /// observedIn(now, box, index) - observedIn(before, box, index) for two grids of the
+  /// index's geometry, in one pass that compares only the cells whose stored values differ.
+  long observedChangeIn(const mrpt::maps::COccupancyGridMap2D& now,
+                        const mrpt::maps::COccupancyGridMap2D& before, const Box2& box,
+                        const GridIndex& index, std::size_t& visited) const;
 
  private:
   void indexCells(double bucket);
