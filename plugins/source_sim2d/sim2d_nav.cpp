@@ -33,29 +33,50 @@ struct Grid {
 void setCostFactors(Grid& g, const Point2& start, const NavOptions& o) {
   // Clearance: distance to the nearest obstacle cell (occupied, and unknown if blocked).
   cv::Mat1b free_mask(g.ny, g.nx);
-  bool any_obstacle = false;
+  int ox0 = g.nx, oy0 = g.ny, ox1 = -1, oy1 = -1;  // the obstacles' bounding box
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) {
       const std::uint8_t s = g.state[g.idx(i, j)];
       const bool obstacle = s == kOccupied || (o.unknown_blocked && s == kUnknown);
       free_mask(j, i) = obstacle ? 0 : 255;
-      any_obstacle |= obstacle;
+      if (obstacle)
+        ox0 = std::min(ox0, i), ox1 = std::max(ox1, i), oy0 = std::min(oy0, j),
+        oy1 = std::max(oy1, j);
     }
+  const bool any_obstacle = ox1 >= 0;
+  // The distance transform only where a clearance can matter: around the obstacles, by
+  // more than the inflation zone plus a robot radius (the escape test compares with the
+  // start's clearance only for cells within a radius of the start and of an obstacle). Every
+  // obstacle is inside, so the distances there are those of the whole grid; outside, every
+  // cell is farther than the zone from any obstacle.
+  const int grow =
+      static_cast<int>(std::ceil((2 * o.robot_radius + o.inflation_margin) / g.res)) + 2;
+  const cv::Rect near = any_obstacle ? cv::Rect(ox0 - grow, oy0 - grow, ox1 - ox0 + 1 + 2 * grow,
+                                                oy1 - oy0 + 1 + 2 * grow) &
+                                           cv::Rect(0, 0, g.nx, g.ny)
+                                     : cv::Rect();
   cv::Mat1f dist;
-  if (any_obstacle) cv::distanceTransform(free_mask, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  if (any_obstacle)
+    cv::distanceTransform(free_mask(near), dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
 
   // A robot that ended up closer than its radius to an obstacle may leave, but only through
   // cells no closer to obstacles than where it stands.
   const auto clearanceAt = [&](int i, int j) {
-    return any_obstacle ? std::max(0.0, dist(j, i) * g.res - 0.5 * g.res) : 1e9;
+    if (!near.contains(cv::Point(i, j))) return 1e9;
+    return std::max(0.0, dist(j - near.y, i - near.x) * g.res - 0.5 * g.res);
   };
   const int si = g.col(start.x), sj = g.row(start.y);
   const double start_clear = g.inside(si, sj) ? clearanceAt(si, sj) : 0.0;
   g.factor.assign(g.state.size(), 1.f);
   const double inf = std::numeric_limits<float>::infinity();
+  const auto unknown_factor = static_cast<float>(1.0 * o.unknown_cost);
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) {
       const int k = g.idx(i, j);
+      if (!near.contains(cv::Point(i, j))) {  // no obstacle near: only unknown space costs
+        if (g.state[k] == kUnknown) g.factor[k] = unknown_factor;
+        continue;
+      }
       const bool obstacle = free_mask(j, i) == 0;
       const double clear = clearanceAt(i, j);
       // Only cells within the radius of an obstacle need the escape test (and its hypot).
@@ -103,14 +124,24 @@ Grid buildGrid(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start, 
     std::vector<int> map_col(g.nx), map_row(g.ny);
     for (int i = 0; i < g.nx; ++i) map_col[i] = map->x2idx(g.centre(i, 0).x);
     for (int j = 0; j < g.ny; ++j) map_row[j] = map->y2idx(g.centre(0, j).y);
+    // A cell's state is a function of its stored log-odds: tabulated once per plan.
+    using Raw = mrpt::maps::COccupancyGridMap2D::cellType;
+    using RawBits = mrpt::maps::COccupancyGridMap2D::cellTypeUnsigned;
+    std::vector<std::uint8_t> state_of(std::size_t{1} << (8 * sizeof(Raw)));
+    for (std::size_t b = 0; b < state_of.size(); ++b) {
+      const Raw raw = static_cast<Raw>(static_cast<RawBits>(b));
+      const double p_free = mrpt::maps::COccupancyGridMap2D::l2p(raw);  // MRPT stores p(free)
+      state_of[b] = cellStateOf(p_free, o.occupied_threshold, o.unknown_band);
+    }
+    const Raw* raw = map->getRawMap().data();
     for (int j = 0; j < g.ny; ++j) {
       const int cy = map_row[j];
       if (cy < 0 || cy >= my) continue;
+      const Raw* row = raw + static_cast<std::size_t>(cy) * mx;
       for (int i = 0; i < g.nx; ++i) {
         const int cx = map_col[i];
         if (cx < 0 || cx >= mx) continue;
-        const double p_free = map->getCell(cx, cy);  // MRPT stores p(free)
-        g.state[g.idx(i, j)] = cellStateOf(p_free, o.occupied_threshold, o.unknown_band);
+        g.state[g.idx(i, j)] = state_of[static_cast<RawBits>(row[cx])];
       }
     }
   }
