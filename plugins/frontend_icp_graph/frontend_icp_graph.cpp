@@ -458,7 +458,8 @@ class IcpGraphFrontend final : public asf::Frontend {
       const asf::NodeId last = std::min<asf::NodeId>(
           i + loop_submap_,
           static_cast<asf::NodeId>(std::max<long>(0, static_cast<long>(j) - loop_skip_ - 1)));
-      const Cloud ref = submap(g, i, first, std::max(last, i));
+      Cloud ref = submap(g, i, first, std::max(last, i));
+      ref.thin(ref_cell_);
       const CPose2D est = CPose2D() - g.nodes[i].pose + xj;
       std::optional<Eigen::Matrix3d> Crel;
       if (marg && Cj && i < marg->node.size()) {
@@ -557,8 +558,9 @@ const asf::KeySpec kKeys[] = {
                  "Point-to-line refinement with a Cauchy kernel (IRLS, scale from the median "
                  "residual): far or mismatched points weigh less"),
     asf::keyDouble("icp_reference_cell", "0",
-                   "The sequential and revisit ICP references keep one point per square of "
-                   "this side (the scans of several keyframes overlap); 0: all points [m]",
+                   "The ICP references (sequential, revisit and loop) keep one point per "
+                   "square of this side (the scans of several keyframes overlap); 0: all "
+                   "points [m]",
                    0, 10),
     asf::keyInt("icp_normal_neighbours", "8",
                 "Reference normals: PCA of this many nearest points (more for noisier scans)", 3,
