@@ -559,8 +559,8 @@ const asf::KeySpec kKeys[] = {
                  "residual): far or mismatched points weigh less"),
     asf::keyDouble("icp_reference_cell", "0",
                    "The ICP references (sequential, revisit and loop) keep one point per "
-                   "square of this side (the scans of several keyframes overlap); 0: all "
-                   "points [m]",
+                   "square of this side, the mean of its points (the scans of several "
+                   "keyframes overlap); 0: all points [m]",
                    0, 10),
     asf::keyInt("icp_normal_neighbours", "8",
                 "Reference normals: PCA of this many nearest points (more for noisier scans)", 3,

@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <nanoflann.hpp>
-#include <unordered_set>
+#include <unordered_map>
 
 namespace asf::icp_graph {
 
@@ -108,21 +108,28 @@ void Cloud::add(const Cloud& other, const mrpt::poses::CPose2D& pose) {
 
 void Cloud::thin(double cell) {
   if (!(cell > 0) || x_.empty()) return;
-  std::unordered_set<std::uint64_t> taken;
-  taken.reserve(x_.size());
-  std::size_t kept = 0;
+  // Cell -> its slot in the output (order of first occurrence), then the mean of its points.
+  std::unordered_map<std::uint64_t, std::size_t> slot;
+  slot.reserve(x_.size());
+  std::vector<double> sx, sy;
+  std::vector<int> count;
   for (std::size_t i = 0; i < x_.size(); ++i) {
     const auto cx = static_cast<std::int64_t>(std::floor(x_[i] / cell));
     const auto cy = static_cast<std::int64_t>(std::floor(y_[i] / cell));
     const std::uint64_t key = (static_cast<std::uint64_t>(cx) << 32) ^
                               static_cast<std::uint64_t>(static_cast<std::uint32_t>(cy));
-    if (!taken.insert(key).second) continue;
-    x_[kept] = x_[i];
-    y_[kept] = y_[i];
-    ++kept;
+    const auto [it, fresh] = slot.emplace(key, sx.size());
+    if (fresh) sx.push_back(0), sy.push_back(0), count.push_back(0);
+    sx[it->second] += x_[i];
+    sy[it->second] += y_[i];
+    ++count[it->second];
   }
-  x_.resize(kept);
-  y_.resize(kept);
+  x_.resize(sx.size());
+  y_.resize(sy.size());
+  for (std::size_t k = 0; k < sx.size(); ++k) {
+    x_[k] = static_cast<float>(sx[k] / count[k]);
+    y_[k] = static_cast<float>(sy[k] / count[k]);
+  }
   dropCaches();
 }
 

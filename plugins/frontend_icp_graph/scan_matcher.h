@@ -41,8 +41,9 @@ class Cloud {
   /// Adds `other`'s points moved by `pose` (other's frame expressed in this one).
   void add(const Cloud& other, const mrpt::poses::CPose2D& pose);
 
-  /// Keeps the first point in each square of side `cell` (a grid aligned with this frame's
-  /// origin); cell <= 0: all.
+  /// Replaces the points in each square of side `cell` (a grid aligned with this frame's
+  /// origin) by their mean, in the order the squares first occur (a voxel-grid filter);
+  /// cell <= 0: all points kept.
   void thin(double cell);
   std::size_t size() const;
   /// The points as MRPT's point map (built on first use), for CICP.

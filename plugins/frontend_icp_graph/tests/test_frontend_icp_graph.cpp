@@ -197,22 +197,25 @@ TEST(IcpGraphMatcher, RecoversAKnownOffsetBetweenTwoScansOfARoom) {
   EXPECT_GT(m.cov.determinant(), 0);
 }
 
-// Thinning keeps the first point of each square (cells aligned with the frame's origin,
-// negative coordinates included), in order, and drops the caches built before: the kd-tree
-// and MRPT's map answer for the thinned points.
-TEST(IcpGraphMatcher, ThinningKeepsTheFirstPointOfEachCell) {
+// Thinning replaces the points of each square (cells aligned with the frame's origin,
+// negative coordinates included) by their mean, in the order the squares first occur, and
+// drops the caches built before: the kd-tree and MRPT's map answer for the thinned points.
+TEST(IcpGraphMatcher, ThinningKeepsTheMeanOfEachCell) {
   auto c = asf::icp_graph::Cloud::fromPoints({0.01f, 0.04f, 0.06f, -0.01f, -0.04f, 0.011f, 0.3f},
                                              {0.01f, 0.02f, 0.01f, 0.01f, 0.01f, -0.02f, 0.3f});
   float d2 = 0;
   EXPECT_EQ(c.nearest(0.04f, 0.02f, d2), 1u);  // builds the kd-tree before thinning
   EXPECT_EQ(c.map().size(), 7u);
   c.thin(0.05);
-  // Cells: (0,0) <- 0.01 (0.04 and its y 0.02 are the same cell), (1,0) <- 0.06,
-  // (-1,0) <- -0.01 (-0.04 too), (0,-1) <- 0.011, (6,6) <- 0.3.
-  EXPECT_EQ(c.xs(), (std::vector<float>{0.01f, 0.06f, -0.01f, 0.011f, 0.3f}));
-  EXPECT_EQ(c.ys(), (std::vector<float>{0.01f, 0.01f, 0.01f, -0.02f, 0.3f}));
-  EXPECT_EQ(c.nearest(0.04f, 0.02f, d2), 1u) << "the kd-tree of the thinned points (0.06)";
-  EXPECT_NEAR(d2, 0.02f * 0.02f + 0.01f * 0.01f, 1e-7);
+  // Cells (0,0) <- points 0 and 1, (1,0) <- 2, (-1,0) <- 3 and 4, (0,-1) <- 5, (6,6) <- 6.
+  const std::vector<double> x{0.025, 0.06, -0.025, 0.011, 0.3}, y{0.015, 0.01, 0.01, -0.02, 0.3};
+  ASSERT_EQ(c.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_NEAR(c.xs()[i], x[i], 1e-6) << i;
+    EXPECT_NEAR(c.ys()[i], y[i], 1e-6) << i;
+  }
+  EXPECT_EQ(c.nearest(0.04f, 0.02f, d2), 0u) << "the kd-tree of the thinned points";
+  EXPECT_NEAR(d2, 0.015 * 0.015 + 0.005 * 0.005, 1e-7);
   EXPECT_EQ(c.map().size(), 5u);
   c.thin(0);  // off
   EXPECT_EQ(c.size(), 5u);
