@@ -39,6 +39,22 @@ struct TopoBorderCache {
   std::vector<BorderStripe> stripes;
 };
 
+TopoBorderCacheHolder::TopoBorderCacheHolder() = default;
+TopoBorderCacheHolder::~TopoBorderCacheHolder() = default;
+TopoBorderCacheHolder::TopoBorderCacheHolder(const TopoBorderCacheHolder& o)
+    : cache_(o.cache_ ? std::make_unique<TopoBorderCache>(*o.cache_) : nullptr) {}
+TopoBorderCacheHolder& TopoBorderCacheHolder::operator=(const TopoBorderCacheHolder& o) {
+  if (this != &o) cache_ = o.cache_ ? std::make_unique<TopoBorderCache>(*o.cache_) : nullptr;
+  return *this;
+}
+TopoBorderCacheHolder::TopoBorderCacheHolder(TopoBorderCacheHolder&&) noexcept = default;
+TopoBorderCacheHolder& TopoBorderCacheHolder::operator=(TopoBorderCacheHolder&&) noexcept = default;
+TopoBorderCache& TopoBorderCacheHolder::get() {
+  if (!cache_) cache_ = std::make_unique<TopoBorderCache>();
+  return *cache_;
+}
+void TopoBorderCacheHolder::reset() { cache_.reset(); }
+
 }  // namespace detail
 using detail::BorderAcc;
 using detail::BorderMap;
@@ -131,34 +147,6 @@ void accumulateBorders(const LabelImage& L, const UnknownProbe& unknown, int y0,
 
 constexpr int kStripeRows = 16;
 
-}  // namespace
-
-TopoBuilder::TopoBuilder() = default;
-TopoBuilder::~TopoBuilder() = default;
-TopoBuilder::TopoBuilder(const TopoBuilder& o)
-    : min_border_width_(o.min_border_width_),
-      min_frontier_width_(o.min_frontier_width_),
-      unknown_band_(o.unknown_band_),
-      seg_(o.seg_),
-      graph_(o.graph_),
-      have_robot_(o.have_robot_),
-      robot_x_(o.robot_x_),
-      robot_y_(o.robot_y_),
-      robot_t_(o.robot_t_) {
-  if (o.borders_) borders_ = std::make_unique<TopoBorderCache>(*o.borders_);
-}
-TopoBuilder& TopoBuilder::operator=(const TopoBuilder& o) {
-  if (this != &o) {
-    TopoBuilder copy(o);
-    *this = std::move(copy);
-  }
-  return *this;
-}
-TopoBuilder::TopoBuilder(TopoBuilder&&) noexcept = default;
-TopoBuilder& TopoBuilder::operator=(TopoBuilder&&) noexcept = default;
-
-namespace {
-
 /// Which stripes of the new label image `L` need recomputing: all when the cache cannot be
 /// compared (first call, other image geometry); else those next to a row whose labels
 /// differ from `old`, and those with a grid lookup that now answers differently (checked
@@ -189,6 +177,40 @@ std::vector<char> dirtyStripes(const TopoBorderCache& c, const LabelImage& old, 
       }
   }
   return dirty;
+}
+
+/// The borders and frontiers of label image `L` (the previous one `old`) on `map`: the stripes
+/// of the cache `c` that changed are recomputed, then all are added up in row order (the same
+/// as one pass over the image).
+BorderMap borders(TopoBorderCache& c, const LabelImage& old, const LabelImage& L,
+                  const GridMap& map, double unknown_band) {
+  const UnknownProbe unknown{L, map.grid.get(), unknown_band};
+  const std::vector<char> dirty = dirtyStripes(c, old, L, unknown);
+  c.stripes.resize(dirty.size());
+  for (std::size_t i = 0; i < dirty.size(); ++i) {
+    if (!dirty[i]) continue;
+    c.stripes[i] = BorderStripe{};
+    const int y0 = static_cast<int>(i) * kStripeRows;
+    accumulateBorders(L, unknown, y0, std::min(y0 + kStripeRows, L.height), c.stripes[i]);
+  }
+  c.valid = true;
+  c.width = L.width;
+  c.height = L.height;
+  c.resolution = L.resolution;
+  c.origin_x = L.origin_x;
+  c.origin_y = L.origin_y;
+  BorderMap acc;
+  for (const BorderStripe& stripe : c.stripes)
+    for (const auto& [k, s] : stripe.acc) {
+      BorderAcc& t = acc[k];
+      t.cells += s.cells;
+      t.twice_x += s.twice_x;
+      t.twice_y += s.twice_y;
+      t.border.insert(t.border.end(), s.border.begin(), s.border.end());
+      t.frontier_cells.insert(t.frontier_cells.end(), s.frontier_cells.begin(),
+                              s.frontier_cells.end());
+    }
+  return acc;
 }
 
 }  // namespace
@@ -250,42 +272,6 @@ void TopoBuilder::configure(const Params& p) {
   borders_.reset();
 }
 
-namespace {
-/// The borders and frontiers of label image `L` (the previous one `old`) on `map`: the stripes
-/// of the cache `c` that changed are recomputed, then all are added up in row order (the same
-/// as one pass over the image).
-BorderMap borders(TopoBorderCache& c, const LabelImage& old, const LabelImage& L,
-                  const GridMap& map, double unknown_band) {
-  const UnknownProbe unknown{L, map.grid.get(), unknown_band};
-  const std::vector<char> dirty = dirtyStripes(c, old, L, unknown);
-  c.stripes.resize(dirty.size());
-  for (std::size_t i = 0; i < dirty.size(); ++i) {
-    if (!dirty[i]) continue;
-    c.stripes[i] = BorderStripe{};
-    const int y0 = static_cast<int>(i) * kStripeRows;
-    accumulateBorders(L, unknown, y0, std::min(y0 + kStripeRows, L.height), c.stripes[i]);
-  }
-  c.valid = true;
-  c.width = L.width;
-  c.height = L.height;
-  c.resolution = L.resolution;
-  c.origin_x = L.origin_x;
-  c.origin_y = L.origin_y;
-  BorderMap acc;
-  for (const BorderStripe& stripe : c.stripes)
-    for (const auto& [k, s] : stripe.acc) {
-      BorderAcc& t = acc[k];
-      t.cells += s.cells;
-      t.twice_x += s.twice_x;
-      t.twice_y += s.twice_y;
-      t.border.insert(t.border.end(), s.border.begin(), s.border.end());
-      t.frontier_cells.insert(t.frontier_cells.end(), s.frontier_cells.begin(),
-                              s.frontier_cells.end());
-    }
-  return acc;
-}
-}  // namespace
-
 void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const PoseGraph* history) {
   // Carry over what persists by region id / region pair.
   std::map<RegionId, TopoNode> old_nodes;
@@ -299,8 +285,7 @@ void TopoBuilder::update(const Segmentation& seg, const GridMap& map, const Pose
           edgeKey(graph_.edges[n.entrance_edge].a, graph_.edges[n.entrance_edge].b);
 
   const LabelImage& L = seg.labels;
-  if (!borders_) borders_ = std::make_unique<TopoBorderCache>();
-  BorderMap acc = borders(*borders_, seg_.labels, L, map, unknown_band_);
+  BorderMap acc = borders(borders_.get(), seg_.labels, L, map, unknown_band_);
   seg_ = seg;
 
   TopoGraph g;

@@ -17,17 +17,26 @@ namespace asf {
 
 namespace detail {
 struct TopoBorderCache;
-}
+/// Owns TopoBuilder's border cache (topo_builder.cpp); a copy copies the cache, so that
+/// TopoBuilder keeps its default copy and move.
+class TopoBorderCacheHolder {
+ public:
+  TopoBorderCacheHolder();
+  ~TopoBorderCacheHolder();
+  TopoBorderCacheHolder(const TopoBorderCacheHolder& other);
+  TopoBorderCacheHolder& operator=(const TopoBorderCacheHolder& other);
+  TopoBorderCacheHolder(TopoBorderCacheHolder&&) noexcept;
+  TopoBorderCacheHolder& operator=(TopoBorderCacheHolder&&) noexcept;
+  TopoBorderCache& get();  ///< made empty on first use
+  void reset();            ///< empty: the next update recomputes every stripe
+
+ private:
+  std::unique_ptr<TopoBorderCache> cache_;
+};
+}  // namespace detail
 
 class TopoBuilder {
  public:
-  TopoBuilder();
-  ~TopoBuilder();
-  TopoBuilder(const TopoBuilder& other);
-  TopoBuilder& operator=(const TopoBuilder& other);
-  TopoBuilder(TopoBuilder&&) noexcept;
-  TopoBuilder& operator=(TopoBuilder&&) noexcept;
-
   static const KeySpec* keys(std::size_t& n);  ///< the [topology] section
   void configure(const Params& p);
 
@@ -61,7 +70,7 @@ class TopoBuilder {
   double robot_x_ = 0, robot_y_ = 0, robot_t_ = 0;
   /// The last update's borders in stripes of rows, so that an update recomputes only the
   /// rows that changed (topo_builder.cpp).
-  std::unique_ptr<detail::TopoBorderCache> borders_;
+  detail::TopoBorderCacheHolder borders_;
 };
 
 }  // namespace asf
