@@ -3,12 +3,14 @@
 against ground truth: the relative pose each edge asserts against the relative pose of the
 ground truth at its two keyframes' timestamps (linear interpolation, angles unwrapped).
 
-  scripts/edges-vs-gt.py RUN_DIR GT_FILE [--wrong 0.5] [--list]
+  scripts/edges-vs-gt.py RUN_DIR GT_FILE [--wrong 0.5] [--wrong-deg 5] [--sequential] [--list]
 
 RUN_DIR holds graph.g2o and keyframes.txt (`asf run`); GT_FILE is "t x y phi" per line (the
 ground truth `asf carmen2rawlog --gt` writes). Prints the number of such edges, how many are
-wrong by more than --wrong metres (or 5 degrees), and the median / max error; --list prints
-every wrong edge. A missing or malformed file is an error naming it (and the line), exit 1."""
+wrong by more than --wrong metres (or --wrong-deg degrees), the median / max translation
+error and the median / 90th percentile heading error; --list prints every wrong edge.
+--sequential checks the edges between consecutive keyframes instead (the scan-matching
+chain). A missing or malformed file is an error naming it (and the line), exit 1."""
 import argparse
 import bisect
 import math
@@ -62,6 +64,8 @@ def main():
     ap.add_argument("run_dir")
     ap.add_argument("gt")
     ap.add_argument("--wrong", type=float, default=0.5)
+    ap.add_argument("--wrong-deg", type=float, default=5.0)
+    ap.add_argument("--sequential", action="store_true")
     ap.add_argument("--list", action="store_true")
     a = ap.parse_args()
     kf = read_rows(a.run_dir + "/keyframes.txt")
@@ -80,18 +84,22 @@ def main():
                 raise InputError(f"{g2o}:{n}: malformed EDGE_SE2 line")
             if max(i, j) >= len(kf):
                 raise InputError(f"{g2o}:{n}: node {max(i, j)} has no keyframe in keyframes.txt")
-            if abs(j - i) <= 1:
+            if (abs(j - i) == 1) != a.sequential:
                 continue
             truth = relative(interpolate(gt, kf[i][0]), interpolate(gt, kf[j][0]))
             et = math.hypot(m[0] - truth[0], m[1] - truth[1])
             er = abs(math.atan2(math.sin(m[2] - truth[2]), math.cos(m[2] - truth[2])))
             errors.append((et, er, i, j))
-    wrong = [e for e in errors if e[0] > a.wrong or e[1] > math.radians(5)]
+    wrong = [e for e in errors if e[0] > a.wrong or e[1] > math.radians(a.wrong_deg)]
     ets = sorted(e[0] for e in errors)
-    med = ets[len(ets) // 2] if ets else float("nan")
-    print(f"{len(errors)} non-sequential edges, {len(wrong)} wrong by more than "
-          f"{a.wrong} m or 5 deg; translation error median {med:.3f} m, max "
-          f"{(ets[-1] if ets else float('nan')):.3f} m")
+    ers = sorted(math.degrees(e[1]) for e in errors)
+    nan = float("nan")
+    med = ets[len(ets) // 2] if ets else nan
+    print(f"{len(errors)} {'sequential' if a.sequential else 'non-sequential'} edges, "
+          f"{len(wrong)} wrong by more than {a.wrong:g} m or {a.wrong_deg:g} deg; translation "
+          f"error median {med:.3f} m, max {(ets[-1] if ets else nan):.3f} m; heading error "
+          f"median {(ers[len(ers) // 2] if ers else nan):.2f} deg, 90% "
+          f"{(ers[int(0.9 * len(ers))] if ers else nan):.2f} deg")
     if a.list:
         for et, er, i, j in sorted(wrong, key=lambda e: -e[0]):
             print(f"  {i} -> {j}: {et:.3f} m, {math.degrees(er):.1f} deg")

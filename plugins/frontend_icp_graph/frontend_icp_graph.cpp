@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "loop_search.h"
+#include "match_gates.h"
 #include "scan_matcher.h"
 
 namespace {
@@ -41,8 +42,9 @@ class IcpGraphFrontend final : public asf::Frontend {
  public:
   void configure(const asf::Params& p, const asf::PluginContext&) override {
     kf_.setThresholds(p.getDouble("keyframe_distance"), p.getDouble("keyframe_angle_deg") * kDeg);
-    odo_floor_ = diag3(p.getDouble("min_sigma_xy"), p.getDouble("min_sigma_phi"));
+    gates_.odo_floor = diag3(p.getDouble("min_sigma_xy"), p.getDouble("min_sigma_phi"));
     icp_.max_iterations = static_cast<int>(p.getInt("icp_max_iterations"));
+    gates_.max_iterations = icp_.max_iterations;
     icp_.threshold_dist = p.getDouble("icp_threshold_dist");
     icp_.threshold_ang_deg = p.getDouble("icp_threshold_ang_deg");
     icp_.alfa = p.getDouble("icp_alfa");
@@ -56,16 +58,17 @@ class IcpGraphFrontend final : public asf::Frontend {
     normal_k_ = static_cast<std::size_t>(p.getInt("icp_normal_neighbours"));
     ref_cell_ = p.getDouble("icp_reference_cell");
     normal_radius_ = p.getDouble("icp_normal_radius");
-    icp_floor_ =
+    gates_.icp_floor =
         diag3(p.getDouble("icp_min_sigma_xy"), p.getDouble("icp_min_sigma_phi_deg") * kDeg);
     submap_ = static_cast<int>(p.getInt("submap_keyframes"));
     submap_radius_ = p.getDouble("submap_radius");
     submap_nearby_ = static_cast<int>(p.getInt("submap_nearby_keyframes"));
     min_points_ = static_cast<std::size_t>(p.getInt("icp_min_points"));
-    min_goodness_ = p.getDouble("icp_min_goodness");
-    max_sigma_xy_ = p.getDouble("icp_max_sigma_xy");
-    max_sigma_phi_ = p.getDouble("icp_max_sigma_phi_deg") * kDeg;
-    odo_chi2_ = p.getDouble("icp_odometry_chi2");
+    gates_.min_goodness = p.getDouble("icp_min_goodness");
+    likelihood_fallback_ = p.getString("icp_low_goodness") == "likelihood";
+    gates_.max_sigma_xy = p.getDouble("icp_max_sigma_xy");
+    gates_.max_sigma_phi = p.getDouble("icp_max_sigma_phi_deg") * kDeg;
+    gates_.odometry_chi2 = p.getDouble("icp_odometry_chi2");
     loop_ = p.getBool("loop_closure");
     loop_skip_ = static_cast<int>(p.getInt("loop_skip_recent"));
     loop_radius_ = p.getDouble("loop_radius");
@@ -77,10 +80,10 @@ class IcpGraphFrontend final : public asf::Frontend {
     search_.perturb_xy = p.getDouble("loop_perturb_xy");
     search_.perturb_phi = p.getDouble("loop_perturb_phi_deg") * kDeg;
     search_.min_agree = static_cast<int>(p.getInt("loop_min_agree"));
-    loop_min_goodness_ = p.getDouble("loop_min_goodness");
-    loop_min_inliers_ = p.getDouble("loop_min_inlier_ratio");
-    loop_max_rmse_ = p.getDouble("loop_max_rmse");
-    loop_chi2_ = p.getDouble("loop_chi2");
+    gates_.loop_min_goodness = p.getDouble("loop_min_goodness");
+    gates_.loop_min_inliers = p.getDouble("loop_min_inlier_ratio");
+    gates_.loop_max_rmse = p.getDouble("loop_max_rmse");
+    gates_.loop_chi2 = p.getDouble("loop_chi2");
     search_.correlative = p.getString("loop_search") == "correlative";
     auto& csm_ = search_.csm;
     csm_.resolution = p.getDouble("loop_csm_resolution");
@@ -131,7 +134,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     e.from = last;
     e.mean = acc;
     e.kind = asf::EdgeKind::Odometry;
-    Eigen::Matrix3d cov = acc_cov + odo_floor_;  // additive, frame of `from`
+    Eigen::Matrix3d cov = acc_cov + gates_.odo_floor;  // additive, frame of `from`
     std::shared_ptr<const Cloud> cur;
     if (f.scan) {
       cur = std::make_shared<const Cloud>(Cloud::fromScan(*f.scan));
@@ -145,10 +148,16 @@ class IcpGraphFrontend final : public asf::Frontend {
                  nearbyKeyframes(g, g.nodes[last].pose + acc, last >= span ? last - span : 0), ref);
       ref.thin(ref_cell_);
       const MatchResult m = asf::icp_graph::match(ref, *cur, acc, icp_, min_points_);
-      std::string why;
-      if (sequentialGate(m, acc, acc_cov, why)) {
-        e.mean = m.pose;
-        cov = m.cov + icp_floor_;
+      std::string why =
+          asf::icp_graph::sequentialGateFailure(m, acc, acc_cov, gates_.min_goodness, gates_);
+      std::optional<MatchResult> used;
+      if (why.empty())
+        used = m;
+      else if (likelihood_fallback_ && m.ran && m.goodness < gates_.min_goodness)
+        used = likelihoodMatch(ref, *cur, acc, acc_cov, why);
+      if (used) {
+        e.mean = used->pose;
+        cov = used->cov + gates_.icp_floor;
         e.kind = asf::EdgeKind::ScanMatch;
         ++n_scan_match_;
       } else {
@@ -263,10 +272,12 @@ class IcpGraphFrontend final : public asf::Frontend {
             ? asf::icp_graph::loopAlignment(ref, *clouds_[j], est, searchFor(Crel), why, how)
             : std::optional<MatchResult>(
                   asf::icp_graph::match(ref, *clouds_[j], est, icp_, min_points_));
-    if (!found || !found->ran || !loopGateFailure(*found, est, Crel).empty()) return;
+    if (!found || !found->ran ||
+        !asf::icp_graph::loopGateFailure(*found, est, Crel, gates_).empty())
+      return;
     const MatchResult& m = *found;
     if (confirm_) {  // held like a loop closure until another agrees
-      if (acceptLoop(g, {k, j, m.pose, m.cov + icp_floor_}, "revisit, " + how)) ++n_revisits_;
+      if (acceptLoop(g, {k, j, m.pose, m.cov + gates_.icp_floor}, "revisit, " + how)) ++n_revisits_;
       return;
     }
     asf::PoseEdge e;
@@ -274,64 +285,39 @@ class IcpGraphFrontend final : public asf::Frontend {
     e.to = j;
     e.mean = m.pose;
     e.kind = asf::EdgeKind::ScanMatch;
-    e.information = edgeInformation(m.pose, m.cov + icp_floor_, Eigen::Matrix3d::Zero());
+    e.information = edgeInformation(m.pose, m.cov + gates_.icp_floor, Eigen::Matrix3d::Zero());
     g.addEdge(e);
     ++g.revision;
     ++n_revisits_;
   }
 
-  /// The quality gates of a loop (or revisit) alignment `m` against the estimate `est` of the
-  /// candidate's relative pose with covariance `Crel`: empty when it passes, else why not
-  /// (`chi2`, when given, receives its chi^2 against the estimate).
-  std::string loopGateFailure(const MatchResult& m, const CPose2D& est,
-                              const std::optional<Eigen::Matrix3d>& Crel,
-                              double* chi2 = nullptr) const {
-    std::ostringstream why;
-    if (m.goodness < loop_min_goodness_)
-      why << "goodness " << m.goodness;
-    else if (m.inlier_ratio < loop_min_inliers_)
-      why << "inlier ratio " << m.inlier_ratio;
-    else if (m.rmse > loop_max_rmse_)
-      why << "rmse " << m.rmse;
-    else if (!sigmasOk(m.cov))
-      why << "ill-conditioned alignment";
-    else if (!Crel)
-      why << "no covariance for the relative pose";
-    else {
-      const Eigen::Vector3d d = poseDiff(m.pose, est);
-      const double c = d.dot((*Crel + m.cov + icp_floor_).ldlt().solve(d));
-      if (chi2) *chi2 = c;
-      if (!(c <= loop_chi2_)) why << "chi2 " << c << " > " << loop_chi2_;
+  /// Open space (issue 25): far or sparse walls leave ICP few correspondences, so
+  /// point-to-line goodness refuses alignments that are right. Such a keyframe is searched
+  /// again as a scan-to-map likelihood: the correlative search over the odometry's uncertainty
+  /// in the submap (refused when it explains too little of the scan or is ambiguous), refined
+  /// by ICP, then held to every sequential gate but goodness. nullopt (and `why`) if it fails.
+  std::optional<MatchResult> likelihoodMatch(const Cloud& ref, const Cloud& cur, const CPose2D& acc,
+                                             const Eigen::Matrix3d& acc_cov, std::string& why) {
+    asf::icp_graph::LoopSearchOptions o = search_;
+    o.correlative = true;
+    // The window covers loop_csm_sigmas standard deviations of the odometry (two cells and
+    // two degrees at least): a pose the odometry rules out is no rival to the best one.
+    const auto w = asf::icp_graph::windowCovering(acc_cov + gates_.odo_floor, csm_sigmas_,
+                                                  2 * o.csm.resolution, 1e9, 2 * kDeg, M_PI);
+    o.csm.window_xy = w.xy;
+    o.csm.window_phi = w.phi;
+    std::string searched, how;
+    const auto r = asf::icp_graph::loopAlignment(ref, cur, acc, o, searched, how);
+    const std::string failed =
+        r ? asf::icp_graph::sequentialGateFailure(*r, acc, acc_cov, 0.0, gates_) : searched;
+    if (failed.empty()) {
+      ++n_likelihood_;
+      MRPT_LOG_DEBUG_STREAM("keyframe " << kf_.last() + 1 << ": scan-to-map likelihood match ("
+                                        << why << "; " << how << ")");
+      return r;
     }
-    return why.str();
-  }
-
-  bool sequentialGate(const MatchResult& m, const CPose2D& acc, const Eigen::Matrix3d& acc_cov,
-                      std::string& why) const {
-    std::ostringstream os;
-    if (!m.ran)
-      why = m.reason;
-    else if (static_cast<int>(m.iterations) >= icp_.max_iterations)
-      os << "ICP did not converge in " << m.iterations << " iterations";
-    else if (m.goodness < min_goodness_)
-      os << "goodness " << m.goodness << " < " << min_goodness_;
-    else if (!sigmasOk(m.cov))
-      os << "ill-conditioned alignment (sigmas " << std::sqrt(m.cov(0, 0)) << ", "
-         << std::sqrt(m.cov(1, 1)) << ", " << std::sqrt(m.cov(2, 2)) << ")";
-    else {
-      const Eigen::Vector3d d = poseDiff(m.pose, acc);
-      const Eigen::Matrix3d C = acc_cov + odo_floor_ + m.cov + icp_floor_;
-      const double chi2 = d.dot(C.ldlt().solve(d));
-      if (!(chi2 <= odo_chi2_)) os << "disagrees with odometry: chi2 " << chi2;
-    }
-    if (m.ran) why = os.str();
-    return why.empty();
-  }
-
-  bool sigmasOk(const Eigen::Matrix3d& C) const {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C.topLeftCorner<2, 2>());
-    return es.eigenvalues()(1) <= max_sigma_xy_ * max_sigma_xy_ &&
-           C(2, 2) <= max_sigma_phi_ * max_sigma_phi_;
+    why += "; likelihood search: " + failed;
+    return std::nullopt;
   }
 
   /// Covariance of the relative pose i -> j from the chain of sequential edges (ignores loop
@@ -357,13 +343,10 @@ class IcpGraphFrontend final : public asf::Frontend {
   asf::icp_graph::LoopSearchOptions searchFor(const std::optional<Eigen::Matrix3d>& Crel) const {
     asf::icp_graph::LoopSearchOptions o = search_;
     if (!o.correlative || !Crel) return o;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(Crel->topLeftCorner<2, 2>());
-    const double sxy = std::sqrt(std::max(0.0, es.eigenvalues()(1)));
-    const double sphi = std::sqrt(std::max(0.0, (*Crel)(2, 2)));
-    o.csm.window_xy = std::clamp(csm_sigmas_ * sxy, o.csm.window_xy,
-                                 std::max(o.csm.window_xy, csm_max_window_xy_));
-    o.csm.window_phi =
-        std::clamp(csm_sigmas_ * sphi, o.csm.window_phi, std::max(o.csm.window_phi, M_PI));
+    const auto w = asf::icp_graph::windowCovering(*Crel, csm_sigmas_, o.csm.window_xy,
+                                                  csm_max_window_xy_, o.csm.window_phi, M_PI);
+    o.csm.window_xy = w.xy;
+    o.csm.window_phi = w.phi;
     return o;
   }
 
@@ -469,17 +452,18 @@ class IcpGraphFrontend final : public asf::Frontend {
       }
       std::string how, searched;
       const asf::icp_graph::LoopGate gate = [&](const MatchResult& m) {
-        return loopGateFailure(m, est, Crel);
+        return asf::icp_graph::loopGateFailure(m, est, Crel, gates_);
       };
       const std::optional<MatchResult> best =
           asf::icp_graph::loopAlignment(ref, *cur, est, searchFor(Crel), searched, how, gate);
       double chi2 = 0;
-      const std::string failed = best ? loopGateFailure(*best, est, Crel, &chi2) : searched;
+      const std::string failed =
+          best ? asf::icp_graph::loopGateFailure(*best, est, Crel, gates_, &chi2) : searched;
       if (failed.empty()) {
         std::ostringstream said;
         said << "chi2 " << chi2 << ", inliers " << best->inlier_ratio << ", rmse " << best->rmse
              << ", " << how;
-        if (acceptLoop(g, {i, j, best->pose, best->cov + icp_floor_}, said.str()) &&
+        if (acceptLoop(g, {i, j, best->pose, best->cov + gates_.icp_floor}, said.str()) &&
             ++accepted >= loop_max_accept_)
           return;
         continue;
@@ -490,8 +474,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   }
 
   // configuration
-  Eigen::Matrix3d odo_floor_ = Eigen::Matrix3d::Identity(),
-                  icp_floor_ = Eigen::Matrix3d::Identity();
+  asf::icp_graph::MatchGates gates_;  ///< completed in configure
   asf::icp_graph::IcpOptions icp_;
   int submap_ = 1, submap_nearby_ = 5;
   double submap_radius_ = 0;
@@ -499,12 +482,10 @@ class IcpGraphFrontend final : public asf::Frontend {
   double ref_cell_ = 0;
   double normal_radius_ = 0.3;
   std::size_t min_points_ = 20;
-  double min_goodness_ = 0.5, max_sigma_xy_ = 0.1, max_sigma_phi_ = 2 * kDeg, odo_chi2_ = 16;
+  bool likelihood_fallback_ = false;
   bool loop_ = true, loop_skip_linked_ = false;
   int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1;
   double loop_radius_ = 3, loop_gate_ = 9.21;
-  double loop_min_goodness_ = 0.6, loop_min_inliers_ = 0.6, loop_max_rmse_ = 0.05,
-         loop_chi2_ = 11.34;
   asf::icp_graph::LoopSearchOptions search_;  ///< loop alignment (completed in configure)
   double csm_sigmas_ = 3, csm_max_window_xy_ = 8;
   bool confirm_ = false;
@@ -519,7 +500,8 @@ class IcpGraphFrontend final : public asf::Frontend {
     bool added;  ///< confirmed (its edge is in the graph)
   };
   std::vector<Pending> pending_;  ///< loop hypotheses of the last loop_confirm_window keyframes
-  long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0, n_revisits_ = 0;
+  long n_scan_match_ = 0, n_fallback_ = 0, n_likelihood_ = 0, n_loops_ = 0, n_loop_rejects_ = 0,
+       n_revisits_ = 0;
 };
 
 const asf::KeySpec kKeys[] = {
@@ -573,6 +555,12 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("icp_min_points", "20", "Fewer valid points in either scan: no ICP", 3, 1000000),
     asf::keyDouble("icp_min_goodness", "0.6",
                    "Reject an alignment whose CICP goodness (correspondence ratio) is lower", 0, 1),
+    asf::keyEnum("icp_low_goodness", "odometry", "odometry|likelihood",
+                 "A keyframe whose ICP alignment has too low a goodness (open space: far or "
+                 "sparse walls): odometry = the odometry edge; likelihood = search the scan in "
+                 "the submap's likelihood field over the odometry's uncertainty (the loop_csm_* "
+                 "keys: score, ambiguity, peak), refine by ICP, keep it if it passes every other "
+                 "gate"),
     asf::keyDouble("icp_inlier_dist", "0.1",
                    "A point within this of the reference is an inlier (residual statistics, "
                    "covariance) [m]",

@@ -437,3 +437,67 @@ TEST(IcpGraphFrontend, OldKeyframesNearbyCutTheDriftOfAReturnTrip) {
 }
 
 }  // namespace
+
+namespace {
+
+// Writes an open hall (50 m x 40 m, a few pillars far apart) for a CARMEN-era laser: 181
+// rays over 180 degrees, so at 15 m the returns are 26 cm apart. Returns the PNG's path.
+std::string hallWorld() {
+  const fs::path file = fs::temp_directory_path() / "asf_test_icp_graph_hall.png";
+  const double res = 0.05;
+  const int w = static_cast<int>(50 / res), h = static_cast<int>(40 / res);
+  cv::Mat img(h, w, CV_8UC1, cv::Scalar(255));
+  auto box = [&](double x0, double y0, double x1, double y1) {
+    cv::rectangle(img, cv::Point(static_cast<int>(x0 / res), h - 1 - static_cast<int>(y1 / res)),
+                  cv::Point(static_cast<int>(x1 / res), h - 1 - static_cast<int>(y0 / res)),
+                  cv::Scalar(0), cv::FILLED);
+  };
+  box(0, 0, 50, 0.2);
+  box(0, 39.8, 50, 40);
+  box(0, 0, 0.2, 40);
+  box(49.8, 0, 50, 40);
+  const double pillars[][2] = {{10, 8}, {24, 31}, {38, 9}, {12, 30}, {40, 27}};
+  for (const auto& p : pillars) box(p[0], p[1], p[0] + 0.6, p[1] + 0.6);
+  cv::imwrite(file.string(), img);
+  return file.string();
+}
+
+TEST(IcpGraphFrontend, OpenHallLikelihoodMatchKeepsWhatIcpGoodnessRefuses) {
+  // Far, sparse walls: most points of a scan have no reference point within CICP's final
+  // correspondence distance, so its goodness stays below icp_min_goodness although the
+  // alignment is right. icp_low_goodness = odometry keeps the odometry edge there; likelihood
+  // searches the scan in the submap's likelihood field and keeps the scan match.
+  const KV sim = {{"map_image", hallWorld()}, {"resolution", "0.05"},   {"start_x", "16"},
+                  {"start_y", "20"},          {"laser_fov_deg", "180"}, {"laser_rays", "181"},
+                  {"laser_max_range", "40"},  {"range_sigma", "0.03"},  {"odo_a1", "0.05"},
+                  {"odo_a2", "0.005"},        {"odo_a3", "5"},          {"odo_a4", "0.2"}};
+  const auto frames = simulate(sim, {{22, 19}, {28, 21}, {34, 20}, {34, 14}}, 12);
+  auto odo_fb = icpGraph({{"loop_closure", "false"}});
+  auto lik_fb = icpGraph({{"loop_closure", "false"}, {"icp_low_goodness", "likelihood"}});
+  const auto go = run(*odo_fb, frames), gl = run(*lik_fb, frames);
+  ASSERT_EQ(go.edges.size(), gl.edges.size());
+  ASSERT_GT(go.edges.size(), 20u);
+  const std::size_t n = go.edges.size(), icp_o = countKind(go, asf::EdgeKind::ScanMatch),
+                    icp_l = countKind(gl, asf::EdgeKind::ScanMatch);
+  double err_o = 0, err_l = 0, rot_o = 0, rot_l = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [to, ro] = edgeError(go, go.edges[k]);
+    const auto [tl, rl] = edgeError(gl, gl.edges[k]);
+    err_o += to / n, rot_o += ro / n, err_l += tl / n, rot_l += rl / n;
+    // A kept scan match is a right one (to within the hall's weak direction: along a far wall).
+    if (gl.edges[k].kind == asf::EdgeKind::ScanMatch) {
+      EXPECT_LT(tl, 0.3) << "edge " << k;
+      EXPECT_LT(rl, 0.02) << "edge " << k;
+    }
+  }
+  std::cout << n << " edges; ICP edges " << icp_o << " (odometry fallback), " << icp_l
+            << " (likelihood); mean edge error " << err_o << " m / " << rot_o << " rad vs " << err_l
+            << " m / " << rot_l << " rad; mean node error " << meanNodeError(go) << " vs "
+            << meanNodeError(gl) << " m\n";
+  EXPECT_LT(icp_o, n / 2) << "the hall should defeat the goodness gate";
+  EXPECT_GT(icp_l, n * 9 / 10);
+  EXPECT_LT(rot_l, 0.5 * rot_o);
+  EXPECT_LT(meanNodeError(gl), 0.5 * meanNodeError(go));
+}
+
+}  // namespace

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../loop_search.h"
+#include "../match_gates.h"
 #include "test_worlds.h"
 
 namespace {
@@ -281,3 +282,61 @@ TEST(LoopSearch, CandidatesLeaveOutKeyframesLinkedNearby) {
   for (asf::NodeId k = 0; k < g.size(); ++k)
     EXPECT_EQ(linked[k], k < 10 || k == 30 || k == 31) << "node " << k;
 }
+
+namespace {
+
+TEST(MatchGates, SequentialGateSaysWhichTestFailed) {
+  asf::icp_graph::MatchGates g;
+  g.max_iterations = 80;
+  g.max_sigma_xy = 0.1;
+  g.max_sigma_phi = 0.05;
+  g.odometry_chi2 = 16;
+  const Eigen::Matrix3d odo_cov = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+  asf::icp_graph::MatchResult m;
+  m.ran = true;
+  m.iterations = 10;
+  m.goodness = 0.4;
+  m.pose = CPose2D(1.0, 0.0, 0.0);
+  m.cov = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+  const CPose2D odo(1.01, 0.0, 0.0);  // chi2 = 0.01^2 / 2e-4 = 0.5
+  EXPECT_NE(sequentialGateFailure(m, odo, odo_cov, 0.6, g).find("goodness 0.4 < 0.6"),
+            std::string::npos);
+  // The likelihood path's gate: everything but goodness.
+  EXPECT_EQ(sequentialGateFailure(m, odo, odo_cov, 0.0, g), "");
+  EXPECT_NE(sequentialGateFailure(m, CPose2D(1.2, 0, 0), odo_cov, 0.0, g).find("disagrees"),
+            std::string::npos);
+  asf::icp_graph::MatchResult ill = m;
+  ill.cov(1, 1) = 0.2 * 0.2;  // the std of one direction above max_sigma_xy
+  EXPECT_NE(sequentialGateFailure(ill, odo, odo_cov, 0.0, g).find("ill-conditioned"),
+            std::string::npos);
+  asf::icp_graph::MatchResult slow = m;
+  slow.iterations = 80;
+  EXPECT_NE(sequentialGateFailure(slow, odo, odo_cov, 0.0, g).find("did not converge"),
+            std::string::npos);
+  asf::icp_graph::MatchResult none;  // never ran: refused even without a reason
+  EXPECT_NE(sequentialGateFailure(none, odo, odo_cov, 0.0, g), "");
+  none.reason = "too few points";
+  EXPECT_EQ(sequentialGateFailure(none, odo, odo_cov, 0.0, g), "too few points");
+}
+
+TEST(MatchGates, SearchWindowCoversTheSigmasWithinItsBounds) {
+  // Position stds 0.2 and 0.1 m (the larger counts), heading std 0.05 rad.
+  const Eigen::Matrix3d C = Eigen::Vector3d(0.01, 0.04, 0.0025).asDiagonal();
+  auto w = asf::icp_graph::windowCovering(C, 3, 0.1, 8, 0.01, M_PI);
+  EXPECT_NEAR(w.xy, 0.6, 1e-12);
+  EXPECT_NEAR(w.phi, 0.15, 1e-12);
+  w = asf::icp_graph::windowCovering(C, 3, 2, 8, 0.35, M_PI);  // the minimum wins
+  EXPECT_EQ(w.xy, 2);
+  EXPECT_EQ(w.phi, 0.35);
+  w = asf::icp_graph::windowCovering(100 * C, 3, 0.1, 5, 0.01, 1);  // the maximum wins
+  EXPECT_EQ(w.xy, 5);
+  EXPECT_EQ(w.phi, 1);
+  // A rotated covariance: the largest eigenvalue, not a diagonal entry.
+  Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+  R(0, 0) = R(1, 1) = 0.025;
+  R(0, 1) = R(1, 0) = 0.015;  // eigenvalues 0.04 and 0.01
+  R(2, 2) = 0.0025;
+  EXPECT_NEAR(asf::icp_graph::windowCovering(R, 3, 0.1, 8, 0.01, M_PI).xy, 0.6, 1e-9);
+}
+
+}  // namespace
