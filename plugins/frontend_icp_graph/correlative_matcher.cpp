@@ -1,7 +1,9 @@
 #include "correlative_matcher.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -68,22 +70,43 @@ int LikelihoodGrid::cellY(double y) const { return static_cast<int>(std::floor((
 
 namespace {
 
-using Cells = std::vector<std::pair<int, int>>;
+/// A scan's points as grid cells at one heading, with their bounding box.
+struct Cells {
+  std::vector<std::pair<int, int>> ij;
+  int imin = 0, imax = -1, jmin = 0, jmax = -1;
+};
 
 /// The scan's points at heading phi and translation t, as grid cells.
 Cells cellsAt(const LikelihoodGrid& g, Points2 scan, double phi, double tx, double ty) {
   const double c = std::cos(phi), s = std::sin(phi);
-  Cells cells(scan.size());
-  for (std::size_t i = 0; i < scan.size(); ++i)
-    cells[i] = {g.cellX(c * scan.x[i] - s * scan.y[i] + tx),
-                g.cellY(s * scan.x[i] + c * scan.y[i] + ty)};
+  Cells cells;
+  cells.ij.resize(scan.size());
+  for (std::size_t k = 0; k < scan.size(); ++k) {
+    const int i = g.cellX(c * scan.x[k] - s * scan.y[k] + tx);
+    const int j = g.cellY(s * scan.x[k] + c * scan.y[k] + ty);
+    cells.ij[k] = {i, j};
+    if (k == 0) cells.imin = cells.imax = i, cells.jmin = cells.jmax = j;
+    cells.imin = std::min(cells.imin, i), cells.imax = std::max(cells.imax, i);
+    cells.jmin = std::min(cells.jmin, j), cells.jmax = std::max(cells.jmax, j);
+  }
   return cells;
 }
 
+/// Mean level-h value of the cells moved by (dx, dy): the score of a pose (h = 0) or the bound
+/// of a block of poses (h > 0). Summed in the cells' order either way, so the two paths agree
+/// to the bit.
 double meanAt(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy) {
+  if (cells.ij.empty()) return 0;
   double sum = 0;
-  for (const auto& [i, j] : cells) sum += g.at(h, i + dx, j + dy);
-  return cells.empty() ? 0 : sum / static_cast<double>(cells.size());
+  const int w = g.width();
+  if (cells.imin + dx >= 0 && cells.jmin + dy >= 0 && cells.imax + dx < w &&
+      cells.jmax + dy < g.height()) {
+    const float* v = g.data(h) + static_cast<std::ptrdiff_t>(dy) * w + dx;
+    for (const auto& [i, j] : cells.ij) sum += v[static_cast<std::ptrdiff_t>(j) * w + i];
+  } else {
+    for (const auto& [i, j] : cells.ij) sum += g.at(h, i + dx, j + dy);
+  }
+  return sum / static_cast<double>(cells.ij.size());
 }
 
 struct Node {
@@ -94,15 +117,19 @@ struct Node {
 /// Depth-first branch and bound: children best-first, pruned by the best score found so far.
 class Search {
  public:
-  Search(const LikelihoodGrid& g, std::vector<Cells> cells, int window, Eigen::Vector2d ex,
+  Search(const LikelihoodGrid& g, const std::vector<Cells>& cells, int window, Eigen::Vector2d ex,
          double ex_r)
-      : g_(g), cells_(std::move(cells)), w_(window), ex_(std::move(ex)), ex_r_(ex_r) {}
+      : g_(g), cells_(cells), w_(window), ex_(std::move(ex)), ex_r_(ex_r) {}
 
-  void run(std::vector<Node> roots, double min_score) {
+  /// `roots` sorted by byBound.
+  void run(const std::vector<Node>& roots, double min_score) {
     best_score_ = min_score;
     if (!roots.empty() && roots.front().h == 0) scored_ += roots.size();
-    std::sort(roots.begin(), roots.end(), byBound);
     for (const Node& n : roots) visit(n);
+  }
+  static bool byBound(const Node& a, const Node& b) {
+    if (a.bound != b.bound) return a.bound > b.bound;
+    return std::tie(a.k, a.dx, a.dy) < std::tie(b.k, b.dx, b.dy);  // deterministic ties
   }
   bool found() const { return found_; }
   const Node& best() const { return best_; }
@@ -110,10 +137,6 @@ class Search {
   std::size_t scored() const { return scored_; }
 
  private:
-  static bool byBound(const Node& a, const Node& b) {
-    if (a.bound != b.bound) return a.bound > b.bound;
-    return std::tie(a.k, a.dx, a.dy) < std::tie(b.k, b.dx, b.dy);  // deterministic ties
-  }
   /// Whether every translation of the block lies inside the excluded disc (it is convex).
   bool excluded(int dx, int dy, int size) const {
     if (ex_r_ <= 0) return false;
@@ -133,20 +156,24 @@ class Search {
       return;
     }
     const int s = 1 << (n.h - 1);
-    std::vector<Node> kids;
+    std::array<Node, 4> kids;
+    int nkids = 0;
     for (int ox : {0, s})
       for (int oy : {0, s}) {
         const int dx = n.dx + ox, dy = n.dy + oy;
         if (dx > w_ || dy > w_) continue;
-        kids.push_back({n.k, dx, dy, n.h - 1, meanAt(g_, n.h - 1, cells_[n.k], dx, dy)});
+        kids[nkids++] = {n.k, dx, dy, n.h - 1, meanAt(g_, n.h - 1, cells_[n.k], dx, dy)};
         if (n.h == 1) ++scored_;  // a leaf's bound is its exact score
       }
-    std::sort(kids.begin(), kids.end(), byBound);
-    for (const Node& kid : kids) visit(kid);
+    // Best first (insertion sort of at most 4: no allocation, the order std::sort would give
+    // under this strict total order).
+    for (int a = 1; a < nkids; ++a)
+      for (int b = a; b > 0 && byBound(kids[b], kids[b - 1]); --b) std::swap(kids[b], kids[b - 1]);
+    for (int c = 0; c < nkids; ++c) visit(kids[c]);
   }
 
   const LikelihoodGrid& g_;
-  std::vector<Cells> cells_;
+  const std::vector<Cells>& cells_;
   int w_;
   Eigen::Vector2d ex_;
   double ex_r_;
@@ -162,44 +189,71 @@ double correlativeScore(const LikelihoodGrid& grid, Points2 scan, const Eigen::V
   return meanAt(grid, 0, cellsAt(grid, scan, pose.z(), pose.x(), pose.y()), 0, 0);
 }
 
-CorrelativeResult correlativeMatch(const LikelihoodGrid& grid, Points2 scan,
-                                   const Eigen::Vector3d& guess, const CorrelativeOptions& o,
-                                   const Eigen::Vector2d& exclude_xy, double exclude_radius) {
-  CorrelativeResult r;
-  if (scan.size() == 0) return r;
+struct CorrelativeSearch::Impl {
+  Impl(const LikelihoodGrid& g, const Eigen::Vector3d& q) : grid(g), guess(q) {}
+  const LikelihoodGrid& grid;
+  Eigen::Vector3d guess;
+  double step = 0;
+  int nk = 0, w = 0;
+  std::size_t lattice = 0;
+  std::vector<Cells> cells;  ///< per heading guess.z() + (k - nk) step
+  std::vector<Node> roots;   ///< the coarsest blocks, sorted by Search::byBound
+};
+
+CorrelativeSearch::CorrelativeSearch(const LikelihoodGrid& grid, Points2 scan,
+                                     const Eigen::Vector3d& guess, const CorrelativeOptions& o)
+    : impl_(std::make_unique<Impl>(grid, guess)) {
+  Impl& m = *impl_;
+  if (scan.size() == 0) return;
   const double res = grid.resolution();
-  double step = o.step_phi;
-  if (!(step > 0)) {
+  m.step = o.step_phi;
+  if (!(m.step > 0)) {
     double far2 = 0;
     for (std::size_t i = 0; i < scan.size(); ++i)
       far2 = std::max(far2, double(scan.x[i]) * scan.x[i] + double(scan.y[i]) * scan.y[i]);
     const double far = std::max(std::sqrt(far2), res);
-    step = std::acos(std::clamp(1 - res * res / (2 * far * far), -1.0, 1.0));
+    m.step = std::acos(std::clamp(1 - res * res / (2 * far * far), -1.0, 1.0));
   }
-  const int nk = static_cast<int>(std::ceil(o.window_phi / step));
-  const int w = static_cast<int>(std::ceil(o.window_xy / res));
+  m.nk = static_cast<int>(std::ceil(o.window_phi / m.step));
+  m.w = static_cast<int>(std::ceil(o.window_xy / res));
   const int top = grid.levels() - 1, block = 1 << top;
-  std::vector<Cells> cells;
-  std::vector<Node> roots;
-  for (int k = -nk; k <= nk; ++k) {
-    cells.push_back(cellsAt(grid, scan, guess.z() + k * step, guess.x(), guess.y()));
-    const int ki = k + nk;
-    for (int dx = -w; dx <= w; dx += block)
-      for (int dy = -w; dy <= w; dy += block)
-        roots.push_back({ki, dx, dy, top, meanAt(grid, top, cells.back(), dx, dy)});
+  for (int k = -m.nk; k <= m.nk; ++k) {
+    m.cells.push_back(cellsAt(grid, scan, guess.z() + k * m.step, guess.x(), guess.y()));
+    const int ki = k + m.nk;
+    for (int dx = -m.w; dx <= m.w; dx += block)
+      for (int dy = -m.w; dy <= m.w; dy += block)
+        m.roots.push_back({ki, dx, dy, top, meanAt(grid, top, m.cells.back(), dx, dy)});
   }
-  r.lattice = static_cast<std::size_t>(2 * nk + 1) * (2 * w + 1) * (2 * w + 1);
-  const Eigen::Vector2d ex = exclude_xy - guess.head<2>();  // in offsets from the guess
-  Search search(grid, std::move(cells), w, ex, exclude_radius);
-  search.run(std::move(roots), o.min_score);
+  std::sort(m.roots.begin(), m.roots.end(), Search::byBound);
+  m.lattice = static_cast<std::size_t>(2 * m.nk + 1) * (2 * m.w + 1) * (2 * m.w + 1);
+}
+
+CorrelativeSearch::~CorrelativeSearch() = default;
+
+CorrelativeResult CorrelativeSearch::run(double min_score, const Eigen::Vector2d& exclude_xy,
+                                         double exclude_radius) const {
+  const Impl& m = *impl_;
+  CorrelativeResult r;
+  if (m.cells.empty()) return r;
+  r.lattice = m.lattice;
+  const Eigen::Vector2d ex = exclude_xy - m.guess.head<2>();  // in offsets from the guess
+  Search search(m.grid, m.cells, m.w, ex, exclude_radius);
+  search.run(m.roots, min_score);
   r.scored = search.scored();
   if (!search.found()) return r;
   const Node& b = search.best();
+  const double res = m.grid.resolution();
   r.found = true;
   r.score = search.bestScore();
-  r.pose = Eigen::Vector3d(guess.x() + b.dx * res, guess.y() + b.dy * res,
-                           guess.z() + (b.k - nk) * step);
+  r.pose = Eigen::Vector3d(m.guess.x() + b.dx * res, m.guess.y() + b.dy * res,
+                           m.guess.z() + (b.k - m.nk) * m.step);
   return r;
+}
+
+CorrelativeResult correlativeMatch(const LikelihoodGrid& grid, Points2 scan,
+                                   const Eigen::Vector3d& guess, const CorrelativeOptions& o,
+                                   const Eigen::Vector2d& exclude_xy, double exclude_radius) {
+  return CorrelativeSearch(grid, scan, guess, o).run(o.min_score, exclude_xy, exclude_radius);
 }
 
 }  // namespace asf::icp_graph

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace asf::icp_graph {
@@ -37,6 +38,10 @@ class LikelihoodGrid {
     if (i < 0 || j < 0 || i >= w_ || j >= h_) return 0.f;
     return level_[static_cast<std::size_t>(h)][static_cast<std::size_t>(j) * w_ + i];
   }
+  /// Level h's cells, row-major (width() x height()): the unchecked access of at().
+  const float* data(int h) const { return level_[static_cast<std::size_t>(h)].data(); }
+  int width() const { return w_; }
+  int height() const { return h_; }
   /// Cell index of a coordinate.
   int cellX(double x) const;
   int cellY(double y) const;
@@ -63,9 +68,32 @@ struct CorrelativeResult {
   std::size_t lattice = 0;        ///< poses in the searched lattice
 };
 
+/// A search of `scan` (points in its own frame) in `grid`'s frame over the window around
+/// `guess`, prepared once (the scan's cells at every heading, the coarsest blocks' bounds) and
+/// run as often as asked: the best pose, then the best outside its peak (ambiguity). The grid
+/// must outlive it.
+class CorrelativeSearch {
+ public:
+  CorrelativeSearch(const LikelihoodGrid& grid, Points2 scan, const Eigen::Vector3d& guess,
+                    const CorrelativeOptions& o);
+  ~CorrelativeSearch();
+  CorrelativeSearch(const CorrelativeSearch&) = delete;
+  CorrelativeSearch& operator=(const CorrelativeSearch&) = delete;
+  /// The best pose scoring at least `min_score` whose translation lies outside the disc of
+  /// `exclude_radius` around `exclude_xy` (exclude_radius <= 0: anywhere).
+  CorrelativeResult run(double min_score,
+                        const Eigen::Vector2d& exclude_xy = Eigen::Vector2d::Zero(),
+                        double exclude_radius = 0) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Best pose of `scan` (points in its own frame) in `grid`'s frame over the window around
-/// `guess`. Poses whose translation lies within `exclude_radius` of `exclude_xy` are skipped
-/// (exclude_radius <= 0: none): the best pose outside a peak, to see whether it is unique.
+/// `guess` (a CorrelativeSearch run once at o.min_score). Poses whose translation lies within
+/// `exclude_radius` of `exclude_xy` are skipped (exclude_radius <= 0: none): the best pose outside
+/// a peak, to see whether it is unique.
 CorrelativeResult correlativeMatch(const LikelihoodGrid& grid, Points2 scan,
                                    const Eigen::Vector3d& guess, const CorrelativeOptions& o,
                                    const Eigen::Vector2d& exclude_xy = Eigen::Vector2d::Zero(),

@@ -55,9 +55,9 @@ CorrelativeLoopResult correlativeLoopSearch(const Cloud& ref, const Cloud& cur,
   CorrelativeOptions co;
   co.window_xy = o.window_xy;
   co.window_phi = o.window_phi;
-  co.min_score = o.min_score;
   const Eigen::Vector3d guess(est.x(), est.y(), est.phi());
-  const CorrelativeResult best = correlativeMatch(grid, scan.points(), guess, co);
+  const CorrelativeSearch search(grid, scan.points(), guess, co);
+  const CorrelativeResult best = search.run(o.min_score);
   std::ostringstream why;
   if (!best.found) {
     why << "correlative score below " << o.min_score;
@@ -68,9 +68,8 @@ CorrelativeLoopResult correlativeLoopSearch(const Cloud& ref, const Cloud& cur,
   r.pose = mrpt::poses::CPose2D(best.pose.x(), best.pose.y(), best.pose.z());
   // The best pose outside the peak: only poses scoring above what would make it ambiguous
   // need be found, so the search is bounded by that.
-  co.min_score = o.max_ambiguity * best.score;
   const CorrelativeResult second =
-      correlativeMatch(grid, scan.points(), guess, co, best.pose.head<2>(), o.peak_radius);
+      search.run(o.max_ambiguity * best.score, best.pose.head<2>(), o.peak_radius);
   r.second = second.found ? second.score : 0.0;
   if (second.found) {
     why << "ambiguous: a pose " << (second.pose.head<2>() - best.pose.head<2>()).norm()

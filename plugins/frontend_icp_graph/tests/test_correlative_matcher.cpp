@@ -97,6 +97,15 @@ TEST(CorrelativeMatcher, BranchAndBoundFindsTheExhaustiveOptimum) {
       EXPECT_NEAR(second.score, bruteForce(g, scan.points(), guess, o, r.pose.head<2>(), 0.2),
                   1e-9);
       EXPECT_GE((second.pose.head<2>() - r.pose.head<2>()).norm(), 0.2);
+      // One prepared search run twice, the second run first: the same two answers.
+      const asf::icp_graph::CorrelativeSearch search(g, scan.points(), guess, o);
+      const auto s2 = search.run(o.min_score, r.pose.head<2>(), 0.2);
+      const auto s1 = search.run(o.min_score);
+      EXPECT_EQ(s1.pose, r.pose);
+      EXPECT_EQ(s1.score, r.score);
+      EXPECT_EQ(s1.scored, r.scored);
+      EXPECT_EQ(s2.pose, second.pose);
+      EXPECT_EQ(s2.score, second.score);
     }
   }
 }
