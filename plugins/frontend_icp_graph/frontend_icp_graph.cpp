@@ -75,6 +75,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     loop_skip_linked_ = p.getBool("loop_skip_linked");
     loop_gate_ = p.getDouble("loop_gate_chi2");
     loop_max_cand_ = static_cast<int>(p.getInt("loop_max_candidates"));
+    loop_cand_gap_ = static_cast<int>(p.getInt("loop_candidate_gap"));
     loop_max_accept_ = static_cast<int>(p.getInt("loop_max_per_keyframe"));
     loop_submap_ = static_cast<int>(p.getInt("loop_submap_half"));
     search_.perturb_xy = p.getDouble("loop_perturb_xy");
@@ -432,6 +433,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     cg.radius = loop_radius_;
     cg.gate_chi2 = loop_gate_;
     cg.max_candidates = loop_max_cand_;
+    cg.min_gap = loop_cand_gap_;
     cg.skip_linked = loop_skip_linked_;
     const std::vector<asf::NodeId> cands = asf::icp_graph::loopCandidates(g, j, prev, marg, Cj, cg);
 
@@ -484,7 +486,8 @@ class IcpGraphFrontend final : public asf::Frontend {
   std::size_t min_points_ = 20;
   bool likelihood_fallback_ = false;
   bool loop_ = true, loop_skip_linked_ = false;
-  int loop_skip_ = 20, loop_max_cand_ = 3, loop_max_accept_ = 1, loop_submap_ = 1;
+  int loop_skip_ = 20, loop_max_cand_ = 3, loop_cand_gap_ = 1, loop_max_accept_ = 1,
+      loop_submap_ = 1;
   double loop_radius_ = 3, loop_gate_ = 9.21;
   asf::icp_graph::LoopSearchOptions search_;  ///< loop alignment (completed in configure)
   double csm_sigmas_ = 3, csm_max_window_xy_ = 8;
@@ -602,6 +605,10 @@ const asf::KeySpec kKeys[] = {
                    0, 1e9),
     asf::keyInt("loop_max_candidates", "3", "Candidates verified per keyframe (nearest first)", 1,
                 1000),
+    asf::keyInt("loop_candidate_gap", "1",
+                "A candidate fewer than this many keyframes from a nearer one is skipped (its "
+                "reference overlaps that one's; 2 loop_submap_half + 1: disjoint references)",
+                1, 1000000),
     asf::keyInt("loop_max_per_keyframe", "1",
                 "Loop edges accepted per keyframe at most (candidates are verified nearest first)",
                 1, 1000),

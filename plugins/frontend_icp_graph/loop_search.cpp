@@ -263,9 +263,14 @@ std::vector<asf::NodeId> loopCandidates(const asf::PoseGraph& g, asf::NodeId j, 
   std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
     return a.dist != b.dist ? a.dist < b.dist : a.id < b.id;
   });
-  if (static_cast<int>(cands.size()) > o.max_candidates) cands.resize(o.max_candidates);
   std::vector<asf::NodeId> ids;
-  for (const Cand& c : cands) ids.push_back(c.id);
+  for (const Cand& c : cands) {
+    if (static_cast<int>(ids.size()) >= o.max_candidates) break;
+    const bool close = std::any_of(ids.begin(), ids.end(), [&](asf::NodeId k) {
+      return std::abs(static_cast<long>(k) - static_cast<long>(c.id)) < o.min_gap;
+    });
+    if (!close) ids.push_back(c.id);
+  }
   return ids;
 }
 

@@ -119,6 +119,9 @@ struct CandidateGate {
   double radius = 3;        ///< old keyframes within this distance are candidates [m]
   double gate_chi2 = 9.21;  ///< ... and those whose distance beyond it is this likely (2 dof)
   int max_candidates = 3;   ///< the nearest this many
+  /// ... each at least this many keyframes from every nearer one taken (1: any two distinct):
+  /// candidates a few keyframes apart search nearly the same reference.
+  int min_gap = 1;
   /// Leave out keyframes already linked to the new one (linkedNear from the previous
   /// keyframe): their relative pose is constrained by scan matches already, so matching them
   /// again closes no loop (Karto's "near linked scans").

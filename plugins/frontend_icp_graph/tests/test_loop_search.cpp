@@ -252,12 +252,13 @@ asf::PoseGraph secondPass(const std::vector<std::pair<asf::NodeId, asf::NodeId>>
   return g;
 }
 
-std::vector<asf::NodeId> candidates(const asf::PoseGraph& g, bool skip_linked) {
+std::vector<asf::NodeId> candidates(const asf::PoseGraph& g, bool skip_linked, int min_gap = 1) {
   asf::icp_graph::CandidateGate o;
   o.skip_recent = 20;
   o.radius = 3;
   o.max_candidates = 3;
   o.skip_linked = skip_linked;
+  o.min_gap = min_gap;
   return asf::icp_graph::loopCandidates(g, 32, 31, nullptr, std::nullopt, o);
 }
 
@@ -281,6 +282,18 @@ TEST(LoopSearch, CandidatesLeaveOutKeyframesLinkedNearby) {
   const std::vector<char> linked = asf::icp_graph::linkedNear(g, 31, g.nodes[32].pose, 3, 32);
   for (asf::NodeId k = 0; k < g.size(); ++k)
     EXPECT_EQ(linked[k], k < 10 || k == 30 || k == 31) << "node " << k;
+}
+
+// Candidates a few keyframes apart would search nearly the same reference: with a gap, the
+// next nearest far enough along the trajectory from every one taken.
+TEST(LoopSearch, CandidatesKeepTheirGapAlongTheTrajectory) {
+  const asf::PoseGraph g = secondPass({});
+  // Distances from (2, 0.2): 4 0.2 m; 3 and 5 0.54 m; 2 and 6 1.02 m; 1 and 7 1.51 m.
+  EXPECT_EQ(candidates(g, false, 1), (std::vector<asf::NodeId>{4, 3, 5}));
+  EXPECT_EQ(candidates(g, false, 2), (std::vector<asf::NodeId>{4, 2, 6}));
+  EXPECT_EQ(candidates(g, false, 3), (std::vector<asf::NodeId>{4, 1, 7}));
+  EXPECT_EQ(candidates(g, false, 10), (std::vector<asf::NodeId>{4}))
+      << "every other first-pass keyframe is within 10 of node 4";
 }
 
 namespace {
