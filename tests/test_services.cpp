@@ -78,11 +78,16 @@ TEST(MapBuilder, RebuildsWhenKeyframesMove) {
   g.nodes[1].scan = scanAt(world, g.nodes[1].pose);
   ASSERT_TRUE(mb.update(g));
   EXPECT_FALSE(mb.map().rebuilt) << "a new keyframe is inserted incrementally";
+  EXPECT_EQ(mb.rebuilds(), 0u);
   // The back-end moves node 0 by 0.3 m: the map must be rebuilt with the scan moved.
   g.nodes[0].pose = mrpt::poses::CPose2D(0.3, 0, 0);
   ASSERT_TRUE(mb.update(g));
   EXPECT_TRUE(mb.map().rebuilt);
   EXPECT_EQ(mb.map().version, 3u);
+  EXPECT_EQ(mb.rebuilds(), 1u);
+  EXPECT_FALSE(mb.update(g)) << "nothing moved since";
+  mb.configure(asf::Params::fromSpecs("map", k, n));
+  EXPECT_EQ(mb.rebuilds(), 0u) << "configure starts a new map";
 }
 
 TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {

@@ -36,6 +36,7 @@ const KeySpec* MapBuilder::keys(std::size_t& n) {
 
 struct MapBuilder::Impl {
   double resolution = 0.05, max_range = 15, rebuild_threshold = 0.05, half = 10;
+  std::size_t rebuilds = 0;
   bool widen = false;
   mrpt::maps::COccupancyGridMap2D grid;
   std::map<NodeId, mrpt::poses::CPose2D> inserted;  ///< node -> pose at insertion
@@ -58,8 +59,7 @@ struct MapBuilder::Impl {
     grid.insertObservation(*n.scan, robot);
     inserted[n.id] = n.pose;
     const mrpt::poses::CPose3D sensor = robot + n.scan->sensorPose;
-    const double reach =
-        std::max(std::min<double>(n.scan->maxRange, max_range), max_range / 2);
+    const double reach = std::max(std::min<double>(n.scan->maxRange, max_range), max_range / 2);
     const double r = reach + 2 * resolution;  // a cell either side of the last one touched
     b.extend(sensor.x() - r, sensor.y() - r);
     b.extend(sensor.x() + r, sensor.y() + r);
@@ -77,8 +77,11 @@ void MapBuilder::configure(const Params& p) {
   impl_->half = p.getDouble("initial_half_size");
   impl_->widen = p.getBool("widen_beams");
   impl_->reset();
+  impl_->rebuilds = 0;
   map_ = GridMap{};
 }
+
+std::size_t MapBuilder::rebuilds() const { return impl_->rebuilds; }
 
 bool MapBuilder::update(const PoseGraph& graph) {
   Impl& m = *impl_;
@@ -99,6 +102,7 @@ bool MapBuilder::update(const PoseGraph& graph) {
   Box2 changed;
   bool any = false;
   if (moved) {
+    ++m.rebuilds;
     m.reset();
     for (const auto& n : graph.nodes) {
       const Box2 b = m.insert(n);

@@ -32,6 +32,9 @@ class NavigationMaps {
     return scan2d_.map();
   }
   bool hasMap3d() const { return static_cast<bool>(map3d_); }
+  /// The 2D scans' grid: its versions and how many were rebuilds.
+  const GridMap& scanMap() const { return scan2d_.map(); }
+  std::size_t scanMapRebuilds() const { return scan2d_.rebuilds(); }
 
   /// The frame's 3D observations become keyframes at the node the front-end added for it
   /// (none when the graph did not grow past `nodes_before`). Unusable observations are

@@ -381,6 +381,8 @@ void RunState::summarize() {
   }
   sum_.loop_closures = loopClosures();
   sum_.explored_area_m2 = freeArea(m_.navMap());
+  sum_.map_versions = m_.maps.scanMap().version;
+  sum_.map_rebuilds = m_.maps.scanMapRebuilds();
   if (m_.coverage) {
     sum_.coverage = m_.coverage->coverage(m_.navMap());
     sum_.reachable_area_m2 = m_.coverage->reachableArea();

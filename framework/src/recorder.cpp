@@ -211,6 +211,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["reachable_area_m2"] =
         summary.reachable_area_m2 < 0 ? json(nullptr) : json(summary.reachable_area_m2);
     j["explored_area_m2"] = summary.explored_area_m2;
+    j["map_versions"] = summary.map_versions;
+    j["map_rebuilds"] = summary.map_rebuilds;
     j["loop_closures"] = summary.loop_closures;
     j["decision_ms_mean"] = summary.decision_ms_mean;
     j["decision_ms_max"] = summary.decision_ms_max;

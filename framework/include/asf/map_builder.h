@@ -36,6 +36,8 @@ class MapBuilder {
   /// holds a new version).
   bool update(const PoseGraph& graph);
   const GridMap& map() const { return map_; }
+  /// Versions that were rebuilds (every scan inserted again), over the builder's life.
+  std::size_t rebuilds() const;
 
  private:
   struct Impl;

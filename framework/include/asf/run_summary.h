@@ -22,8 +22,11 @@ struct RunSummary {
   /// Share of the reachable free area of the true world observed by the final map; -1
   /// when the source does not know the world.
   double coverage = -1;
-  double reachable_area_m2 = -1;                     ///< of the true world; -1 when unknown
-  double explored_area_m2 = 0;                       ///< free area of the final map
+  double reachable_area_m2 = -1;  ///< of the true world; -1 when unknown
+  double explored_area_m2 = 0;    ///< free area of the final map
+  /// Versions of the scans' occupancy grid (each a new grid), and how many of them were
+  /// rebuilt from every scan because the back-end moved inserted keyframes.
+  std::size_t map_versions = 0, map_rebuilds = 0;
   std::size_t loop_closures = 0;                     ///< loop-closure edges in the final graph
   double decision_ms_mean = 0, decision_ms_max = 0;  ///< policy decide() compute time
   double segment_ms_median = 0;  ///< segmenter + topological graph update, per update
