@@ -302,9 +302,11 @@ class IcpGraphFrontend final : public asf::Frontend {
     asf::icp_graph::LoopSearchOptions o = search_;
     o.correlative = true;
     // The window covers loop_csm_sigmas standard deviations of the odometry (two cells and
-    // two degrees at least): a pose the odometry rules out is no rival to the best one.
-    const auto w = asf::icp_graph::windowCovering(acc_cov + gates_.odo_floor, csm_sigmas_,
-                                                  2 * o.csm.resolution, 1e9, 2 * kDeg, M_PI);
+    // two degrees at least, loop_csm_max_window_xy at most, as for loops): a pose the
+    // odometry rules out is no rival to the best one.
+    const auto w =
+        asf::icp_graph::windowCovering(acc_cov + gates_.odo_floor, csm_sigmas_,
+                                       2 * o.csm.resolution, csm_max_window_xy_, 2 * kDeg, M_PI);
     o.csm.window_xy = w.xy;
     o.csm.window_phi = w.phi;
     std::string searched, how;
@@ -312,7 +314,6 @@ class IcpGraphFrontend final : public asf::Frontend {
     const std::string failed =
         r ? asf::icp_graph::sequentialGateFailure(*r, acc, acc_cov, 0.0, gates_) : searched;
     if (failed.empty()) {
-      ++n_likelihood_;
       MRPT_LOG_DEBUG_STREAM("keyframe " << kf_.last() + 1 << ": scan-to-map likelihood match ("
                                         << why << "; " << how << ")");
       return r;
@@ -503,8 +504,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     bool added;  ///< confirmed (its edge is in the graph)
   };
   std::vector<Pending> pending_;  ///< loop hypotheses of the last loop_confirm_window keyframes
-  long n_scan_match_ = 0, n_fallback_ = 0, n_likelihood_ = 0, n_loops_ = 0, n_loop_rejects_ = 0,
-       n_revisits_ = 0;
+  long n_scan_match_ = 0, n_fallback_ = 0, n_loops_ = 0, n_loop_rejects_ = 0, n_revisits_ = 0;
 };
 
 const asf::KeySpec kKeys[] = {
