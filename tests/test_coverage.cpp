@@ -117,6 +117,45 @@ TEST(MapBuilder, ChangeBoxCoversEveryChangedCell) {
   EXPECT_GT(changed_cells, 1000u);
 }
 
+// GridMap's contract: a version a consumer keeps is never modified; a version no one keeps
+// is changed in place for the next (no copy of the whole grid per keyframe). Both through
+// incremental insertions and a rebuild, each result equal to a builder whose versions were
+// all kept (every version a copy).
+TEST(MapBuilder, KeptVersionsStayUnchangedAndUnkeptOnesAreReused) {
+  MappingRun reused, kept;
+  std::vector<std::shared_ptr<const mrpt::maps::COccupancyGridMap2D>> held;
+  std::vector<std::vector<mrpt::maps::COccupancyGridMap2D::cellType>> held_cells;
+  std::size_t in_place = 0;
+  for (int i = 0; i < 14; ++i) {
+    const mrpt::poses::CPose2D p(11 - 0.7 * i, 2 + 0.2 * std::sin(i), 0.3 * i);
+    const void* before = reused.builder.map().grid.get();
+    ASSERT_TRUE(reused.step(p));
+    ASSERT_TRUE(kept.step(p));
+    if (i == 9) {  // the back-end moves a keyframe: both rebuild
+      for (MappingRun* r : {&reused, &kept}) {
+        r->graph.nodes[1].pose = r->graph.nodes[1].pose + mrpt::poses::CPose2D(0.2, 0, 0.05);
+        ASSERT_TRUE(r->builder.update(r->graph));
+        ASSERT_TRUE(r->builder.map().rebuilt);
+      }
+    }
+    const auto& a = *reused.builder.map().grid;
+    const auto& b = *kept.builder.map().grid;
+    if (reused.builder.map().grid.get() == before) ++in_place;
+    ASSERT_EQ(a.getSizeX(), b.getSizeX());
+    ASSERT_EQ(a.getSizeY(), b.getSizeY());
+    ASSERT_EQ(a.getXMin(), b.getXMin());
+    ASSERT_TRUE(a.getRawMap() == b.getRawMap()) << "keyframe " << i;
+    held.push_back(kept.builder.map().grid);
+    held_cells.push_back(held.back()->getRawMap());
+    for (std::size_t k = 0; k < held.size(); ++k)
+      ASSERT_TRUE(held[k]->getRawMap() == held_cells[k])
+          << "version " << k + 1 << " changed after keyframe " << i;
+  }
+  EXPECT_GT(in_place, 10u) << "unkept versions are changed in place";
+  for (std::size_t k = 1; k < held.size(); ++k)
+    EXPECT_NE(held[k].get(), held[k - 1].get()) << "a kept version is never reused";
+}
+
 TEST(MapAreaTracker, EqualsTheFullRecountAfterEveryStepOfARun) {
   MappingRun run;
   asf::MapAreaTracker tracker(&run.meter);

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
 
 namespace asf {
 
@@ -128,19 +131,51 @@ CoverageMeter::GridIndex CoverageMeter::indexFor(const mrpt::maps::COccupancyGri
 }
 
 namespace {
+using CellValue = mrpt::maps::COccupancyGridMap2D::cellType;
+
+/// For every value a cell can store: free (p >= 0.5 + band, as float) and observed
+/// (|p - 0.5| >= band, float against double), p = l2p(value): the comparisons of getCell()
+/// and observed(), made once per value instead of an l2p call per cell (whole-grid recounts
+/// after every rebuild of a long log's map).
+class CellTable {
+ public:
+  explicit CellTable(double band) : flags_(std::size_t{1} << (8 * sizeof(CellValue))) {
+    const float thr = 0.5f + static_cast<float>(band);
+    for (long v = std::numeric_limits<CellValue>::min(); v <= std::numeric_limits<CellValue>::max();
+         ++v) {
+      const float p = mrpt::maps::COccupancyGridMap2D::l2p(static_cast<CellValue>(v));
+      flags_[index(static_cast<CellValue>(v))] =
+          static_cast<std::uint8_t>((p >= thr ? 1 : 0) | (std::abs(p - 0.5f) >= band ? 2 : 0));
+    }
+  }
+  bool free(CellValue v) const { return flags_[index(v)] & 1; }
+  bool observed(CellValue v) const { return flags_[index(v)] & 2; }
+
+ private:
+  static std::size_t index(CellValue v) {
+    return static_cast<std::size_t>(static_cast<long>(v) - std::numeric_limits<CellValue>::min());
+  }
+  std::vector<std::uint8_t> flags_;
+};
+
+/// The table of `band` (one per band and thread: runs of an experiment share no state).
+const CellTable& cellTable(double band) {
+  thread_local std::map<double, CellTable> tables;
+  auto it = tables.find(band);
+  if (it == tables.end()) it = tables.emplace(band, CellTable(band)).first;
+  return it->second;
+}
+
 /// observed() on a cell of the buffer (the index of GridIndex::cell).
-inline bool observedCell(const std::vector<mrpt::maps::COccupancyGridMap2D::cellType>& raw,
-                         std::int32_t k, double band) {
-  // float |p - 0.5| against the double band, exactly as observed() compares them.
-  return k >= 0 && std::abs(mrpt::maps::COccupancyGridMap2D::l2p(raw[static_cast<std::size_t>(k)]) -
-                            0.5f) >= band;
+inline bool observedCell(const std::vector<CellValue>& raw, std::int32_t k, const CellTable& t) {
+  return k >= 0 && t.observed(raw[static_cast<std::size_t>(k)]);
 }
 }  // namespace
 
 std::size_t CoverageMeter::observedCount(const mrpt::maps::COccupancyGridMap2D& g,
                                          const GridIndex& index) const {
   const auto& raw = g.getRawMap();
-  const double band = unknown_band_;
+  const CellTable& band = cellTable(unknown_band_);
   std::size_t seen = 0;
   for (const std::int32_t k : index.cell)
     if (observedCell(raw, k, band)) ++seen;
@@ -150,7 +185,7 @@ std::size_t CoverageMeter::observedCount(const mrpt::maps::COccupancyGridMap2D& 
 std::size_t CoverageMeter::observedIn(const mrpt::maps::COccupancyGridMap2D& g, const Box2& box,
                                       const GridIndex& index, std::size_t& visited) const {
   const auto& raw = g.getRawMap();
-  const double band = unknown_band_;
+  const CellTable& band = cellTable(unknown_band_);
   return inBox(box, visited, [&](std::size_t i) { return observedCell(raw, index.cell[i], band); });
 }
 
@@ -159,7 +194,7 @@ long CoverageMeter::observedChangeIn(const mrpt::maps::COccupancyGridMap2D& now,
                                      const GridIndex& index, std::size_t& visited) const {
   const auto& a = now.getRawMap();
   const auto& b = before.getRawMap();
-  const double band = unknown_band_;
+  const CellTable& band = cellTable(unknown_band_);
   long change = 0;
   std::size_t cells = 0;
   inBox(box, cells, [&](std::size_t i) {
@@ -188,16 +223,14 @@ long freeCellChange(const mrpt::maps::COccupancyGridMap2D& now,
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, static_cast<int>(now.getSizeX()) - 1);
   y1 = std::min(y1, static_cast<int>(now.getSizeY()) - 1);
-  const float thr = 0.5f + static_cast<float>(unknown_band);
+  const CellTable& t = cellTable(unknown_band);
   const std::size_t sx = now.getSizeX();
   long change = 0;
   for (int y = y0; y <= y1; ++y) {
     const auto* a = now.getRawMap().data() + static_cast<std::size_t>(y) * sx;
     const auto* b = before.getRawMap().data() + static_cast<std::size_t>(y) * sx;
     for (int x = x0; x <= x1; ++x)
-      if (a[x] != b[x])
-        change += static_cast<long>(mrpt::maps::COccupancyGridMap2D::l2p(a[x]) >= thr) -
-                  static_cast<long>(mrpt::maps::COccupancyGridMap2D::l2p(b[x]) >= thr);
+      if (a[x] != b[x]) change += static_cast<long>(t.free(a[x])) - static_cast<long>(t.free(b[x]));
   }
   return change;
 }
@@ -208,14 +241,14 @@ std::size_t freeCells(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, 
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
   y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
-  const float thr = 0.5f + static_cast<float>(unknown_band);
+  const CellTable& t = cellTable(unknown_band);
   const auto& raw = g.getRawMap();
   const std::size_t sx = g.getSizeX();
   std::size_t n = 0;
   for (int y = y0; y <= y1; ++y) {
     const auto* row = raw.data() + static_cast<std::size_t>(y) * sx;
     for (int x = x0; x <= x1; ++x)  // getCell(x, y) of a cell inside the grid
-      if (mrpt::maps::COccupancyGridMap2D::l2p(row[x]) >= thr) ++n;
+      if (t.free(row[x])) ++n;
   }
   return n;
 }
@@ -235,6 +268,9 @@ double freeArea(const GridMap& map, double unknown_band) {
 
 MapAreaTracker::MapAreaTracker(const CoverageMeter* meter, double unknown_band)
     : meter_(meter), band_(unknown_band) {}
+MapAreaTracker::~MapAreaTracker() = default;
+MapAreaTracker::MapAreaTracker(MapAreaTracker&&) noexcept = default;
+MapAreaTracker& MapAreaTracker::operator=(MapAreaTracker&&) noexcept = default;
 
 void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
   ++recounts_;
@@ -244,6 +280,10 @@ void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
     observed_ = meter_->observedCount(g, indexFor(g));
     visited_ += meter_->reachableCells();
   }
+  if (counted_)
+    *counted_ = g;
+  else
+    counted_ = std::make_unique<mrpt::maps::COccupancyGridMap2D>(g);
 }
 
 bool MapAreaTracker::sameCells(const mrpt::maps::COccupancyGridMap2D& a,
@@ -254,55 +294,70 @@ bool MapAreaTracker::sameCells(const mrpt::maps::COccupancyGridMap2D& a,
   return whole(a.getXMin() - b.getXMin()) && whole(a.getYMin() - b.getYMin());
 }
 
+void MapAreaTracker::regrid(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, int y0,
+                            int y1) {
+  using Grid = mrpt::maps::COccupancyGridMap2D;
+  const Grid& old = *counted_;
+  const double r = g.getResolution();
+  // The same cells in the old grid: shifted by the whole number of cells between origins.
+  const int dx = static_cast<int>(std::lround((g.getXMin() - old.getXMin()) / r));
+  const int dy = static_cast<int>(std::lround((g.getYMin() - old.getYMin()) / r));
+  auto now = std::make_unique<Grid>(g);
+  const Grid::cellType unknown = Grid::p2l(0.5f);
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
+  y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
+  const int ow = static_cast<int>(old.getSizeX()), oh = static_cast<int>(old.getSizeY());
+  for (int y = y0; y <= y1; ++y) {
+    Grid::cellType* row = now->getRow(y);
+    const int oy = y + dy;
+    const Grid::cellType* orow = oy >= 0 && oy < oh ? old.getRow(oy) : nullptr;
+    for (int x = x0; x <= x1; ++x) {
+      const int ox = x + dx;
+      row[x] = orow && ox >= 0 && ox < ow ? orow[ox] : unknown;
+    }
+  }
+  counted_ = std::move(now);
+}
+
 void MapAreaTracker::update(const GridMap& map) {
   if (!map.grid) {
-    last_.reset();
+    counted_.reset();
+    seen_ = nullptr;
     version_ = map.version;
     free_cells_ = observed_ = 0;
     return;
   }
-  if (last_ && map.version == version_ && map.grid == last_) return;
-  const auto old = last_;
+  if (counted_ && map.version == version_ && map.grid.get() == seen_) return;
   const auto& g = *map.grid;
-  last_ = map.grid;
-  const bool trust_box = old && map.version == version_ + 1 && !map.rebuilt &&
-                         !map.changed.empty() && sameCells(*old, g);
+  const bool trust_box = counted_ && map.version == version_ + 1 && !map.rebuilt &&
+                         !map.changed.empty() && sameCells(*counted_, g);
   version_ = map.version;
+  seen_ = map.grid.get();
   if (!trust_box) return recount(g);
   // Every cell whose value changed overlaps the box: grown by a cell, it holds their centres.
   const double r = g.getResolution();
   Box2 box = map.changed;
   box.min_x -= r, box.min_y -= r, box.max_x += r, box.max_y += r;
-  const int x0 = g.x2idx(box.min_x), x1 = g.x2idx(box.max_x);
-  const int y0 = g.y2idx(box.min_y), y1 = g.y2idx(box.max_y);
-  // The same cells in the old grid: shifted by the whole number of cells between origins.
-  const int dx = static_cast<int>(std::lround((g.getXMin() - old->getXMin()) / r));
-  const int dy = static_cast<int>(std::lround((g.getYMin() - old->getYMin()) / r));
-  // The same geometry (the usual case): one pass over both grids, comparing only the cells
-  // whose stored values differ.
+  const int x0 = std::max(g.x2idx(box.min_x), 0), y0 = std::max(g.y2idx(box.min_y), 0);
+  const int x1 = std::min(g.x2idx(box.max_x), static_cast<int>(g.getSizeX()) - 1);
+  const int y1 = std::min(g.y2idx(box.max_y), static_cast<int>(g.getSizeY()) - 1);
+  if (x0 > x1 || y0 > y1) return;
   const bool same_geometry =
-      dx == 0 && dy == 0 && g.getSizeX() == old->getSizeX() && g.getSizeY() == old->getSizeY();
-  visited_ += 2 * static_cast<std::size_t>(std::max(0, x1 - x0 + 1)) * std::max(0, y1 - y0 + 1);
-  if (same_geometry) {
-    free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) +
-                                           freeCellChange(g, *old, x0, x1, y0, y1, band_));
-  } else {
-    const std::size_t now = freeCells(g, x0, x1, y0, y1, band_);
-    const std::size_t before = freeCells(*old, x0 + dx, x1 + dx, y0 + dy, y1 + dy, band_);
-    free_cells_ = free_cells_ + now - before;
-  }
-  if (meter_ && same_geometry && index_.fits(*old)) {
-    observed_ = static_cast<std::size_t>(static_cast<long>(observed_) +
-                                         meter_->observedChangeIn(g, *old, box, index_, visited_));
-  } else if (meter_) {
-    // Both grids have the same cells here only if they have the same geometry; a grown grid
-    // (cells shifted by whole cells) goes through the arithmetic once.
-    const std::size_t now_seen = meter_->observedIn(g, box, indexFor(g), visited_);
-    const std::size_t before_seen = index_.fits(*old)
-                                        ? meter_->observedIn(*old, box, index_, visited_)
-                                        : meter_->observedIn(*old, box, visited_);
-    observed_ = observed_ + now_seen - before_seen;
-  }
+      g.getXMin() == counted_->getXMin() && g.getYMin() == counted_->getYMin() &&
+      g.getSizeX() == counted_->getSizeX() && g.getSizeY() == counted_->getSizeY();
+  if (!same_geometry) regrid(g, x0, x1, y0, y1);
+  const mrpt::maps::COccupancyGridMap2D& before = *counted_;
+  visited_ += 2 * static_cast<std::size_t>(x1 - x0 + 1) * (y1 - y0 + 1);
+  free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) +
+                                         freeCellChange(g, before, x0, x1, y0, y1, band_));
+  if (meter_)
+    observed_ =
+        static_cast<std::size_t>(static_cast<long>(observed_) +
+                                 meter_->observedChangeIn(g, before, box, indexFor(g), visited_));
+  // What was counted now: the box's cells (everything else is unchanged).
+  for (int y = y0; y <= y1; ++y)
+    std::copy(g.getRow(y) + x0, g.getRow(y) + x1 + 1, counted_->getRow(y) + x0);
 }
 
 const CoverageMeter::GridIndex& MapAreaTracker::indexFor(const mrpt::maps::COccupancyGridMap2D& g) {
@@ -311,13 +366,13 @@ const CoverageMeter::GridIndex& MapAreaTracker::indexFor(const mrpt::maps::COccu
 }
 
 double MapAreaTracker::freeArea() const {
-  if (!last_) return 0;
-  const double r = last_->getResolution();
+  if (!counted_) return 0;
+  const double r = counted_->getResolution();
   return static_cast<double>(free_cells_) * r * r;
 }
 
 double MapAreaTracker::coverage() const {
-  if (!meter_ || !last_ || meter_->reachableCells() == 0) return 0;
+  if (!meter_ || !counted_ || meter_->reachableCells() == 0) return 0;
   return static_cast<double>(observed_) / meter_->reachableCells();
 }
 

@@ -38,13 +38,33 @@ struct MapBuilder::Impl {
   double resolution = 0.05, max_range = 15, rebuild_threshold = 0.05, half = 10;
   std::size_t rebuilds = 0;
   bool widen = false;
-  mrpt::maps::COccupancyGridMap2D grid;
+  /// The grid being built; also the published version's (map_.grid) until it changes.
+  std::shared_ptr<mrpt::maps::COccupancyGridMap2D> grid =
+      std::make_shared<mrpt::maps::COccupancyGridMap2D>();
   std::map<NodeId, mrpt::poses::CPose2D> inserted;  ///< node -> pose at insertion
 
-  void reset() {
-    grid.setSize(-half, half, -half, half, resolution, 0.5f);
-    grid.insertionOptions.maxDistanceInsertion = static_cast<float>(max_range);
-    grid.insertionOptions.wideningBeamsWithDistance = widen;
+  /// Copy on write: the grid is changed in place only when no one but the builder and its
+  /// `published` map holds it (a consumer that kept a version keeps it unchanged). A full
+  /// copy of a 23-million-cell grid per keyframe was half of a long log's run.
+  bool heldElsewhere(const GridMap& published) const {
+    return grid.use_count() > 1 + (published.grid == grid ? 1 : 0);
+  }
+  void writable(const GridMap& published) {
+    if (heldElsewhere(published)) grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(*grid);
+  }
+  /// An empty grid of the initial size, or of the current one (`keep_extent`: a rebuild,
+  /// whose scans cover about the same area; growing from the initial size again copied the
+  /// whole grid at every growth, most of a long log's map stage).
+  void reset(const GridMap& published, bool keep_extent = false) {
+    float x0 = static_cast<float>(-half), x1 = static_cast<float>(half), y0 = x0, y1 = x1;
+    if (keep_extent && grid->getSizeX() > 0) {
+      x0 = std::min(x0, grid->getXMin()), x1 = std::max(x1, grid->getXMax());
+      y0 = std::min(y0, grid->getYMin()), y1 = std::max(y1, grid->getYMax());
+    }
+    if (heldElsewhere(published)) grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>();
+    grid->setSize(x0, x1, y0, y1, static_cast<float>(resolution), 0.5f);
+    grid->insertionOptions.maxDistanceInsertion = static_cast<float>(max_range);
+    grid->insertionOptions.wideningBeamsWithDistance = widen;
     inserted.clear();
   }
   /// Inserts one keyframe; returns the box its rays can have touched. Echoes reach at most
@@ -52,11 +72,12 @@ struct MapBuilder::Impl {
   /// no-echo rays to half of maxDistanceInsertion whatever the scan's maxRange (measured
   /// with MRPT 2.5: 7.5 m for maxRange 2, 4 or 6 m and 15 m; tests/test_coverage.cpp
   /// compares the box with every changed cell).
-  Box2 insert(const PoseNode& n) {
+  Box2 insert(const PoseNode& n, const GridMap& published) {
     Box2 b;
     if (!n.scan) return b;
     const mrpt::poses::CPose3D robot(n.pose);
-    grid.insertObservation(*n.scan, robot);
+    writable(published);
+    grid->insertObservation(*n.scan, robot);
     inserted[n.id] = n.pose;
     const mrpt::poses::CPose3D sensor = robot + n.scan->sensorPose;
     const double reach = std::max(std::min<double>(n.scan->maxRange, max_range), max_range / 2);
@@ -67,7 +88,7 @@ struct MapBuilder::Impl {
   }
 };
 
-MapBuilder::MapBuilder() : impl_(std::make_unique<Impl>()) { impl_->reset(); }
+MapBuilder::MapBuilder() : impl_(std::make_unique<Impl>()) { impl_->reset(map_); }
 MapBuilder::~MapBuilder() = default;
 
 void MapBuilder::configure(const Params& p) {
@@ -76,7 +97,7 @@ void MapBuilder::configure(const Params& p) {
   impl_->rebuild_threshold = p.getDouble("rebuild_threshold");
   impl_->half = p.getDouble("initial_half_size");
   impl_->widen = p.getBool("widen_beams");
-  impl_->reset();
+  impl_->reset(map_);
   impl_->rebuilds = 0;
   map_ = GridMap{};
 }
@@ -85,10 +106,10 @@ std::size_t MapBuilder::rebuilds() const { return impl_->rebuilds; }
 
 bool MapBuilder::update(const PoseGraph& graph) {
   Impl& m = *impl_;
-  bool moved = false;
+  bool moved = false, restart = false;
   for (const auto& [id, pose] : m.inserted) {
     if (id >= graph.nodes.size()) {
-      moved = true;  // the graph shrank: a new run; start over
+      moved = restart = true;  // the graph shrank: a new run; start over
       break;
     }
     const auto& now = graph.nodes[id].pose;
@@ -103,22 +124,22 @@ bool MapBuilder::update(const PoseGraph& graph) {
   bool any = false;
   if (moved) {
     ++m.rebuilds;
-    m.reset();
+    m.reset(map_, !restart);
     for (const auto& n : graph.nodes) {
-      const Box2 b = m.insert(n);
+      const Box2 b = m.insert(n, map_);
       if (!b.empty()) changed.extend(b.min_x, b.min_y), changed.extend(b.max_x, b.max_y);
     }
     any = true;
   } else {
     for (const auto& n : graph.nodes) {
       if (m.inserted.count(n.id) || !n.scan) continue;
-      const Box2 b = m.insert(n);
+      const Box2 b = m.insert(n, map_);
       changed.extend(b.min_x, b.min_y), changed.extend(b.max_x, b.max_y);
       any = true;
     }
   }
   if (!any) return false;
-  map_.grid = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(m.grid);
+  map_.grid = m.grid;
   ++map_.version;
   map_.changed = changed;
   map_.rebuilt = moved;

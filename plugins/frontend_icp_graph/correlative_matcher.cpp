@@ -70,9 +70,18 @@ int LikelihoodGrid::cellY(double y) const { return static_cast<int>(std::floor((
 
 namespace {
 
-/// A scan's points as grid cells at one heading, with their bounding box.
+/// One grid cell hit by a scan and how many of its points fall in it.
+struct Cell {
+  int i, j;
+  double n;
+};
+
+/// A scan's points as grid cells at one heading (consecutive points in one cell as one entry
+/// with their count: near points of a dense scan share cells), with their bounding box and the
+/// number of points.
 struct Cells {
-  std::vector<std::pair<int, int>> ij;
+  std::vector<Cell> ij;
+  double points = 0;
   int imin = 0, imax = -1, jmin = 0, jmax = -1;
 };
 
@@ -80,21 +89,25 @@ struct Cells {
 Cells cellsAt(const LikelihoodGrid& g, Points2 scan, double phi, double tx, double ty) {
   const double c = std::cos(phi), s = std::sin(phi);
   Cells cells;
-  cells.ij.resize(scan.size());
+  cells.points = static_cast<double>(scan.size());
+  cells.ij.reserve(scan.size());
   for (std::size_t k = 0; k < scan.size(); ++k) {
     const int i = g.cellX(c * scan.x[k] - s * scan.y[k] + tx);
     const int j = g.cellY(s * scan.x[k] + c * scan.y[k] + ty);
-    cells.ij[k] = {i, j};
     if (k == 0) cells.imin = cells.imax = i, cells.jmin = cells.jmax = j;
     cells.imin = std::min(cells.imin, i), cells.imax = std::max(cells.imax, i);
     cells.jmin = std::min(cells.jmin, j), cells.jmax = std::max(cells.jmax, j);
+    if (!cells.ij.empty() && cells.ij.back().i == i && cells.ij.back().j == j)
+      cells.ij.back().n += 1;
+    else
+      cells.ij.push_back({i, j, 1});
   }
   return cells;
 }
 
-/// Mean level-h value of the cells moved by (dx, dy): the score of a pose (h = 0) or the bound
-/// of a block of poses (h > 0). Summed in the cells' order either way, so the two paths agree
-/// to the bit.
+/// Mean level-h value of the points' cells moved by (dx, dy): the score of a pose (h = 0) or
+/// the bound of a block of poses (h > 0). Summed in the cells' order either way, so the two
+/// paths agree to the bit.
 double meanAt(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy) {
   if (cells.ij.empty()) return 0;
   double sum = 0;
@@ -102,11 +115,11 @@ double meanAt(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy
   if (cells.imin + dx >= 0 && cells.jmin + dy >= 0 && cells.imax + dx < w &&
       cells.jmax + dy < g.height()) {
     const float* v = g.data(h) + static_cast<std::ptrdiff_t>(dy) * w + dx;
-    for (const auto& [i, j] : cells.ij) sum += v[static_cast<std::ptrdiff_t>(j) * w + i];
+    for (const Cell& c : cells.ij) sum += c.n * v[static_cast<std::ptrdiff_t>(c.j) * w + c.i];
   } else {
-    for (const auto& [i, j] : cells.ij) sum += g.at(h, i + dx, j + dy);
+    for (const Cell& c : cells.ij) sum += c.n * g.at(h, c.i + dx, c.j + dy);
   }
-  return sum / static_cast<double>(cells.ij.size());
+  return sum / cells.points;
 }
 
 struct Node {

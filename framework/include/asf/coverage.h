@@ -77,11 +77,15 @@ class CoverageMeter {
 /// (freeArea, CoverageMeter::coverage) after every update. It recounts everything when it
 /// cannot trust the change box: the first map, a version that does not follow the last one
 /// seen, an empty box ("says nothing"), a rebuild, a grid of another resolution or whose
-/// cells moved.
+/// cells moved. It keeps its own copy of the cells it counted (updated inside each box), not
+/// the published grid: a publisher may then change its grid in place (MapBuilder).
 class MapAreaTracker {
  public:
   /// `meter`: the coverage reference (may be null: coverage() is then 0); kept by pointer.
   explicit MapAreaTracker(const CoverageMeter* meter = nullptr, double unknown_band = 0.02);
+  ~MapAreaTracker();
+  MapAreaTracker(MapAreaTracker&&) noexcept;
+  MapAreaTracker& operator=(MapAreaTracker&&) noexcept;
   /// Brings the counts up to `map` (a no-op for the version already seen).
   void update(const GridMap& map);
   double freeArea() const;                               ///< m^2, as asf::freeArea(map)
@@ -93,6 +97,9 @@ class MapAreaTracker {
   void recount(const mrpt::maps::COccupancyGridMap2D& g);
   bool sameCells(const mrpt::maps::COccupancyGridMap2D& a,
                  const mrpt::maps::COccupancyGridMap2D& b) const;
+  /// counted_ in g's geometry (g grew): g's cells outside `cells` (unchanged since counted_),
+  /// counted_'s inside (unknown where counted_ had none).
+  void regrid(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, int y0, int y1);
 
   /// The meter's cells in the current grid's geometry (rebuilt when the grid grows).
   const CoverageMeter::GridIndex& indexFor(const mrpt::maps::COccupancyGridMap2D& g);
@@ -100,7 +107,8 @@ class MapAreaTracker {
   const CoverageMeter* meter_;
   CoverageMeter::GridIndex index_;
   double band_;
-  std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> last_;  ///< the grid counted
+  std::unique_ptr<mrpt::maps::COccupancyGridMap2D> counted_;  ///< the cells counted
+  const void* seen_ = nullptr;  ///< the grid object of the version counted (identity only)
   std::uint64_t version_ = 0;
   std::size_t free_cells_ = 0, observed_ = 0, visited_ = 0, recounts_ = 0;
 };

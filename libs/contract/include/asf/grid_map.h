@@ -15,8 +15,11 @@ namespace asf {
 
 struct GridMap {
   /// The grid (MRPT). MRPT's convention: getCell()/getPos() return the probability that
-  /// the cell is FREE (1 = free, 0 = occupied, 0.5 = unknown). Shared and never modified after publication: a new version is a new
-  /// object, so a consumer may keep the pointer.
+  /// the cell is FREE (1 = free, 0 = occupied, 0.5 = unknown). A version a consumer keeps
+  /// (holds this shared_ptr) is never modified: the publisher copies before changing it. A
+  /// version no one keeps may be changed in place for the next one, so a raw pointer or
+  /// reference is valid during the call that handed it over only, and the same object may
+  /// carry several versions: compare `version`, not pointers.
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> grid;
   /// Incremented on every change; 0 = no map yet.
   std::uint64_t version = 0;
