@@ -98,6 +98,7 @@ class IcpGraphFrontend final : public asf::Frontend {
     csm_sigmas_ = p.getDouble("loop_csm_sigmas");
     confirm_ = p.getBool("loop_confirm");
     confirm_window_ = static_cast<int>(p.getInt("loop_confirm_window"));
+    confirm_span_ = static_cast<std::size_t>(p.getInt("loop_confirm_span"));
     confirm_chi2_ = p.getDouble("loop_confirm_chi2");
     csm_max_window_xy_ = p.getDouble("loop_csm_max_window_xy");
     search_.icp = icp_;
@@ -367,10 +368,14 @@ class IcpGraphFrontend final : public asf::Frontend {
                                   }),
                    pending_.end());
     for (Pending& p : pending_) {
-      // The same scan, or the same old scan, twice is not a second cue.
-      if (p.h.to == h.to || p.h.from == h.from) continue;
+      if (!asf::icp_graph::mayConfirm(p.h, h, confirm_span_)) continue;
       const double chi2 = pairChi2(g, p.h, h);
-      if (!(chi2 <= confirm_chi2_)) continue;
+      if (!(chi2 <= confirm_chi2_)) {
+        MRPT_LOG_DEBUG_STREAM("loop candidate " << h.from << " -> " << h.to << " disagrees with "
+                                                << p.h.from << " -> " << p.h.to << " (cycle chi2 "
+                                                << chi2 << ")");
+        continue;
+      }
       std::ostringstream said;
       said << ", agrees with " << p.h.from << " -> " << p.h.to << " (cycle chi2 " << chi2 << ")";
       if (!p.added)
@@ -494,6 +499,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   double csm_sigmas_ = 3, csm_max_window_xy_ = 8;
   bool confirm_ = false;
   int confirm_window_ = 10;
+  std::size_t confirm_span_ = 0;
   double confirm_chi2_ = 11.34;
   // state
   asf::KeyframeTracker kf_{"icp_graph front-end"};
@@ -648,6 +654,10 @@ const asf::KeySpec kKeys[] = {
                  "(pairwise consistency); then add both"),
     asf::keyInt("loop_confirm_window", "10",
                 "Keyframes a held loop closure waits for its confirmation", 1, 100000),
+    asf::keyInt("loop_confirm_span", "0",
+                "A loop closure is confirmed only by one whose older keyframe lies within this "
+                "many keyframes of its own (both join the same two places); 0 = any",
+                0, 100000000),
     asf::keyDouble("loop_confirm_chi2", "11.34",
                    "Two loop closures agree when the cycle they close has chi^2 below this "
                    "(3 dof; 11.34 = 99%)",

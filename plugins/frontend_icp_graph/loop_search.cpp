@@ -160,6 +160,12 @@ mrpt::poses::CPose2D inverseWithCov(const mrpt::poses::CPose2D& p, const Eigen::
   return mrpt::poses::CPose2D() - p;
 }
 
+bool mayConfirm(const LoopHypothesis& held, const LoopHypothesis& h, std::size_t span) {
+  if (held.to == h.to || held.from == h.from) return false;  // one scan twice is no second cue
+  const std::size_t apart = held.from > h.from ? held.from - h.from : h.from - held.from;
+  return span == 0 || apart <= span;
+}
+
 double loopPairChi2(const LoopHypothesis& a, const LoopHypothesis& b,
                     const mrpt::poses::CPose2D& ia_to_ib, const Eigen::Matrix3d& C_i,
                     const mrpt::poses::CPose2D& ja_to_jb, const Eigen::Matrix3d& C_j) {

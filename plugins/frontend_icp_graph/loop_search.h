@@ -86,6 +86,12 @@ struct LoopHypothesis {
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
 };
 
+/// Whether hypothesis `h` may confirm the held one (loop_confirm): another new keyframe and
+/// another old keyframe, the two old keyframes at most `span` apart (0 = any). Far apart, the
+/// cycle runs through a long chain of sequential edges whose covariance agrees with nearly
+/// any offset, so it tests nothing.
+bool mayConfirm(const LoopHypothesis& held, const LoopHypothesis& h, std::size_t span);
+
 /// Pairwise consistency of two loop hypotheses a (ia -> ja) and b (ib -> jb) (Olson,
 /// "Recognizing places using spectrally clustered local matches", RAS 2009, and the
 /// consistency test of Latif et al.'s RRR): the cycle ia -a-> ja -> jb <-b- ib <- ia closes.

@@ -209,6 +209,32 @@ TEST(LoopSearch, TwoLoopClosuresAgreeOnlyWhenTheirCycleCloses) {
   EXPECT_NEAR(asf::icp_graph::loopPairChi2(a2, b2, ia_to_ib, C, ja_to_jb, C), 0.0, 1e-9);
 }
 
+// A held loop from old keyframe 21, "confirmed" by one from old keyframe 756: the cycle runs
+// through 735 keyframes of sequential edges, whose chain covariance (metres) lets a loop 4.6 m
+// along a corridor off agree (infinite-corridor's wrong edges). Only a partner whose old
+// keyframe is near the held one's tests anything.
+TEST(LoopSearch, ConfirmationNeedsTheSamePairOfPlaces) {
+  const CPose2D ia(0, 0, 0), ib(1.5, 0.3, 0.1), ja(0.4, 0.6, 3.1), jb(2.2, 0.5, 3.0);
+  const Eigen::Matrix3d C = Eigen::Vector3d(0.02 * 0.02, 0.02 * 0.02, 0.01 * 0.01).asDiagonal();
+  const Eigen::Matrix3d long_chain = Eigen::Vector3d(3.0 * 3.0, 3.0 * 3.0, 0.1 * 0.1).asDiagonal();
+  const CPose2D shift(4.6, 0, 0);  // the held loop lands one corridor bay off
+  const asf::icp_graph::LoopHypothesis held{21, 765, CPose2D() - ia + (shift + ja), C};
+  const asf::icp_graph::LoopHypothesis far{756, 763, CPose2D() - ib + jb, C};
+  const CPose2D ia_to_ib = CPose2D() - ia + ib, ja_to_jb = CPose2D() - ja + jb;
+  EXPECT_LT(asf::icp_graph::loopPairChi2(held, far, ia_to_ib, long_chain, ja_to_jb, C), 11.34)
+      << "through a long chain the wrong loop agrees";
+  EXPECT_GT(asf::icp_graph::loopPairChi2(held, far, ia_to_ib, C, ja_to_jb, C), 100.0)
+      << "through a short, certain chain it would not";
+  EXPECT_TRUE(asf::icp_graph::mayConfirm(held, far, 0)) << "span 0: any partner";
+  EXPECT_FALSE(asf::icp_graph::mayConfirm(held, far, 30));
+  const asf::icp_graph::LoopHypothesis near{24, 767, CPose2D(), C};
+  EXPECT_TRUE(asf::icp_graph::mayConfirm(held, near, 30));
+  EXPECT_TRUE(asf::icp_graph::mayConfirm(near, held, 3)) << "symmetric: 3 keyframes apart";
+  EXPECT_FALSE(asf::icp_graph::mayConfirm(near, held, 2));
+  EXPECT_FALSE(asf::icp_graph::mayConfirm(held, {21, 770, CPose2D(), C}, 0)) << "same old scan";
+  EXPECT_FALSE(asf::icp_graph::mayConfirm(held, {30, 765, CPose2D(), C}, 0)) << "same new scan";
+}
+
 TEST(LoopSearch, InverseCovarianceMatchesFiniteDifferences) {
   const CPose2D p(1.3, -0.7, 0.9);
   Eigen::Matrix3d J;  // d(-p)/dp numerically
