@@ -4,6 +4,8 @@
 // +-6 m. The ratio bb / exhaustive is the figure to quote (same run, same machine).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -91,6 +93,87 @@ BENCHMARK(BM_CorrelativeMatch)
     ->Args({6, 1})
     ->Args({6, 7})
     ->Unit(benchmark::kMillisecond);
+
+/// Range along the ray from (x, y) at angle a to the nearest wall of the scene (max `far`).
+double castRay(const std::vector<std::array<double, 4>>& walls, double x, double y, double a,
+               double far) {
+  const double dx = std::cos(a), dy = std::sin(a);
+  double best = far;
+  for (const auto& w : walls) {
+    const double ex = w[2] - w[0], ey = w[3] - w[1];
+    const double den = dx * ey - dy * ex;
+    if (std::abs(den) < 1e-12) continue;
+    const double t = ((w[0] - x) * ey - (w[1] - y) * ex) / den;
+    const double u = ((w[0] - x) * dy - (w[1] - y) * dx) / den;
+    if (t > 0 && u >= 0 && u <= 1) best = std::min(best, t);
+  }
+  return best;
+}
+
+/// A 181-ray (1 degree) 180-degree scan from (x, y, phi), in the sensor frame, 1 cm noise.
+void scanFrom(const std::vector<std::array<double, 4>>& walls, double x, double y, double phi,
+              std::mt19937& rng, std::vector<float>& sx, std::vector<float>& sy) {
+  std::normal_distribution<double> n(0, 0.01);
+  for (int k = 0; k <= 180; ++k) {
+    const double b = (k - 90) * M_PI / 180;
+    const double r = castRay(walls, x, y, phi + b, 30.0);
+    if (r >= 30.0) continue;
+    sx.push_back(static_cast<float>((r + n(rng)) * std::cos(b)));
+    sy.push_back(static_cast<float>((r + n(rng)) * std::sin(b)));
+  }
+}
+
+// A loop search as the front-end runs it on a real log (plugins/frontend_icp_graph/
+// loop_search.cpp): a 50 m x 40 m hall with pillars and a side corridor; the reference is 13
+// scans along a path (grid built in the loop, as per candidate), the scan from 5 m and 40
+// degrees off the estimate; window +-8 m / +-60 degrees, 6 levels; best pose, then the
+// ambiguity run outside its peak.
+void BM_LoopSearchHall(benchmark::State& state) {
+  std::vector<std::array<double, 4>> walls = {
+      {0, 0, 50, 0}, {50, 0, 50, 40}, {50, 40, 0, 40}, {0, 40, 0, 0}, {20, 18, 45, 18}};
+  for (double px : {10.0, 20.0, 30.0, 40.0})  // 1 m square pillars
+    for (double py : {8.0, 30.0}) {
+      walls.push_back({px, py, px + 1, py});
+      walls.push_back({px + 1, py, px + 1, py + 1});
+      walls.push_back({px + 1, py + 1, px, py + 1});
+      walls.push_back({px, py + 1, px, py});
+    }
+  std::mt19937 rng(7);
+  std::vector<float> rx, ry;
+  for (int k = 0; k < 13; ++k) {  // the reference, in the frame of its middle scan (x = 14)
+    std::vector<float> sx, sy;
+    const double x = 8 + k, y = 12 + 0.3 * k, phi = 0.2;
+    scanFrom(walls, x, y, phi, rng, sx, sy);
+    const double c = std::cos(phi), s = std::sin(phi);
+    for (std::size_t i = 0; i < sx.size(); ++i) {
+      rx.push_back(static_cast<float>(x - 14 + c * sx[i] - s * sy[i]));
+      ry.push_back(static_cast<float>(y - 13.8 + s * sx[i] + c * sy[i]));
+    }
+  }
+  std::vector<float> qx, qy;
+  scanFrom(walls, 17, 14, 0.9, rng, qx, qy);
+  const Eigen::Vector3d guess(3 + 4, 0.2 - 3, 0.7 - 0.5);  // truth (3, 0.2, 0.7) in the reference
+  CorrelativeOptions o;
+  o.window_xy = 8;
+  o.window_phi = 60 * M_PI / 180;
+  double score = 0, second = 0, error = 0;
+  std::size_t scored = 0;
+  for (auto _ : state) {
+    const LikelihoodGrid grid(Points2{rx, ry}, 0.1, 0.1, 6, 0.0);
+    const asf::icp_graph::CorrelativeSearch search(grid, Points2{qx, qy}, guess, o);
+    const auto best = search.run(0.5);
+    const auto other = search.run(0.9 * best.score, best.pose.head<2>(), 0.6);
+    score = best.score, second = other.found ? other.score : 0, scored = best.scored;
+    error = (best.pose.head<2>() - Eigen::Vector2d(3, 0.2)).norm();
+    benchmark::DoNotOptimize(other);
+  }
+  state.counters["score"] = score;
+  state.counters["second"] = second;
+  state.counters["error_m"] = error;  // of the best pose from the truth
+  state.counters["scored"] = static_cast<double>(scored);
+  state.counters["points"] = static_cast<double>(qx.size());
+}
+BENCHMARK(BM_LoopSearchHall)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

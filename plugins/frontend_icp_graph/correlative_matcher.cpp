@@ -10,8 +10,22 @@
 
 namespace asf::icp_graph {
 
+namespace {
+/// Cell buffers of grids this thread no longer uses.
+std::vector<std::vector<float>>& bufferPool() {
+  thread_local std::vector<std::vector<float>> pool;
+  return pool;
+}
+}  // namespace
+
+LikelihoodGrid::~LikelihoodGrid() {
+  auto& pool = bufferPool();
+  for (auto& v : level_)
+    if (pool.size() < 16) pool.push_back(std::move(v));
+}
+
 LikelihoodGrid::LikelihoodGrid(Points2 ref, double resolution, double sigma, int levels,
-                               double margin)
+                               double margin, const std::array<double, 4>* cover)
     : res_(resolution) {
   if (!(resolution > 0) || !(sigma > 0) || levels < 1 || levels > 16)
     throw std::invalid_argument("LikelihoodGrid: resolution and sigma must be > 0, levels 1..16");
@@ -32,36 +46,72 @@ LikelihoodGrid::LikelihoodGrid(Points2 ref, double resolution, double sigma, int
   y0_ = ymin - low * res_;
   w_ = static_cast<int>(std::ceil((xmax - xmin) / res_)) + low + pad + 1;
   h_ = static_cast<int>(std::ceil((ymax - ymin) / res_)) + low + pad + 1;
+  if (cover) {  // whole cells added on each side, the lattice unchanged
+    const auto cells = [&](double d) { return std::max(0, static_cast<int>(std::ceil(d / res_))); };
+    const int left = cells(x0_ - (*cover)[0]), below = cells(y0_ - (*cover)[1]);
+    x0_ -= left * res_, y0_ -= below * res_;
+    w_ += left, h_ += below;
+    w_ = std::max(w_, cellX((*cover)[2]) + 1);
+    h_ = std::max(h_, cellY((*cover)[3]) + 1);
+  }
   if (static_cast<double>(w_) * h_ > 64e6)
     throw std::invalid_argument("LikelihoodGrid: more than 64 million cells");
-  level_.assign(static_cast<std::size_t>(levels),
-                std::vector<float>(static_cast<std::size_t>(w_) * h_, 0.f));
+  level_.resize(static_cast<std::size_t>(levels));
+  auto& pool = bufferPool();
+  for (std::size_t h = 0; h < level_.size(); ++h) {
+    auto& v = level_[h];
+    if (!pool.empty()) v = std::move(pool.back()), pool.pop_back();
+    if (h == 0)
+      v.assign(static_cast<std::size_t>(w_) * h_, 0.f);
+    else
+      v.resize(static_cast<std::size_t>(w_) * h_);  // every cell written below
+  }
   std::vector<float>& l0 = level_[0];
   const double inv2s2 = 1.0 / (2 * sigma * sigma), cut2 = 9 * sigma * sigma;
+  // exp(-(dx^2 + dy^2) / 2s^2) as the product of its x and y factors: 2 (2 reach + 1)
+  // exponentials per point instead of (2 reach + 1)^2.
+  std::vector<double> ex(static_cast<std::size_t>(2 * reach + 1)), ey(ex.size()), dx2(ex.size());
   for (std::size_t k = 0; k < ref.size(); ++k) {
     const int ci = cellX(ref.x[k]), cj = cellY(ref.y[k]);
-    for (int j = cj - reach; j <= cj + reach; ++j) {
-      for (int i = ci - reach; i <= ci + reach; ++i) {
-        const double dx = x0_ + (i + 0.5) * res_ - ref.x[k], dy = y0_ + (j + 0.5) * res_ - ref.y[k];
-        const double d2 = dx * dx + dy * dy;
-        if (d2 > cut2) continue;
-        float& v = l0[static_cast<std::size_t>(j) * w_ + i];
-        v = std::max(v, static_cast<float>(std::exp(-d2 * inv2s2)));
+    for (int o = -reach; o <= reach; ++o) {
+      const double dx = x0_ + (ci + o + 0.5) * res_ - ref.x[k];
+      const double dy = y0_ + (cj + o + 0.5) * res_ - ref.y[k];
+      dx2[static_cast<std::size_t>(o + reach)] = dx * dx;
+      ex[static_cast<std::size_t>(o + reach)] = std::exp(-dx * dx * inv2s2);
+      ey[static_cast<std::size_t>(o + reach)] = std::exp(-dy * dy * inv2s2);
+    }
+    for (int b = 0; b <= 2 * reach; ++b) {
+      const int j = cj - reach + b;
+      const double dy = y0_ + (j + 0.5) * res_ - ref.y[k];
+      float* row = l0.data() + static_cast<std::size_t>(j) * w_ + (ci - reach);
+      for (int a = 0; a <= 2 * reach; ++a) {
+        if (dx2[static_cast<std::size_t>(a)] + dy * dy > cut2) continue;
+        const float v =
+            static_cast<float>(ex[static_cast<std::size_t>(a)] * ey[static_cast<std::size_t>(b)]);
+        row[a] = std::max(row[a], v);
       }
     }
   }
   // [i, i + 2^h) is [i, i + s) and [i + s, i + 2s) with s = 2^(h-1): each level from the last.
+  // Beyond the grid counts as 0, which every value is at least: a max over fewer cells there.
   for (int h = 1; h < levels; ++h) {
     const int s = 1 << (h - 1);
     const std::vector<float>& prev = level_[static_cast<std::size_t>(h - 1)];
     std::vector<float>& cur = level_[static_cast<std::size_t>(h)];
-    auto prevAt = [&](int i, int j) {
-      return i < w_ && j < h_ ? prev[static_cast<std::size_t>(j) * w_ + i] : 0.f;
-    };
-    for (int j = 0; j < h_; ++j)
-      for (int i = 0; i < w_; ++i)
-        cur[static_cast<std::size_t>(j) * w_ + i] =
-            std::max({prevAt(i, j), prevAt(i + s, j), prevAt(i, j + s), prevAt(i + s, j + s)});
+    const int inner = std::max(0, w_ - s);  // columns whose right neighbour is inside
+    for (int j = 0; j < h_; ++j) {
+      const float* a = prev.data() + static_cast<std::size_t>(j) * w_;
+      const float* b = j + s < h_ ? a + static_cast<std::size_t>(s) * w_ : nullptr;
+      float* out = cur.data() + static_cast<std::size_t>(j) * w_;
+      if (b) {
+        for (int i = 0; i < inner; ++i)
+          out[i] = std::max(std::max(a[i], a[i + s]), std::max(b[i], b[i + s]));
+        for (int i = inner; i < w_; ++i) out[i] = std::max(a[i], b[i]);
+      } else {
+        for (int i = 0; i < inner; ++i) out[i] = std::max(a[i], a[i + s]);
+        for (int i = inner; i < w_; ++i) out[i] = a[i];
+      }
+    }
   }
 }
 
@@ -122,10 +172,66 @@ double meanAt(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy
   return sum / cells.points;
 }
 
+/// meanAt at (dx, dy), (dx, dy + s), (dx + s, dy) and (dx + s, dy + s) in one pass over the
+/// cells (the four reads of a cell are neighbours in the grid), into out[0..3]; each sum in
+/// the cells' order, so equal to the bit to four meanAt calls. False (nothing computed)
+/// when a moved cell could fall outside the grid.
+bool meanAt4(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy, int s,
+             double out[4]) {
+  const int w = g.width();
+  if (cells.ij.empty() || cells.imin + dx < 0 || cells.jmin + dy < 0 || cells.imax + dx + s >= w ||
+      cells.jmax + dy + s >= g.height())
+    return false;
+  const float* v = g.data(h) + static_cast<std::ptrdiff_t>(dy) * w + dx;
+  const std::ptrdiff_t down = static_cast<std::ptrdiff_t>(s) * w;
+  double a = 0, b = 0, c = 0, d = 0;
+  for (const Cell& cell : cells.ij) {
+    const float* p = v + static_cast<std::ptrdiff_t>(cell.j) * w + cell.i;
+    a += cell.n * p[0];
+    b += cell.n * p[down];
+    c += cell.n * p[s];
+    d += cell.n * p[down + s];
+  }
+  out[0] = a / cells.points, out[1] = b / cells.points;
+  out[2] = c / cells.points, out[3] = d / cells.points;
+  return true;
+}
+
 struct Node {
   int k, dx, dy, h;
   double bound;
 };
+
+/// The bounds of `n` level-h blocks of one heading's cells: meanAt for each, in one pass over
+/// the cells when every moved cell lies inside the grid (the same sums in the same order:
+/// equal to the bit), else block by block.
+void rootBounds(const LikelihoodGrid& g, int h, const Cells& cells, Node* nodes, std::size_t n) {
+  const int w = g.width();
+  int dx0 = 0, dx1 = 0, dy0 = 0, dy1 = 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (r == 0 || nodes[r].dx < dx0) dx0 = nodes[r].dx;
+    if (r == 0 || nodes[r].dx > dx1) dx1 = nodes[r].dx;
+    if (r == 0 || nodes[r].dy < dy0) dy0 = nodes[r].dy;
+    if (r == 0 || nodes[r].dy > dy1) dy1 = nodes[r].dy;
+  }
+  const bool inside = !cells.ij.empty() && cells.imin + dx0 >= 0 && cells.jmin + dy0 >= 0 &&
+                      cells.imax + dx1 < w && cells.jmax + dy1 < g.height();
+  if (!inside || n > 256) {
+    for (std::size_t r = 0; r < n; ++r)
+      nodes[r].bound = meanAt(g, h, cells, nodes[r].dx, nodes[r].dy);
+    return;
+  }
+  std::array<std::ptrdiff_t, 256> off;
+  std::array<double, 256> sum{};
+  for (std::size_t r = 0; r < n; ++r)
+    off[r] = static_cast<std::ptrdiff_t>(nodes[r].dy) * w + nodes[r].dx;
+  const float* v = g.data(h);
+  for (const Cell& c : cells.ij) {
+    const float* p = v + static_cast<std::ptrdiff_t>(c.j) * w + c.i;
+    for (std::size_t r = 0; r < n; ++r) sum[r] += c.n * p[off[r]];
+  }
+  for (std::size_t r = 0; r < n; ++r) nodes[r].bound = sum[r] / cells.points;
+}
 
 /// Depth-first branch and bound: children best-first, pruned by the best score found so far.
 class Search {
@@ -171,11 +277,15 @@ class Search {
     const int s = 1 << (n.h - 1);
     std::array<Node, 4> kids;
     int nkids = 0;
+    double four[4];
+    const bool all =
+        n.dx + s <= w_ && n.dy + s <= w_ && meanAt4(g_, n.h - 1, cells_[n.k], n.dx, n.dy, s, four);
     for (int ox : {0, s})
       for (int oy : {0, s}) {
         const int dx = n.dx + ox, dy = n.dy + oy;
         if (dx > w_ || dy > w_) continue;
-        kids[nkids++] = {n.k, dx, dy, n.h - 1, meanAt(g_, n.h - 1, cells_[n.k], dx, dy)};
+        const double bound = all ? four[nkids] : meanAt(g_, n.h - 1, cells_[n.k], dx, dy);
+        kids[nkids++] = {n.k, dx, dy, n.h - 1, bound};
         if (n.h == 1) ++scored_;  // a leaf's bound is its exact score
       }
     // Best first (insertion sort of at most 4: no allocation, the order std::sort would give
@@ -233,9 +343,10 @@ CorrelativeSearch::CorrelativeSearch(const LikelihoodGrid& grid, Points2 scan,
   for (int k = -m.nk; k <= m.nk; ++k) {
     m.cells.push_back(cellsAt(grid, scan, guess.z() + k * m.step, guess.x(), guess.y()));
     const int ki = k + m.nk;
+    const std::size_t first = m.roots.size();
     for (int dx = -m.w; dx <= m.w; dx += block)
-      for (int dy = -m.w; dy <= m.w; dy += block)
-        m.roots.push_back({ki, dx, dy, top, meanAt(grid, top, m.cells.back(), dx, dy)});
+      for (int dy = -m.w; dy <= m.w; dy += block) m.roots.push_back({ki, dx, dy, top, 0.0});
+    rootBounds(grid, top, m.cells.back(), m.roots.data() + first, m.roots.size() - first);
   }
   std::sort(m.roots.begin(), m.roots.end(), Search::byBound);
   m.lattice = static_cast<std::size_t>(2 * m.nk + 1) * (2 * m.w + 1) * (2 * m.w + 1);

@@ -8,6 +8,7 @@
 /// closure in 2D LIDAR SLAM", ICRA 2016): the result is the exhaustive search's optimum on the
 /// lattice, found without scoring most of it. Pure: Eigen only.
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -28,8 +29,16 @@ struct Points2 {
 /// cells [i, i + 2^h) x [j, j + 2^h).
 class LikelihoodGrid {
  public:
-  /// `margin` extends the grid beyond the points' bounding box [m].
-  LikelihoodGrid(Points2 ref, double resolution, double sigma, int levels, double margin);
+  /// `margin` extends the grid beyond the points' bounding box [m]; `cover` (min x, min y,
+  /// max x, max y), if given, is inside the grid too, added in whole cells so that the cells'
+  /// values do not change: a search whose moved scan stays inside reads without bounds tests.
+  LikelihoodGrid(Points2 ref, double resolution, double sigma, int levels, double margin,
+                 const std::array<double, 4>* cover = nullptr);
+  /// Gives its cell buffers back to this thread's pool: the next grid reuses them (fresh
+  /// allocations of a few megabytes per search were page faults and zero-filling).
+  ~LikelihoodGrid();
+  LikelihoodGrid(const LikelihoodGrid&) = delete;
+  LikelihoodGrid& operator=(const LikelihoodGrid&) = delete;
 
   double resolution() const { return res_; }
   int levels() const { return static_cast<int>(level_.size()); }

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -50,8 +51,15 @@ CorrelativeLoopResult correlativeLoopSearch(const Cloud& ref, const Cloud& cur,
     r.why = "too few points for the correlative search";
     return r;
   }
-  const LikelihoodGrid grid(near.points(), o.resolution, o.sigma,
-                            levelsFor(o.window_xy, o.resolution), 0.0);
+  // The grid covers every place a scan point can be moved to (the window, the scan's reach
+  // and a coarsest block beyond): reads without bounds tests, same values.
+  double reach2 = 0;
+  for (std::size_t i = 0; i < scan.x.size(); ++i)
+    reach2 = std::max(reach2, double(scan.x[i]) * scan.x[i] + double(scan.y[i]) * scan.y[i]);
+  const int levels = levelsFor(o.window_xy, o.resolution);
+  const double span = o.window_xy + std::sqrt(reach2) + ((1 << (levels - 1)) + 2) * o.resolution;
+  const std::array<double, 4> cover{est.x() - span, est.y() - span, est.x() + span, est.y() + span};
+  const LikelihoodGrid grid(near.points(), o.resolution, o.sigma, levels, 0.0, &cover);
   CorrelativeOptions co;
   co.window_xy = o.window_xy;
   co.window_phi = o.window_phi;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -143,4 +144,47 @@ TEST(CorrelativeMatcher, RepeatedDoorsLeaveASecondPeakARoomDoesNot) {
   };
   EXPECT_GT(ratio(corridor(30), {13.0, 1.0, 0.0}), 0.95);
   EXPECT_LT(ratio(room(), {3.0, 2.0, 0.2}), 0.8);
+}
+
+// A grid told to cover a box (so that a search's moved scan stays inside and is read without
+// bounds tests) holds the same values at the same places, and a search in it gives the same
+// answer to the bit, in the fast and the bounds-tested paths alike.
+TEST(CorrelativeMatcher, ACoveredGridHasTheSameValuesAndAnswers) {
+  const Cloud2 world = room();
+  const Eigen::Vector3d truth(3.1, 2.2, 0.4);
+  const Cloud2 scan = seenFrom(world, truth, 8, 0.01, 3);
+  const std::array<double, 4> cover{-9.3, -7.1, 15.2, 12.9};
+  for (int levels : {1, 4, 6}) {
+    SCOPED_TRACE(testing::Message() << "levels " << levels);
+    const LikelihoodGrid plain(world.points(), 0.05, 0.05, levels, 0.0);
+    const LikelihoodGrid covered(world.points(), 0.05, 0.05, levels, 0.0, &cover);
+    ASSERT_GT(covered.width(), plain.width() + 200);
+    // The box is inside: its corners fall on cells of the grid.
+    EXPECT_GE(covered.cellX(cover[0]), 0);
+    EXPECT_GE(covered.cellY(cover[1]), 0);
+    EXPECT_LT(covered.cellX(cover[2]), covered.width());
+    EXPECT_LT(covered.cellY(cover[3]), covered.height());
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> ux(-1, 8), uy(-1, 6);
+    for (int n = 0; n < 2000; ++n) {
+      const double x = ux(rng), y = uy(rng);
+      for (int h = 0; h < levels; ++h)
+        ASSERT_EQ(plain.at(h, plain.cellX(x), plain.cellY(y)),
+                  covered.at(h, covered.cellX(x), covered.cellY(y)))
+            << "at (" << x << ", " << y << "), level " << h;
+    }
+    CorrelativeOptions o;
+    o.window_xy = 1.5;
+    o.window_phi = 0.3;
+    const Eigen::Vector3d guess = truth + Eigen::Vector3d(0.7, -0.5, 0.2);
+    const auto a = correlativeMatch(plain, scan.points(), guess, o);
+    const auto b = correlativeMatch(covered, scan.points(), guess, o);
+    ASSERT_TRUE(a.found && b.found);
+    EXPECT_EQ(a.pose, b.pose);
+    EXPECT_EQ(a.score, b.score);
+    EXPECT_EQ(a.scored, b.scored);
+    if (levels == 6) {
+      EXPECT_LT((b.pose.head<2>() - truth.head<2>()).norm(), 0.05);
+    }
+  }
 }
