@@ -172,40 +172,17 @@ double meanAt(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy
   return sum / cells.points;
 }
 
-/// meanAt at (dx, dy), (dx, dy + s), (dx + s, dy) and (dx + s, dy + s) in one pass over the
-/// cells (the four reads of a cell are neighbours in the grid), into out[0..3]; each sum in
-/// the cells' order, so equal to the bit to four meanAt calls. False (nothing computed)
-/// when a moved cell could fall outside the grid.
-bool meanAt4(const LikelihoodGrid& g, int h, const Cells& cells, int dx, int dy, int s,
-             double out[4]) {
-  const int w = g.width();
-  if (cells.ij.empty() || cells.imin + dx < 0 || cells.jmin + dy < 0 || cells.imax + dx + s >= w ||
-      cells.jmax + dy + s >= g.height())
-    return false;
-  const float* v = g.data(h) + static_cast<std::ptrdiff_t>(dy) * w + dx;
-  const std::ptrdiff_t down = static_cast<std::ptrdiff_t>(s) * w;
-  double a = 0, b = 0, c = 0, d = 0;
-  for (const Cell& cell : cells.ij) {
-    const float* p = v + static_cast<std::ptrdiff_t>(cell.j) * w + cell.i;
-    a += cell.n * p[0];
-    b += cell.n * p[down];
-    c += cell.n * p[s];
-    d += cell.n * p[down + s];
-  }
-  out[0] = a / cells.points, out[1] = b / cells.points;
-  out[2] = c / cells.points, out[3] = d / cells.points;
-  return true;
-}
-
 struct Node {
   int k, dx, dy, h;
   double bound;
 };
 
-/// The bounds of `n` level-h blocks of one heading's cells: meanAt for each, in one pass over
-/// the cells when every moved cell lies inside the grid (the same sums in the same order:
-/// equal to the bit), else block by block.
-void rootBounds(const LikelihoodGrid& g, int h, const Cells& cells, Node* nodes, std::size_t n) {
+/// The bounds of `n` level-h blocks of one heading's cells (a heading's coarsest blocks, or
+/// a block's children): meanAt for each, in one pass over the cells when every moved cell lies
+/// inside the grid (the reads of a cell are then near one another; the same sums in the same
+/// order, so equal to meanAt to the bit), else block by block.
+void blockBounds(const LikelihoodGrid& g, int h, const Cells& cells, Node* nodes, std::size_t n) {
+  constexpr std::size_t kMax = 256;
   const int w = g.width();
   int dx0 = 0, dx1 = 0, dy0 = 0, dy1 = 0;
   for (std::size_t r = 0; r < n; ++r) {
@@ -216,15 +193,17 @@ void rootBounds(const LikelihoodGrid& g, int h, const Cells& cells, Node* nodes,
   }
   const bool inside = !cells.ij.empty() && cells.imin + dx0 >= 0 && cells.jmin + dy0 >= 0 &&
                       cells.imax + dx1 < w && cells.jmax + dy1 < g.height();
-  if (!inside || n > 256) {
+  if (!inside || n > kMax) {
     for (std::size_t r = 0; r < n; ++r)
       nodes[r].bound = meanAt(g, h, cells, nodes[r].dx, nodes[r].dy);
     return;
   }
-  std::array<std::ptrdiff_t, 256> off;
-  std::array<double, 256> sum{};
-  for (std::size_t r = 0; r < n; ++r)
+  std::array<std::ptrdiff_t, kMax> off;
+  std::array<double, kMax> sum;
+  for (std::size_t r = 0; r < n; ++r) {
     off[r] = static_cast<std::ptrdiff_t>(nodes[r].dy) * w + nodes[r].dx;
+    sum[r] = 0;
+  }
   const float* v = g.data(h);
   for (const Cell& c : cells.ij) {
     const float* p = v + static_cast<std::ptrdiff_t>(c.j) * w + c.i;
@@ -277,17 +256,13 @@ class Search {
     const int s = 1 << (n.h - 1);
     std::array<Node, 4> kids;
     int nkids = 0;
-    double four[4];
-    const bool all =
-        n.dx + s <= w_ && n.dy + s <= w_ && meanAt4(g_, n.h - 1, cells_[n.k], n.dx, n.dy, s, four);
     for (int ox : {0, s})
       for (int oy : {0, s}) {
         const int dx = n.dx + ox, dy = n.dy + oy;
-        if (dx > w_ || dy > w_) continue;
-        const double bound = all ? four[nkids] : meanAt(g_, n.h - 1, cells_[n.k], dx, dy);
-        kids[nkids++] = {n.k, dx, dy, n.h - 1, bound};
-        if (n.h == 1) ++scored_;  // a leaf's bound is its exact score
+        if (dx <= w_ && dy <= w_) kids[nkids++] = {n.k, dx, dy, n.h - 1, 0.0};
       }
+    blockBounds(g_, n.h - 1, cells_[n.k], kids.data(), static_cast<std::size_t>(nkids));
+    if (n.h == 1) scored_ += static_cast<std::size_t>(nkids);  // a leaf's bound is its score
     // Best first (insertion sort of at most 4: no allocation, the order std::sort would give
     // under this strict total order).
     for (int a = 1; a < nkids; ++a)
@@ -346,7 +321,7 @@ CorrelativeSearch::CorrelativeSearch(const LikelihoodGrid& grid, Points2 scan,
     const std::size_t first = m.roots.size();
     for (int dx = -m.w; dx <= m.w; dx += block)
       for (int dy = -m.w; dy <= m.w; dy += block) m.roots.push_back({ki, dx, dy, top, 0.0});
-    rootBounds(grid, top, m.cells.back(), m.roots.data() + first, m.roots.size() - first);
+    blockBounds(grid, top, m.cells.back(), m.roots.data() + first, m.roots.size() - first);
   }
   std::sort(m.roots.begin(), m.roots.end(), Search::byBound);
   m.lattice = static_cast<std::size_t>(2 * m.nk + 1) * (2 * m.w + 1) * (2 * m.w + 1);

@@ -24,8 +24,8 @@ struct RunSummary {
   double coverage = -1;
   double reachable_area_m2 = -1;  ///< of the true world; -1 when unknown
   double explored_area_m2 = 0;    ///< free area of the final map
-  /// Versions of the scans' occupancy grid (each a new grid), and how many of them were
-  /// rebuilt from every scan because the back-end moved inserted keyframes.
+  /// Versions of the scans' occupancy grid, and how many of them were rebuilt from every
+  /// scan because the back-end moved inserted keyframes.
   std::size_t map_versions = 0, map_rebuilds = 0;
   std::size_t loop_closures = 0;                     ///< loop-closure edges in the final graph
   double decision_ms_mean = 0, decision_ms_max = 0;  ///< policy decide() compute time
