@@ -156,6 +156,32 @@ TEST(MapBuilder, KeptVersionsStayUnchangedAndUnkeptOnesAreReused) {
     EXPECT_NE(held[k].get(), held[k - 1].get()) << "a kept version is never reused";
 }
 
+// A rebuild keeps the grid's extent instead of growing again from the initial size: the
+// cells are those of a builder given the moved graph from scratch (outside its extent:
+// unknown).
+TEST(MapBuilder, ARebuildHoldsWhatAFreshBuilderWould) {
+  MappingRun run;
+  for (int i = 0; i < 12; ++i) ASSERT_TRUE(run.step({11 - 0.8 * i, 1.5 + 0.1 * i, 0.4 * i}));
+  run.graph.nodes[2].pose = run.graph.nodes[2].pose + mrpt::poses::CPose2D(0.15, -0.1, 0.03);
+  ASSERT_TRUE(run.builder.update(run.graph));
+  ASSERT_TRUE(run.builder.map().rebuilt);
+  MappingRun fresh;
+  ASSERT_TRUE(fresh.builder.update(run.graph));
+  const auto& a = *run.builder.map().grid;
+  const auto& b = *fresh.builder.map().grid;
+  EXPECT_LE(a.getXMin(), b.getXMin());
+  EXPECT_GE(a.getXMax(), b.getXMax());
+  std::size_t differ = 0, known = 0;
+  for (unsigned y = 0; y < a.getSizeY(); ++y)
+    for (unsigned x = 0; x < a.getSizeX(); ++x) {
+      const float xm = a.idx2x(x), ym = a.idx2y(y);
+      if (a.getCell(x, y) != b.getPos(xm, ym)) ++differ;  // 0.5 outside `b`
+      if (a.getCell(x, y) != 0.5f) ++known;
+    }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(known, 5000u);
+}
+
 TEST(MapAreaTracker, EqualsTheFullRecountAfterEveryStepOfARun) {
   MappingRun run;
   asf::MapAreaTracker tracker(&run.meter);
