@@ -62,7 +62,7 @@ P=$OUT/aces_partial
   --set map.widen_beams=true > "$P.txt"
 STEP=$(python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(j['distance_m'] / j['steps'])" "$P/summary.json")
 plan32() {  # covariance scale, output stem: the plan as JSON, the chosen path drawn
-  "$ASF" plan --graph "$P/graph.g2o" --map "$P/occupancy.yaml" --voronoi --start 201 \
+  "$ASF" plan --graph "$P/graph.g2o" --map "$P/map.yaml" --voronoi --start 201 \
     --goal 128 --planner expected_uncertainty --set max_seconds=0 \
     --set "voronoi_odometry_step=$STEP" --set "voronoi_cov_scale=$1" --image "$2.png" \
     --json > "$2.json"

@@ -73,7 +73,7 @@ std::string unreadable(const fs::path& f) {
       return wholeRows(readText(f), ',');
     } else if (ext == ".g2o") {
       asf::readG2o(f.string());
-    } else if (ext == ".png") {
+    } else if (ext == ".png" || ext == ".pgm") {
       asf::readGrayImage(f.string());
     } else if (ext == ".yaml") {
       asf::readOccupancyYaml(f.string());

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -41,12 +42,13 @@ TEST(OccupancyIo, RoundTripKeepsTheCellsAndTheFrame) {
   ASSERT_EQ(m.grid->getSizeY(), 5u);
   asf::writeOccupancyMap(m, (d / "occ").string());
   const asf::OccupancyMapInfo info = asf::readOccupancyYaml((d / "occ.yaml").string());
-  EXPECT_EQ(info.image, "occ.png");
+  EXPECT_EQ(info.image, "occ.pgm");
+  EXPECT_EQ(info.mode, asf::MapMode::Trinary);
   EXPECT_NEAR(info.resolution, 0.1, 1e-7);
   EXPECT_NEAR(info.origin_x, -3.2, 1e-6);
   EXPECT_NEAR(info.origin_y, 1.5, 1e-6);
-  // The image: row 0 is the top; free 255, occupied 0, unknown 128.
-  const asf::GrayImage img = asf::readGrayImage((d / "occ.png").string());
+  // The image (binary PGM, read by OpenCV): row 0 is the top; free 255, occupied 0, unknown 128.
+  const asf::GrayImage img = asf::readGrayImage((d / "occ.pgm").string());
   ASSERT_EQ(img.width, 7);
   ASSERT_EQ(img.height, 5);
   EXPECT_EQ(img.at(2, 0), 0);
@@ -61,8 +63,9 @@ TEST(OccupancyIo, RoundTripKeepsTheCellsAndTheFrame) {
   EXPECT_NEAR(back.grid->getYMin(), 1.5, 1e-6);
   for (unsigned cy = 0; cy < 5; ++cy)
     for (unsigned cx = 0; cx < 7; ++cx) {
-      const bool free = cx != 2 && !(cx == 4 && cy == 3);
-      EXPECT_EQ(back.grid->getCell(cx, cy) > 0.5f, free) << cx << ", " << cy;
+      // free 1, occupied 0, unknown 0.5: neither (asf's consumers: free above 0.65)
+      const float want = cx == 2 ? 0.0f : cx == 4 && cy == 3 ? 0.5f : 1.0f;
+      EXPECT_NEAR(back.grid->getCell(cx, cy), want, 0.01) << cx << ", " << cy;
     }
   // A point in the map frame lands on the same cell: (-3.2 + 0.25, 1.5 + 0.35) is (2, 3).
   EXPECT_LT(back.grid->getPos(-2.95, 1.85), 0.5);
@@ -99,6 +102,7 @@ TEST(OccupancyIo, YamlErrorsNameTheFileAndLine) {
   expect("image: m.png\nresolution: 0.05\norigin: [1, 2, 0.5]\n", f + ":3", "rotated map");
   expect(ok + "free_thresh: 1.5\n", f + ":4", "[0, 1]");
   expect(ok + "negate: 2\n", f + ":4", "negate");
+  expect(ok + "mode: fancy\n", f + ":4", "trinary, scale or raw");
   expect("image m.png\n", f + ":1", "key: value");
   // Fuzzing: an origin float cannot place cells at (MRPT asserted, uncaught).
   expect("image: m.png\nresolution: 0.05\norigin: [5777777777077777, -0.5, 0]\n", f + ":3",
@@ -112,6 +116,56 @@ TEST(OccupancyIo, YamlErrorsNameTheFileAndLine) {
   } catch (const asf::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("m.png"), std::string::npos) << e.what();
   }
+}
+
+/// A 6 x 1 binary PGM written here (not by asf) with the gray levels 0, 50, 100, 205, 254, 255.
+void writeGrayRow(const fs::path& f) {
+  std::ofstream(f, std::ios::binary) << "P5\n6 1\n255\n"
+                                     << std::string("\x00\x32\x64\xcd\xfe\xff", 6);
+}
+
+std::vector<float> cellsOf(const fs::path& d, const std::string& extra) {
+  writeGrayRow(d / "row.pgm");
+  std::ofstream(d / "row.yaml") << "image: row.pgm\nresolution: 0.5\norigin: [0, 0, 0]\n"
+                                << "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+                                << extra;
+  const asf::GridMap m = asf::readOccupancyMap((d / "row.yaml").string());
+  std::vector<float> v;
+  for (unsigned cx = 0; cx < m.grid->getSizeX(); ++cx) v.push_back(m.grid->getCell(cx, 0));
+  return v;
+}
+
+TEST(OccupancyIo, ModesClassifyPixelsAsMapServerDoes) {
+  // occ = (255 - p) / 255 for 0, 50, 100, 205, 254, 255: 1, 0.804, 0.608, 0.196, 0.004, 0.
+  const fs::path d = tempDir("modes");
+  auto expect = [](const std::vector<float>& got, const std::vector<float>& want,
+                   const char* mode) {
+    ASSERT_EQ(got.size(), want.size()) << mode;
+    for (std::size_t i = 0; i < want.size(); ++i)
+      EXPECT_NEAR(got[i], want[i], 0.01) << mode << " pixel " << i;
+  };
+  // trinary: occupied above 0.65, free below 0.196, else unknown (0.196 itself is unknown).
+  expect(cellsOf(d, ""), {0, 0, 0.5, 0.5, 1, 1}, "trinary");
+  expect(cellsOf(d, "mode: trinary\n"), {0, 0, 0.5, 0.5, 1, 1}, "trinary");
+  // scale: between the thresholds, occupancy (occ - 0.196) / (0.65 - 0.196), rounded to %:
+  // 100 -> 0.608 -> 91 %; 205 -> 0.196 -> 0 % (p(free) 1 - occ).
+  expect(cellsOf(d, "mode: scale\n"), {0, 0, 0.09f, 1, 1, 1}, "scale");
+  // raw: the pixel is the occupancy in percent; above 100 unknown.
+  expect(cellsOf(d, "mode: raw\n"), {1, 0.5f, 0, 0.5, 0.5, 0.5}, "raw");
+  // negate: occ = p / 255: 0 free, 50 (0.196) unknown, 100 (0.39) unknown, 205+ occupied.
+  expect(cellsOf(d, "negate: 1\n"), {1, 0.5, 0.5, 0, 0, 0}, "negate");
+  // The class rule beside the percent rule.
+  asf::OccupancyMapInfo info;
+  EXPECT_EQ(asf::mapServerClass(info, 205), asf::MapCell::Unknown);
+  EXPECT_EQ(asf::mapServerClass(info, 254), asf::MapCell::Free);
+  EXPECT_EQ(asf::mapServerClass(info, 0), asf::MapCell::Occupied);
+  info.mode = asf::MapMode::Raw;
+  EXPECT_EQ(asf::mapServerClass(info, 100), asf::MapCell::Occupied);
+  EXPECT_EQ(asf::mapServerClass(info, 10), asf::MapCell::Free);
+  EXPECT_EQ(asf::mapServerClass(info, 101), asf::MapCell::Unknown);
+  EXPECT_TRUE(asf::isOccupancyYaml("a/b.yaml"));
+  EXPECT_TRUE(asf::isOccupancyYaml("b.yml"));
+  EXPECT_FALSE(asf::isOccupancyYaml("b.yaml.png"));
 }
 
 TEST(OccupancyIo, OnlyKnownImageFormatsAreDecoded) {

@@ -148,8 +148,8 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
     EXPECT_NEAR(kf[i].pose.x(), g.nodes[i].pose.x(), 1e-5) << "keyframe " << i;
   const auto topo = readJson(out / "topology.json");
   EXPECT_GE(topo["nodes"].size(), 2u) << "regions + the unexplored node";
-  // The bare grid in its frame: every keyframe stands on a free cell of occupancy.yaml.
-  const asf::GridMap occ = asf::readOccupancyMap((out / "occupancy.yaml").string());
+  // The bare grid in its frame: every keyframe stands on a free cell of map.yaml.
+  const asf::GridMap occ = asf::readOccupancyMap((out / "map.yaml").string());
   ASSERT_TRUE(occ.grid);
   for (const auto& n : g.nodes)
     EXPECT_GT(occ.grid->getPos(n.pose.x(), n.pose.y()), 0.5)

@@ -32,14 +32,9 @@ std::string joinPath(const std::vector<NodeId>& p) {
   return s;
 }
 
-bool isYaml(const std::string& path) {
-  return path.size() > 5 &&
-         (path.substr(path.size() - 5) == ".yaml" || path.substr(path.size() - 4) == ".yml");
-}
-
 /// The occupancy map of --map: a map_server YAML or an image at `resolution`; none if empty.
 GridMap readMapArgument(const std::string& path, double resolution) {
-  if (isYaml(path)) return readOccupancyMap(path);
+  if (isOccupancyYaml(path)) return readOccupancyMap(path);
   if (!path.empty()) return gridFromImage(readGrayImage(path), resolution);
   return {};
 }
@@ -69,9 +64,9 @@ void renderImage(const std::string& png, const std::string& map, double resoluti
   ro.ellipses = ellipses;
   ro.map_png = map;
   ro.map_resolution = resolution;
-  if (isYaml(map)) {  // the YAML's image, in the YAML's frame
+  if (isOccupancyYaml(map)) {  // the YAML's image, in the YAML's frame
     const OccupancyMapInfo info = readOccupancyYaml(map);
-    ro.map_png = (std::filesystem::path(map).parent_path() / info.image).string();
+    ro.map_png = occupancyImagePath(map, info);
     ro.map_resolution = info.resolution;
     ro.map_origin_x = info.origin_x;
     ro.map_origin_y = info.origin_y;
@@ -218,8 +213,9 @@ int cmdPlan(int argc, char** argv) {
   TCLAP::SwitchArg ellipses("", "ellipses", "With --image: 3-sigma marginal ellipses", cmd);
   TCLAP::ValueArg<std::string> map(
       "", "map",
-      "Occupancy map: a map_server YAML (e.g. a run's occupancy.yaml: resolution, origin and "
-      "thresholds from it), or an image (row 0 = top, origin (0, 0), pixels >= 250 free, "
+      "Occupancy map: a map_server YAML (e.g. a run's map.yaml: resolution, origin, thresholds and "
+      "mode from it; unknown cells are not free), or an image (row 0 = top, origin (0, 0), pixels "
+      ">= 250 free, "
       "the rest occupied, --resolution); handed to the planner (voronoi_edges) and drawn "
       "under --image",
       false, "", "MAP.yaml|MAP.png", cmd);

@@ -5,6 +5,7 @@
 #include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
+#include <asf/occupancy_io.h>
 #include <asf/registry.h>
 #include <asf/run_report.h>
 #include <asf/segment_benchmark.h>
@@ -82,14 +83,17 @@ void writeTextAtomically(const std::string& path, const std::string& text) {
 
 int cmdSegment(int argc, char** argv) {
   TCLAP::CmdLine cmd(
-      "Segments one map image into regions with a segmenter plugin. The map is read as the "
+      "Segments one map into regions with a segmenter plugin. A map image is read as the "
       "room segmentation benchmark does: 8-bit grayscale, pixel >= --free-threshold is free, "
-      "anything else occupied, origin (0, 0), image row 0 at the top (max y). Writes a 16-bit "
+      "anything else occupied, origin (0, 0), image row 0 at the top (max y); a ROS "
+      "map_server YAML (MAP.yaml) brings its resolution, origin, thresholds and mode, and "
+      "its unknown cells stay unknown (not free). Writes a 16-bit "
       "single-channel label PNG (0 = no region, else the region id; same size and "
       "orientation as the input), optionally the topological graph (JSON as asf run's "
       "topology.json) and an overlay image (regions, ids, graph edges).",
       ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> map_arg("map", "Map image", true, "", "MAP.png", cmd);
+  TCLAP::UnlabeledValueArg<std::string> map_arg("map", "Map image or map_server YAML", true, "",
+                                                "MAP.png|MAP.yaml", cmd);
   TCLAP::ValueArg<double> res("r", "resolution", "Metres per pixel", false, 0.05, "M", cmd);
   TCLAP::ValueArg<std::string> segmenter("g", "segmenter", "Segmenter plugin name", true, "",
                                          "NAME", cmd);
@@ -112,8 +116,17 @@ int cmdSegment(int argc, char** argv) {
 
   const SegmenterSetup setup =
       setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), true);
-  const GrayImage image = readGrayImage(map_arg.getValue());
-  const GridMap map = gridFromImage(image, res.getValue(), threshold.getValue());
+  // A map_server YAML brings its resolution, origin and free/occupied/unknown rules.
+  const bool yaml = isOccupancyYaml(map_arg.getValue());
+  if (yaml && (res.isSet() || threshold.isSet()))
+    throw ConfigError(map_arg.getValue() + ": a map_server YAML sets the resolution and the " +
+                      "free cells; leave out " +
+                      (res.isSet() ? "--resolution" : "--free-threshold"));
+  const GrayImage image = readGrayImage(
+      yaml ? occupancyImagePath(map_arg.getValue(), readOccupancyYaml(map_arg.getValue()))
+           : map_arg.getValue());
+  const GridMap map = yaml ? readOccupancyMap(map_arg.getValue())
+                           : gridFromImage(image, res.getValue(), threshold.getValue());
   auto seg = setup.create();
   const auto t0 = std::chrono::steady_clock::now();
   Segmentation s;

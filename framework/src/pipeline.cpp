@@ -111,7 +111,7 @@ void PipelineParts::segmentWorld() {
 
 std::vector<std::string> Pipeline::outputFiles() {
   return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv", "graph.g2o",
-          "keyframes.txt", "map.png",        "regions.png",    "occupancy.png", "occupancy.yaml",
+          "keyframes.txt", "map.png",        "regions.png",    "map.pgm",       "map.yaml",
           "topology.json", "topology.svg",   "summary.json",   "progress.json", "report.html"};
 }
 

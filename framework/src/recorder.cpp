@@ -199,8 +199,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   });
   attempt("map views (topology.svg, regions.png, map.png)",
           [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
-  // The bare grid in its frame (map_server): `asf plan --map occupancy.yaml`, ROS tools.
-  attempt("occupancy.png", [&] { writeOccupancyMap(map, dir_ + "/occupancy"); });
+  // The bare grid in its frame (map_server; nav2 loads it unchanged): `asf plan --map map.yaml`.
+  attempt("map.pgm + map.yaml", [&] { writeOccupancyMap(map, dir_ + "/map"); });
   attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;

@@ -106,18 +106,25 @@ World World::fromImage(const ImageWorldOptions& o) {
   for (int cy = 0; cy < sy; ++cy)
     for (int cx = 0; cx < sx; ++cx) {
       const int col = cx - pad, row_from_bottom = cy - pad;
-      bool wall = true;  // the padding frame
+      PixelClass c = PixelClass::Wall;  // the padding frame
       float height = static_cast<float>(o.wall_height);
       if (col >= 0 && col < w && row_from_bottom >= 0 && row_from_bottom < h) {
         // Image rows go top-down, grid rows bottom-up.
         const auto v = source(col, h - 1 - row_from_bottom);
-        wall = 1.0 - v / 255.0 > o.occupied_threshold;
+        c = o.classes
+                ? (*o.classes)[v]
+                : (1.0 - v / 255.0 > o.occupied_threshold ? PixelClass::Wall : PixelClass::Free);
         height = height_of[v];
+        if (c == PixelClass::Unknown && o.unknown != UnknownCells::Blocked) {
+          c = o.unknown == UnknownCells::Wall ? PixelClass::Wall : PixelClass::Free;
+          height = static_cast<float>(o.wall_height);
+        }
       } else if (pad == 0) {
-        wall = false;
+        c = PixelClass::Free;
       }
-      g.setCell(cx, cy, wall ? 0.0f : 1.0f);  // MRPT: cell value = p(free)
-      world.heights_[static_cast<std::size_t>(cy) * sx + cx] = wall ? height : 0.f;
+      // MRPT: cell value = p(free); unknown 0.5
+      g.setCell(cx, cy, c == PixelClass::Wall ? 0.0f : c == PixelClass::Free ? 1.0f : 0.5f);
+      world.heights_[static_cast<std::size_t>(cy) * sx + cx] = c == PixelClass::Wall ? height : 0.f;
     }
   world.finish();
   return world;
@@ -146,12 +153,15 @@ void World::finish() {
   const int sx = static_cast<int>(grid_.getSizeX()), sy = static_cast<int>(grid_.getSizeY());
   cv::Mat1b free_mask(sy, sx);
   wall_cells_ = 0;
+  unknown_cells_ = 0;
   max_height_ = 0;
   for (int cy = 0; cy < sy; ++cy)
     for (int cx = 0; cx < sx; ++cx) {
-      const bool wall = grid_.getCell(cx, cy) < 0.5f;
-      free_mask(cy, cx) = wall ? 0 : 255;
+      const float p = grid_.getCell(cx, cy);
+      const bool wall = p < 0.25f, unknown = !wall && p < 0.75f;
+      free_mask(cy, cx) = wall || unknown ? 0 : 255;  // unknown cells block the robot too
       wall_cells_ += wall;
+      unknown_cells_ += unknown;
       if (wall) max_height_ = std::max(max_height_, static_cast<double>(cellHeight(cx, cy)));
     }
   cv::Mat1f dist;
@@ -161,7 +171,21 @@ void World::finish() {
   const float res = grid_.getResolution();
   for (int cy = 0; cy < sy; ++cy)
     for (int cx = 0; cx < sx; ++cx)
-      clearance_[static_cast<std::size_t>(cy) * sx + cx] = wall_cells_ ? dist(cy, cx) * res : 1e9f;
+      clearance_[static_cast<std::size_t>(cy) * sx + cx] =
+          wall_cells_ + unknown_cells_ ? dist(cy, cx) * res : 1e9f;
+}
+
+std::optional<std::pair<Point2, double>> World::farthestFromWalls() const {
+  const int sx = static_cast<int>(grid_.getSizeX()), sy = static_cast<int>(grid_.getSizeY());
+  int best = -1;
+  for (int k = 0; k < sx * sy; ++k)
+    if (grid_.getCell(k % sx, k / sx) >= 0.75f &&
+        (best < 0 ||
+         clearance_[static_cast<std::size_t>(k)] > clearance_[static_cast<std::size_t>(best)]))
+      best = k;
+  if (best < 0) return std::nullopt;
+  const Point2 c{grid_.idx2x(best % sx), grid_.idx2y(best / sx)};
+  return std::make_pair(c, clearance(c.x, c.y));
 }
 
 Box2 World::bounds() const {
@@ -173,7 +197,7 @@ bool World::occupiedAt(double x, double y) const {
   if (cx < 0 || cy < 0 || cx >= static_cast<int>(grid_.getSizeX()) ||
       cy >= static_cast<int>(grid_.getSizeY()))
     return true;
-  return grid_.getCell(cx, cy) < 0.5f;
+  return grid_.getCell(cx, cy) < 0.25f;
 }
 
 double World::heightAt(double x, double y) const {
@@ -194,14 +218,15 @@ std::size_t World::cellsNotTallerThan(double z) const {
 }
 
 std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> World::gridTallerThan(double z) const {
-  if (cellsNotTallerThan(z) == 0) return nullptr;
+  if (cellsNotTallerThan(z) == 0 && unknown_cells_ == 0) return nullptr;
   const float zf = static_cast<float>(z);
   auto g = std::make_shared<mrpt::maps::COccupancyGridMap2D>(grid_);
   const int sx = static_cast<int>(grid_.getSizeX()), sy = static_cast<int>(grid_.getSizeY());
   for (int cy = 0; cy < sy; ++cy)
     for (int cx = 0; cx < sx; ++cx) {
       const float h = cellHeight(cx, cy);
-      if (h > 0 && h <= zf) g->setCell(cx, cy, 1.0f);
+      // Low obstacles and unknown cells (laserScanSimulator stops at p(free) <= 0.5): no echo.
+      if ((h > 0 && h <= zf) || (h == 0 && grid_.getCell(cx, cy) < 0.75f)) g->setCell(cx, cy, 1.0f);
     }
   return g;
 }

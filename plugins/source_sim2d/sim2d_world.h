@@ -9,7 +9,10 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose2D.h>
 
+#include <array>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,12 +30,23 @@ struct HeightClass {
 /// wrong (without the key name) otherwise.
 std::vector<HeightClass> parseHeightClasses(const std::string& text);
 
+/// What a pixel of a map image is in the world.
+enum class PixelClass : std::uint8_t { Free, Wall, Unknown };
+
+/// Unknown pixels (a map_server map's gray between its thresholds) in the world: Blocked, the
+/// robot cannot enter them and the lasers see through them (no echo); Free; Wall, a wall.
+enum class UnknownCells { Blocked, Free, Wall };
+
 struct ImageWorldOptions {
   std::string file;                   ///< PNG/PGM/...: dark = wall
   double resolution = 0.04;           ///< metres per pixel
   double origin_x = 0, origin_y = 0;  ///< world coordinates of the image's lower-left corner
   double occupied_threshold = 0.5;    ///< a pixel with 1 - gray/255 above this is a wall
-  int pad_wall_px = 0;                ///< wall of this many pixels added around the image
+  /// When set, the class of each gray level instead of occupied_threshold (a map_server map's
+  /// rules: asf/occupancy_io.h's mapServerOccupancy).
+  std::optional<std::array<PixelClass, 256>> classes;
+  UnknownCells unknown = UnknownCells::Blocked;
+  int pad_wall_px = 0;  ///< wall of this many pixels added around the image
   /// The world is tiles x tiles copies of the image, every other one mirrored (horizontally
   /// in odd columns, vertically in odd rows) so the walls meet at the seams: bigger worlds of
   /// the same kind, for scaling measurements. The padding goes around the whole.
@@ -52,7 +66,8 @@ class World {
   /// just outside it, `wall_height` tall.
   static World room(double width, double height, double resolution, double wall_height = 2.0);
 
-  /// Every obstacle, whatever its height (collisions, ground truth).
+  /// Every obstacle, whatever its height (collisions, ground truth); unknown cells (Blocked)
+  /// hold 0.5, neither free nor occupied.
   const mrpt::maps::COccupancyGridMap2D& grid() const { return grid_; }
   double resolution() const { return grid_.getResolution(); }
   Box2 bounds() const;
@@ -66,9 +81,16 @@ class World {
   /// Number of obstacle cells no taller than z (invisible to a horizontal laser at z).
   std::size_t cellsNotTallerThan(double z) const;
   /// The grid of the obstacles strictly taller than z: what a horizontal laser at height z
-  /// sees. Null when every obstacle is taller than z: then it is `grid()` itself.
+  /// sees (unknown cells free: no echo). Null when every obstacle is taller than z and no
+  /// cell is unknown: then it is `grid()` itself.
   std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> gridTallerThan(double z) const;
-  /// Distance from (x, y) to the nearest wall surface [m] (0 inside a wall or outside).
+  /// Cells that are unknown and block the robot (UnknownCells::Blocked).
+  std::size_t unknownCells() const { return unknown_cells_; }
+  /// The centre of the free cell farthest from every wall and blocking unknown cell (the
+  /// lowest row, then column, of the ties), and that distance [m]; nullopt without free cells.
+  std::optional<std::pair<Point2, double>> farthestFromWalls() const;
+  /// Distance from (x, y) to the nearest wall surface or blocking unknown cell [m] (0 inside
+  /// one or outside).
   double clearance(double x, double y) const;
   /// True when a disc of `radius` moving straight from a to b touches a wall.
   bool sweepCollides(const Point2& a, const Point2& b, double radius) const;
@@ -95,6 +117,7 @@ class World {
   std::vector<float> heights_;    // per cell, 0 = free
   std::vector<float> clearance_;  // per cell, metres between cell centres
   std::size_t wall_cells_ = 0;
+  std::size_t unknown_cells_ = 0;
   double max_height_ = 0;
 };
 

@@ -5,6 +5,7 @@
 // is ray cast over the height field. The robot plans on the *estimated* map, drives in fixed
 // steps and never passes through a true obstacle, low or not.
 #include <asf/errors.h>
+#include <asf/occupancy_io.h>
 #include <asf/rawlog_io.h>
 #include <asf/source.h>
 #include <mrpt/core/Clock.h>
@@ -73,6 +74,11 @@ class Sim2dSource final : public asf::Source {
         o.origin_x = p.getDouble("origin_x");
         o.origin_y = p.getDouble("origin_y");
         o.occupied_threshold = p.getDouble("occupied_threshold");
+        const std::string unknown = p.getString("map_unknown");
+        o.unknown = unknown == "free"   ? asf::sim2d::UnknownCells::Free
+                    : unknown == "wall" ? asf::sim2d::UnknownCells::Wall
+                                        : asf::sim2d::UnknownCells::Blocked;
+        if (asf::isOccupancyYaml(image)) applyMapServerYaml(p, image, o);
         o.pad_wall_px = static_cast<int>(p.getInt("pad_wall_px"));
         o.tiles = static_cast<int>(p.getInt("map_tiles"));
         o.wall_height = wall_height;
@@ -87,11 +93,54 @@ class Sim2dSource final : public asf::Source {
     }
   }
 
-  /// The start pose (clear of the walls by the robot's radius) and the world's truth.
+  /// A map_server map (map_image = X.yaml): its image, resolution, origin and pixel classes
+  /// (free, occupied, unknown by its thresholds and mode). The keys it sets must not be given.
+  void applyMapServerYaml(const asf::Params& p, const std::string& yaml,
+                          asf::sim2d::ImageWorldOptions& o) {
+    for (const char* k : {"resolution", "origin_x", "origin_y", "occupied_threshold"})
+      if (!p.isDefault(k))
+        p.fail(k, std::string("map_image is a map_server YAML, which sets ") + k +
+                      " (and the free, occupied and unknown gray levels): leave it out");
+    asf::OccupancyMapInfo info;
+    try {
+      info = asf::readOccupancyYaml(yaml);
+    } catch (const asf::InputError& e) {
+      p.fail("map_image", e.what());
+    }
+    o.file = asf::occupancyImagePath(yaml, info);
+    o.resolution = info.resolution;
+    o.origin_x = info.origin_x;
+    o.origin_y = info.origin_y;
+    std::array<asf::sim2d::PixelClass, 256> classes{};
+    for (int v = 0; v < 256; ++v) switch (asf::mapServerClass(info, static_cast<std::uint8_t>(v))) {
+        case asf::MapCell::Free:
+          classes[v] = asf::sim2d::PixelClass::Free;
+          break;
+        case asf::MapCell::Occupied:
+          classes[v] = asf::sim2d::PixelClass::Wall;
+          break;
+        case asf::MapCell::Unknown:
+          classes[v] = asf::sim2d::PixelClass::Unknown;
+          break;
+      }
+    o.classes = classes;
+  }
+
+  /// The start pose (clear of the walls by the robot's radius) and the world's truth. A map
+  /// image without start_x and start_y: the free cell farthest from any wall.
   void configureStart(const asf::Params& p) {
     radius_ = p.getDouble("robot_radius");
     true_pose_ = CPose2D(p.getDouble("start_x"), p.getDouble("start_y"),
                          p.getDouble("start_phi_deg") * kDeg);
+    if (!p.getString("map_image").empty() && p.isDefault("start_x") && p.isDefault("start_y")) {
+      const auto far = world_.farthestFromWalls();
+      if (!far) p.fail("map_image", "the map has no free cell to start in");
+      true_pose_ = CPose2D(far->first.x, far->first.y, true_pose_.phi());
+      MRPT_LOG_INFO_STREAM(
+          "no start_x / start_y: starting at the free cell farthest from any "
+          "wall, ("
+          << far->first.x << ", " << far->first.y << "), " << far->second << " m from the nearest");
+    }
     if (world_.clearance(true_pose_.x(), true_pose_.y()) < radius_) {
       std::ostringstream os;
       os << "the start (" << true_pose_.x() << ", " << true_pose_.y()
@@ -121,7 +170,7 @@ class Sim2dSource final : public asf::Source {
     // The horizontal laser sees only the obstacles taller than its height. With all of them
     // taller (the default) it scans the true grid itself, as before heights existed.
     laser_grid_ = world_.gridTallerThan(sensor_pose_.z());
-    if (laser_grid_) {
+    if (laser_grid_ && world_.cellsNotTallerThan(sensor_pose_.z()) > 0) {
       MRPT_LOG_INFO_STREAM(world_.cellsNotTallerThan(sensor_pose_.z())
                            << " obstacle cells are not taller than sensor_z = " << sensor_pose_.z()
                            << " m: the horizontal laser does not see them");
@@ -482,8 +531,12 @@ class Sim2dSource final : public asf::Source {
 
 const asf::KeySpec kKeys[] = {
     asf::keyPath("map_image", "",
-                 "World image (PNG/PGM/...; dark = wall). Empty: a built-in rectangular room "
-                 "of room_width x room_height"),
+                 "World image (PNG/PGM/...; dark = wall), or a ROS map_server YAML (X.yaml: its "
+                 "image, resolution, origin, thresholds and mode; unknown cells as map_unknown "
+                 "says). Empty: a built-in rectangular room of room_width x room_height"),
+    asf::keyEnum("map_unknown", "blocked", "blocked|free|wall",
+                 "A map_server map's unknown cells: blocked (the robot cannot enter them, the "
+                 "lasers see through them), free, or wall"),
     asf::keyDouble("resolution", "0.04", "World cell size: metres per image pixel [m]", 1e-3, 10),
     asf::keyDouble("origin_x", "0", "World x of the image's lower-left corner [m]"),
     asf::keyDouble("origin_y", "0", "World y of the image's lower-left corner [m]"),
@@ -509,8 +562,10 @@ const asf::KeySpec kKeys[] = {
                    1000),
     asf::keyDouble("room_height", "6.0", "Built-in room height, when map_image is empty [m]", 0.5,
                    1000),
-    asf::keyDouble("start_x", "1.0", "True start position x, world frame [m]"),
-    asf::keyDouble("start_y", "1.0", "True start position y, world frame [m]"),
+    asf::keyDouble("start_x", "1.0",
+                   "True start position x, world frame [m]; a map image without start_x and "
+                   "start_y starts at the free cell farthest from any wall"),
+    asf::keyDouble("start_y", "1.0", "True start position y, world frame [m] (see start_x)"),
     asf::keyDouble("start_phi_deg", "0", "True start heading [deg]", -360, 360),
     asf::keyInt("laser_rays", "361", "Rays per scan", 2, 100000),
     asf::keyDouble("laser_fov_deg", "180", "Laser field of view, centred ahead [deg]", 1, 360),

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
 #include <asf/segmentation_eval.h>
@@ -5,6 +6,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -12,6 +14,8 @@
 #include <sstream>
 
 namespace asf {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -32,22 +36,58 @@ double number(const std::string& v, const std::string& where) {
 
 }  // namespace
 
+int mapServerOccupancy(const OccupancyMapInfo& info, std::uint8_t pixel) {
+  if (info.mode == MapMode::Raw) return pixel <= 100 ? pixel : -1;
+  const double occ = info.negate ? pixel / 255.0 : (255 - pixel) / 255.0;
+  if (occ > info.occupied_thresh) return 100;
+  if (occ < info.free_thresh) return 0;
+  if (info.mode == MapMode::Trinary) return -1;
+  // scale: between the thresholds, linear (nav2 map_io rounds the same way)
+  return static_cast<int>(
+      std::lround((occ - info.free_thresh) / (info.occupied_thresh - info.free_thresh) * 100.0));
+}
+
+MapCell mapServerClass(const OccupancyMapInfo& info, std::uint8_t pixel) {
+  if (info.mode == MapMode::Raw && pixel > 100) return MapCell::Unknown;
+  const double occ = info.mode == MapMode::Raw ? pixel / 100.0
+                     : info.negate             ? pixel / 255.0
+                                               : (255 - pixel) / 255.0;
+  if (occ > info.occupied_thresh) return MapCell::Occupied;
+  if (occ < info.free_thresh) return MapCell::Free;
+  return MapCell::Unknown;
+}
+
+bool isOccupancyYaml(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  return ext == ".yaml" || ext == ".yml";
+}
+
+std::string occupancyImagePath(const std::string& yaml_path, const OccupancyMapInfo& info) {
+  const fs::path img(info.image);
+  return img.is_absolute() ? img.string() : (fs::path(yaml_path).parent_path() / img).string();
+}
+
 void writeOccupancyMap(const GridMap& map, const std::string& stem) {
   if (!map.grid) return;
   const GrayImage img = imageFromGrid(map);
-  writeGrayImage(stem + ".png", img);
+  // Binary PGM: what map_saver writes and every map_server reads. Both files are written
+  // atomically (a killed run leaves the old file or the new one, never half of one).
+  std::ostringstream pgm;
+  pgm << "P5\n# asf occupancy map: free 255, occupied 0, unknown 128\n"
+      << img.width << " " << img.height << "\n255\n";
+  pgm.write(reinterpret_cast<const char*>(img.pixels.data()),
+            static_cast<std::streamsize>(img.pixels.size()));
+  writeFileAtomically(stem + ".pgm", pgm.str(), "occupancy map image");
   std::ostringstream os;
   // free_thresh 0.35: free is p(free) > 0.65, as asf's own consumers read the grid (the
   // GVG's voronoi_free_threshold); map_server's usual 0.196 would call a cell seen free once
   // unknown.
   os << std::setprecision(17) << "# map_server occupancy map written by asf: free 255, "
-     << "occupied 0, unknown 128\nimage: " << std::filesystem::path(stem).filename().string()
-     << ".png\nresolution: " << map.grid->getResolution() << "\norigin: [" << map.grid->getXMin()
-     << ", " << map.grid->getYMin()
+     << "occupied 0, unknown 128\nimage: " << fs::path(stem).filename().string()
+     << ".pgm\nmode: trinary\nresolution: " << map.grid->getResolution() << "\norigin: ["
+     << map.grid->getXMin() << ", " << map.grid->getYMin()
      << ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.35\n";
-  std::ofstream f(stem + ".yaml");
-  f << os.str();
-  if (!f) throw Error(stem + ".yaml: cannot write");
+  writeFileAtomically(stem + ".yaml", os.str(), "occupancy map YAML");
 }
 
 OccupancyMapInfo readOccupancyYaml(const std::string& path) {
@@ -96,14 +136,22 @@ OccupancyMapInfo readOccupancyYaml(const std::string& path) {
         throw InputError(where + ": a rotated map (origin yaw " + trim(part) +
                          ") is not supported");
     } else if (key == "negate") {
-      if (v != "0" && v != "1") throw InputError(where + ": negate must be 0 or 1");
-      m.negate = v == "1";
+      if (v != "0" && v != "1" && v != "true" && v != "false")
+        throw InputError(where + ": negate must be 0 or 1 (or true / false)");
+      m.negate = v == "1" || v == "true";
     } else if (key == "occupied_thresh" || key == "free_thresh") {
       const double x = number(v, where);
       if (x < 0 || x > 1) throw InputError(where + ": " + key + " must be in [0, 1]");
       (key == "free_thresh" ? m.free_thresh : m.occupied_thresh) = x;
     } else if (key == "mode") {
-      if (v != "trinary") throw InputError(where + ": mode '" + v + "': only trinary is read");
+      if (v == "trinary")
+        m.mode = MapMode::Trinary;
+      else if (v == "scale")
+        m.mode = MapMode::Scale;
+      else if (v == "raw")
+        m.mode = MapMode::Raw;
+      else
+        throw InputError(where + ": mode '" + v + "' (trinary, scale or raw)");
     } else {
       throw InputError(where + ": unknown key '" + key +
                        "' (keys: image, resolution, origin, negate, occupied_thresh, "
@@ -119,20 +167,22 @@ OccupancyMapInfo readOccupancyYaml(const std::string& path) {
 
 GridMap readOccupancyMap(const std::string& yaml_path) {
   const OccupancyMapInfo m = readOccupancyYaml(yaml_path);
-  const std::filesystem::path img =
-      std::filesystem::path(yaml_path).parent_path() / std::filesystem::path(m.image);
-  GrayImage g = readGrayImage(img.string());
-  if (m.negate)
-    for (auto& p : g.pixels) p = static_cast<std::uint8_t>(255 - p);
-  // Free: occupancy (255 - p) / 255 below free_thresh, i.e. p > 255 (1 - free_thresh).
-  const int free_from = static_cast<int>(std::floor(255.0 * (1.0 - m.free_thresh))) + 1;
-  try {
-    return gridFromImage(g, m.resolution, free_from, m.origin_x, m.origin_y);
+  const GrayImage g = readGrayImage(occupancyImagePath(yaml_path, m));
+  GridMap map;
+  try {  // the frame and size checked there; no cell free yet (threshold above 255)
+    map = gridFromImage(g, m.resolution, 256, m.origin_x, m.origin_y);
   } catch (const InputError&) {
     throw;
   } catch (const Error& e) {
     throw InputError(yaml_path + ": " + e.what());
   }
+  auto grid = std::const_pointer_cast<mrpt::maps::COccupancyGridMap2D>(map.grid);
+  for (int row = 0; row < g.height; ++row)
+    for (int col = 0; col < g.width; ++col) {
+      const int occ = mapServerOccupancy(m, g.at(col, row));
+      grid->setCell(col, g.height - 1 - row, occ < 0 ? 0.5f : 1.0f - occ / 100.0f);
+    }
+  return map;
 }
 
 }  // namespace asf

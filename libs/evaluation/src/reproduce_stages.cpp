@@ -139,7 +139,7 @@ Stage table32Stage(const Settings& s) {
                                          "--graph",
                                          dir + "/partial/graph.g2o",
                                          "--map",
-                                         dir + "/partial/occupancy.yaml",
+                                         dir + "/partial/map.yaml",
                                          "--voronoi",
                                          "--start",
                                          "201",
