@@ -17,6 +17,8 @@ function(asf_add_plugin target)
     message(FATAL_ERROR "asf_add_plugin(${target}): SOURCES is required")
   endif()
   add_library(${target} MODULE ${ARG_SOURCES})
+  # asf_runtime (the top-level CMakeLists) builds the host and every plugin, nothing else.
+  set_property(GLOBAL APPEND PROPERTY ASF_PLUGIN_TARGETS ${target})
   # The contract alone; a plugin using more of asf names it (LIBRARIES asf::framework).
   if(TARGET asf_contract)
     target_link_libraries(${target} PRIVATE asf_contract ${ARG_LIBRARIES})

@@ -1,17 +1,18 @@
 // The asf host as a user meets it: subcommands, --help, exit codes, messages.
 #include <asf/abi.h>
 #include <gtest/gtest.h>
-
-#include "test_util.h"
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
-#include <fstream>
-#include <nlohmann/json.hpp>
+
+#include "test_util.h"
 
 using asf_test::has;
 namespace fs = std::filesystem;
@@ -52,8 +53,8 @@ TEST(Host, HelpAndUsage) {
 TEST(Host, LauncherVersionAloneAndAMissingHostLibraryIsNamed) {
   auto r = asf("--version");
   EXPECT_EQ(r.code, 0);
-  EXPECT_EQ(r.out, "asf " ASF_VERSION_STRING " (plugin ABI " + std::to_string(ASF_ABI_VERSION) +
-                       ")\n");
+  EXPECT_EQ(r.out,
+            "asf " ASF_VERSION_STRING " (plugin ABI " + std::to_string(ASF_ABI_VERSION) + ")\n");
   const fs::path dir = fs::temp_directory_path() / "asf_launcher_alone" / "bin";
   fs::create_directories(dir);
   fs::copy_file(ASF_TEST_BINARY_DIR "/bin/asf", dir / "asf", fs::copy_options::overwrite_existing);
@@ -80,8 +81,8 @@ TEST(Host, PluginsListsEveryKindAsJson) {
     EXPECT_TRUE(fs::exists(p["file"].get<std::string>()));
     EXPECT_FALSE(p["description"].get<std::string>().empty());
   }
-  EXPECT_EQ(kinds, (std::set<std::string>{"source", "frontend", "backend", "segmenter",
-                                          "planner", "policy"}));
+  EXPECT_EQ(kinds, (std::set<std::string>{"source", "frontend", "backend", "segmenter", "planner",
+                                          "policy"}));
 }
 
 TEST(Host, PluginsReportsBrokenFilesWithExitCode1) {
@@ -91,7 +92,8 @@ TEST(Host, PluginsReportsBrokenFilesWithExitCode1) {
 }
 
 TEST(Host, ConfigPrintsDefaultsAndRejectsTypos) {
-  auto r = asf("config " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --set map.resolution=0.1");
+  auto r =
+      asf("config " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --set map.resolution=0.1");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "resolution = 0.1"));
   EXPECT_TRUE(has(r.out, "[dense_gn]")) << "sections of selected plugins appear with defaults";
@@ -101,7 +103,8 @@ TEST(Host, ConfigPrintsDefaultsAndRejectsTypos) {
   r = asf("config " + f.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(has(r.out, f.string() + ":5: [segment_world] unknown key 'laser_max_rnge' (did you "
-                                      "mean 'laser_max_range'?)")) << r.out;
+                                      "mean 'laser_max_range'?)"))
+      << r.out;
   r = asf("config " + f.string() + " --set bogus");
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(has(r.out, "expected section.key=value")) << r.out;
@@ -111,12 +114,32 @@ TEST(Host, ConfigPrintsDefaultsAndRejectsTypos) {
 TEST(Host, RunWritesResultsAndSaysWhere) {
   const fs::path out = fs::temp_directory_path() / "asf_host_run";
   fs::remove_all(out);
-  const auto r = asf("run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " + out.string() +
-                     " --set pipeline.max_steps=50 -v WARN");
+  const auto r = asf("run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " +
+                     out.string() + " --set pipeline.max_steps=50 -v WARN");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "step budget (50) spent")) << r.out;
   EXPECT_TRUE(has(r.out, "results in " + out.string())) << r.out;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
+  fs::remove_all(out);
+}
+
+// The console gets warnings, errors and the progress line; run.log in the output folder gets
+// every line at the run's verbosity; -v puts that level on the console too.
+TEST(Host, RunLogKeepsEveryLineAndTheConsoleTheProgress) {
+  const fs::path out = fs::temp_directory_path() / "asf_host_run_log";
+  fs::remove_all(out);
+  const std::string run = "run " ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini --out " +
+                          out.string() + " --set pipeline.max_steps=50";
+  auto r = asf(run);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(has(r.out, "|INFO |")) << r.out;
+  EXPECT_TRUE(has(r.out, "\nstep 50 ") || r.out.rfind("step 50 ", 0) == 0) << r.out;
+  std::ifstream f(out / "run.log");
+  const std::string log((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(has(log, "|INFO |asf] step 50 ")) << log;
+  r = asf(run + " -v INFO");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(has(r.out, "|INFO |asf] step 50 ")) << r.out;
   fs::remove_all(out);
 }
 

@@ -77,6 +77,9 @@ std::string unreadable(const fs::path& f) {
       asf::readGrayImage(f.string());
     } else if (ext == ".yaml") {
       asf::readOccupancyYaml(f.string());
+    } else if (ext == ".log") {
+      // run.log: appended a line at a time, read by people; a kill may cut its last line.
+      return "";
     } else if (ext == ".ini") {
       asf::IniConfig::fromFile(f.string());
     } else if (name.size() > 7 && name.substr(name.size() - 7) == ".gt.txt") {

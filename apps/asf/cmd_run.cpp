@@ -32,8 +32,12 @@ int cmdRun(int argc, char** argv) {
                                    false, "section.key=value", cmd);
   std::vector<std::string> levels{"DEBUG", "INFO", "WARN", "ERROR"};
   TCLAP::ValuesConstraint<std::string> lv(levels);
-  TCLAP::ValueArg<std::string> verb("v", "verbosity", "Log level (overrides [pipeline] verbosity)",
-                                    false, "", &lv, cmd);
+  TCLAP::ValueArg<std::string> verb(
+      "v", "verbosity",
+      "Log level (overrides [pipeline] verbosity), on the console too. Without it (and without "
+      "verbosity in the INI) the console shows warnings, errors and one progress line; every "
+      "line goes to the output folder's run.log",
+      false, "", &lv, cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 

@@ -1,6 +1,9 @@
 #include <asf/errors.h>
 #include <asf/pipeline.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "pipeline_impl.h"
@@ -33,6 +36,7 @@ void PipelineParts::make(const char* slot, int index, PluginHandle<T>& h) {
   if (it == cfg.slots.end()) return;
   h = Registry::create<T>(it->second);
   h->setMinLoggingLevel(getMinLoggingLevel());
+  if (log) RunLog::attach(log, *h);
   PluginContext ctx;
   ctx.seed = splitmix64(static_cast<std::uint64_t>(cfg.pipeline.getInt("seed")) * 8 + index);
   ctx.output_dir = out_dir;
@@ -57,7 +61,15 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
     std::filesystem::create_directories(out_dir, ec);
     if (ec) throw Error(out_dir + ": cannot create the output folder: " + ec.message());
   }
-  m.setMinLoggingLevel(parseVerbosity(cfg.pipeline.getString("verbosity")));
+  const mrpt::system::VerbosityLevel level = parseVerbosity(cfg.pipeline.getString("verbosity"));
+  m.setMinLoggingLevel(level);
+  // Every line to run.log; on the console warnings, errors and the progress line, unless a
+  // verbosity was asked for (-v INFO: every INFO line there too, as before run.log existed).
+  const auto console =
+      cfg.pipeline.isDefault("verbosity") ? std::max(level, mrpt::system::LVL_WARN) : level;
+  m.log = std::make_shared<RunLog>(out_dir.empty() ? "" : out_dir + "/run.log", console, stderr,
+                                   isatty(fileno(stderr)) != 0);
+  RunLog::attach(m.log, m);
   for (const auto& w : cfg.warnings) m.logStr(mrpt::system::LVL_WARN, w);
   m.make("source", 0, m.source);
   m.make("frontend", 1, m.frontend);
@@ -110,9 +122,10 @@ void PipelineParts::segmentWorld() {
 }
 
 std::vector<std::string> Pipeline::outputFiles() {
-  return {"config.ini",    "trajectory.csv", "timeseries.csv", "decisions.csv", "graph.g2o",
-          "keyframes.txt", "map.png",        "regions.png",    "map.pgm",       "map.yaml",
-          "topology.json", "topology.svg",   "summary.json",   "progress.json", "report.html"};
+  return {"config.ini",   "trajectory.csv", "timeseries.csv", "decisions.csv",
+          "graph.g2o",    "keyframes.txt",  "map.png",        "regions.png",
+          "map.pgm",      "map.yaml",       "topology.json",  "topology.svg",
+          "summary.json", "progress.json",  "report.html",    "run.log"};
 }
 
 RunSummary Pipeline::run(const std::atomic<bool>* stop) { return runPipeline(*impl_, stop); }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "navigation_maps.h"
+#include "run_log.h"
 
 namespace asf {
 
@@ -26,6 +27,8 @@ struct PipelineParts : public mrpt::system::COutputLogger {
   PipelineParts() : COutputLogger("asf") {}
   ResolvedConfig cfg;
   std::string out_dir;
+  /// run.log and the console, for the host's and every plugin's lines (kept alive by them).
+  std::shared_ptr<RunLog> log;
   PluginHandle<Source> source;
   PluginHandle<Frontend> frontend;
   PluginHandle<Backend> backend;

@@ -135,10 +135,12 @@ RunSummary RunState::run() {
     finalOptimization();
   } catch (const std::exception& e) {
     sum_.stop_reason = std::string("error: ") + e.what();
+    if (m_.log) m_.log->endProgress();
     finish();
     throw;
   }
   progress(true);
+  if (m_.log) m_.log->endProgress();
   finish();
   checkPathHome();
   return sum_;
@@ -357,6 +359,7 @@ void RunState::progress(bool force) {
   os << "  (" << std::setprecision(1) << std::chrono::duration<double>(now - t_start_).count()
      << " s)";
   m_.logStr(mrpt::system::LVL_INFO, os.str());
+  if (m_.log) m_.log->progress(os.str());
 }
 
 void RunState::summarize() {
