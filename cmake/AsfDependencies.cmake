@@ -51,4 +51,7 @@ asf_require(BZIP2_FOUND "bzip2 library (libbz2)" libbz2-dev)
 # zlib (C API): gzip-compressed text logs (CARMEN .log.gz), with truncation detected.
 find_package(ZLIB QUIET)
 asf_require(ZLIB_FOUND "zlib" zlib1g-dev)
+# SQLite (C API): ROS 2 bags (rosbag2's sqlite3 storage; asf bag2rawlog).
+find_package(SQLite3 QUIET)
+asf_require(SQLite3_FOUND "SQLite 3" libsqlite3-dev)
 

@@ -30,6 +30,7 @@ int cmdGraphGen(int argc, char** argv);
 int cmdRawseeds2Rawlog(int argc, char** argv);
 int cmdRawlog2Rawseeds(int argc, char** argv);
 int cmdCarmen2Rawlog(int argc, char** argv);
+int cmdBag2Rawlog(int argc, char** argv);
 int cmdRawlogNormalize(int argc, char** argv);
 int cmdAte(int argc, char** argv);
 int cmdSegment(int argc, char** argv);

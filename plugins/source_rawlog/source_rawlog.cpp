@@ -3,9 +3,15 @@
 #include <asf/errors.h>
 #include <asf/rawlog_io.h>
 #include <asf/source.h>
+#include <asf_convert/rosbag2.h>
+#include <unistd.h>
 
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -47,8 +53,9 @@ class RawlogSource final : public asf::Source {
       if (gt_.empty()) p.fail("ground_truth", "the file has no poses");
     }
 
-    const std::string file = p.getString("file");
+    std::string file = p.getString("file");
     if (file.empty()) p.fail("file", "a rawlog file is required");
+    if (asf::convert::isRosbag2(file)) file = fromBag(p, file, ctx.output_dir);
     try {
       reader_ = std::make_unique<asf::RawlogReader>(file, o);
     } catch (const asf::InputError& e) {
@@ -87,6 +94,42 @@ class RawlogSource final : public asf::Source {
   }
 
  private:
+  /// A ROS 2 bag is converted to a rawlog first (asf bag2rawlog's conversion), kept in the
+  /// output folder as bag.rawlog (in a temporary file without one, removed at the end).
+  std::string fromBag(const asf::Params& p, const std::string& bag, const std::string& out_dir) {
+    asf::convert::BagToRawlogOptions o;
+    o.input = bag;
+    o.scan_topic = p.getString("bag_scan_topic");
+    o.odom_topic = p.getString("bag_odom_topic");
+    o.odometry = o.odom_topic != "none";
+    if (!o.odometry) o.odom_topic.clear();
+    o.base_frame = p.getString("bag_base_frame");
+    if (!p.getString("bag_laser_pose").empty()) try {
+        o.laser_pose = asf::convert::parseLaserPose(p.getString("bag_laser_pose"));
+      } catch (const std::invalid_argument& e) {
+        p.fail("bag_laser_pose", e.what());
+      }
+    if (!out_dir.empty()) {
+      o.output = (std::filesystem::path(out_dir) / "bag.rawlog").string();
+    } else {
+      temp_ = (std::filesystem::temp_directory_path() /
+               ("asf_bag_" + std::to_string(::getpid()) + "_" +
+                std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".rawlog"))
+                  .string();
+      o.output = temp_;
+    }
+    try {
+      const auto r = asf::convert::bagToRawlog(o);
+      MRPT_LOG_INFO_STREAM(bag << ": " << r.scans << " scans from " << r.scan_topic << ", "
+                               << r.odometry << " odometry readings"
+                               << (r.odom_topic.empty() ? "" : " from " + r.odom_topic)
+                               << ", laser pose from " << r.laser_pose_from << " -> " << o.output);
+    } catch (const asf::InputError& e) {
+      p.fail("file", e.what());
+    }
+    return o.output;
+  }
+
   std::nullopt_t end() {
     ended_ = true;
     return std::nullopt;
@@ -98,12 +141,29 @@ class RawlogSource final : public asf::Source {
   std::int64_t max_frames_ = 0, start_frame_ = 0, delivered_ = 0, skipped_ = 0;
   std::size_t clamped_ = 0;
   bool ended_ = false;
+  std::string temp_;  ///< a converted bag without an output folder
+
+ public:
+  ~RawlogSource() override {
+    reader_.reset();
+    if (!temp_.empty()) std::remove(temp_.c_str());
+  }
 };
 
 const asf::KeySpec kKeys[] = {
     asf::keyPath("file", nullptr,
                  "Rawlog to replay: .rawlog or .rawlog.gz, action/sensory-frame or "
-                 "observation-only"),
+                 "observation-only; or a ROS 2 bag (rosbag2 folder or .db3; bag_* keys)"),
+    asf::keyString("bag_scan_topic", "",
+                   "ROS 2 bag: the sensor_msgs/msg/LaserScan topic; empty: the bag's only one"),
+    asf::keyString("bag_odom_topic", "",
+                   "ROS 2 bag: the nav_msgs/msg/Odometry topic; empty: the bag's only one; "
+                   "none: no odometry"),
+    asf::keyString("bag_base_frame", "",
+                   "ROS 2 bag: the robot's frame; empty: the odometry's child_frame_id, else "
+                   "base_link"),
+    asf::keyString("bag_laser_pose", "",
+                   "ROS 2 bag: the laser on the robot as 'X,Y,Z,YAW_DEG' instead of /tf_static"),
     asf::keyString("laser_label", "",
                    "sensorLabel of the 2D laser to use; empty: the first laser in the log"),
     asf::keyPath("ground_truth", "",
@@ -114,8 +174,8 @@ const asf::KeySpec kKeys[] = {
                    "Odometry model for logs without covariance: xy std per metre [m/m]", 0, 10),
     asf::keyDouble("odo_a2", "0.001", "Odometry model: xy std per degree turned [m/deg]", 0, 10),
     asf::keyDouble("odo_a3", "1.0", "Odometry model: heading std per metre [deg/m]", 0, 1000),
-    asf::keyDouble("odo_a4", "0.05", "Odometry model: heading std per degree turned [deg/deg]",
-                   0, 10),
+    asf::keyDouble("odo_a4", "0.05", "Odometry model: heading std per degree turned [deg/deg]", 0,
+                   10),
     asf::keyDouble("odo_min_std_xy", "0.01", "Odometry model: xy std added to every step [m]", 0,
                    10),
     asf::keyDouble("odo_min_std_phi_deg", "0.2",
@@ -133,15 +193,16 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("slice_max_z", "1.0", "scan_from_3d: top of the height band [m]", -100, 100),
     asf::keyInt("slice_rays", "720", "scan_from_3d: rays of the sliced scan over 360 deg", 8,
                 100000),
-    asf::keyDouble("slice_max_range", "30.0", "scan_from_3d: points farther are left out [m]",
-                   0.1, 1000),
+    asf::keyDouble("slice_max_range", "30.0", "scan_from_3d: points farther are left out [m]", 0.1,
+                   1000),
     asf::keyInt("max_frames", "0", "Frames delivered before the stream ends; 0: all", 0, 1e12),
-    asf::keyInt("start_frame", "0", "Frames of the log skipped before the first one delivered",
-                0, 1e12),
+    asf::keyInt("start_frame", "0", "Frames of the log skipped before the first one delivered", 0,
+                1e12),
 };
 
 }  // namespace
 
 ASF_PLUGIN(RawlogSource, asf::PluginKind::Source, "rawlog", "1.0.0",
-           "Replays an MRPT rawlog (plain or gz, both layouts) with optional ground truth",
+           "Replays an MRPT rawlog (plain or gz, both layouts) or a ROS 2 bag, with optional "
+           "ground truth",
            asf::ThreadSafety::ThreadCompatible, kKeys)

@@ -1,0 +1,148 @@
+#pragma once
+/// \file rosbag2.h
+/// ROS 2 bags (rosbag2, sqlite3 storage, CDR messages) to an MRPT rawlog: the 2D laser
+/// (sensor_msgs/msg/LaserScan), the odometry (nav_msgs/msg/Odometry) and the laser's mounting
+/// on the robot (tf2_msgs/msg/TFMessage on /tf_static), stamps kept to the 100 ns of MRPT's
+/// clock. The messages are decoded here (CDR as the DDS spec and rosidl lay them out), so no
+/// ROS installation is needed.
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace asf::convert {
+
+/// One topic of a bag.
+struct BagTopic {
+  std::string name, type, serialization_format;
+  std::uint64_t messages = 0;
+};
+
+/// A rosbag2 folder (metadata.yaml beside its .db3 files) or one .db3 file, read through
+/// SQLite. Throws asf::InputError naming the file: not a bag, a storage other than sqlite3,
+/// compressed files or messages.
+class Rosbag2Reader {
+ public:
+  explicit Rosbag2Reader(const std::string& path);
+  ~Rosbag2Reader();
+  Rosbag2Reader(const Rosbag2Reader&) = delete;
+  Rosbag2Reader& operator=(const Rosbag2Reader&) = delete;
+
+  const std::vector<BagTopic>& topics() const;
+  /// The topic of that name, or null.
+  const BagTopic* topic(const std::string& name) const;
+  /// Calls `f(topic, bag_time_ns, data, size)` for every message of `topics`, in the bag's
+  /// time order (ties in the order written), over every file of the bag.
+  template <class F>
+  void forEach(const std::vector<std::string>& topics, F&& f) const;
+  /// The bag's files, in order.
+  const std::vector<std::string>& files() const;
+
+ private:
+  struct Impl;
+  using Visitor = void (*)(void* ctx, const std::string& topic, std::int64_t t,
+                           const std::uint8_t* data, std::size_t size);
+  void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const;
+  std::unique_ptr<Impl> impl_;
+};
+
+template <class F>
+void Rosbag2Reader::forEach(const std::vector<std::string>& topics, F&& f) const {
+  visit(
+      topics,
+      [](void* ctx, const std::string& topic, std::int64_t t, const std::uint8_t* d,
+         std::size_t n) { (*static_cast<F*>(ctx))(topic, t, d, n); },
+      &f);
+}
+
+/// The CDR stream of one message (OMG CDR as XCDR1 plain: a 4-byte encapsulation header,
+/// CDR_LE or CDR_BE, then the fields aligned to their size from the header's end). Reads past
+/// the end throw asf::InputError naming `where`.
+class CdrReader {
+ public:
+  CdrReader(const std::uint8_t* data, std::size_t size, std::string where);
+  std::uint8_t u8();
+  std::int32_t i32();
+  std::uint32_t u32();
+  float f32();
+  double f64();
+  std::string str();            ///< uint32 length (with the NUL), bytes, NUL
+  std::vector<float> f32seq();  ///< uint32 count, then the floats
+  std::size_t offset() const { return pos_; }
+
+ private:
+  void align(std::size_t n);
+  const std::uint8_t* need(std::size_t n);
+  const std::uint8_t* data_;
+  std::size_t size_, pos_ = 4;
+  bool swap_ = false;
+  std::string where_;
+};
+
+struct RosTime {
+  std::int32_t sec = 0;
+  std::uint32_t nanosec = 0;
+};
+
+struct LaserScanMsg {
+  RosTime stamp;
+  std::string frame_id;
+  float angle_min = 0, angle_max = 0, angle_increment = 0, time_increment = 0, scan_time = 0,
+        range_min = 0, range_max = 0;
+  std::vector<float> ranges, intensities;
+};
+struct OdometryMsg {
+  RosTime stamp;
+  std::string frame_id, child_frame_id;
+  double x = 0, y = 0, z = 0, qx = 0, qy = 0, qz = 0, qw = 1;
+};
+struct TransformMsg {
+  RosTime stamp;
+  std::string frame_id, child_frame_id;
+  double x = 0, y = 0, z = 0, qx = 0, qy = 0, qz = 0, qw = 1;
+};
+
+LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where);
+OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where);
+std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
+                                          const std::string& where);
+
+struct BagToRawlogOptions {
+  std::string input;       ///< rosbag2 folder or .db3 file
+  std::string output;      ///< .rawlog or .rawlog.gz
+  std::string scan_topic;  ///< empty: the bag's only LaserScan topic
+  std::string odom_topic;  ///< empty: the bag's only Odometry topic (none: no odometry)
+  bool odometry = true;    ///< false: scans only
+  std::string base_frame;  ///< empty: the odometry's child_frame_id, else "base_link"
+  /// The laser on the robot; when unset, from /tf_static (base_frame -> the scans' frame_id).
+  std::optional<mrpt::poses::CPose3D> laser_pose;
+  std::ostream* progress = nullptr;
+};
+
+struct BagToRawlogReport {
+  std::vector<BagTopic> topics;
+  std::string scan_topic, odom_topic, laser_frame, base_frame;
+  mrpt::poses::CPose3D laser_pose;
+  std::string laser_pose_from;  ///< "/tf_static", "--laser-pose" or "identity (same frame)"
+  std::size_t scans = 0, odometry = 0, rays = 0;
+  double aperture_deg = 0;
+  double wall_time_s = 0;
+};
+
+/// Whether `path` is a ROS 2 bag: a folder with metadata.yaml, or a .db3 file.
+bool isRosbag2(const std::string& path);
+
+/// "X,Y,Z,YAW_DEG" as a pose; throws std::invalid_argument saying what is wrong.
+mrpt::poses::CPose3D parseLaserPose(const std::string& text);
+
+/// Converts; throws asf::InputError naming the bag: a missing topic (listing the topics
+/// present), a topic of another type, no transform from the base to the laser frame.
+BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o);
+
+}  // namespace asf::convert

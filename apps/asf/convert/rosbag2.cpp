@@ -1,0 +1,313 @@
+#include "asf_convert/rosbag2.h"
+
+#include <asf/errors.h>
+#include <asf/text.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+#include "asf_convert/text_io.h"
+
+namespace asf::convert {
+
+namespace fs = std::filesystem;
+
+// ------------------------------------------------------------------------------- CDR -----
+
+CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string where)
+    : data_(data), size_(size), where_(std::move(where)) {
+  if (size < 4) throw InputError(where_ + ": a CDR message shorter than its 4-byte header");
+  // Encapsulation kind (big-endian short): 0 CDR_BE, 1 CDR_LE; the parameter-list and XCDR2
+  // kinds are not what ROS 2 writes for these messages.
+  if (data[0] != 0 || data[1] > 1)
+    throw InputError(where_ + ": CDR encapsulation " + std::to_string(data[0] * 256 + data[1]) +
+                     " is not plain CDR (0 big-endian, 1 little-endian)");
+  const bool le = data[1] == 1;
+  const std::uint16_t probe = 1;
+  std::uint8_t first;
+  std::memcpy(&first, &probe, 1);
+  swap_ = (first == 1) != le;
+}
+
+void CdrReader::align(std::size_t n) {
+  const std::size_t rel = pos_ - 4;  // alignment counts from the end of the header
+  pos_ = 4 + (rel + n - 1) / n * n;
+}
+
+const std::uint8_t* CdrReader::need(std::size_t n) {
+  if (pos_ > size_ || size_ - pos_ < n)
+    throw InputError(where_ + ": the message ends at byte " + std::to_string(size_) +
+                     ", inside a field at byte " + std::to_string(pos_) + " (truncated?)");
+  const std::uint8_t* p = data_ + pos_;
+  pos_ += n;
+  return p;
+}
+
+namespace {
+template <class T>
+T readSwapped(const std::uint8_t* p, bool swap) {
+  std::uint8_t b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return v;
+}
+}  // namespace
+
+std::uint8_t CdrReader::u8() { return *need(1); }
+std::int32_t CdrReader::i32() {
+  align(4);
+  return readSwapped<std::int32_t>(need(4), swap_);
+}
+std::uint32_t CdrReader::u32() {
+  align(4);
+  return readSwapped<std::uint32_t>(need(4), swap_);
+}
+float CdrReader::f32() {
+  align(4);
+  return readSwapped<float>(need(4), swap_);
+}
+double CdrReader::f64() {
+  align(8);
+  return readSwapped<double>(need(8), swap_);
+}
+std::string CdrReader::str() {
+  const std::uint32_t n = u32();
+  if (n == 0) return {};  // some writers send an empty string as length 0
+  const std::uint8_t* p = need(n);
+  if (p[n - 1] != 0) throw InputError(where_ + ": a string without its terminating NUL");
+  return std::string(reinterpret_cast<const char*>(p), n - 1);
+}
+std::vector<float> CdrReader::f32seq() {
+  const std::uint32_t n = u32();
+  if (n > (size_ - std::min(size_, pos_)) / 4)
+    throw InputError(where_ + ": a sequence of " + std::to_string(n) +
+                     " floats is longer than the message");
+  std::vector<float> v(n);
+  for (auto& x : v) x = f32();
+  return v;
+}
+
+namespace {
+
+void header(CdrReader& c, RosTime& stamp, std::string& frame_id) {
+  stamp.sec = c.i32();
+  stamp.nanosec = c.u32();
+  frame_id = c.str();
+}
+
+}  // namespace
+
+LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where) {
+  CdrReader c(data, size, where);
+  LaserScanMsg m;
+  header(c, m.stamp, m.frame_id);
+  m.angle_min = c.f32();
+  m.angle_max = c.f32();
+  m.angle_increment = c.f32();
+  m.time_increment = c.f32();
+  m.scan_time = c.f32();
+  m.range_min = c.f32();
+  m.range_max = c.f32();
+  m.ranges = c.f32seq();
+  m.intensities = c.f32seq();
+  return m;
+}
+
+OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where) {
+  CdrReader c(data, size, where);
+  OdometryMsg m;
+  header(c, m.stamp, m.frame_id);
+  m.child_frame_id = c.str();
+  m.x = c.f64();
+  m.y = c.f64();
+  m.z = c.f64();
+  m.qx = c.f64();
+  m.qy = c.f64();
+  m.qz = c.f64();
+  m.qw = c.f64();
+  for (int k = 0; k < 36; ++k) c.f64();  // the pose covariance: the message must hold it
+  return m;
+}
+
+std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
+                                          const std::string& where) {
+  CdrReader c(data, size, where);
+  const std::uint32_t n = c.u32();
+  if (n > size / 60) throw InputError(where + ": " + std::to_string(n) + " transforms cannot fit");
+  std::vector<TransformMsg> v(n);
+  for (auto& t : v) {
+    header(c, t.stamp, t.frame_id);
+    t.child_frame_id = c.str();
+    t.x = c.f64();
+    t.y = c.f64();
+    t.z = c.f64();
+    t.qx = c.f64();
+    t.qy = c.f64();
+    t.qz = c.f64();
+    t.qw = c.f64();
+  }
+  return v;
+}
+
+// --------------------------------------------------------------------------- the bag -----
+
+namespace {
+
+struct Db {
+  sqlite3* db = nullptr;
+  ~Db() {
+    if (db) sqlite3_close(db);
+  }
+};
+
+struct Stmt {
+  sqlite3_stmt* s = nullptr;
+  Stmt(sqlite3* db, const std::string& sql, const std::string& file) {
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr) != SQLITE_OK)
+      throw InputError(file + ": not a rosbag2 sqlite3 file (" + sqlite3_errmsg(db) + ")");
+  }
+  ~Stmt() { sqlite3_finalize(s); }
+  std::string text(int col) const {
+    const unsigned char* t = sqlite3_column_text(s, col);
+    return t ? reinterpret_cast<const char*>(t) : "";
+  }
+};
+
+/// The value of `key: value` on its own line (quotes removed), or "".
+std::string yamlValue(const std::string& text, const std::string& key) {
+  std::istringstream is(text);
+  std::string line;
+  while (std::getline(is, line)) {
+    const std::string t = trim(line);
+    if (t.rfind(key + ":", 0) != 0) continue;
+    std::string v = trim(t.substr(key.size() + 1));
+    if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'')) v = v.substr(1, v.size() - 2);
+    return v;
+  }
+  return "";
+}
+
+/// The items of the block list under `key:` ("- item" lines).
+std::vector<std::string> yamlList(const std::string& text, const std::string& key) {
+  std::istringstream is(text);
+  std::string line;
+  std::vector<std::string> out;
+  bool in = false;
+  while (std::getline(is, line)) {
+    const std::string t = trim(line);
+    if (!in) {
+      in = t == key + ":";
+      continue;
+    }
+    if (t.rfind("- ", 0) != 0) break;
+    std::string v = trim(t.substr(2));
+    if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'')) v = v.substr(1, v.size() - 2);
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+struct Rosbag2Reader::Impl {
+  std::vector<std::string> files;
+  std::vector<std::unique_ptr<Db>> dbs;
+  std::vector<BagTopic> topics;
+};
+
+Rosbag2Reader::Rosbag2Reader(const std::string& path) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    const fs::path meta = fs::path(path) / "metadata.yaml";
+    std::ifstream f(meta);
+    if (!f) throw InputError(path + ": a folder without metadata.yaml is not a rosbag2 bag");
+    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const std::string storage = yamlValue(text, "storage_identifier");
+    if (storage != "sqlite3")
+      throw InputError(meta.string() + ": storage '" + storage +
+                       "' is not supported (sqlite3 is; convert with `ros2 bag convert`)");
+    const std::string comp = yamlValue(text, "compression_format");
+    if (!comp.empty())
+      throw InputError(meta.string() + ": compressed with '" + comp + "' (" +
+                       yamlValue(text, "compression_mode") +
+                       " mode), which is not supported; decompress with `ros2 bag convert`");
+    for (const auto& r : yamlList(text, "relative_file_paths"))
+      m.files.push_back((fs::path(path) / r).string());
+    if (m.files.empty()) throw InputError(meta.string() + ": no relative_file_paths");
+  } else if (fs::exists(path, ec)) {
+    m.files.push_back(path);
+  } else {
+    throw InputError(path + ": no such bag (a rosbag2 folder or a .db3 file)");
+  }
+  std::map<std::string, std::size_t> by_name;
+  for (const auto& file : m.files) {
+    auto db = std::make_unique<Db>();
+    if (sqlite3_open_v2(file.c_str(), &db->db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
+      throw InputError(file + ": cannot open (" + sqlite3_errmsg(db->db) + ")");
+    Stmt t(db->db,
+           "SELECT t.name, t.type, t.serialization_format, COUNT(m.id) FROM topics t "
+           "LEFT JOIN messages m ON m.topic_id = t.id GROUP BY t.id ORDER BY t.id",
+           file);
+    while (sqlite3_step(t.s) == SQLITE_ROW) {
+      const std::string name = t.text(0);
+      auto it = by_name.find(name);
+      if (it == by_name.end()) {
+        it = by_name.emplace(name, m.topics.size()).first;
+        m.topics.push_back({name, t.text(1), t.text(2), 0});
+      }
+      m.topics[it->second].messages += static_cast<std::uint64_t>(sqlite3_column_int64(t.s, 3));
+    }
+    m.dbs.push_back(std::move(db));
+  }
+}
+
+Rosbag2Reader::~Rosbag2Reader() = default;
+
+const std::vector<BagTopic>& Rosbag2Reader::topics() const { return impl_->topics; }
+const std::vector<std::string>& Rosbag2Reader::files() const { return impl_->files; }
+
+const BagTopic* Rosbag2Reader::topic(const std::string& name) const {
+  for (const auto& t : impl_->topics)
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const {
+  for (std::size_t k = 0; k < impl_->dbs.size(); ++k) {
+    sqlite3* db = impl_->dbs[k]->db;
+    const std::string& file = impl_->files[k];
+    std::string in;
+    for (const auto& t : topics) {
+      char* q = sqlite3_mprintf("%Q", t.c_str());
+      in += (in.empty() ? "" : ", ") + std::string(q);
+      sqlite3_free(q);
+    }
+    Stmt s(db,
+           "SELECT t.name, m.timestamp, m.data FROM messages m JOIN topics t ON t.id = m.topic_id "
+           "WHERE t.name IN (" +
+               in + ") ORDER BY m.timestamp, m.id",
+           file);
+    int rc;
+    while ((rc = sqlite3_step(s.s)) == SQLITE_ROW) {
+      const auto* d = static_cast<const std::uint8_t*>(sqlite3_column_blob(s.s, 2));
+      const auto n = static_cast<std::size_t>(sqlite3_column_bytes(s.s, 2));
+      v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), d, n);
+    }
+    if (rc != SQLITE_DONE) throw InputError(file + ": " + sqlite3_errmsg(db));
+  }
+}
+
+}  // namespace asf::convert
