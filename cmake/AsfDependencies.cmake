@@ -54,4 +54,32 @@ asf_require(ZLIB_FOUND "zlib" zlib1g-dev)
 # SQLite (C API): ROS 2 bags (rosbag2's sqlite3 storage; asf bag2rawlog).
 find_package(SQLite3 QUIET)
 asf_require(SQLite3_FOUND "SQLite 3" libsqlite3-dev)
+# ROS 1 bags: the official ROS 1 library (Debian's librosbag-storage). Found by hand: its
+# catkin CMake package pulls in ament's Python tools, which need not be there.
+find_path(ASF_ROSBAG_INCLUDE_DIR rosbag/bag.h)
+find_library(ASF_ROSBAG_STORAGE_LIB rosbag_storage)
+find_library(ASF_ROSCPP_SERIALIZATION_LIB roscpp_serialization)
+find_library(ASF_ROSTIME_LIB rostime)
+find_library(ASF_CPP_COMMON_LIB cpp_common)
+set(ASF_ROSBAG_FOUND FALSE)
+if(ASF_ROSBAG_INCLUDE_DIR AND ASF_ROSBAG_STORAGE_LIB AND ASF_ROSCPP_SERIALIZATION_LIB
+   AND ASF_ROSTIME_LIB AND ASF_CPP_COMMON_LIB)
+  set(ASF_ROSBAG_FOUND TRUE)
+endif()
+set(ASF_ROSBAG_LIBRARIES ${ASF_ROSBAG_STORAGE_LIB} ${ASF_ROSCPP_SERIALIZATION_LIB}
+    ${ASF_ROSTIME_LIB} ${ASF_CPP_COMMON_LIB})
+set(ASF_ROSBAG_INCLUDE_DIRS ${ASF_ROSBAG_INCLUDE_DIR})
+# rosbag/bag.h includes pluginlib, which Debian installs ROS 2 style (include/<pkg>/<pkg>/...).
+foreach(_h pluginlib/class_loader.hpp class_loader/multi_library_class_loader.hpp
+        rcpputils/shared_library.hpp rcutils/shared_library.h
+        ament_index_cpp/get_package_prefix.hpp)
+  string(REGEX REPLACE "/.*" "" _pkg "${_h}")
+  find_path(ASF_ROSBAG_INC_${_pkg} ${_h} PATH_SUFFIXES ${_pkg})
+  if(ASF_ROSBAG_INC_${_pkg})
+    list(APPEND ASF_ROSBAG_INCLUDE_DIRS ${ASF_ROSBAG_INC_${_pkg}})
+  else()
+    set(ASF_ROSBAG_FOUND FALSE)
+  endif()
+endforeach()
+asf_require(ASF_ROSBAG_FOUND "ROS 1 rosbag_storage" librosbag-storage-dev)
 

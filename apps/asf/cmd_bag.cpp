@@ -1,4 +1,4 @@
-// asf bag2rawlog: a ROS 2 bag (rosbag2, sqlite3) to an MRPT rawlog (logic in
+// asf bag2rawlog: a ROS 1 or ROS 2 bag to an MRPT rawlog (logic in
 // apps/asf/convert/rosbag2.cpp and bag_to_rawlog.cpp).
 #include <asf/abi.h>
 #include <asf/errors.h>
@@ -16,14 +16,16 @@ namespace asf::app {
 
 int cmdBag2Rawlog(int argc, char** argv) {
   TCLAP::CmdLine cmd(
-      "Converts a ROS 2 bag (a rosbag2 folder with metadata.yaml, or its .db3 file; sqlite3 "
-      "storage, CDR messages) into an observation-only MRPT rawlog that `asf run` replays "
+      "Converts a ROS 1 bag (.bag, format 2.0, chunks plain, bz2 or lz4) or a ROS 2 bag (a "
+      "rosbag2 folder with metadata.yaml, or its .db3 file; sqlite3 storage, CDR messages) into an "
+      "observation-only MRPT rawlog that `asf run` replays "
       "(configs/replay_rawlog.ini): sensor_msgs/msg/LaserScan as 2D range scans, "
       "nav_msgs/msg/Odometry as odometry, the laser's mounting from /tf_static, stamps from "
       "the messages' headers. Without --scan-topic / --odom-topic the bag's only topic of each "
       "type is taken.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> in("i", "in", "rosbag2 folder or .db3 file", true, "", "BAG", cmd);
+  TCLAP::ValueArg<std::string> in("i", "in", "ROS 1 .bag, rosbag2 folder or .db3 file", true, "",
+                                  "BAG", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output rawlog (.gz: compressed)", false, "",
                                    "FILE.rawlog", cmd);
   TCLAP::ValueArg<std::string> scan("", "scan-topic", "LaserScan topic", false, "", "TOPIC", cmd);
@@ -42,8 +44,8 @@ int cmdBag2Rawlog(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   if (list.getValue()) {
-    const convert::Rosbag2Reader bag(in.getValue());
-    for (const auto& t : bag.topics())
+    const auto bag = convert::openBag(in.getValue());
+    for (const auto& t : bag->topics())
       std::cout << std::left << std::setw(32) << t.name << std::setw(34) << t.type << std::right
                 << std::setw(9) << t.messages << "  " << t.serialization_format << "\n";
     return kOk;

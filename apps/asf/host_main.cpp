@@ -44,7 +44,7 @@ const Command kCommands[] = {
     {"carmen2rawlog", asf::app::cmdCarmen2Rawlog,
      "Convert a CARMEN log to a rawlog + ground truth (optionally synthetic odometry)"},
     {"bag2rawlog", asf::app::cmdBag2Rawlog,
-     "Convert a ROS 2 bag (LaserScan, Odometry, /tf_static) to a rawlog"},
+     "Convert a ROS 1 or ROS 2 bag (LaserScan, Odometry, /tf_static) to a rawlog"},
     {"rawlog-normalize", asf::app::cmdRawlogNormalize,
      "Rewrite a rawlog as timestamped action/sensory-frame pairs (for MRPT's tools)"},
     {"ate", asf::app::cmdAte,

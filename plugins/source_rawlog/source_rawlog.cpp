@@ -55,7 +55,7 @@ class RawlogSource final : public asf::Source {
 
     std::string file = p.getString("file");
     if (file.empty()) p.fail("file", "a rawlog file is required");
-    if (asf::convert::isRosbag2(file)) file = fromBag(p, file, ctx.output_dir);
+    if (asf::convert::isRosBag(file)) file = fromBag(p, file, ctx.output_dir);
     try {
       reader_ = std::make_unique<asf::RawlogReader>(file, o);
     } catch (const asf::InputError& e) {
@@ -94,7 +94,7 @@ class RawlogSource final : public asf::Source {
   }
 
  private:
-  /// A ROS 2 bag is converted to a rawlog first (asf bag2rawlog's conversion), kept in the
+  /// A ROS bag is converted to a rawlog first (asf bag2rawlog's conversion), kept in the
   /// output folder as bag.rawlog (in a temporary file without one, removed at the end).
   std::string fromBag(const asf::Params& p, const std::string& bag, const std::string& out_dir) {
     asf::convert::BagToRawlogOptions o;
@@ -153,17 +153,17 @@ class RawlogSource final : public asf::Source {
 const asf::KeySpec kKeys[] = {
     asf::keyPath("file", nullptr,
                  "Rawlog to replay: .rawlog or .rawlog.gz, action/sensory-frame or "
-                 "observation-only; or a ROS 2 bag (rosbag2 folder or .db3; bag_* keys)"),
+                 "observation-only; or a ROS bag (ROS 1 .bag, rosbag2 folder or .db3; bag_* keys)"),
     asf::keyString("bag_scan_topic", "",
-                   "ROS 2 bag: the sensor_msgs/msg/LaserScan topic; empty: the bag's only one"),
+                   "ROS bag: the sensor_msgs/msg/LaserScan topic; empty: the bag's only one"),
     asf::keyString("bag_odom_topic", "",
-                   "ROS 2 bag: the nav_msgs/msg/Odometry topic; empty: the bag's only one; "
+                   "ROS bag: the nav_msgs/msg/Odometry topic; empty: the bag's only one; "
                    "none: no odometry"),
     asf::keyString("bag_base_frame", "",
-                   "ROS 2 bag: the robot's frame; empty: the odometry's child_frame_id, else "
+                   "ROS bag: the robot's frame; empty: the odometry's child_frame_id, else "
                    "base_link"),
     asf::keyString("bag_laser_pose", "",
-                   "ROS 2 bag: the laser on the robot as 'X,Y,Z,YAW_DEG' instead of /tf_static"),
+                   "ROS bag: the laser on the robot as 'X,Y,Z,YAW_DEG' instead of /tf_static"),
     asf::keyString("laser_label", "",
                    "sensorLabel of the 2D laser to use; empty: the first laser in the log"),
     asf::keyPath("ground_truth", "",
@@ -202,7 +202,8 @@ const asf::KeySpec kKeys[] = {
 
 }  // namespace
 
-ASF_PLUGIN(RawlogSource, asf::PluginKind::Source, "rawlog", "1.0.0",
-           "Replays an MRPT rawlog (plain or gz, both layouts) or a ROS 2 bag, with optional "
-           "ground truth",
-           asf::ThreadSafety::ThreadCompatible, kKeys)
+ASF_PLUGIN(
+    RawlogSource, asf::PluginKind::Source, "rawlog", "1.0.0",
+    "Replays an MRPT rawlog (plain or gz, both layouts) or a ROS 1 / ROS 2 bag, with optional "
+    "ground truth",
+    asf::ThreadSafety::ThreadCompatible, kKeys)

@@ -1,4 +1,4 @@
-// ROS 2 bag -> MRPT rawlog (asf bag2rawlog): the chosen LaserScan and Odometry topics as
+// ROS 1 or ROS 2 bag -> MRPT rawlog (asf bag2rawlog): the chosen LaserScan and Odometry topics as
 // CObservation2DRangeScan and CObservationOdometry records in the bag's order, the laser's
 // mounting from /tf_static.
 #include <asf/errors.h>
@@ -26,7 +26,7 @@ constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
 constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
 constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
 
-std::string topicList(const Rosbag2Reader& bag) {
+std::string topicList(const BagReader& bag) {
   std::string s;
   for (const auto& t : bag.topics())
     s += (s.empty() ? "" : ", ") + t.name + " (" + t.type + ", " + std::to_string(t.messages) + ")";
@@ -35,7 +35,7 @@ std::string topicList(const Rosbag2Reader& bag) {
 
 /// The topic named `want` (which must be of `type`), or the bag's only topic of `type` when
 /// `want` is empty; "" when `optional` and there is none.
-std::string chooseTopic(const Rosbag2Reader& bag, const std::string& input, const std::string& want,
+std::string chooseTopic(const BagReader& bag, const std::string& input, const std::string& want,
                         const char* type, const char* option, bool optional) {
   if (!want.empty()) {
     const BagTopic* t = bag.topic(want);
@@ -133,8 +133,9 @@ mrpt::obs::CObservation2DRangeScan toScan(const LaserScanMsg& s, const mrpt::pos
 
 }  // namespace
 
-bool isRosbag2(const std::string& path) {
+bool isRosBag(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::path(path).extension() == ".bag") return true;
   if (std::filesystem::is_directory(path, ec))
     return std::filesystem::exists(std::filesystem::path(path) / "metadata.yaml", ec);
   return std::filesystem::path(path).extension() == ".db3";
@@ -162,14 +163,17 @@ mrpt::poses::CPose3D parseLaserPose(const std::string& text) {
 
 BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
-  const Rosbag2Reader bag(o.input);
+  const std::unique_ptr<BagReader> reader = openBag(o.input);
+  const BagReader& bag = *reader;
   BagToRawlogReport rep;
   rep.topics = bag.topics();
+  const Wire wire = bag.wire();
+  const char* format = wire == Wire::Cdr ? "cdr" : "ros1";
   for (const auto& t : bag.topics())
-    if (t.serialization_format != "cdr" &&
+    if (t.serialization_format != format &&
         (t.type == kLaserScan || t.type == kOdometry || t.type == kTf))
       throw InputError(o.input + ": topic " + t.name + " is serialized as '" +
-                       t.serialization_format + "', not cdr");
+                       t.serialization_format + "', not " + format);
   rep.scan_topic = chooseTopic(bag, o.input, o.scan_topic, kLaserScan, "--scan-topic", false);
   if (o.odometry)
     rep.odom_topic = chooseTopic(bag, o.input, o.odom_topic, kOdometry, "--odom-topic", true);
@@ -178,7 +182,8 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
   bag.forEach({rep.scan_topic}, [&](const std::string&, std::int64_t, const std::uint8_t* d,
                                     std::size_t n) {
     if (rep.laser_frame.empty())
-      rep.laser_frame = stripSlash(decodeLaserScan(d, n, o.input + ": " + rep.scan_topic).frame_id);
+      rep.laser_frame =
+          stripSlash(decodeLaserScan(d, n, o.input + ": " + rep.scan_topic, wire).frame_id);
   });
   rep.base_frame = o.base_frame;
   if (rep.base_frame.empty() && !rep.odom_topic.empty())
@@ -186,7 +191,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
                                       std::size_t n) {
       if (rep.base_frame.empty())
         rep.base_frame =
-            stripSlash(decodeOdometry(d, n, o.input + ": " + rep.odom_topic).child_frame_id);
+            stripSlash(decodeOdometry(d, n, o.input + ": " + rep.odom_topic, wire).child_frame_id);
     });
   if (rep.base_frame.empty()) rep.base_frame = "base_link";
   rep.base_frame = stripSlash(rep.base_frame);
@@ -202,7 +207,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
     if (tf && tf->type == kTf)
       bag.forEach({"/tf_static"},
                   [&](const std::string&, std::int64_t, const std::uint8_t* d, std::size_t n) {
-                    for (const auto& t : decodeTfMessage(d, n, o.input + ": /tf_static"))
+                    for (const auto& t : decodeTfMessage(d, n, o.input + ": /tf_static", wire))
                       up[stripSlash(t.child_frame_id)] = t;
                   });
     rep.laser_pose = laserOnBase(up, rep.base_frame, rep.laser_frame, o.input);
@@ -219,7 +224,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
             o.input + ": " + topic + " message " +
             std::to_string((topic == rep.scan_topic ? rep.scans : rep.odometry) + 1);
         if (topic == rep.scan_topic) {
-          const LaserScanMsg s = decodeLaserScan(d, n, where);
+          const LaserScanMsg s = decodeLaserScan(d, n, where, wire);
           out.write(toScan(s, rep.laser_pose, where));
           if (rep.scans++ == 0) {
             rep.rays = s.ranges.size();
@@ -227,7 +232,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
                 std::abs(s.angle_increment) * static_cast<double>(s.ranges.size() - 1) * 180 / M_PI;
           }
         } else {
-          const OdometryMsg m = decodeOdometry(d, n, where);
+          const OdometryMsg m = decodeOdometry(d, n, where, wire);
           mrpt::obs::CObservationOdometry obs;
           obs.sensorLabel = "ODOMETRY";
           obs.timestamp = clockOf(m.stamp);

@@ -21,9 +21,7 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr int kSickRays = 181;
 
-std::string lineRef(const LineReader& r) {
-  return r.path() + ":" + std::to_string(r.lineNumber());
-}
+std::string lineRef(const LineReader& r) { return r.path() + ":" + std::to_string(r.lineNumber()); }
 
 using Fields = std::vector<std::string_view>;
 
@@ -132,8 +130,8 @@ CsvStream::Parser laserParser(const std::string& stream) {
     for (std::size_t i = 0; i < static_cast<std::size_t>(*n); ++i) {
       const auto r = parseNumber(f[3 + i]);
       if (!r) {
-        why = "range R" + std::to_string(i + 1) + " '" + std::string(f[3 + i]) +
-              "' is not a number";
+        why =
+            "range R" + std::to_string(i + 1) + " '" + std::string(f[3 + i]) + "' is not a number";
         return nullptr;
       }
       const bool valid = std::isfinite(*r) && *r > 0 && *r < kSickMaxRange;
@@ -151,8 +149,8 @@ CsvStream::Parser odometryParser() {
             std::to_string(f.size());
       return nullptr;
     }
-    static const char* kNames[] = {"", "rolling counter", "ticks left", "ticks right",
-                                   "X", "Y", "Theta"};
+    static const char* kNames[] = {"",     "rolling counter", "ticks left", "ticks right", "X", "Y",
+                                   "Theta"};
     double v[7];
     for (int i = 1; i < 7; ++i) {
       const auto d = parseDouble(f[static_cast<std::size_t>(i)]);
@@ -181,8 +179,10 @@ CsvStream::Parser odometryParser() {
 CsvStream::Parser groundTruthParser() {
   return [](const Fields& f, const Stamp& t, std::string& why) -> mrpt::obs::CObservation::Ptr {
     if (f.size() != 13 && f.size() != 4) {
-      why = "expected 13 fields (timestamp, X, Y, Theta, 9 covariance terms) or 4 "
-            "(GT-extended: timestamp, X, Y, Theta), got " + std::to_string(f.size());
+      why =
+          "expected 13 fields (timestamp, X, Y, Theta, 9 covariance terms) or 4 "
+          "(GT-extended: timestamp, X, Y, Theta), got " +
+          std::to_string(f.size());
       return nullptr;
     }
     double v[13];
@@ -299,12 +299,11 @@ RawseedsToRawlogReport rawseedsToRawlog(const RawseedsToRawlogOptions& opt) {
 
   // Priority on equal times: odometry first, so a scan sees the odometry of its instant.
   std::vector<std::unique_ptr<CsvStream>> streams;
-  streams.push_back(std::make_unique<CsvStream>(odo_file, "ODOMETRY_XYT", false,
-                                                opt.skip_bad_lines, odometryParser()));
+  streams.push_back(std::make_unique<CsvStream>(odo_file, "ODOMETRY_XYT", false, opt.skip_bad_lines,
+                                                odometryParser()));
   for (std::size_t i = 0; i < opt.lasers.size(); ++i)
     streams.push_back(std::make_unique<CsvStream>(laser_files[i], opt.lasers[i], false,
-                                                  opt.skip_bad_lines,
-                                                  laserParser(opt.lasers[i])));
+                                                  opt.skip_bad_lines, laserParser(opt.lasers[i])));
 
   RawseedsToRawlogReport rep;
   Progress progress(opt.progress);
@@ -325,8 +324,8 @@ RawseedsToRawlogReport rawseedsToRawlog(const RawseedsToRawlogOptions& opt) {
       if (progress.due()) {
         *progress.stream() << "rawseeds2rawlog: t = " << best->t.str();
         for (auto& s : streams)
-          *progress.stream() << " | " << s->report.stream << " " << percent(s->progress())
-                             << " (" << s->report.lines << " lines)";
+          *progress.stream() << " | " << s->report.stream << " " << percent(s->progress()) << " ("
+                             << s->report.lines << " lines)";
         *progress.stream() << std::endl;
       }
     }
@@ -346,8 +345,8 @@ RawseedsToRawlogReport rawseedsToRawlog(const RawseedsToRawlogOptions& opt) {
 StreamReport rawseedsGroundTruthToFile(const std::string& csv, const std::string& output,
                                        bool skip_bad_lines, std::ostream* progress_os) {
   const std::string name = std::filesystem::path(csv).filename().string();
-  const std::string stream = name.find("GT-extended") != std::string::npos ? "GT-extended"
-                                                                          : "GROUNDTRUTH";
+  const std::string stream =
+      name.find("GT-extended") != std::string::npos ? "GT-extended" : "GROUNDTRUTH";
   CsvStream gt(csv, stream, true, skip_bad_lines, groundTruthParser());
   GroundTruthWriter w(output);
   Progress progress(progress_os);
@@ -355,8 +354,8 @@ StreamReport rawseedsGroundTruthToFile(const std::string& csv, const std::string
     const auto& o = static_cast<const mrpt::obs::CObservationOdometry&>(*gt.obs);
     w.write(gt.t.seconds(), o.odometry);
     if (progress.due())
-      *progress.stream() << "rawseeds2rawlog: " << stream << " " << percent(gt.progress())
-                         << " (" << gt.report.lines << " lines)" << std::endl;
+      *progress.stream() << "rawseeds2rawlog: " << stream << " " << percent(gt.progress()) << " ("
+                         << gt.report.lines << " lines)" << std::endl;
   }
   w.flush();
   return gt.report;
@@ -390,8 +389,8 @@ RawlogToRawseedsReport rawlogToRawseeds(const RawlogToRawseedsOptions& opt) {
     const std::string t = Stamp::fromSeconds(f->timestamp).str();
     pose = pose + f->odometry;
     pose.normalizePhi();
-    odo.line(t + "," + std::to_string(counter) + ",0,0," + fixed(pose.x()) + "," +
-             fixed(pose.y()) + "," + fixed(pose.phi()));
+    odo.line(t + "," + std::to_string(counter) + ",0,0," + fixed(pose.x()) + "," + fixed(pose.y()) +
+             "," + fixed(pose.phi()));
     ++rep.odometry_lines;
     // The robot's counter is an int16 that wraps around.
     counter = static_cast<std::int16_t>(counter == INT16_MAX ? INT16_MIN : counter + 1);
@@ -401,8 +400,8 @@ RawlogToRawseedsReport rawlogToRawseeds(const RawlogToRawseedsOptions& opt) {
     const std::size_t n = s.getScanSize();
     if (n != kSickRays || std::abs(s.aperture - M_PI) > 1e-4) {
       throw InputError(opt.rawlog + ": record " + std::to_string(reader.recordIndex()) +
-                       ": scan '" + s.sensorLabel + "' has " + std::to_string(n) +
-                       " rays over " + fixed(s.aperture / kDeg, 2) +
+                       ": scan '" + s.sensorLabel + "' has " + std::to_string(n) + " rays over " +
+                       fixed(s.aperture / kDeg, 2) +
                        " degrees; a Rawseeds SICK stream holds 181 rays over 180 degrees");
     }
     std::string l = t + ",181,0";
@@ -421,8 +420,9 @@ RawlogToRawseedsReport rawlogToRawseeds(const RawlogToRawseedsOptions& opt) {
   rep.files = {name("SICK_FRONT"), name("ODOMETRY_XYT")};
   if (!opt.gt_input.empty()) {
     TextOut g(name("GROUNDTRUTH"));
-    const std::string cov = "0.000001,0.000000,0.000000,0.000000,0.000001,0.000000,0.000000,"
-                            "0.000000,0.000001";
+    const std::string cov =
+        "0.000001,0.000000,0.000000,0.000000,0.000001,0.000000,0.000000,"
+        "0.000000,0.000001";
     for (const auto& p : gt) {
       if (!(p.t >= 0))
         throw InputError(opt.gt_input + ": negative timestamp " + std::to_string(p.t));

@@ -24,8 +24,16 @@ namespace fs = std::filesystem;
 
 // ------------------------------------------------------------------------------- CDR -----
 
-CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string where)
-    : data_(data), size_(size), where_(std::move(where)) {
+CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string where, Wire wire)
+    : data_(data), size_(size), wire_(wire), where_(std::move(where)) {
+  if (wire == Wire::Ros1) {  // no header, little-endian
+    pos_ = 0;
+    const std::uint16_t probe = 1;
+    std::uint8_t first;
+    std::memcpy(&first, &probe, 1);
+    swap_ = first != 1;
+    return;
+  }
   if (size < 4) throw InputError(where_ + ": a CDR message shorter than its 4-byte header");
   // Encapsulation kind (big-endian short): 0 CDR_BE, 1 CDR_LE; the parameter-list and XCDR2
   // kinds are not what ROS 2 writes for these messages.
@@ -40,6 +48,7 @@ CdrReader::CdrReader(const std::uint8_t* data, std::size_t size, std::string whe
 }
 
 void CdrReader::align(std::size_t n) {
+  if (wire_ == Wire::Ros1) return;   // packed
   const std::size_t rel = pos_ - 4;  // alignment counts from the end of the header
   pos_ = 4 + (rel + n - 1) / n * n;
 }
@@ -86,6 +95,7 @@ std::string CdrReader::str() {
   const std::uint32_t n = u32();
   if (n == 0) return {};  // some writers send an empty string as length 0
   const std::uint8_t* p = need(n);
+  if (wire_ == Wire::Ros1) return std::string(reinterpret_cast<const char*>(p), n);
   if (p[n - 1] != 0) throw InputError(where_ + ": a string without its terminating NUL");
   return std::string(reinterpret_cast<const char*>(p), n - 1);
 }
@@ -101,7 +111,8 @@ std::vector<float> CdrReader::f32seq() {
 
 namespace {
 
-void header(CdrReader& c, RosTime& stamp, std::string& frame_id) {
+void header(CdrReader& c, RosTime& stamp, std::string& frame_id, Wire wire) {
+  if (wire == Wire::Ros1) c.u32();  // seq
   stamp.sec = c.i32();
   stamp.nanosec = c.u32();
   frame_id = c.str();
@@ -109,10 +120,11 @@ void header(CdrReader& c, RosTime& stamp, std::string& frame_id) {
 
 }  // namespace
 
-LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where) {
-  CdrReader c(data, size, where);
+LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where,
+                             Wire wire) {
+  CdrReader c(data, size, where, wire);
   LaserScanMsg m;
-  header(c, m.stamp, m.frame_id);
+  header(c, m.stamp, m.frame_id, wire);
   m.angle_min = c.f32();
   m.angle_max = c.f32();
   m.angle_increment = c.f32();
@@ -125,10 +137,11 @@ LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const s
   return m;
 }
 
-OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where) {
-  CdrReader c(data, size, where);
+OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where,
+                           Wire wire) {
+  CdrReader c(data, size, where, wire);
   OdometryMsg m;
-  header(c, m.stamp, m.frame_id);
+  header(c, m.stamp, m.frame_id, wire);
   m.child_frame_id = c.str();
   m.x = c.f64();
   m.y = c.f64();
@@ -142,13 +155,13 @@ OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std
 }
 
 std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
-                                          const std::string& where) {
-  CdrReader c(data, size, where);
+                                          const std::string& where, Wire wire) {
+  CdrReader c(data, size, where, wire);
   const std::uint32_t n = c.u32();
   if (n > size / 60) throw InputError(where + ": " + std::to_string(n) + " transforms cannot fit");
   std::vector<TransformMsg> v(n);
   for (auto& t : v) {
-    header(c, t.stamp, t.frame_id);
+    header(c, t.stamp, t.frame_id, wire);
     t.child_frame_id = c.str();
     t.x = c.f64();
     t.y = c.f64();
@@ -277,12 +290,16 @@ Rosbag2Reader::Rosbag2Reader(const std::string& path) : impl_(std::make_unique<I
 Rosbag2Reader::~Rosbag2Reader() = default;
 
 const std::vector<BagTopic>& Rosbag2Reader::topics() const { return impl_->topics; }
-const std::vector<std::string>& Rosbag2Reader::files() const { return impl_->files; }
 
-const BagTopic* Rosbag2Reader::topic(const std::string& name) const {
-  for (const auto& t : impl_->topics)
+const BagTopic* BagReader::topic(const std::string& name) const {
+  for (const auto& t : topics())
     if (t.name == name) return &t;
   return nullptr;
+}
+
+std::unique_ptr<BagReader> openBag(const std::string& path) {
+  if (fs::path(path).extension() == ".bag") return std::make_unique<Ros1BagReader>(path);
+  return std::make_unique<Rosbag2Reader>(path);
 }
 
 void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const {

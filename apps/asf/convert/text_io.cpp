@@ -1,11 +1,11 @@
 #include <asf/errors.h>
 #include <asf_convert/text_io.h>
 #include <bzlib.h>
-#include <zlib.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/serialization/CSerializable.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <charconv>
@@ -21,17 +21,24 @@ namespace asf::convert {
 namespace {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string bzErrorName(int code) {
   switch (code) {
-    case BZ_DATA_ERROR: return "corrupt bzip2 data";
-    case BZ_DATA_ERROR_MAGIC: return "not bzip2 data";
-    case BZ_UNEXPECTED_EOF: return "bzip2 data ends early (truncated file)";
-    case BZ_IO_ERROR: return "read/write error";
-    case BZ_MEM_ERROR: return "out of memory";
-    default: return "bzip2 error " + std::to_string(code);
+    case BZ_DATA_ERROR:
+      return "corrupt bzip2 data";
+    case BZ_DATA_ERROR_MAGIC:
+      return "not bzip2 data";
+    case BZ_UNEXPECTED_EOF:
+      return "bzip2 data ends early (truncated file)";
+    case BZ_IO_ERROR:
+      return "read/write error";
+    case BZ_MEM_ERROR:
+      return "out of memory";
+    default:
+      return "bzip2 error " + std::to_string(code);
   }
 }
 
@@ -160,8 +167,7 @@ struct LineReader::Impl {
 
 LineReader::LineReader(const std::string& path) : impl_(std::make_unique<Impl>()) {
   impl_->path = path;
-  if (!std::filesystem::is_regular_file(path))
-    throw InputError(path + ": no such file");
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   if (endsWith(path, ".bz2")) {
     auto s = std::make_unique<Bz2Source>();
     s->path = path;
@@ -379,7 +385,8 @@ bool operator==(const Stamp& a, const Stamp& b) { return a.sec == b.sec && a.use
 std::optional<Stamp> parseStamp(std::string_view s) {
   const std::size_t dot = s.find('.');
   const std::string_view ip = s.substr(0, dot);
-  const std::string_view fp = dot == std::string_view::npos ? std::string_view() : s.substr(dot + 1);
+  const std::string_view fp =
+      dot == std::string_view::npos ? std::string_view() : s.substr(dot + 1);
   const auto digits = [](std::string_view v) {
     return std::all_of(v.begin(), v.end(), [](char c) { return c >= '0' && c <= '9'; });
   };
@@ -459,8 +466,7 @@ std::size_t ObsRawlogWriter::records() const { return impl_->records; }
 
 namespace {
 double wallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 }  // namespace
 

@@ -1,6 +1,7 @@
 #pragma once
 /// \file rosbag2.h
-/// ROS 2 bags (rosbag2, sqlite3 storage, CDR messages) to an MRPT rawlog: the 2D laser
+/// ROS bags to an MRPT rawlog: ROS 2 (rosbag2, sqlite3 storage, CDR messages) and ROS 1
+/// (format 2.0, through the official library): the 2D laser
 /// (sensor_msgs/msg/LaserScan), the odometry (nav_msgs/msg/Odometry) and the laser's mounting
 /// on the robot (tf2_msgs/msg/TFMessage on /tf_static), stamps kept to the 100 ns of MRPT's
 /// clock. The messages are decoded here (CDR as the DDS spec and rosidl lay them out), so no
@@ -14,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace asf::convert {
@@ -24,49 +26,84 @@ struct BagTopic {
   std::uint64_t messages = 0;
 };
 
-/// A rosbag2 folder (metadata.yaml beside its .db3 files) or one .db3 file, read through
-/// SQLite. Throws asf::InputError naming the file: not a bag, a storage other than sqlite3,
-/// compressed files or messages.
-class Rosbag2Reader {
- public:
-  explicit Rosbag2Reader(const std::string& path);
-  ~Rosbag2Reader();
-  Rosbag2Reader(const Rosbag2Reader&) = delete;
-  Rosbag2Reader& operator=(const Rosbag2Reader&) = delete;
+/// How a bag's messages are serialized: ROS 2's CDR, or ROS 1's own (little-endian, packed,
+/// strings without a NUL, a header with a sequence number).
+enum class Wire { Cdr, Ros1 };
 
-  const std::vector<BagTopic>& topics() const;
+/// A bag's topics and messages, whatever the bag's format.
+class BagReader {
+ public:
+  virtual ~BagReader() = default;
+  /// The topics, their types as ROS 2 spells them ("pkg/msg/Type", also for ROS 1 bags).
+  virtual const std::vector<BagTopic>& topics() const = 0;
+  virtual Wire wire() const = 0;
   /// The topic of that name, or null.
   const BagTopic* topic(const std::string& name) const;
   /// Calls `f(topic, bag_time_ns, data, size)` for every message of `topics`, in the bag's
-  /// time order (ties in the order written), over every file of the bag.
+  /// time order (ties in the order written).
   template <class F>
   void forEach(const std::vector<std::string>& topics, F&& f) const;
-  /// The bag's files, in order.
-  const std::vector<std::string>& files() const;
 
- private:
-  struct Impl;
+ protected:
   using Visitor = void (*)(void* ctx, const std::string& topic, std::int64_t t,
                            const std::uint8_t* data, std::size_t size);
-  void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const;
-  std::unique_ptr<Impl> impl_;
+  virtual void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const = 0;
 };
 
 template <class F>
-void Rosbag2Reader::forEach(const std::vector<std::string>& topics, F&& f) const {
+void BagReader::forEach(const std::vector<std::string>& topics, F&& f) const {
   visit(
       topics,
       [](void* ctx, const std::string& topic, std::int64_t t, const std::uint8_t* d,
-         std::size_t n) { (*static_cast<F*>(ctx))(topic, t, d, n); },
+         std::size_t n) { (*static_cast<std::remove_reference_t<F>*>(ctx))(topic, t, d, n); },
       &f);
 }
 
-/// The CDR stream of one message (OMG CDR as XCDR1 plain: a 4-byte encapsulation header,
-/// CDR_LE or CDR_BE, then the fields aligned to their size from the header's end). Reads past
-/// the end throw asf::InputError naming `where`.
+/// A rosbag2 folder (metadata.yaml beside its .db3 files) or one .db3 file, read through
+/// SQLite. Throws asf::InputError naming the file: not a bag, a storage other than sqlite3,
+/// compressed files or messages.
+class Rosbag2Reader final : public BagReader {
+ public:
+  explicit Rosbag2Reader(const std::string& path);
+  ~Rosbag2Reader() override;
+  Rosbag2Reader(const Rosbag2Reader&) = delete;
+  Rosbag2Reader& operator=(const Rosbag2Reader&) = delete;
+  const std::vector<BagTopic>& topics() const override;
+  Wire wire() const override { return Wire::Cdr; }
+
+ private:
+  struct Impl;
+  void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const override;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A ROS 1 bag (format 2.0; chunks plain, bz2 or lz4) through the official ROS 1 library
+/// (Debian's librosbag-storage). Throws asf::InputError naming the file.
+class Ros1BagReader final : public BagReader {
+ public:
+  explicit Ros1BagReader(const std::string& path);
+  ~Ros1BagReader() override;
+  Ros1BagReader(const Ros1BagReader&) = delete;
+  Ros1BagReader& operator=(const Ros1BagReader&) = delete;
+  const std::vector<BagTopic>& topics() const override;
+  Wire wire() const override { return Wire::Ros1; }
+
+ private:
+  struct Impl;
+  void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const override;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A ROS 1 bag (*.bag) or a ROS 2 bag (a folder with metadata.yaml, or a .db3 file).
+std::unique_ptr<BagReader> openBag(const std::string& path);
+
+/// The fields of one serialized message. Cdr: OMG CDR as XCDR1 plain (a 4-byte encapsulation
+/// header, CDR_LE or CDR_BE, then the fields aligned to their size from the header's end);
+/// Ros1: little-endian, packed, strings without a NUL. Reads past the end throw
+/// asf::InputError naming `where`.
 class CdrReader {
  public:
-  CdrReader(const std::uint8_t* data, std::size_t size, std::string where);
+  CdrReader(const std::uint8_t* data, std::size_t size, std::string where, Wire wire = Wire::Cdr);
   std::uint8_t u8();
   std::int32_t i32();
   std::uint32_t u32();
@@ -82,6 +119,7 @@ class CdrReader {
   const std::uint8_t* data_;
   std::size_t size_, pos_ = 4;
   bool swap_ = false;
+  Wire wire_;
   std::string where_;
 };
 
@@ -108,13 +146,15 @@ struct TransformMsg {
   double x = 0, y = 0, z = 0, qx = 0, qy = 0, qz = 0, qw = 1;
 };
 
-LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where);
-OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where);
+LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where,
+                             Wire wire = Wire::Cdr);
+OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where,
+                           Wire wire = Wire::Cdr);
 std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
-                                          const std::string& where);
+                                          const std::string& where, Wire wire = Wire::Cdr);
 
 struct BagToRawlogOptions {
-  std::string input;       ///< rosbag2 folder or .db3 file
+  std::string input;       ///< ROS 1 .bag, rosbag2 folder or .db3 file
   std::string output;      ///< .rawlog or .rawlog.gz
   std::string scan_topic;  ///< empty: the bag's only LaserScan topic
   std::string odom_topic;  ///< empty: the bag's only Odometry topic (none: no odometry)
@@ -135,8 +175,8 @@ struct BagToRawlogReport {
   double wall_time_s = 0;
 };
 
-/// Whether `path` is a ROS 2 bag: a folder with metadata.yaml, or a .db3 file.
-bool isRosbag2(const std::string& path);
+/// Whether `path` is a ROS bag: a ROS 1 .bag file, a folder with metadata.yaml or a .db3 file.
+bool isRosBag(const std::string& path);
 
 /// "X,Y,Z,YAW_DEG" as a pose; throws std::invalid_argument saying what is wrong.
 mrpt::poses::CPose3D parseLaserPose(const std::string& text);

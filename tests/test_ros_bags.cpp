@@ -1,7 +1,9 @@
-// ROS 2 bags to rawlogs (asf bag2rawlog): the CDR decoder on hand-laid bytes, and whole bags
-// written by an independent writer (scripts/make-rosbag2-fixture.sh: Foxglove's ROS 2 CDR
-// serializer and the sqlite3 shell) converted and compared message by message with what the
-// writer put in; the errors a user meets name the bag and what is there instead.
+// ROS bags to rawlogs (asf bag2rawlog): the CDR decoder on hand-laid bytes, and whole bags
+// written by independent writers (ROS 1: the official ROS 1 Python library,
+// scripts/make-rosbag1-fixture.sh; ROS 2: Foxglove's CDR serializer and the sqlite3 shell,
+// scripts/make-rosbag2-fixture.sh) converted and compared message by message with what the
+// writer put in; a real log through each kind of bag and back; the errors a user meets name
+// the bag and what is there instead.
 #include <asf/errors.h>
 #include <asf_convert/rosbag2.h>
 #include <gtest/gtest.h>
@@ -105,31 +107,38 @@ TEST(Rosbag2, CdrRefusesTruncatedAndForeignData) {
 
 // ------------------------------------------------------------- bags by another writer -----
 
-/// Writes the fixture bag VARIANT into a fresh folder; skips the test (with the writer's
-/// output) when its tools cannot be had here.
-fs::path fixture(const std::string& variant) {
+/// A fixture bag: the folder the writer filled (expected.json too) and the bag in it.
+struct Fixture {
+  fs::path dir, bag;
+  bool ok() const { return !dir.empty(); }
+};
+
+/// Writes the fixture bag VARIANT of `format` (ros1: the official ROS 1 Python library; ros2:
+/// Foxglove's CDR serializer and the sqlite3 shell) into a fresh folder; none when the writer's
+/// tools cannot be had here. `extra`: more arguments for the writer.
+Fixture fixture(const std::string& format, const std::string& variant,
+                const std::string& extra = "") {
   const fs::path dir = fs::temp_directory_path() /
-                       ("asf_test_rosbag2_" + variant + "_" + std::to_string(::getpid()));
+                       ("asf_test_" + format + "_" + variant + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const fs::path log = dir.string() + ".log";
   const std::string cmd = "ASF_TEST_TOOLS='" ASF_TEST_BINARY_DIR
-                          "/test-tools' bash '" ASF_TEST_SOURCE_DIR
-                          "/scripts/make-rosbag2-fixture.sh' '" +
-                          dir.string() + "' " + variant + " > '" + log.string() + "' 2>&1";
-  if (std::system(cmd.c_str()) != 0) {
-    std::ifstream f(log);
-    const std::string out((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    return fs::path();  // the caller skips with `out`
-  }
-  return dir;
+                          "/test-tools' bash '" ASF_TEST_SOURCE_DIR "/scripts/make-" +
+                          std::string(format == "ros1" ? "rosbag1" : "rosbag2") + "-fixture.sh' '" +
+                          dir.string() + "' " + variant + " " + extra + " > '" + dir.string() +
+                          ".log' 2>&1";
+  if (std::system(cmd.c_str()) != 0) return {};
+  return {dir, format == "ros1" ? dir / "data.bag" : dir};
 }
 
-#define FIXTURE_OR_SKIP(var, variant)                                                            \
-  const fs::path var = fixture(variant);                                                         \
-  if (var.empty()) {                                                                             \
-    GTEST_SKIP() << "the independent bag writer could not run here (node, npm packages or "      \
-                    "sqlite3 missing and not installable); see scripts/make-rosbag2-fixture.sh"; \
+#define FIXTURE_OR_SKIP(var, format, variant)                                              \
+  const Fixture var = fixture(format, variant);                                            \
+  if (!var.ok()) {                                                                         \
+    GTEST_SKIP() << "the independent " << format << " bag writer could not run here (see " \
+                 << "scripts/make-rosbag1-fixture.sh, make-rosbag2-fixture.sh)";           \
   }
+
+/// Both formats through the same tests.
+class RosBag : public ::testing::TestWithParam<std::string> {};
 
 /// Every record of an observation-only rawlog.
 std::vector<mrpt::serialization::CSerializable::Ptr> records(const fs::path& rawlog) {
@@ -151,11 +160,11 @@ mrpt::Clock::time_point clockOf(std::int64_t sec, std::int64_t nanosec) {
   return mrpt::Clock::fromDouble(static_cast<double>(sec)) + mrpt::Clock::duration(nanosec / 100);
 }
 
-TEST(Rosbag2, ConvertedRecordsAreTheMessagesWritten) {
-  FIXTURE_OR_SKIP(bag, "plain");
-  const fs::path out = bag / "out.rawlog";
+TEST_P(RosBag, ConvertedRecordsAreTheMessagesWritten) {
+  FIXTURE_OR_SKIP(fx, GetParam(), "plain");
+  const fs::path out = fx.dir / "out.rawlog";
   asf::convert::BagToRawlogOptions o;
-  o.input = bag.string();
+  o.input = fx.bag.string();
   o.output = out.string();
   const auto rep = asf::convert::bagToRawlog(o);
   EXPECT_EQ(rep.scan_topic, "/scan");
@@ -169,7 +178,7 @@ TEST(Rosbag2, ConvertedRecordsAreTheMessagesWritten) {
   EXPECT_NEAR(rep.laser_pose.z(), 0.3, 1e-12);
   EXPECT_NEAR(rep.laser_pose.yaw(), 10 * M_PI / 180, 1e-12);
 
-  std::ifstream ef(bag / "expected.json");
+  std::ifstream ef(fx.dir / "expected.json");
   const nlohmann::json expected = nlohmann::json::parse(ef);
   const auto recs = records(out);
   ASSERT_EQ(recs.size(), expected.size());
@@ -209,14 +218,14 @@ TEST(Rosbag2, ConvertedRecordsAreTheMessagesWritten) {
       }
     }
   }
-  fs::remove_all(bag);
+  fs::remove_all(fx.dir);
 }
 
-TEST(Rosbag2, ErrorsNameTheBagAndWhatIsThere) {
-  FIXTURE_OR_SKIP(bag, "two_scans");
+TEST_P(RosBag, ErrorsNameTheBagAndWhatIsThere) {
+  FIXTURE_OR_SKIP(fx, GetParam(), "two_scans");
   asf::convert::BagToRawlogOptions o;
-  o.input = bag.string();
-  o.output = (bag / "out.rawlog").string();
+  o.input = fx.bag.string();
+  o.output = (fx.dir / "out.rawlog").string();
   // Two LaserScan topics: one must be chosen; the message lists the topics present.
   std::string e = errorOf([&] { asf::convert::bagToRawlog(o); });
   EXPECT_NE(e.find("several sensor_msgs/msg/LaserScan topics (/scan, /scan_back)"),
@@ -225,7 +234,8 @@ TEST(Rosbag2, ErrorsNameTheBagAndWhatIsThere) {
   EXPECT_NE(e.find("/chatter (std_msgs/msg/String, 1)"), std::string::npos) << e;
   o.scan_topic = "/nope";
   e = errorOf([&] { asf::convert::bagToRawlog(o); });
-  EXPECT_NE(e.find("no topic /nope; topics: /scan"), std::string::npos) << e;
+  EXPECT_NE(e.find("no topic /nope; topics: "), std::string::npos) << e;
+  EXPECT_NE(e.find("/scan (sensor_msgs/msg/LaserScan, 20)"), std::string::npos) << e;
   o.scan_topic = "/chatter";
   e = errorOf([&] { asf::convert::bagToRawlog(o); });
   EXPECT_NE(e.find("/chatter is a std_msgs/msg/String, not a sensor_msgs/msg/LaserScan"),
@@ -238,15 +248,15 @@ TEST(Rosbag2, ErrorsNameTheBagAndWhatIsThere) {
             std::string::npos)
       << e;
   EXPECT_NE(e.find("laser_mount -> laser"), std::string::npos) << e;
-  EXPECT_FALSE(fs::exists(bag / "out.rawlog")) << "nothing written on an error";
-  fs::remove_all(bag);
+  EXPECT_FALSE(fs::exists(fx.dir / "out.rawlog")) << "nothing written on an error";
+  fs::remove_all(fx.dir);
 }
 
-TEST(Rosbag2, MissingTransformsAndCompressionAreReported) {
-  FIXTURE_OR_SKIP(no_tf, "no_tf");
+TEST_P(RosBag, MissingTransformsAndCompressionAreReported) {
+  FIXTURE_OR_SKIP(no_tf, GetParam(), "no_tf");
   asf::convert::BagToRawlogOptions o;
-  o.input = no_tf.string();
-  o.output = (no_tf / "out.rawlog").string();
+  o.input = no_tf.bag.string();
+  o.output = (no_tf.dir / "out.rawlog").string();
   EXPECT_NE(errorOf([&] { asf::convert::bagToRawlog(o); }).find("in /tf_static (none)"),
             std::string::npos);
   o.laser_pose = mrpt::poses::CPose3D(0.1, 0, 0.2, 0, 0, 0);  // given by hand instead
@@ -254,16 +264,28 @@ TEST(Rosbag2, MissingTransformsAndCompressionAreReported) {
   EXPECT_EQ(rep.scans, 20u);
   EXPECT_EQ(rep.odometry, 20u);
   EXPECT_EQ(rep.laser_pose_from, "--laser-pose");
-  fs::remove_all(no_tf);
-
-  FIXTURE_OR_SKIP(zstd, "zstd");
-  o.input = zstd.string();
-  o.output = (zstd / "out.rawlog").string();
-  EXPECT_NE(errorOf([&] {
-              asf::convert::bagToRawlog(o);
-            }).find("compressed with 'zstd' (MESSAGE mode), which is not supported"),
-            std::string::npos);
-  fs::remove_all(zstd);
+  fs::remove_all(no_tf.dir);
+  o.laser_pose.reset();
+  if (GetParam() == "ros2") {  // zstd-compressed rosbag2 files or messages: not read
+    FIXTURE_OR_SKIP(zstd, GetParam(), "zstd");
+    o.input = zstd.bag.string();
+    o.output = (zstd.dir / "out.rawlog").string();
+    EXPECT_NE(errorOf([&] {
+                asf::convert::bagToRawlog(o);
+              }).find("compressed with 'zstd' (MESSAGE mode), which is not supported"),
+              std::string::npos);
+    fs::remove_all(zstd.dir);
+    return;
+  }
+  for (const char* c : {"bz2", "lz4"}) {  // ROS 1's compressed chunks are read
+    FIXTURE_OR_SKIP(z, GetParam(), c);
+    o.input = z.bag.string();
+    o.output = (z.dir / "out.rawlog").string();
+    const auto r = asf::convert::bagToRawlog(o);
+    EXPECT_EQ(r.scans, 20u) << c;
+    EXPECT_EQ(records(z.dir / "out.rawlog").size(), 40u) << c;
+    fs::remove_all(z.dir);
+  }
 }
 
 // ------------------------------------------------- a real log through a bag and back -----
@@ -315,11 +337,11 @@ nlohmann::json dump(const std::vector<mrpt::serialization::CSerializable::Ptr>& 
   return out;
 }
 
-TEST(Rosbag2, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
+TEST_P(RosBag, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
   const std::string log = ASF_TEST_SHARED_DIR "/datasets/carmen/orebro-corrected.log.gz";
   if (!fs::exists(log)) GTEST_SKIP() << "../shared is not available here (" << log << ")";
-  const fs::path dir =
-      fs::temp_directory_path() / ("asf_test_rosbag2_real_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() /
+                       ("asf_test_" + GetParam() + "_real_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const auto conv = asf_test::runHost("carmen2rawlog -q --synth-odometry --seed 1 -i " + log +
@@ -327,15 +349,11 @@ TEST(Rosbag2, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
   ASSERT_EQ(conv.code, 0) << conv.out;
   const auto a = records(dir / "a.rawlog");
   std::ofstream(dir / "records.json") << dump(a).dump();
-  // The same data written as a ROS 2 bag by the independent writer, read back by asf.
-  const std::string cmd =
-      "ASF_TEST_TOOLS='" ASF_TEST_BINARY_DIR "/test-tools' bash '" ASF_TEST_SOURCE_DIR
-      "/scripts/make-rosbag2-fixture.sh' '" +
-      (dir / "bag").string() + "' from '" + (dir / "records.json").string() + "' > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    GTEST_SKIP() << "the independent bag writer could not run here; see "
-                    "scripts/make-rosbag2-fixture.sh";
-  const auto back = asf_test::runHost("bag2rawlog -q -i " + (dir / "bag").string() + " -o " +
+  // The same data written as a bag by the independent writer, read back by asf.
+  const Fixture fx = fixture(GetParam(), "from", "'" + (dir / "records.json").string() + "'");
+  if (!fx.ok())
+    GTEST_SKIP() << "the independent " << GetParam() << " bag writer could not run here";
+  const auto back = asf_test::runHost("bag2rawlog -q -i " + fx.bag.string() + " -o " +
                                       (dir / "b.rawlog").string());
   ASSERT_EQ(back.code, 0) << back.out;
   const auto b = records(dir / "b.rawlog");
@@ -396,7 +414,7 @@ TEST(Rosbag2, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
   // The bag itself as the rawlog source's file: the same run as its converted rawlog's.
   const auto direct = asf_test::runHost(
       "run " ASF_TEST_SOURCE_DIR "/configs/slam_carmen.ini -o " + (dir / "bag_run").string() +
-      " --set rawlog.file=" + (dir / "bag").string() + " --set rawlog.ground_truth=");
+      " --set rawlog.file=" + fx.bag.string() + " --set rawlog.ground_truth=");
   ASSERT_EQ(direct.code, 0) << direct.out;
   std::ifstream gb(dir / "b" / "graph.g2o"), gd(dir / "bag_run" / "graph.g2o");
   const std::string tb((std::istreambuf_iterator<char>(gb)), std::istreambuf_iterator<char>());
@@ -406,6 +424,9 @@ TEST(Rosbag2, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
   std::cout << "bag round trip: " << lines << " keyframes, largest difference " << worst
             << " m, heading " << worst_yaw << " rad\n";
   fs::remove_all(dir);
+  fs::remove_all(fx.dir);
 }
+
+INSTANTIATE_TEST_SUITE_P(Formats, RosBag, ::testing::Values("ros1", "ros2"));
 
 }  // namespace
