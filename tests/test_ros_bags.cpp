@@ -160,15 +160,17 @@ mrpt::Clock::time_point clockOf(std::int64_t sec, std::int64_t nanosec) {
   return mrpt::Clock::fromDouble(static_cast<double>(sec)) + mrpt::Clock::duration(nanosec / 100);
 }
 
-TEST_P(RosBag, ConvertedRecordsAreTheMessagesWritten) {
-  FIXTURE_OR_SKIP(fx, GetParam(), "plain");
+/// The fixture `variant` converted: every record as the writer's expected.json has it.
+void checkConverted(const std::string& format, const std::string& variant) {
+  FIXTURE_OR_SKIP(fx, format, variant);
   const fs::path out = fx.dir / "out.rawlog";
   asf::convert::BagToRawlogOptions o;
   o.input = fx.bag.string();
   o.output = out.string();
   const auto rep = asf::convert::bagToRawlog(o);
   EXPECT_EQ(rep.scan_topic, "/scan");
-  EXPECT_EQ(rep.odom_topic, "/odom");
+  EXPECT_EQ(rep.odom_topic, variant == "tf_odom" ? "/tf" : "/odom");
+  EXPECT_EQ(rep.odom_from_tf, variant == "tf_odom");
   EXPECT_EQ(rep.laser_frame, "laser");
   EXPECT_EQ(rep.base_frame, "base_link");
   EXPECT_EQ(rep.laser_pose_from, "/tf_static");
@@ -219,6 +221,14 @@ TEST_P(RosBag, ConvertedRecordsAreTheMessagesWritten) {
     }
   }
   fs::remove_all(fx.dir);
+}
+
+TEST_P(RosBag, ConvertedRecordsAreTheMessagesWritten) {
+  for (const char* variant : {"plain", "tf_odom"}) {
+    SCOPED_TRACE(variant);
+    checkConverted(GetParam(), variant);
+    if (HasFatalFailure() || IsSkipped()) return;
+  }
 }
 
 TEST_P(RosBag, ErrorsNameTheBagAndWhatIsThere) {

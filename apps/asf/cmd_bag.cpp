@@ -29,7 +29,10 @@ int cmdBag2Rawlog(int argc, char** argv) {
   TCLAP::ValueArg<std::string> out("o", "out", "Output rawlog (.gz: compressed)", false, "",
                                    "FILE.rawlog", cmd);
   TCLAP::ValueArg<std::string> scan("", "scan-topic", "LaserScan topic", false, "", "TOPIC", cmd);
-  TCLAP::ValueArg<std::string> odom("", "odom-topic", "Odometry topic", false, "", "TOPIC", cmd);
+  TCLAP::ValueArg<std::string> odom(
+      "", "odom-topic",
+      "Odometry topic (default: the only one; without one, /tf's transforms to the base frame)",
+      false, "", "TOPIC", cmd);
   TCLAP::SwitchArg no_odom("", "no-odometry", "Scans only", cmd);
   TCLAP::ValueArg<std::string> base(
       "", "base-frame",

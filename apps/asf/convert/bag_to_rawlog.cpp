@@ -161,24 +161,35 @@ mrpt::poses::CPose3D parseLaserPose(const std::string& text) {
   return mrpt::poses::CPose3D(v[0], v[1], v[2], v[3] * M_PI / 180, 0, 0);
 }
 
-BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::unique_ptr<BagReader> reader = openBag(o.input);
-  const BagReader& bag = *reader;
-  BagToRawlogReport rep;
-  rep.topics = bag.topics();
-  const Wire wire = bag.wire();
-  const char* format = wire == Wire::Cdr ? "cdr" : "ros1";
+namespace {
+
+/// The topics to read (the odometry's from /tf when no Odometry topic: the transforms from
+/// the odometry frame to the robot's base).
+void chooseTopics(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlogReport& rep) {
+  const char* format = bag.wire() == Wire::Cdr ? "cdr" : "ros1";
   for (const auto& t : bag.topics())
     if (t.serialization_format != format &&
         (t.type == kLaserScan || t.type == kOdometry || t.type == kTf))
       throw InputError(o.input + ": topic " + t.name + " is serialized as '" +
                        t.serialization_format + "', not " + format);
   rep.scan_topic = chooseTopic(bag, o.input, o.scan_topic, kLaserScan, "--scan-topic", false);
-  if (o.odometry)
-    rep.odom_topic = chooseTopic(bag, o.input, o.odom_topic, kOdometry, "--odom-topic", true);
+  if (!o.odometry) return;
+  const BagTopic* tf = bag.topic("/tf");
+  if (o.odom_topic == "/tf" || (o.odom_topic.empty() && tf && tf->type == kTf &&
+                                chooseTopic(bag, o.input, "", kOdometry, "", true).empty())) {
+    if (!tf || tf->type != kTf)
+      throw InputError(o.input + ": no /tf topic of " + kTf + " for the odometry");
+    rep.odom_topic = "/tf";
+    rep.odom_from_tf = true;
+    return;
+  }
+  rep.odom_topic = chooseTopic(bag, o.input, o.odom_topic, kOdometry, "--odom-topic", true);
+}
 
-  // The frames: the scans' frame_id, the odometry's child frame (the robot's base).
+/// The scans' frame and the robot's base frame (given, else the odometry's child frame, else
+/// base_link).
+void chooseFrames(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlogReport& rep) {
+  const Wire wire = bag.wire();
   bag.forEach({rep.scan_topic}, [&](const std::string&, std::int64_t, const std::uint8_t* d,
                                     std::size_t n) {
     if (rep.laser_frame.empty())
@@ -186,7 +197,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
           stripSlash(decodeLaserScan(d, n, o.input + ": " + rep.scan_topic, wire).frame_id);
   });
   rep.base_frame = o.base_frame;
-  if (rep.base_frame.empty() && !rep.odom_topic.empty())
+  if (rep.base_frame.empty() && !rep.odom_topic.empty() && !rep.odom_from_tf)
     bag.forEach({rep.odom_topic}, [&](const std::string&, std::int64_t, const std::uint8_t* d,
                                       std::size_t n) {
       if (rep.base_frame.empty())
@@ -195,24 +206,51 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
     });
   if (rep.base_frame.empty()) rep.base_frame = "base_link";
   rep.base_frame = stripSlash(rep.base_frame);
+}
 
+/// The laser on the robot: given, the identity (scans in the base frame), or /tf_static.
+void chooseMount(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlogReport& rep) {
   if (o.laser_pose) {
     rep.laser_pose = *o.laser_pose;
     rep.laser_pose_from = "--laser-pose";
-  } else if (rep.laser_frame == rep.base_frame) {
-    rep.laser_pose_from = "identity (the scans are in the base frame)";
-  } else {
-    std::map<std::string, TransformMsg> up;  // child -> its transform from the parent
-    const BagTopic* tf = bag.topic("/tf_static");
-    if (tf && tf->type == kTf)
-      bag.forEach({"/tf_static"},
-                  [&](const std::string&, std::int64_t, const std::uint8_t* d, std::size_t n) {
-                    for (const auto& t : decodeTfMessage(d, n, o.input + ": /tf_static", wire))
-                      up[stripSlash(t.child_frame_id)] = t;
-                  });
-    rep.laser_pose = laserOnBase(up, rep.base_frame, rep.laser_frame, o.input);
-    rep.laser_pose_from = "/tf_static";
+    return;
   }
+  if (rep.laser_frame == rep.base_frame) {
+    rep.laser_pose_from = "identity (the scans are in the base frame)";
+    return;
+  }
+  std::map<std::string, TransformMsg> up;  // child -> its transform from the parent
+  const BagTopic* tf = bag.topic("/tf_static");
+  if (tf && tf->type == kTf)
+    bag.forEach({"/tf_static"},
+                [&](const std::string&, std::int64_t, const std::uint8_t* d, std::size_t n) {
+                  for (const auto& t : decodeTfMessage(d, n, o.input + ": /tf_static", bag.wire()))
+                    up[stripSlash(t.child_frame_id)] = t;
+                });
+  rep.laser_pose = laserOnBase(up, rep.base_frame, rep.laser_frame, o.input);
+  rep.laser_pose_from = "/tf_static";
+}
+
+void writeOdometry(ObsRawlogWriter& out, const RosTime& stamp, double x, double y, double yaw) {
+  mrpt::obs::CObservationOdometry obs;
+  obs.sensorLabel = "ODOMETRY";
+  obs.timestamp = clockOf(stamp);
+  obs.odometry = mrpt::poses::CPose2D(x, y, yaw);
+  out.write(obs);
+}
+
+}  // namespace
+
+BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::unique_ptr<BagReader> reader = openBag(o.input);
+  const BagReader& bag = *reader;
+  const Wire wire = bag.wire();
+  BagToRawlogReport rep;
+  rep.topics = bag.topics();
+  chooseTopics(bag, o, rep);
+  chooseFrames(bag, o, rep);
+  chooseMount(bag, o, rep);
 
   ObsRawlogWriter out(o.output);
   std::vector<std::string> topics{rep.scan_topic};
@@ -220,9 +258,7 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
   Progress progress(o.progress);
   bag.forEach(
       topics, [&](const std::string& topic, std::int64_t, const std::uint8_t* d, std::size_t n) {
-        const std::string where =
-            o.input + ": " + topic + " message " +
-            std::to_string((topic == rep.scan_topic ? rep.scans : rep.odometry) + 1);
+        const std::string where = o.input + ": " + topic + " message";
         if (topic == rep.scan_topic) {
           const LaserScanMsg s = decodeLaserScan(d, n, where, wire);
           out.write(toScan(s, rep.laser_pose, where));
@@ -231,19 +267,24 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
             rep.aperture_deg =
                 std::abs(s.angle_increment) * static_cast<double>(s.ranges.size() - 1) * 180 / M_PI;
           }
+        } else if (rep.odom_from_tf) {
+          for (const auto& t : decodeTfMessage(d, n, where, wire))
+            if (stripSlash(t.child_frame_id) == rep.base_frame) {
+              writeOdometry(out, t.stamp, t.x, t.y, yawOf(t.qx, t.qy, t.qz, t.qw));
+              ++rep.odometry;
+            }
         } else {
           const OdometryMsg m = decodeOdometry(d, n, where, wire);
-          mrpt::obs::CObservationOdometry obs;
-          obs.sensorLabel = "ODOMETRY";
-          obs.timestamp = clockOf(m.stamp);
-          obs.odometry = mrpt::poses::CPose2D(m.x, m.y, yawOf(m.qx, m.qy, m.qz, m.qw));
-          out.write(obs);
+          writeOdometry(out, m.stamp, m.x, m.y, yawOf(m.qx, m.qy, m.qz, m.qw));
           ++rep.odometry;
         }
         if (o.progress && progress.due())
           *o.progress << "bag2rawlog: " << rep.scans << " scans, " << rep.odometry << " odometry"
                       << std::endl;
       });
+  if (rep.odom_from_tf && rep.odometry == 0)
+    throw InputError(o.input + ": /tf has no transform to the base frame '" + rep.base_frame +
+                     "' for the odometry (give --base-frame, or --no-odometry)");
   out.close();
   rep.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;

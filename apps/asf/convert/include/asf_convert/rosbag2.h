@@ -157,7 +157,9 @@ struct BagToRawlogOptions {
   std::string input;       ///< ROS 1 .bag, rosbag2 folder or .db3 file
   std::string output;      ///< .rawlog or .rawlog.gz
   std::string scan_topic;  ///< empty: the bag's only LaserScan topic
-  std::string odom_topic;  ///< empty: the bag's only Odometry topic (none: no odometry)
+  /// Empty: the bag's only Odometry topic, else /tf when there is none (the transforms to
+  /// the base frame); "/tf": those transforms.
+  std::string odom_topic;
   bool odometry = true;    ///< false: scans only
   std::string base_frame;  ///< empty: the odometry's child_frame_id, else "base_link"
   /// The laser on the robot; when unset, from /tf_static (base_frame -> the scans' frame_id).
@@ -168,6 +170,7 @@ struct BagToRawlogOptions {
 struct BagToRawlogReport {
   std::vector<BagTopic> topics;
   std::string scan_topic, odom_topic, laser_frame, base_frame;
+  bool odom_from_tf = false;  ///< the odometry from /tf's transforms to the base frame
   mrpt::poses::CPose3D laser_pose;
   std::string laser_pose_from;  ///< "/tf_static", "--laser-pose" or "identity (same frame)"
   std::size_t scans = 0, odometry = 0, rays = 0;
