@@ -33,8 +33,8 @@ std::vector<HeightClass> parseHeightClasses(const std::string& text);
 /// What a pixel of a map image is in the world.
 enum class PixelClass : std::uint8_t { Free, Wall, Unknown };
 
-/// Unknown pixels (a map_server map's gray between its thresholds) in the world: Blocked, the
-/// robot cannot enter them and the lasers see through them (no echo); Free; Wall, a wall.
+/// Unknown pixels (a map_server map's gray between its thresholds) in the world: Wall, a wall;
+/// Blocked, the robot cannot enter them and the lasers see through them (no echo); Free.
 enum class UnknownCells { Blocked, Free, Wall };
 
 struct ImageWorldOptions {
@@ -45,7 +45,7 @@ struct ImageWorldOptions {
   /// When set, the class of each gray level instead of occupied_threshold (a map_server map's
   /// rules: asf/occupancy_io.h's mapServerOccupancy).
   std::optional<std::array<PixelClass, 256>> classes;
-  UnknownCells unknown = UnknownCells::Blocked;
+  UnknownCells unknown = UnknownCells::Wall;
   int pad_wall_px = 0;  ///< wall of this many pixels added around the image
   /// The world is tiles x tiles copies of the image, every other one mirrored (horizontally
   /// in odd columns, vertically in odd rows) so the walls meet at the seams: bigger worlds of

@@ -534,9 +534,9 @@ const asf::KeySpec kKeys[] = {
                  "World image (PNG/PGM/...; dark = wall), or a ROS map_server YAML (X.yaml: its "
                  "image, resolution, origin, thresholds and mode; unknown cells as map_unknown "
                  "says). Empty: a built-in rectangular room of room_width x room_height"),
-    asf::keyEnum("map_unknown", "blocked", "blocked|free|wall",
-                 "A map_server map's unknown cells: blocked (the robot cannot enter them, the "
-                 "lasers see through them), free, or wall"),
+    asf::keyEnum("map_unknown", "wall", "wall|blocked|free",
+                 "A map_server map's unknown cells: wall; blocked (the robot cannot enter them, "
+                 "the lasers see through them); or free"),
     asf::keyDouble("resolution", "0.04", "World cell size: metres per image pixel [m]", 1e-3, 10),
     asf::keyDouble("origin_x", "0", "World x of the image's lower-left corner [m]"),
     asf::keyDouble("origin_y", "0", "World y of the image's lower-left corner [m]"),

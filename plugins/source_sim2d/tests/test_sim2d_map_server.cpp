@@ -96,8 +96,8 @@ TEST(Sim2dMapServer, UnknownCellsAreSeenThroughUnlessTheyAreWalls) {
 }
 
 TEST(Sim2dMapServer, StartsAtTheFreeCellFarthestFromTheWalls) {
-  // Free: map x in [0.1, 2.0), y in [0.1, 1.9) (unknown blocks): the farthest cells are 0.9 m
-  // from the walls below and above, at y = 1.0, x in [1.0, 1.1].
+  // Free: map x in [0.1, 2.0), y in [0.1, 1.9) (unknown cells are walls): the farthest cells are
+  // 0.9 m from the walls below and above, at y = 1.0, x in [1.0, 1.1].
   auto src = make({});
   const auto f = src->next();
   ASSERT_TRUE(f && f->ground_truth);
@@ -130,6 +130,7 @@ TEST(Sim2dMapServer, BlockedUnknownCellsKeepTheRobotOut) {
   classes[0] = asf::sim2d::PixelClass::Wall;
   classes[205] = asf::sim2d::PixelClass::Unknown;
   o.classes = classes;
+  o.unknown = asf::sim2d::UnknownCells::Blocked;
   const auto blocked = asf::sim2d::World::fromImage(o);
   EXPECT_EQ(blocked.unknownCells(), 36u * 16u);  // (10 + 6) columns x 36 rows
   EXPECT_NEAR(blocked.clearance(1.9, 1.0), 0.1, 0.03);
