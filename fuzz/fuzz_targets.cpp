@@ -12,6 +12,7 @@
 #include <asf/segmentation_eval.h>
 #include <asf_convert/carmen.h>
 #include <asf_convert/rawseeds.h>
+#include <asf_convert/rosbag2.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -189,6 +190,25 @@ bool occupancyYaml(const std::uint8_t* data, std::size_t size) {
   });
 }
 
+// One serialized ROS message: the first byte picks the type (LaserScan, Odometry, TFMessage:
+// its value mod 3) and the wire (bit 2 set: ROS 1, else CDR); the rest is the message.
+bool rosMessage(const std::uint8_t* data, std::size_t size) {
+  return accepted([&] {
+    if (size == 0) return;
+    const convert::Wire wire = (data[0] & 4) ? convert::Wire::Ros1 : convert::Wire::Cdr;
+    switch (data[0] % 3) {
+      case 0:
+        (void)convert::decodeLaserScan(data + 1, size - 1, "fuzz", wire);
+        break;
+      case 1:
+        (void)convert::decodeOdometry(data + 1, size - 1, "fuzz", wire);
+        break;
+      default:
+        (void)convert::decodeTfMessage(data + 1, size - 1, "fuzz", wire);
+    }
+  });
+}
+
 }  // namespace
 
 const std::vector<Target>& targets() {
@@ -202,6 +222,8 @@ const std::vector<Target>& targets() {
       {"rawseeds", rawseeds, "convert::rawseedsToRawlog (Rawseeds CSV streams)"},
       {"map_image", mapImage, "readGrayImage (map PNG)"},
       {"occupancy_yaml", occupancyYaml, "readOccupancyYaml + readOccupancyMap (map_server YAML)"},
+      {"ros_message", rosMessage,
+       "convert::decodeLaserScan / decodeOdometry / decodeTfMessage (ROS bags, CDR and ROS 1)"},
   };
   return all;
 }
