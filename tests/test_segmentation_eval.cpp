@@ -14,10 +14,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <map>
-#include <sstream>
+#include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "test_util.h"
@@ -180,14 +180,14 @@ TEST(SegmentationEvalScore, UnlabelledFreePixelsLowerRecallOnly) {
 
 TEST(SegmentationEvalScore, RegionsOfAtMost100PixelsAreIgnored) {
   auto rooms = filled(40, 40);
-  box(rooms, 0, 0, 19, 19, 1);   // 400 px
-  box(rooms, 0, 30, 9, 39, 2);   // 100 px: not a room
-  box(rooms, 30, 0, 39, 9, 3);   // 100 px
-  box(rooms, 30, 10, 30, 10, 3); // + 1 = 101 px: a room
+  box(rooms, 0, 0, 19, 19, 1);    // 400 px
+  box(rooms, 0, 30, 9, 39, 2);    // 100 px: not a room
+  box(rooms, 30, 0, 39, 9, 3);    // 100 px
+  box(rooms, 30, 10, 30, 10, 3);  // + 1 = 101 px: a room
   auto seg = filled(40, 40);
   box(seg, 0, 0, 19, 19, 1);
-  box(seg, 0, 30, 9, 39, 2);     // 100 px, perfect on the ignored room: ignored
-  box(seg, 21, 21, 30, 30, 4);   // 100 px straddling nothing: ignored (would have precision 0)
+  box(seg, 0, 30, 9, 39, 2);    // 100 px, perfect on the ignored room: ignored
+  box(seg, 21, 21, 30, 30, 4);  // 100 px straddling nothing: ignored (would have precision 0)
   const auto s = asf::scoreSegmentation(seg, rooms);
   EXPECT_EQ(s.segments, 1);
   EXPECT_EQ(s.rooms, 2);
@@ -225,15 +225,14 @@ TEST(SegmentationEvalScore, OverAndUnderSegmentation) {
   EXPECT_LT(o.mcc, 1);
   EXPECT_DOUBLE_EQ(u.mcc, 0);
   // Sizes must match.
-  EXPECT_TRUE(has(asf_test::errorOf<asf::Error>([&] {
-                    asf::scoreSegmentation(filled(10, 10), rooms);
-                  }),
-                  "10 x 10"));
+  EXPECT_TRUE(
+      has(asf_test::errorOf<asf::Error>([&] { asf::scoreSegmentation(filled(10, 10), rooms); }),
+          "10 x 10"));
 }
 
 TEST(SegmentationEval, GroundTruthRoomsAre8ConnectedAndLargerThan100Pixels) {
   GrayImage gt = blank(40, 40, 0);
-  box(gt, 0, 0, 9, 9, 251);    // 100 px ...
+  box(gt, 0, 0, 9, 9, 251);      // 100 px ...
   box(gt, 10, 10, 19, 19, 255);  // ... touching this 100 px block at a corner: one room of 200
   box(gt, 30, 30, 39, 39, 255);  // 100 px alone: dropped
   box(gt, 25, 0, 39, 9, 250);    // 250 is not > 250: not a room
@@ -288,7 +287,7 @@ TEST(SegmentationEval, LabelAndGrayPngRoundTripAndErrors) {
   const fs::path d = tempDir("png");
   auto r = filled(5, 4);
   r.labels[1] = 1;
-  r.labels[7] = 300;    // needs 16 bits
+  r.labels[7] = 300;  // needs 16 bits
   r.labels[19] = 65535;
   asf::writeLabelImage((d / "l.png").string(), r);
   const auto back = asf::readLabelImage((d / "l.png").string());
@@ -296,22 +295,19 @@ TEST(SegmentationEval, LabelAndGrayPngRoundTripAndErrors) {
   EXPECT_EQ(back.height, 4);
   EXPECT_EQ(back.labels, r.labels);
   r.labels[0] = 65536;
-  EXPECT_TRUE(has(asf_test::errorOf<asf::Error>([&] {
-                    asf::writeLabelImage((d / "big.png").string(), r);
-                  }),
-                  "65536"));
+  EXPECT_TRUE(
+      has(asf_test::errorOf<asf::Error>([&] { asf::writeLabelImage((d / "big.png").string(), r); }),
+          "65536"));
   const GrayImage g = twoRoomsMap();
   asf::writeGrayImage((d / "g.png").string(), g);
   EXPECT_EQ(asf::readGrayImage((d / "g.png").string()).pixels, g.pixels);
-  EXPECT_TRUE(has(asf_test::errorOf<asf::InputError>([&] {
-                    asf::readGrayImage((d / "missing.png").string());
-                  }),
-                  "missing.png: no such file"));
+  EXPECT_TRUE(has(
+      asf_test::errorOf<asf::InputError>([&] { asf::readGrayImage((d / "missing.png").string()); }),
+      "missing.png: no such file"));
   std::ofstream(d / "bad.png") << "not a png";
-  EXPECT_TRUE(has(asf_test::errorOf<asf::InputError>([&] {
-                    asf::readGrayImage((d / "bad.png").string());
-                  }),
-                  "bad.png: cannot be read"));
+  EXPECT_TRUE(
+      has(asf_test::errorOf<asf::InputError>([&] { asf::readGrayImage((d / "bad.png").string()); }),
+          "bad.png: cannot be read"));
 }
 
 TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
@@ -332,8 +328,8 @@ TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
   for (int row = 0; row < g.height; ++row)
     for (int col = 0; col < g.width; ++col)
       ASSERT_EQ(labels.at(col, row) > 0, g.at(col, row) >= 250) << col << "," << row;
-  EXPECT_EQ(labels.at(3, 3), labels.at(30, 3));   // the rooms joined by the door
-  EXPECT_NE(labels.at(3, 26), labels.at(3, 3));   // the strip at the bottom
+  EXPECT_EQ(labels.at(3, 3), labels.at(30, 3));  // the rooms joined by the door
+  EXPECT_NE(labels.at(3, 26), labels.at(3, 3));  // the strip at the bottom
   EXPECT_GT(labels.at(3, 26), 0);
   const auto j = readJson(d / "graph.json");
   ASSERT_EQ(j["nodes"].size(), 3u);  // 2 regions + unexplored
@@ -347,16 +343,18 @@ TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
   EXPECT_TRUE(j["edges"].is_array());
   EXPECT_TRUE(fs::file_size(d / "overlay.png") > 0);
   // The same overlay as SVG: the raster regions embedded, one vector node per region.
-  const auto rs = runHost("segment " + (d / "map.png").string() +
-                          " --resolution 0.05 --segmenter free_components --set min_area=0 -o " +
-                          (d / "labels2.png").string() + " --overlay " + (d / "overlay.svg").string());
+  const auto rs =
+      runHost("segment " + (d / "map.png").string() +
+              " --resolution 0.05 --segmenter free_components --set min_area=0 -o " +
+              (d / "labels2.png").string() + " --overlay " + (d / "overlay.svg").string());
   ASSERT_EQ(rs.code, 0) << rs.out;
   std::ifstream svg_in(d / "overlay.svg");
   const std::string svg((std::istreambuf_iterator<char>(svg_in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_TRUE(has(svg, "data:image/png;base64,"));
   std::size_t circles = 0;
-  for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1))
+  for (std::size_t at = svg.find("<circle"); at != std::string::npos;
+       at = svg.find("<circle", at + 1))
     ++circles;
   EXPECT_EQ(circles, 2u) << "one node per region, none current";
   EXPECT_TRUE(has(svg, "</svg>"));
@@ -502,14 +500,36 @@ TEST(SegmentationEvalCommand, ScoresEveryMapAsTheProtocolSays) {
       asf::groundTruthRooms(asf::readGrayImage((d / "gt/a_gt_segmentation.png").string()));
   EXPECT_DOUBLE_EQ(asf::scoreSegmentation(labels, rooms).precision, 400.0 / 804.0);
   // --set reaches the segmenter: min_area above every component leaves no segment.
-  const auto none = runHost(evalArgs(d, false) + " --set min_area=100 --json " +
-                            (d / "none.json").string());
+  const auto none =
+      runHost(evalArgs(d, false) + " --set min_area=100 --json " + (d / "none.json").string());
   ASSERT_EQ(none.code, 0) << none.out;
   EXPECT_EQ(readJson(d / "none.json")["maps"][0]["segments"], 0);
   EXPECT_DOUBLE_EQ(readJson(d / "none.json")["maps"][0]["recall"].get<double>(), 0.0);
   const auto topo = runHost(evalArgs(d, false) + " --set topology.min_border_width=1");
   EXPECT_EQ(topo.code, 1);
   EXPECT_TRUE(has(topo.out, "no topological graph here")) << topo.out;
+}
+
+// A benchmark map given as a ROS map_server map (plain/a.yaml naming its image, with its own
+// resolution and origin) scores as the same pixels given as a PNG.
+TEST(SegmentationEvalCommand, AMapServerMapScoresAsItsImage) {
+  const fs::path d = writeDataset("eval_yaml");
+  const auto png = runHost(evalArgs(d, false) + " --json " + (d / "png.json").string());
+  ASSERT_EQ(png.code, 0) << png.out;
+  fs::rename(d / "plain/a.png", d / "plain/a_image.png");
+  std::ofstream(d / "plain/a.yaml") << "image: a_image.png\nresolution: 0.1\n"
+                                    << "origin: [2.0, -3.0, 0.0]\nnegate: 0\n"
+                                    << "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  const auto yaml = runHost(evalArgs(d, false) + " --json " + (d / "yaml.json").string());
+  ASSERT_EQ(yaml.code, 0) << yaml.out;
+  const auto a = readJson(d / "png.json")["maps"], b = readJson(d / "yaml.json")["maps"];
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (const char* k : {"name", "segments", "precision", "recall", "mcc"})
+    for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(a[i][k], b[i][k]) << k << " " << i;
+  // Only the map's frame came from the YAML: "a" alone with --map finds it by its stem.
+  const auto one = runHost(evalArgs(d, false) + " --map a");
+  EXPECT_EQ(one.code, 0) << one.out;
 }
 
 // segment-report: the thesis' Table 4.1 beside every report, both protocols, and the figures.
@@ -532,23 +552,29 @@ TEST(SegmentReportCommand, TableAndFiguresFromTwoReports) {
     EXPECT_EQ(row["thesis"]["dude_batch"].size(), 2u);  // mean, std
     ASSERT_EQ(row["asf"].size(), 2u);
     EXPECT_EQ(row["asf"][1]["label"], "two");
-    for (const char* k : {"thesis_protocol", "roomseg"}) EXPECT_EQ(row["asf"][0][k].size(), 2u) << k;
+    for (const char* k : {"thesis_protocol", "roomseg"})
+      EXPECT_EQ(row["asf"][0][k].size(), 2u) << k;
     // Incremental runs exist for the plain maps only.
-    EXPECT_EQ(row["asf"][0]["thesis_protocol_incremental"].is_null(), row["scenario"] == "furnished");
+    EXPECT_EQ(row["asf"][0]["thesis_protocol_incremental"].is_null(),
+              row["scenario"] == "furnished");
   }
   // The plain recall row of the thesis is 86.3 +- 9.7 (Table 4.1).
   EXPECT_DOUBLE_EQ(t["rows"][0]["thesis"]["dude_batch"][0].get<double>(), 86.3);
   const std::string md = readText(d / "rep/table_4_1.md");
-  EXPECT_TRUE(has(md, "| no furniture | recall (per segment) | 95.0 ± 2.3 | 86.3 ± 9.7 | 87.5 ± 10.7 |")) << md;
+  EXPECT_TRUE(
+      has(md, "| no furniture | recall (per segment) | 95.0 ± 2.3 | 86.3 ± 9.7 | 87.5 ± 10.7 |"))
+      << md;
   for (const char* f : {"fig4_1_precision.svg", "fig4_1_recall.svg", "fig4_2_batch_time.svg",
                         "fig4_2_incremental_time.svg"})
     EXPECT_TRUE(has(readText(d / "rep" / f), "<svg")) << f;
   // Bad input: named, non-zero exit.
   std::ofstream(d / "bad.json") << "{not json";
-  const auto bad = runHost("segment-report " + (d / "bad.json").string() + " -o " + (d / "x").string());
+  const auto bad =
+      runHost("segment-report " + (d / "bad.json").string() + " -o " + (d / "x").string());
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(has(bad.out, "bad.json")) << bad.out;
-  const auto labels = runHost("segment-report " + (d / "a.json").string() + " -l a -l b -o " + (d / "x").string());
+  const auto labels =
+      runHost("segment-report " + (d / "a.json").string() + " -l a -l b -o " + (d / "x").string());
   EXPECT_EQ(labels.code, 1);
   EXPECT_TRUE(has(labels.out, "--label")) << labels.out;
 }
@@ -587,7 +613,7 @@ GrayImage officeMap() {
   GrayImage g = blank(120, 60, 0);
   box(g, 2, 25, 117, 34, 255);  // corridor
   for (int k = 0; k < 3; ++k) {
-    box(g, 2 + 40 * k, 2, 36 + 40 * k, 22, 255);  // rooms above
+    box(g, 2 + 40 * k, 2, 36 + 40 * k, 22, 255);    // rooms above
     box(g, 15 + 40 * k, 23, 20 + 40 * k, 24, 255);  // their doors
   }
   box(g, 100, 45, 110, 50, 255);  // unreachable closet: never explored
@@ -653,8 +679,8 @@ TEST(SegmentationEvalExploration, IncrementalEvaluationPassesThePreviousSegmenta
   auto rooms = asf::groundTruthRooms(g);  // one component: corridor + rooms (closet too)
   auto seg = makeFreeComponents();
   std::size_t calls = 0;
-  const auto r = asf::evaluateIncremental(*seg, g, rooms, 0.1, {},
-                                          [&](std::size_t n, double) { calls = n; });
+  const auto r =
+      asf::evaluateIncremental(*seg, g, rooms, 0.1, {}, [&](std::size_t n, double) { calls = n; });
   EXPECT_GT(r.update_ms.size(), 3u);
   EXPECT_EQ(calls, r.update_ms.size());
   EXPECT_DOUBLE_EQ(r.coverage, 1.0);
@@ -670,8 +696,7 @@ TEST(SegmentationEvalExploration, IncrementalEvaluationPassesThePreviousSegmenta
 
 TEST(SegmentationEvalCommand, IncrementalReportsUpdateTimes) {
   const fs::path d = writeDataset("eval_incremental");
-  const auto r = runHost(evalArgs(d, false) + " --incremental --json " +
-                         (d / "out.json").string());
+  const auto r = runHost(evalArgs(d, false) + " --incremental --json " + (d / "out.json").string());
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = readJson(d / "out.json");
   for (const auto& m : j["maps"]) {
@@ -705,10 +730,10 @@ TEST(SegmentationEvalBenchmark, FreeComponentsOnOneBenchmarkMap) {
   const fs::path root = fs::path(ASF_TEST_SHARED_DIR) / "datasets/roomseg";
   if (!fs::exists(root / "plain/lab_ipa.png")) GTEST_SKIP() << root << " is absent";
   const fs::path d = tempDir("benchmark");
-  const auto r = runHost("segment-eval --plain " + (root / "plain").string() + " --gt " +
-                         (root / "gt").string() + " --furnished " + (root / "furnished").string() +
-                         " --map lab_ipa --segmenter free_components --json " +
-                         (d / "out.json").string());
+  const auto r =
+      runHost("segment-eval --plain " + (root / "plain").string() + " --gt " +
+              (root / "gt").string() + " --furnished " + (root / "furnished").string() +
+              " --map lab_ipa --segmenter free_components --json " + (d / "out.json").string());
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = readJson(d / "out.json");
   ASSERT_EQ(j["maps"].size(), 2u);

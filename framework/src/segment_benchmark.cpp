@@ -1,4 +1,5 @@
 #include <asf/errors.h>
+#include <asf/occupancy_io.h>
 #include <asf/segment_benchmark.h>
 #include <asf/text.h>
 
@@ -65,14 +66,27 @@ void scoreIncremental(const MapContext& m, const std::string& variant, const Gra
   r.inc.final_segmentation = Segmentation();
 }
 
+/// `<dir>/<stem>.yaml` (a map_server map) when there is one, else `<dir>/<stem>.png`.
+std::string mapFile(const std::string& dir, const std::string& stem) {
+  std::error_code ec;
+  for (const char* ext : {".yaml", ".yml"}) {
+    const fs::path y = fs::path(dir) / (stem + ext);
+    if (fs::is_regular_file(y, ec)) return y.string();
+  }
+  return (fs::path(dir) / (stem + ".png")).string();
+}
+
 BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
                                 const std::string& file) {
-  const GrayImage image = readGrayImage(file);
+  // A map_server map brings its own resolution, origin and free / occupied / unknown rules.
+  const bool yaml = isOccupancyYaml(file);
+  const GrayImage image =
+      readGrayImage(yaml ? occupancyImagePath(file, readOccupancyYaml(file)) : file);
   if (image.width != m.rooms.width || image.height != m.rooms.height)
     throw InputError(file + ": " + std::to_string(image.width) + " x " +
                      std::to_string(image.height) + " px, but " + m.gt_file + " is " +
                      std::to_string(m.rooms.width) + " x " + std::to_string(m.rooms.height));
-  const GridMap map = gridFromImage(image, m.o.resolution);
+  const GridMap map = yaml ? readOccupancyMap(file) : gridFromImage(image, m.o.resolution);
   auto seg = m.segmenter();
   const auto t0 = std::chrono::steady_clock::now();
   const Segmentation s = seg->segment(map, nullptr);
@@ -107,18 +121,36 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
   if (!fs::is_directory(o.gt_dir, ec)) throw InputError(o.gt_dir + ": no such folder (--gt)");
   if (!o.furnished_dir.empty() && !fs::is_directory(o.furnished_dir, ec))
     throw InputError(o.furnished_dir + ": no such folder (--furnished)");
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(o.plain_dir))
-    if (e.is_regular_file() && lowercase(e.path().extension().string()) == ".png")
-      names.push_back(e.path().stem().string());
+  // A YAML's image is not a map of its own (unless a YAML of that name exists too).
+  std::vector<std::string> names, yaml_stems, images;
+  for (const auto& e : fs::directory_iterator(o.plain_dir)) {
+    const std::string ext = lowercase(e.path().extension().string());
+    if (!e.is_regular_file() || (ext != ".png" && ext != ".yaml" && ext != ".yml")) continue;
+    names.push_back(e.path().stem().string());
+    if (ext == ".png") continue;
+    yaml_stems.push_back(names.back());
+    const std::string y = e.path().string();
+    images.push_back(fs::path(occupancyImagePath(y, readOccupancyYaml(y))).lexically_normal());
+  }
+  const auto contains = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
+  names.erase(std::remove_if(names.begin(), names.end(),
+                             [&](const std::string& n) {
+                               const fs::path png = fs::path(o.plain_dir) / (n + ".png");
+                               return !contains(yaml_stems, n) &&
+                                      contains(images, png.lexically_normal().string());
+                             }),
+              names.end());
   std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
   if (!only.empty()) {
     for (const auto& m : only)
       if (std::find(names.begin(), names.end(), m) == names.end())
-        throw InputError(o.plain_dir + ": no map " + m + ".png (--map)");
+        throw InputError(o.plain_dir + ": no map " + m + ".png or " + m + ".yaml (--map)");
     names = only;
   }
-  if (names.empty()) throw InputError(o.plain_dir + ": no .png maps");
+  if (names.empty()) throw InputError(o.plain_dir + ": no .png or map_server .yaml maps");
   return names;
 }
 
@@ -137,12 +169,11 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
                      ": no ground-truth room (no 8-connected component of pixels "
                      "> 250 with more than 100 pixels)");
   current = name + " (plain)";
-  results.push_back(scoreVariant(m, "plain", (fs::path(o.plain_dir) / (name + ".png")).string()));
+  results.push_back(scoreVariant(m, "plain", mapFile(o.plain_dir, name)));
   scored();
   if (o.furnished_dir.empty()) return;
   current = name + " (furnished)";
-  results.push_back(scoreVariant(
-      m, "furnished", (fs::path(o.furnished_dir) / (name + "_furnitures.png")).string()));
+  results.push_back(scoreVariant(m, "furnished", mapFile(o.furnished_dir, name + "_furnitures")));
   scored();
 }
 
