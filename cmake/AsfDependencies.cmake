@@ -54,6 +54,13 @@ asf_require(ZLIB_FOUND "zlib" zlib1g-dev)
 # SQLite (C API): ROS 2 bags (rosbag2's sqlite3 storage; asf bag2rawlog).
 find_package(SQLite3 QUIET)
 asf_require(SQLite3_FOUND "SQLite 3" libsqlite3-dev)
+# MCAP chunks: Zstandard and LZ4 (frame format), C APIs.
+find_library(ASF_ZSTD_LIB zstd)
+find_path(ASF_ZSTD_INCLUDE zstd.h)
+asf_require(ASF_ZSTD_LIB "Zstandard (libzstd)" libzstd-dev)
+find_library(ASF_LZ4_LIB lz4)
+find_path(ASF_LZ4_INCLUDE lz4frame.h)
+asf_require(ASF_LZ4_LIB "LZ4 (liblz4)" liblz4-dev)
 # ROS 1 bags: the official ROS 1 library (Debian's librosbag-storage). Found by hand: its
 # catkin CMake package pulls in ament's Python tools, which need not be there.
 find_path(ASF_ROSBAG_INCLUDE_DIR rosbag/bag.h)

@@ -209,6 +209,19 @@ bool rosMessage(const std::uint8_t* data, std::size_t size) {
   });
 }
 
+// An MCAP file: its topics, then every message of every topic.
+bool mcap(const std::uint8_t* data, std::size_t size) {
+  return accepted([&] {
+    const convert::McapReader r({writeInput("bag.mcap", data, size)});
+    std::vector<std::string> topics;
+    for (const auto& t : r.topics()) topics.push_back(t.name);
+    std::size_t bytes = 0;
+    r.forEach(topics, [&](const std::string&, std::int64_t, const std::uint8_t*, std::size_t n) {
+      bytes += n;
+    });
+  });
+}
+
 }  // namespace
 
 const std::vector<Target>& targets() {
@@ -224,6 +237,7 @@ const std::vector<Target>& targets() {
       {"occupancy_yaml", occupancyYaml, "readOccupancyYaml + readOccupancyMap (map_server YAML)"},
       {"ros_message", rosMessage,
        "convert::decodeLaserScan / decodeOdometry / decodeTfMessage (ROS bags, CDR and ROS 1)"},
+      {"mcap", mcap, "convert::McapReader (MCAP files: records, chunks none / lz4 / zstd)"},
   };
   return all;
 }

@@ -9,7 +9,7 @@ PKGS=(
   libmrpt-dev mrpt-common libnanoflann-dev
   libeigen3-dev libopencv-dev liboctomap-dev libsuitesparse-dev libcgal-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtclap-dev nlohmann-json3-dev
-  libbz2-dev zlib1g-dev libsqlite3-dev librosbag-storage-dev
+  libbz2-dev zlib1g-dev libsqlite3-dev librosbag-storage-dev libzstd-dev liblz4-dev
   python3-cvxopt  # tests: independent solver the optimal-design cross-check compares with
   sqlite3         # tests: writes the ROS 2 bag fixtures (scripts/make-rosbag2-fixture.sh)
   "$@"

@@ -114,8 +114,9 @@ struct Fixture {
 };
 
 /// Writes the fixture bag VARIANT of `format` (ros1: the official ROS 1 Python library; ros2:
-/// Foxglove's CDR serializer and the sqlite3 shell) into a fresh folder; none when the writer's
-/// tools cannot be had here. `extra`: more arguments for the writer.
+/// Foxglove's CDR serializer and the sqlite3 shell; ros2_mcap: the same messages in MCAP
+/// storage by Foxglove's MCAP writer, chunks zstd-compressed) into a fresh folder; none when the
+/// writer's tools cannot be had here. `extra`: more arguments for the writer.
 Fixture fixture(const std::string& format, const std::string& variant,
                 const std::string& extra = "") {
   const fs::path dir = fs::temp_directory_path() /
@@ -276,7 +277,7 @@ TEST_P(RosBag, MissingTransformsAndCompressionAreReported) {
   EXPECT_EQ(rep.laser_pose_from, "--laser-pose");
   fs::remove_all(no_tf.dir);
   o.laser_pose.reset();
-  if (GetParam() == "ros2") {  // zstd-compressed rosbag2 files or messages: not read
+  if (GetParam() != "ros1") {  // zstd-compressed rosbag2 files or messages: not read
     FIXTURE_OR_SKIP(zstd, GetParam(), "zstd");
     o.input = zstd.bag.string();
     o.output = (zstd.dir / "out.rawlog").string();
@@ -437,6 +438,28 @@ TEST_P(RosBag, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
   fs::remove_all(fx.dir);
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, RosBag, ::testing::Values("ros1", "ros2"));
+INSTANTIATE_TEST_SUITE_P(Formats, RosBag, ::testing::Values("ros1", "ros2", "ros2_mcap"));
+
+// MCAP: chunks uncompressed, LZ4 or zstd, the folder or the .mcap file itself; a damaged file
+// is an error naming it.
+TEST(RosBagMcap, EveryChunkCompressionAndADamagedFile) {
+  for (const char* storage : {"mcap", "mcap_lz4"}) {
+    FIXTURE_OR_SKIP(fx, "ros2", std::string("plain@") + storage);
+    asf::convert::BagToRawlogOptions o;
+    o.input = (fx.dir / "data.mcap").string();  // the file itself, without metadata.yaml
+    o.output = (fx.dir / "out.rawlog").string();
+    const auto rep = asf::convert::bagToRawlog(o);
+    EXPECT_EQ(rep.scans, 20u) << storage;
+    EXPECT_EQ(rep.odometry, 20u) << storage;
+    EXPECT_EQ(records(fx.dir / "out.rawlog").size(), 40u) << storage;
+    // Cut in the middle: the record it ends in is named.
+    const auto size = fs::file_size(fx.dir / "data.mcap");
+    fs::resize_file(fx.dir / "data.mcap", size / 2);
+    const std::string e = errorOf([&] { asf::convert::bagToRawlog(o); });
+    EXPECT_NE(e.find("data.mcap: the file ends inside the record at byte"), std::string::npos)
+        << storage << ": " << e;
+    fs::remove_all(fx.dir);
+  }
+}
 
 }  // namespace

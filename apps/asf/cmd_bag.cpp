@@ -17,14 +17,15 @@ namespace asf::app {
 int cmdBag2Rawlog(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Converts a ROS 1 bag (.bag, format 2.0, chunks plain, bz2 or lz4) or a ROS 2 bag (a "
-      "rosbag2 folder with metadata.yaml, or its .db3 file; sqlite3 storage, CDR messages) into an "
+      "rosbag2 folder with metadata.yaml, sqlite3 or MCAP storage, or its .db3 / .mcap file; "
+      "CDR messages) into an "
       "observation-only MRPT rawlog that `asf run` replays "
       "(configs/replay_rawlog.ini): sensor_msgs/msg/LaserScan as 2D range scans, "
       "nav_msgs/msg/Odometry as odometry, the laser's mounting from /tf_static, stamps from "
       "the messages' headers. Without --scan-topic / --odom-topic the bag's only topic of each "
       "type is taken.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> in("i", "in", "ROS 1 .bag, rosbag2 folder or .db3 file", true, "",
+  TCLAP::ValueArg<std::string> in("i", "in", "ROS 1 .bag, rosbag2 folder, .db3 or .mcap file", true, "",
                                   "BAG", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output rawlog (.gz: compressed)", false, "",
                                    "FILE.rawlog", cmd);

@@ -135,7 +135,8 @@ mrpt::obs::CObservation2DRangeScan toScan(const LaserScanMsg& s, const mrpt::pos
 
 bool isRosBag(const std::string& path) {
   std::error_code ec;
-  if (std::filesystem::path(path).extension() == ".bag") return true;
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".bag" || ext == ".mcap") return true;
   if (std::filesystem::is_directory(path, ec))
     return std::filesystem::exists(std::filesystem::path(path) / "metadata.yaml", ec);
   return std::filesystem::path(path).extension() == ".db3";

@@ -240,26 +240,39 @@ struct Rosbag2Reader::Impl {
   std::vector<BagTopic> topics;
 };
 
+namespace {
+
+/// A rosbag2 folder's storage and files (metadata.yaml); throws for rosbag2 compression.
+std::vector<std::string> folderFiles(const std::string& path, std::string& storage) {
+  const fs::path meta = fs::path(path) / "metadata.yaml";
+  std::ifstream f(meta);
+  if (!f) throw InputError(path + ": a folder without metadata.yaml is not a rosbag2 bag");
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  storage = yamlValue(text, "storage_identifier");
+  const std::string comp = yamlValue(text, "compression_format");
+  if (!comp.empty())
+    throw InputError(meta.string() + ": compressed with '" + comp + "' (" +
+                     yamlValue(text, "compression_mode") +
+                     " mode), which is not supported; decompress with `ros2 bag convert`");
+  std::vector<std::string> files;
+  for (const auto& r : yamlList(text, "relative_file_paths"))
+    files.push_back((fs::path(path) / r).string());
+  if (files.empty()) throw InputError(meta.string() + ": no relative_file_paths");
+  return files;
+}
+
+}  // namespace
+
 Rosbag2Reader::Rosbag2Reader(const std::string& path) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
-    const fs::path meta = fs::path(path) / "metadata.yaml";
-    std::ifstream f(meta);
-    if (!f) throw InputError(path + ": a folder without metadata.yaml is not a rosbag2 bag");
-    const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    const std::string storage = yamlValue(text, "storage_identifier");
+    std::string storage;
+    m.files = folderFiles(path, storage);
     if (storage != "sqlite3")
-      throw InputError(meta.string() + ": storage '" + storage +
-                       "' is not supported (sqlite3 is; convert with `ros2 bag convert`)");
-    const std::string comp = yamlValue(text, "compression_format");
-    if (!comp.empty())
-      throw InputError(meta.string() + ": compressed with '" + comp + "' (" +
-                       yamlValue(text, "compression_mode") +
-                       " mode), which is not supported; decompress with `ros2 bag convert`");
-    for (const auto& r : yamlList(text, "relative_file_paths"))
-      m.files.push_back((fs::path(path) / r).string());
-    if (m.files.empty()) throw InputError(meta.string() + ": no relative_file_paths");
+      throw InputError(
+          path + ": storage '" + storage +
+          "' is not supported (sqlite3 and mcap are; convert with `ros2 bag convert`)");
   } else if (fs::exists(path, ec)) {
     m.files.push_back(path);
   } else {
@@ -298,7 +311,19 @@ const BagTopic* BagReader::topic(const std::string& name) const {
 }
 
 std::unique_ptr<BagReader> openBag(const std::string& path) {
-  if (fs::path(path).extension() == ".bag") return std::make_unique<Ros1BagReader>(path);
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".bag") return std::make_unique<Ros1BagReader>(path);
+  if (ext == ".mcap") {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) throw InputError(path + ": no such MCAP file");
+    return std::make_unique<McapReader>(std::vector<std::string>{path});
+  }
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    std::string storage;
+    const auto files = folderFiles(path, storage);
+    if (storage == "mcap") return std::make_unique<McapReader>(files);
+  }
   return std::make_unique<Rosbag2Reader>(path);
 }
 

@@ -94,7 +94,25 @@ class Ros1BagReader final : public BagReader {
   std::unique_ptr<Impl> impl_;
 };
 
-/// A ROS 1 bag (*.bag) or a ROS 2 bag (a folder with metadata.yaml, or a .db3 file).
+/// MCAP files (ROS 2's default storage since Iron; chunks plain, lz4 or zstd), read by the
+/// MCAP specification. Throws asf::InputError naming the file.
+class McapReader final : public BagReader {
+ public:
+  explicit McapReader(const std::vector<std::string>& files);
+  ~McapReader() override;
+  McapReader(const McapReader&) = delete;
+  McapReader& operator=(const McapReader&) = delete;
+  const std::vector<BagTopic>& topics() const override;
+  Wire wire() const override { return Wire::Cdr; }
+
+ private:
+  struct Impl;
+  void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const override;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A ROS 1 bag (*.bag), an MCAP file (*.mcap) or a ROS 2 bag (a folder with metadata.yaml,
+/// sqlite3 or mcap storage, or a .db3 file).
 std::unique_ptr<BagReader> openBag(const std::string& path);
 
 /// The fields of one serialized message. Cdr: OMG CDR as XCDR1 plain (a 4-byte encapsulation
