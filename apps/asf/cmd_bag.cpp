@@ -25,8 +25,8 @@ int cmdBag2Rawlog(int argc, char** argv) {
       "the messages' headers. Without --scan-topic / --odom-topic the bag's only topic of each "
       "type is taken.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> in("i", "in", "ROS 1 .bag, rosbag2 folder, .db3 or .mcap file", true, "",
-                                  "BAG", cmd);
+  TCLAP::ValueArg<std::string> in("i", "in", "ROS 1 .bag, rosbag2 folder, .db3 or .mcap file", true,
+                                  "", "BAG", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "Output rawlog (.gz: compressed)", false, "",
                                    "FILE.rawlog", cmd);
   TCLAP::ValueArg<std::string> scan("", "scan-topic", "LaserScan topic", false, "", "TOPIC", cmd);

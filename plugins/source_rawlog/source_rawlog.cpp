@@ -151,9 +151,10 @@ class RawlogSource final : public asf::Source {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyPath("file", nullptr,
-                 "Rawlog to replay: .rawlog or .rawlog.gz, action/sensory-frame or "
-                 "observation-only; or a ROS bag (ROS 1 .bag, rosbag2 folder, .db3 or .mcap; bag_* keys)"),
+    asf::keyPath(
+        "file", nullptr,
+        "Rawlog to replay: .rawlog or .rawlog.gz, action/sensory-frame or "
+        "observation-only; or a ROS bag (ROS 1 .bag, rosbag2 folder, .db3 or .mcap; bag_* keys)"),
     asf::keyString("bag_scan_topic", "",
                    "ROS bag: the sensor_msgs/msg/LaserScan topic; empty: the bag's only one"),
     asf::keyString("bag_odom_topic", "",
