@@ -5,10 +5,13 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <sqlite3.h>
+#include <unistd.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -238,27 +241,64 @@ struct Rosbag2Reader::Impl {
   std::vector<std::string> files;
   std::vector<std::unique_ptr<Db>> dbs;
   std::vector<BagTopic> topics;
+  bool zstd_messages = false;        ///< compression_mode MESSAGE: every blob a zstd frame
+  std::vector<std::string> scratch;  ///< files decompressed for compression_mode FILE
+  ~Impl() {
+    dbs.clear();
+    for (const auto& f : scratch) std::remove(f.c_str());
+  }
 };
 
 namespace {
 
-/// A rosbag2 folder's storage and files (metadata.yaml); throws for rosbag2 compression.
-std::vector<std::string> folderFiles(const std::string& path, std::string& storage) {
+/// A rosbag2 folder's metadata.yaml: storage, files, rosbag2's own compression.
+struct Folder {
+  std::string storage, compression, mode;
+  std::vector<std::string> files;
+};
+
+Folder readFolder(const std::string& path) {
   const fs::path meta = fs::path(path) / "metadata.yaml";
   std::ifstream f(meta);
   if (!f) throw InputError(path + ": a folder without metadata.yaml is not a rosbag2 bag");
   const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  storage = yamlValue(text, "storage_identifier");
-  const std::string comp = yamlValue(text, "compression_format");
-  if (!comp.empty())
-    throw InputError(meta.string() + ": compressed with '" + comp + "' (" +
-                     yamlValue(text, "compression_mode") +
-                     " mode), which is not supported; decompress with `ros2 bag convert`");
-  std::vector<std::string> files;
+  Folder out;
+  out.storage = yamlValue(text, "storage_identifier");
+  out.compression = yamlValue(text, "compression_format");
+  out.mode = yamlValue(text, "compression_mode");
+  if (!out.compression.empty() &&
+      (out.compression != "zstd" || (out.mode != "FILE" && out.mode != "MESSAGE") ||
+       out.storage != "sqlite3"))
+    throw InputError(meta.string() + ": compressed with '" + out.compression + "' (" + out.mode +
+                     " mode, " + out.storage +
+                     " storage), which is not supported (zstd FILE or MESSAGE mode of sqlite3 "
+                     "bags is); decompress with `ros2 bag decompress` or `ros2 bag convert`");
   for (const auto& r : yamlList(text, "relative_file_paths"))
-    files.push_back((fs::path(path) / r).string());
-  if (files.empty()) throw InputError(meta.string() + ": no relative_file_paths");
-  return files;
+    out.files.push_back((fs::path(path) / r).string());
+  if (out.files.empty()) throw InputError(meta.string() + ": no relative_file_paths");
+  return out;
+}
+
+/// `n` bytes of zstd frames decompressed (the frame's size when it says it, else streamed).
+std::vector<std::uint8_t> unzstd(const std::uint8_t* in, std::size_t n, const std::string& where) {
+  ZSTD_DStream* ds = ZSTD_createDStream();
+  std::vector<std::uint8_t> out;
+  std::vector<std::uint8_t> buf(ZSTD_DStreamOutSize());
+  ZSTD_inBuffer ib{in, n, 0};
+  std::size_t rc = 0;
+  for (;;) {
+    ZSTD_outBuffer ob{buf.data(), buf.size(), 0};
+    rc = ZSTD_decompressStream(ds, &ob, &ib);
+    if (ZSTD_isError(rc)) break;
+    out.insert(out.end(), buf.data(), buf.data() + ob.pos);
+    // All input read and room left in the output: done (rc != 0: the frame is cut short).
+    if (ib.pos == ib.size && ob.pos < ob.size) break;
+  }
+  ZSTD_freeDStream(ds);
+  if (ZSTD_isError(rc) || rc != 0)
+    throw InputError(where + ": not a whole zstd frame (" +
+                     (ZSTD_isError(rc) ? ZSTD_getErrorName(rc) : "truncated") + ")");
+  return out;
 }
 
 }  // namespace
@@ -267,12 +307,32 @@ Rosbag2Reader::Rosbag2Reader(const std::string& path) : impl_(std::make_unique<I
   Impl& m = *impl_;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
-    std::string storage;
-    m.files = folderFiles(path, storage);
-    if (storage != "sqlite3")
+    const Folder folder = readFolder(path);
+    if (folder.storage != "sqlite3")
       throw InputError(
-          path + ": storage '" + storage +
+          path + ": storage '" + folder.storage +
           "' is not supported (sqlite3 and mcap are; convert with `ros2 bag convert`)");
+    m.zstd_messages = folder.mode == "MESSAGE";
+    for (const auto& file : folder.files) {
+      if (folder.mode != "FILE") {
+        m.files.push_back(file);
+        continue;
+      }
+      // FILE mode: each storage file is one zstd stream; SQLite needs it on disk, whole.
+      std::ifstream in(file, std::ios::binary);
+      if (!in) throw InputError(file + ": cannot open");
+      const std::string z((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const auto raw = unzstd(reinterpret_cast<const std::uint8_t*>(z.data()), z.size(), file);
+      const fs::path tmp =
+          fs::temp_directory_path() /
+          ("asf_rosbag2_" + std::to_string(::getpid()) + "_" + std::to_string(m.scratch.size()) +
+           "_" + std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".db3");
+      std::ofstream(tmp, std::ios::binary)
+          .write(reinterpret_cast<const char*>(raw.data()),
+                 static_cast<std::streamsize>(raw.size()));
+      m.scratch.push_back(tmp.string());
+      m.files.push_back(tmp.string());
+    }
   } else if (fs::exists(path, ec)) {
     m.files.push_back(path);
   } else {
@@ -320,9 +380,8 @@ std::unique_ptr<BagReader> openBag(const std::string& path) {
   }
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
-    std::string storage;
-    const auto files = folderFiles(path, storage);
-    if (storage == "mcap") return std::make_unique<McapReader>(files);
+    const Folder folder = readFolder(path);
+    if (folder.storage == "mcap") return std::make_unique<McapReader>(folder.files);
   }
   return std::make_unique<Rosbag2Reader>(path);
 }
@@ -346,7 +405,12 @@ void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, voi
     while ((rc = sqlite3_step(s.s)) == SQLITE_ROW) {
       const auto* d = static_cast<const std::uint8_t*>(sqlite3_column_blob(s.s, 2));
       const auto n = static_cast<std::size_t>(sqlite3_column_bytes(s.s, 2));
-      v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), d, n);
+      if (impl_->zstd_messages) {  // MESSAGE mode: each message a zstd frame
+        const auto raw = unzstd(d, n, file + ": a message of " + s.text(0));
+        v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), raw.data(), raw.size());
+      } else {
+        v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), d, n);
+      }
     }
     if (rc != SQLITE_DONE) throw InputError(file + ": " + sqlite3_errmsg(db));
   }
