@@ -5,6 +5,7 @@
 // writer put in; a real log through each kind of bag and back; the errors a user meets name
 // the bag and what is there instead.
 #include <asf/errors.h>
+#include <asf/ground_truth.h>
 #include <asf_convert/rosbag2.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -437,6 +438,47 @@ TEST_P(RosBag, ARealLogThroughABagGivesTheSameFramesAndTrajectory) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, RosBag, ::testing::Values("ros1", "ros2", "ros2_mcap"));
+
+// A ground-truth topic (a simulator's /ground_truth Odometry) becomes a ground-truth file, with
+// /odom still chosen as the odometry; through the rawlog source, the run's ground truth.
+TEST_P(RosBag, AGroundTruthTopicBecomesTheGroundTruthFile) {
+  FIXTURE_OR_SKIP(fx, GetParam(), "with_gt");
+  asf::convert::BagToRawlogOptions o;
+  o.input = fx.bag.string();
+  o.output = (fx.dir / "out.rawlog").string();
+  o.gt_topic = "/ground_truth";
+  o.gt_output = (fx.dir / "gt.txt").string();
+  const auto rep = asf::convert::bagToRawlog(o);
+  EXPECT_EQ(rep.odom_topic, "/odom");
+  EXPECT_EQ(rep.gt_poses, 20u);
+  std::ifstream ef(fx.dir / "expected_gt.json");
+  const nlohmann::json want = nlohmann::json::parse(ef);
+  const auto got = asf::readGroundTruth(o.gt_output);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    EXPECT_NEAR(got[k].t, want[k]["sec"].get<double>() + want[k]["nanosec"].get<double>() * 1e-9,
+                1e-6);
+    EXPECT_NEAR(got[k].pose.x(), want[k]["x"].get<double>(), 1e-9) << k;
+    EXPECT_NEAR(got[k].pose.y(), want[k]["y"].get<double>(), 1e-9) << k;
+    EXPECT_NEAR(got[k].pose.phi(), want[k]["yaw"].get<double>(), 1e-9) << k;
+  }
+  o.gt_topic = "/scan";
+  EXPECT_NE(errorOf([&] {
+              asf::convert::bagToRawlog(o);
+            }).find("ground-truth topic /scan is a sensor_msgs/msg/LaserScan"),
+            std::string::npos);
+  // The bag as a source with bag_gt_topic: the run is scored against it.
+  const auto run = asf_test::runHost(
+      "run " ASF_TEST_SOURCE_DIR "/configs/replay_rawlog.ini -o " + (fx.dir / "run").string() +
+      " --set rawlog.file=" + fx.bag.string() + " --set rawlog.ground_truth= " +
+      "--set rawlog.bag_gt_topic=/ground_truth --set rawlog.ground_truth_max_gap=2");
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_TRUE(fs::exists(fx.dir / "run" / "bag.gt.txt"));
+  std::ifstream sf(fx.dir / "run" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(sf);
+  EXPECT_GT(summary["ate_poses"].get<int>(), 0) << summary.dump();
+  fs::remove_all(fx.dir);
+}
 
 // rosbag2's own zstd compression, per message and of the whole storage file: the same records.
 TEST(RosBag2Compression, ZstdMessagesAndFilesAreRead) {

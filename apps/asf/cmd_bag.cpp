@@ -42,6 +42,12 @@ int cmdBag2Rawlog(int argc, char** argv) {
   TCLAP::ValueArg<std::string> laser_pose(
       "", "laser-pose", "The laser on the robot instead of /tf_static: x, y, z [m], yaw [deg]",
       false, "", "X,Y,Z,YAW_DEG", cmd);
+  TCLAP::ValueArg<std::string> gt_topic(
+      "", "gt-topic",
+      "Ground-truth topic (nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped), to --gt", false,
+      "", "TOPIC", cmd);
+  TCLAP::ValueArg<std::string> gt("", "gt", "Ground-truth file to write (t x y phi lines)", false,
+                                  "", "FILE", cmd);
   TCLAP::SwitchArg list("", "list", "List the bag's topics and stop", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
   cmd.setExceptionHandling(false);
@@ -62,6 +68,10 @@ int cmdBag2Rawlog(int argc, char** argv) {
   o.odom_topic = odom.getValue();
   o.odometry = !no_odom.getValue();
   o.base_frame = base.getValue();
+  if (gt_topic.isSet() != gt.isSet())
+    throw TCLAP::CmdLineParseException("give both or neither", "--gt-topic/--gt");
+  o.gt_topic = gt_topic.getValue();
+  o.gt_output = gt.getValue();
   if (laser_pose.isSet()) try {
       o.laser_pose = convert::parseLaserPose(laser_pose.getValue());
     } catch (const std::invalid_argument& e) {
@@ -77,6 +87,9 @@ int cmdBag2Rawlog(int argc, char** argv) {
             << o.output << " in " << std::setprecision(3) << r.wall_time_s << " s\n"
             << "  laser on " << r.base_frame << " (" << r.laser_pose_from << "): x " << p.x()
             << " y " << p.y() << " z " << p.z() << " yaw " << p.yaw() * 180 / M_PI << " deg\n";
+  if (!o.gt_topic.empty())
+    std::cout << "  " << r.gt_poses << " ground-truth poses from " << o.gt_topic << " -> "
+              << o.gt_output << "\n";
   return kOk;
 }
 

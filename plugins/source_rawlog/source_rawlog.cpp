@@ -41,9 +41,15 @@ class RawlogSource final : public asf::Source {
     max_frames_ = p.getInt("max_frames");
     start_frame_ = p.getInt("start_frame");
 
+    std::string file = p.getString("file");
+    if (file.empty()) p.fail("file", "a rawlog file is required");
+    std::string gt = p.getString("ground_truth");
+    if (!p.getString("bag_gt_topic").empty() && !gt.empty())
+      p.fail("bag_gt_topic", "ground_truth is given too: one or the other");
+    if (asf::convert::isRosBag(file)) file = fromBag(p, file, ctx.output_dir, gt);
+
     // Read here (not in the reader) so a bad ground-truth file is reported against its key.
     gt_.clear();
-    const std::string gt = p.getString("ground_truth");
     if (!gt.empty()) {
       try {
         gt_ = asf::readGroundTruth(gt);
@@ -53,9 +59,6 @@ class RawlogSource final : public asf::Source {
       if (gt_.empty()) p.fail("ground_truth", "the file has no poses");
     }
 
-    std::string file = p.getString("file");
-    if (file.empty()) p.fail("file", "a rawlog file is required");
-    if (asf::convert::isRosBag(file)) file = fromBag(p, file, ctx.output_dir);
     try {
       reader_ = std::make_unique<asf::RawlogReader>(file, o);
     } catch (const asf::InputError& e) {
@@ -96,7 +99,8 @@ class RawlogSource final : public asf::Source {
  private:
   /// A ROS bag is converted to a rawlog first (asf bag2rawlog's conversion), kept in the
   /// output folder as bag.rawlog (in a temporary file without one, removed at the end).
-  std::string fromBag(const asf::Params& p, const std::string& bag, const std::string& out_dir) {
+  std::string fromBag(const asf::Params& p, const std::string& bag, const std::string& out_dir,
+                      std::string& gt) {
     asf::convert::BagToRawlogOptions o;
     o.input = bag;
     o.scan_topic = p.getString("bag_scan_topic");
@@ -109,14 +113,18 @@ class RawlogSource final : public asf::Source {
       } catch (const std::invalid_argument& e) {
         p.fail("bag_laser_pose", e.what());
       }
+    o.gt_topic = p.getString("bag_gt_topic");
     if (!out_dir.empty()) {
       o.output = (std::filesystem::path(out_dir) / "bag.rawlog").string();
+      if (!o.gt_topic.empty())
+        o.gt_output = (std::filesystem::path(out_dir) / "bag.gt.txt").string();
     } else {
       temp_ = (std::filesystem::temp_directory_path() /
                ("asf_bag_" + std::to_string(::getpid()) + "_" +
                 std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".rawlog"))
                   .string();
       o.output = temp_;
+      if (!o.gt_topic.empty()) o.gt_output = temp_gt_ = temp_ + ".gt.txt";
     }
     try {
       const auto r = asf::convert::bagToRawlog(o);
@@ -127,6 +135,7 @@ class RawlogSource final : public asf::Source {
     } catch (const asf::InputError& e) {
       p.fail("file", e.what());
     }
+    if (!o.gt_topic.empty()) gt = o.gt_output;
     return o.output;
   }
 
@@ -141,12 +150,13 @@ class RawlogSource final : public asf::Source {
   std::int64_t max_frames_ = 0, start_frame_ = 0, delivered_ = 0, skipped_ = 0;
   std::size_t clamped_ = 0;
   bool ended_ = false;
-  std::string temp_;  ///< a converted bag without an output folder
+  std::string temp_, temp_gt_;  ///< a converted bag without an output folder (and its GT)
 
  public:
   ~RawlogSource() override {
     reader_.reset();
     if (!temp_.empty()) std::remove(temp_.c_str());
+    if (!temp_gt_.empty()) std::remove(temp_gt_.c_str());
   }
 };
 
@@ -163,6 +173,9 @@ const asf::KeySpec kKeys[] = {
     asf::keyString("bag_base_frame", "",
                    "ROS bag: the robot's frame; empty: the odometry's child_frame_id, else "
                    "base_link"),
+    asf::keyString("bag_gt_topic", "",
+                   "ROS bag: a ground-truth topic (Odometry or PoseStamped) used as "
+                   "ground_truth (written beside bag.rawlog as bag.gt.txt)"),
     asf::keyString("bag_laser_pose", "",
                    "ROS bag: the laser on the robot as 'X,Y,Z,YAW_DEG' instead of /tf_static"),
     asf::keyString("laser_label", "",

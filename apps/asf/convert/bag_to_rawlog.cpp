@@ -2,6 +2,7 @@
 // CObservation2DRangeScan and CObservationOdometry records in the bag's order, the laser's
 // mounting from /tf_static.
 #include <asf/errors.h>
+#include <asf/ground_truth.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose2D.h>
@@ -25,6 +26,7 @@ namespace {
 constexpr const char* kLaserScan = "sensor_msgs/msg/LaserScan";
 constexpr const char* kOdometry = "nav_msgs/msg/Odometry";
 constexpr const char* kTf = "tf2_msgs/msg/TFMessage";
+constexpr const char* kPoseStamped = "geometry_msgs/msg/PoseStamped";
 
 std::string topicList(const BagReader& bag) {
   std::string s;
@@ -34,9 +36,11 @@ std::string topicList(const BagReader& bag) {
 }
 
 /// The topic named `want` (which must be of `type`), or the bag's only topic of `type` when
-/// `want` is empty; "" when `optional` and there is none.
+/// `want` is empty (`exclude`, the ground truth's, not counted); "" when `optional` and there
+/// is none.
 std::string chooseTopic(const BagReader& bag, const std::string& input, const std::string& want,
-                        const char* type, const char* option, bool optional) {
+                        const char* type, const char* option, bool optional,
+                        const std::string& exclude = "") {
   if (!want.empty()) {
     const BagTopic* t = bag.topic(want);
     if (!t) throw InputError(input + ": no topic " + want + "; topics: " + topicList(bag));
@@ -46,7 +50,7 @@ std::string chooseTopic(const BagReader& bag, const std::string& input, const st
   }
   std::vector<std::string> found;
   for (const auto& t : bag.topics())
-    if (t.type == type) found.push_back(t.name);
+    if (t.type == type && t.name != exclude) found.push_back(t.name);
   if (found.size() == 1) return found[0];
   if (found.empty() && optional) return "";
   std::string names;
@@ -174,17 +178,29 @@ void chooseTopics(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlog
       throw InputError(o.input + ": topic " + t.name + " is serialized as '" +
                        t.serialization_format + "', not " + format);
   rep.scan_topic = chooseTopic(bag, o.input, o.scan_topic, kLaserScan, "--scan-topic", false);
+  if (!o.gt_topic.empty()) {
+    const BagTopic* g = bag.topic(o.gt_topic);
+    if (!g) throw InputError(o.input + ": no topic " + o.gt_topic + "; topics: " + topicList(bag));
+    if (g->type != kOdometry && g->type != kPoseStamped)
+      throw InputError(o.input + ": ground-truth topic " + o.gt_topic + " is a " + g->type +
+                       ", not a " + kOdometry + " or " + kPoseStamped);
+  }
   if (!o.odometry) return;
   const BagTopic* tf = bag.topic("/tf");
-  if (o.odom_topic == "/tf" || (o.odom_topic.empty() && tf && tf->type == kTf &&
-                                chooseTopic(bag, o.input, "", kOdometry, "", true).empty())) {
+  if (o.odom_topic == "/tf" ||
+      (o.odom_topic.empty() && tf && tf->type == kTf &&
+       chooseTopic(bag, o.input, "", kOdometry, "", true, o.gt_topic).empty())) {
     if (!tf || tf->type != kTf)
       throw InputError(o.input + ": no /tf topic of " + kTf + " for the odometry");
     rep.odom_topic = "/tf";
     rep.odom_from_tf = true;
     return;
   }
-  rep.odom_topic = chooseTopic(bag, o.input, o.odom_topic, kOdometry, "--odom-topic", true);
+  rep.odom_topic =
+      chooseTopic(bag, o.input, o.odom_topic, kOdometry, "--odom-topic", true, o.gt_topic);
+  if (!o.gt_topic.empty() && o.gt_topic == rep.odom_topic)
+    throw InputError(o.input + ": the ground-truth topic " + o.gt_topic +
+                     " is also the odometry topic");
 }
 
 /// The scans' frame and the robot's base frame (given, else the odometry's child frame, else
@@ -256,11 +272,24 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
   ObsRawlogWriter out(o.output);
   std::vector<std::string> topics{rep.scan_topic};
   if (!rep.odom_topic.empty()) topics.push_back(rep.odom_topic);
+  std::unique_ptr<GroundTruthWriter> gt;
+  const bool gt_pose_stamped = !o.gt_topic.empty() && bag.topic(o.gt_topic)->type == kPoseStamped;
+  if (!o.gt_topic.empty()) {
+    if (o.gt_output.empty()) throw InputError(o.input + ": a ground-truth topic needs a file");
+    gt = std::make_unique<GroundTruthWriter>(o.gt_output);
+    topics.push_back(o.gt_topic);
+  }
   Progress progress(o.progress);
   bag.forEach(
       topics, [&](const std::string& topic, std::int64_t, const std::uint8_t* d, std::size_t n) {
         const std::string where = o.input + ": " + topic + " message";
-        if (topic == rep.scan_topic) {
+        if (gt && topic == o.gt_topic) {
+          const OdometryMsg m = gt_pose_stamped ? decodePoseStamped(d, n, where, wire)
+                                                : decodeOdometry(d, n, where, wire);
+          gt->write(static_cast<double>(m.stamp.sec) + m.stamp.nanosec * 1e-9,
+                    mrpt::poses::CPose2D(m.x, m.y, yawOf(m.qx, m.qy, m.qz, m.qw)));
+          ++rep.gt_poses;
+        } else if (topic == rep.scan_topic) {
           const LaserScanMsg s = decodeLaserScan(d, n, where, wire);
           out.write(toScan(s, rep.laser_pose, where));
           if (rep.scans++ == 0) {

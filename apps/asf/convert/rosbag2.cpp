@@ -157,6 +157,21 @@ OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std
   return m;
 }
 
+OdometryMsg decodePoseStamped(const std::uint8_t* data, std::size_t size, const std::string& where,
+                              Wire wire) {
+  CdrReader c(data, size, where, wire);
+  OdometryMsg m;
+  header(c, m.stamp, m.frame_id, wire);
+  m.x = c.f64();
+  m.y = c.f64();
+  m.z = c.f64();
+  m.qx = c.f64();
+  m.qy = c.f64();
+  m.qz = c.f64();
+  m.qw = c.f64();
+  return m;
+}
+
 std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
                                           const std::string& where, Wire wire) {
   CdrReader c(data, size, where, wire);

@@ -168,6 +168,9 @@ LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const s
                              Wire wire = Wire::Cdr);
 OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std::string& where,
                            Wire wire = Wire::Cdr);
+/// geometry_msgs/msg/PoseStamped (its pose in an OdometryMsg, no child frame).
+OdometryMsg decodePoseStamped(const std::uint8_t* data, std::size_t size, const std::string& where,
+                              Wire wire = Wire::Cdr);
 std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t size,
                                           const std::string& where, Wire wire = Wire::Cdr);
 
@@ -182,6 +185,9 @@ struct BagToRawlogOptions {
   std::string base_frame;  ///< empty: the odometry's child_frame_id, else "base_link"
   /// The laser on the robot; when unset, from /tf_static (base_frame -> the scans' frame_id).
   std::optional<mrpt::poses::CPose3D> laser_pose;
+  /// A ground-truth topic (nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped, e.g. a
+  /// simulator's /ground_truth) written to `gt_output` as "t x y phi" lines; empty: none.
+  std::string gt_topic, gt_output;
   std::ostream* progress = nullptr;
 };
 
@@ -191,7 +197,7 @@ struct BagToRawlogReport {
   bool odom_from_tf = false;  ///< the odometry from /tf's transforms to the base frame
   mrpt::poses::CPose3D laser_pose;
   std::string laser_pose_from;  ///< "/tf_static", "--laser-pose" or "identity (same frame)"
-  std::size_t scans = 0, odometry = 0, rays = 0;
+  std::size_t scans = 0, odometry = 0, rays = 0, gt_poses = 0;
   double aperture_deg = 0;
   double wall_time_s = 0;
 };
