@@ -31,6 +31,7 @@ double planarDistance(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D&
 struct RunLimits {
   explicit RunLimits(const Params& p)
       : max_steps(static_cast<long>(p.getInt("max_steps"))),
+        steps_budget(!p.isDefault("max_steps") && max_steps > 0),
         max_distance(p.getDouble("max_distance")),
         optimize_every(static_cast<long>(p.getInt("optimize_every"))),
         segment_every(static_cast<long>(p.getInt("segment_every"))),
@@ -42,6 +43,7 @@ struct RunLimits {
     std::sort(snapshots.begin(), snapshots.end());
   }
   long max_steps;
+  bool steps_budget;  ///< max_steps was set (not the default): the progress line has an ETA
   double max_distance;
   long optimize_every, segment_every;
   int max_failed, max_idle;
@@ -356,8 +358,17 @@ void RunState::progress(bool force) {
     os << "  coverage " << std::setprecision(1) << 100 * last_coverage_ << "%"
        << std::setprecision(2);
   if (err_n_) os << "  pose error " << currentPoseError() << " m";
-  os << "  (" << std::setprecision(1) << std::chrono::duration<double>(now - t_start_).count()
-     << " s)";
+  const double elapsed = std::chrono::duration<double>(now - t_start_).count();
+  os << "  (" << std::setprecision(1) << elapsed << " s";
+  // A budget set: the share spent and, at this pace, the most time left (a bound: an
+  // exploration that finishes stops before its budget).
+  double used = 0;
+  if (limits_.steps_budget) used = static_cast<double>(sum_.steps) / limits_.max_steps;
+  if (limits_.max_distance > 0) used = std::max(used, sum_.distance_m / limits_.max_distance);
+  if (used > 0 && used < 1)
+    os << ", budget " << std::setprecision(0) << 100 * used
+       << "%, <= " << elapsed * (1 - used) / used << " s left";
+  os << ")";
   m_.logStr(mrpt::system::LVL_INFO, os.str());
   if (m_.log) m_.log->progress(os.str());
 }
