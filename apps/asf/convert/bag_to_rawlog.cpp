@@ -3,6 +3,7 @@
 // mounting from /tf_static.
 #include <asf/errors.h>
 #include <asf/ground_truth.h>
+#include <asf/text.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose2D.h>
@@ -151,16 +152,9 @@ mrpt::poses::CPose3D parseLaserPose(const std::string& text) {
   std::string part;
   std::vector<double> v;
   while (std::getline(is, part, ',')) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || !std::isfinite(x))
-      throw std::invalid_argument("'" + part + "' is not a number (expected X,Y,Z,YAW_DEG)");
-    v.push_back(x);
+    const std::optional<double> x = parseDouble(trim(part));
+    if (!x) throw std::invalid_argument("'" + part + "' is not a number (expected X,Y,Z,YAW_DEG)");
+    v.push_back(*x);
   }
   if (v.size() != 4) throw std::invalid_argument("expected X,Y,Z,YAW_DEG (four numbers)");
   return mrpt::poses::CPose3D(v[0], v[1], v[2], v[3] * M_PI / 180, 0, 0);
@@ -207,19 +201,17 @@ void chooseTopics(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlog
 /// base_link).
 void chooseFrames(const BagReader& bag, const BagToRawlogOptions& o, BagToRawlogReport& rep) {
   const Wire wire = bag.wire();
-  bag.forEach({rep.scan_topic}, [&](const std::string&, std::int64_t, const std::uint8_t* d,
-                                    std::size_t n) {
-    if (rep.laser_frame.empty())
-      rep.laser_frame =
-          stripSlash(decodeLaserScan(d, n, o.input + ": " + rep.scan_topic, wire).frame_id);
-  });
+  bag.forFirst(
+      rep.scan_topic, [&](const std::string&, std::int64_t, const std::uint8_t* d, std::size_t n) {
+        rep.laser_frame =
+            stripSlash(decodeLaserScan(d, n, o.input + ": " + rep.scan_topic, wire).frame_id);
+      });
   rep.base_frame = o.base_frame;
   if (rep.base_frame.empty() && !rep.odom_topic.empty() && !rep.odom_from_tf)
-    bag.forEach({rep.odom_topic}, [&](const std::string&, std::int64_t, const std::uint8_t* d,
-                                      std::size_t n) {
-      if (rep.base_frame.empty())
-        rep.base_frame =
-            stripSlash(decodeOdometry(d, n, o.input + ": " + rep.odom_topic, wire).child_frame_id);
+    bag.forFirst(rep.odom_topic, [&](const std::string&, std::int64_t, const std::uint8_t* d,
+                                     std::size_t n) {
+      rep.base_frame =
+          stripSlash(decodeOdometry(d, n, o.input + ": " + rep.odom_topic, wire).child_frame_id);
     });
   if (rep.base_frame.empty()) rep.base_frame = "base_link";
   rep.base_frame = stripSlash(rep.base_frame);

@@ -244,7 +244,8 @@ void McapReader::visit(const std::vector<std::string>& topics, Visitor v, void* 
   // The bag's time order (chunks may overlap in time), ties in file order.
   std::stable_sort(msgs.begin(), msgs.end(), [](const Msg& a, const Msg& b) { return a.t < b.t; });
   for (const auto& m : msgs)
-    v(ctx, topics[m.topic], static_cast<std::int64_t>(m.t), m.data.data(), m.data.size());
+    if (!v(ctx, topics[m.topic], static_cast<std::int64_t>(m.t), m.data.data(), m.data.size()))
+      return;
 }
 
 }  // namespace asf::convert

@@ -67,8 +67,9 @@ void Ros1BagReader::visit(const std::vector<std::string>& topics, Visitor v, voi
       ros::serialization::OStream out(buf.data(), static_cast<std::uint32_t>(buf.size()));
       msg.write(out);
       const ros::Time t = msg.getTime();
-      v(ctx, msg.getTopic(), static_cast<std::int64_t>(t.sec) * 1000000000 + t.nsec, buf.data(),
-        buf.size());
+      if (!v(ctx, msg.getTopic(), static_cast<std::int64_t>(t.sec) * 1000000000 + t.nsec,
+             buf.data(), buf.size()))
+        return;
     }
   } catch (const rosbag::BagUnindexedException& e) {
     throw InputError(impl_->file + ": the bag is not indexed (reindex it with `rosbag reindex`)");

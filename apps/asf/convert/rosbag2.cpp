@@ -121,6 +121,18 @@ void header(CdrReader& c, RosTime& stamp, std::string& frame_id, Wire wire) {
   frame_id = c.str();
 }
 
+/// geometry_msgs/Pose: position, then orientation (x, y, z, w).
+template <class M>
+void pose(CdrReader& c, M& m) {
+  m.x = c.f64();
+  m.y = c.f64();
+  m.z = c.f64();
+  m.qx = c.f64();
+  m.qy = c.f64();
+  m.qz = c.f64();
+  m.qw = c.f64();
+}
+
 }  // namespace
 
 LaserScanMsg decodeLaserScan(const std::uint8_t* data, std::size_t size, const std::string& where,
@@ -146,13 +158,7 @@ OdometryMsg decodeOdometry(const std::uint8_t* data, std::size_t size, const std
   OdometryMsg m;
   header(c, m.stamp, m.frame_id, wire);
   m.child_frame_id = c.str();
-  m.x = c.f64();
-  m.y = c.f64();
-  m.z = c.f64();
-  m.qx = c.f64();
-  m.qy = c.f64();
-  m.qz = c.f64();
-  m.qw = c.f64();
+  pose(c, m);
   for (int k = 0; k < 36; ++k) c.f64();  // the pose covariance: the message must hold it
   return m;
 }
@@ -162,13 +168,7 @@ OdometryMsg decodePoseStamped(const std::uint8_t* data, std::size_t size, const 
   CdrReader c(data, size, where, wire);
   OdometryMsg m;
   header(c, m.stamp, m.frame_id, wire);
-  m.x = c.f64();
-  m.y = c.f64();
-  m.z = c.f64();
-  m.qx = c.f64();
-  m.qy = c.f64();
-  m.qz = c.f64();
-  m.qw = c.f64();
+  pose(c, m);
   return m;
 }
 
@@ -181,13 +181,7 @@ std::vector<TransformMsg> decodeTfMessage(const std::uint8_t* data, std::size_t 
   for (auto& t : v) {
     header(c, t.stamp, t.frame_id, wire);
     t.child_frame_id = c.str();
-    t.x = c.f64();
-    t.y = c.f64();
-    t.z = c.f64();
-    t.qx = c.f64();
-    t.qy = c.f64();
-    t.qz = c.f64();
-    t.qw = c.f64();
+    pose(c, t);
   }
   return v;
 }
@@ -422,9 +416,9 @@ void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, voi
       const auto n = static_cast<std::size_t>(sqlite3_column_bytes(s.s, 2));
       if (impl_->zstd_messages) {  // MESSAGE mode: each message a zstd frame
         const auto raw = unzstd(d, n, file + ": a message of " + s.text(0));
-        v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), raw.data(), raw.size());
+        if (!v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), raw.data(), raw.size())) return;
       } else {
-        v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), d, n);
+        if (!v(ctx, s.text(0), sqlite3_column_int64(s.s, 1), d, n)) return;
       }
     }
     if (rc != SQLITE_DONE) throw InputError(file + ": " + sqlite3_errmsg(db));

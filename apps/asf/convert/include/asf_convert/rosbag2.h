@@ -43,9 +43,14 @@ class BagReader {
   /// time order (ties in the order written).
   template <class F>
   void forEach(const std::vector<std::string>& topics, F&& f) const;
+  /// Calls `f` for the first message of `topic` only, if any (the rest is not read from an
+  /// indexed storage: sqlite3, ROS 1).
+  template <class F>
+  void forFirst(const std::string& topic, F&& f) const;
 
  protected:
-  using Visitor = void (*)(void* ctx, const std::string& topic, std::int64_t t,
+  /// Returns false to stop the visit.
+  using Visitor = bool (*)(void* ctx, const std::string& topic, std::int64_t t,
                            const std::uint8_t* data, std::size_t size);
   virtual void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const = 0;
 };
@@ -55,7 +60,21 @@ void BagReader::forEach(const std::vector<std::string>& topics, F&& f) const {
   visit(
       topics,
       [](void* ctx, const std::string& topic, std::int64_t t, const std::uint8_t* d,
-         std::size_t n) { (*static_cast<std::remove_reference_t<F>*>(ctx))(topic, t, d, n); },
+         std::size_t n) {
+        (*static_cast<std::remove_reference_t<F>*>(ctx))(topic, t, d, n);
+        return true;
+      },
+      &f);
+}
+
+template <class F>
+void BagReader::forFirst(const std::string& topic, F&& f) const {
+  visit(
+      {topic},
+      [](void* ctx, const std::string& name, std::int64_t t, const std::uint8_t* d, std::size_t n) {
+        (*static_cast<std::remove_reference_t<F>*>(ctx))(name, t, d, n);
+        return false;
+      },
       &f);
 }
 
