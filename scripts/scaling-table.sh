@@ -3,19 +3,20 @@
 # (`sim2d.map_tiles`, every other tile mirrored: 20 m per tile), one run per size, and a
 # markdown table of the per-stage times summed from each run's timeseries.csv, per step, and
 # how each stage grows from one size to the next (exponent of the steps: 1 = linear).
-#   scripts/scaling-table.sh [--tiles "1 2 3"] [--config INI] [--reuse] [OUT_DIR]
+#   scripts/scaling-table.sh [--tiles "1 2 3"] [--config INI] [--set KEY=VALUE]... [--reuse] [OUT_DIR]
 # Needs the built host (scripts/build.sh). Runs one at a time; outputs in OUT_DIR (default
 # results/scaling); --reuse keeps a size whose run finished there before (summary.json) and
 # only tabulates it. Deterministic per seed: only the times depend on the machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ASF=${ASF:-build/bin/asf}
-TILES="1 2 3" CONFIG=configs/default.ini REUSE=0
+TILES="1 2 3" CONFIG=configs/default.ini REUSE=0 SETS=()
 while (($#)); do
   case $1 in
     --reuse) REUSE=1; shift ;;
     --tiles) TILES=$2; shift 2 ;;
     --config) CONFIG=$2; shift 2 ;;
+    --set) SETS+=(--set "$2"); shift 2 ;;
     -*) echo "scaling-table: unknown option $1" >&2; exit 2 ;;
     *) break ;;
   esac
@@ -30,7 +31,7 @@ for n in $TILES; do
   fi
   echo "scaling-table: $n x $n tiles" >&2
   "$ASF" run "$CONFIG" -o "$OUT/tiles_$n" --set sim2d.map_tiles="$n" \
-    --set pipeline.max_steps=1000000 --set pipeline.progress_interval=0 > "$OUT/tiles_$n.log" 2>&1 ||
+    --set pipeline.max_steps=1000000 --set pipeline.progress_interval=0 "${SETS[@]}" > "$OUT/tiles_$n.log" 2>&1 ||
     { echo "scaling-table: the run with $n tiles failed (see $OUT/tiles_$n.log)" >&2; exit 1; }
 done
 python3 - "$OUT" $TILES <<'PY'

@@ -4,7 +4,7 @@
 #include <asf/backend.h>
 #include <asf/errors.h>
 
-#include "sparse_se2.h"
+#include "incremental_se2.h"
 
 namespace {
 
@@ -34,29 +34,45 @@ class SparseLmBackend final : public asf::Backend {
     opt_.reorder_fill_ratio = p.getDouble("reorder_fill_ratio");
     opt_.cholmod_openmp = p.getBool("cholmod_openmp");
     opt_.verbosity = static_cast<int>(p.getInt("verbosity"));
+    inc_.enabled = p.getBool("incremental");
+    inc_.gap = p.getDouble("incremental_gap");
+    inc_.hops = static_cast<int>(p.getInt("incremental_hops"));
+    inc_.max_window = static_cast<std::size_t>(p.getInt("incremental_max_window"));
+    inc_.exact_marginals = p.getString("incremental_marginals") == "exact";
     opt_.log = [this](const std::string& line) { MRPT_LOG_INFO(line); };
   }
 
   asf::OptimizeReport optimize(asf::PoseGraph& g) override {
-    const asf::OptimizeReport r = core_.optimize(g, opt_);
+    const asf::OptimizeReport r = core_.optimize(g, opt_, inc_);
     MRPT_LOG_DEBUG_STREAM("sparse_lm: chi2 " << r.initial_chi2 << " -> " << r.final_chi2 << " in "
                                              << r.iterations << " iterations (" << r.message
                                              << ")");
+    if (inc_.enabled)
+      MRPT_LOG_DEBUG_STREAM("sparse_lm: " << core_.counters().last_path << "; so far "
+                                          << core_.counters().window_solves << " window, "
+                                          << core_.counters().whole_solves << " whole solves");
     return r;
   }
 
   asf::Marginals marginals(const asf::PoseGraph& g,
                            const std::vector<std::pair<asf::NodeId, asf::NodeId>>& cross) override {
-    asf::Marginals m = core_.marginals(g, cross, opt_);
-    MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of "
-                          << g.size() << " nodes, symbolic: " << core_.lastSymbolic() << ", "
-                          << core_.lastCrossSolved() << " cross blocks solved by columns");
+    const long exact = core_.counters().exact_marginals;
+    asf::Marginals m = core_.marginals(g, cross, opt_, inc_);
+    if (core_.counters().exact_marginals == exact)
+      MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of " << g.size()
+                                                       << " nodes, the newer ones propagated");
+    else
+      MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of "
+                            << g.size() << " nodes, symbolic: " << core_.whole().lastSymbolic()
+                            << ", " << core_.whole().lastCrossSolved()
+                            << " cross blocks solved by columns");
     return m;
   }
 
  private:
   asf::sparse_lm::Options opt_;
-  asf::sparse_lm::SparseSe2 core_;
+  asf::sparse_lm::IncrementalOptions inc_;
+  asf::sparse_lm::IncrementalSe2 core_;
 };
 
 const asf::KeySpec kKeys[] = {
@@ -93,6 +109,26 @@ const asf::KeySpec kKeys[] = {
                  "Let CHOLMOD run its OpenMP loops in parallel (Debian's build uses a fixed team "
                  "of 4 threads on small loops: slower on few cores); false serializes them in "
                  "the calling thread only"),
+    asf::keyBool("incremental", "false",
+                 "Solve a growing graph in a window around what is new (the new nodes and edge "
+                 "ends, incremental_hops edges around them, and the nodes added since the last "
+                 "solve of the whole graph) while a whole-graph Gauss-Newton step could lower "
+                 "chi2 by at most incremental_gap (bounded with the last whole factorization); "
+                 "else solve the whole graph (see incremental_marginals)"),
+    asf::keyDouble("incremental_gap", "0.5",
+                   "Most chi2 a whole-graph step may still gain after a window solve: the "
+                   "estimate stays within sqrt(gap) standard deviations of the optimum",
+                   0, 1e9),
+    asf::keyInt("incremental_hops", "3",
+                "Window: nodes up to this many edges from the new nodes and edge ends", 0, 1000000),
+    asf::keyInt("incremental_max_window", "300",
+                "A larger window solves the whole graph instead (as does one over half of it)", 1,
+                100000000),
+    asf::keyEnum("incremental_marginals", "exact", "exact|propagated",
+                 "With incremental: exact (a factorization of the whole graph every time) or "
+                 "propagated (after a window solve, the last exact blocks and newer nodes from "
+                 "an edge to an older node: upper bounds, cheaper, and they change what "
+                 "covariance gates admit)"),
     asf::keyInt("verbosity", "0",
                 "0: quiet; 1: one INFO line per optimize(); 2: one INFO line per step", 0, 2),
 };

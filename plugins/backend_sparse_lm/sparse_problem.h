@@ -27,17 +27,26 @@ struct Problem {
 
   Problem(const asf::PoseGraph& g, const Options& o) {
     edges.reserve(g.edges.size());
-    for (const auto& e : g.edges) {
-      const bool robust =
-          o.robust_edges == RobustEdges::All ||
-          (o.robust_edges == RobustEdges::LoopClosures && e.kind == asf::EdgeKind::LoopClosure) ||
-          (o.robust_edges == RobustEdges::CrossLinks && e.from + 1 != e.to && e.to + 1 != e.from);
-      edges.push_back({static_cast<int>(e.from),
-                       static_cast<int>(e.to),
-                       {e.mean.x(), e.mean.y(), e.mean.phi()},
-                       e.information,
-                       robust ? o.kernel : Kernel::None});
-    }
+    for (const auto& e : g.edges) add(e, o);
+  }
+  /// Only the edges g.edges[k] for k in `subset`, in that order.
+  Problem(const asf::PoseGraph& g, const std::vector<std::size_t>& subset, const Options& o) {
+    edges.reserve(subset.size());
+    for (std::size_t k : subset) add(g.edges.at(k), o);
+  }
+
+ private:
+  void add(const asf::PoseEdge& e, const Options& o) {
+    // Decided on the graph's own node ids (a window's edges keep them).
+    const bool robust =
+        o.robust_edges == RobustEdges::All ||
+        (o.robust_edges == RobustEdges::LoopClosures && e.kind == asf::EdgeKind::LoopClosure) ||
+        (o.robust_edges == RobustEdges::CrossLinks && e.from + 1 != e.to && e.to + 1 != e.from);
+    edges.push_back({static_cast<int>(e.from),
+                     static_cast<int>(e.to),
+                     {e.mean.x(), e.mean.y(), e.mean.phi()},
+                     e.information,
+                     robust ? o.kernel : Kernel::None});
   }
 };
 
@@ -81,19 +90,36 @@ struct Structure {
   int pos(int j, int k, int r, int c) const { return Ap[3 * j + c] + 3 * k + r; }
   int diagBlock(int j) const { return col_begin[j + 1] - 1 - col_begin[j]; }
 
-  static Structure of(const asf::PoseGraph& g) {
-    Structure S;
-    const std::size_t n = g.size();
-    std::vector<char> held(n, 0);
-    if (n) held[0] = 1;
+  /// Node 0 (the gauge) and g.fixed.
+  static std::vector<char> heldNodes(const asf::PoseGraph& g) {
+    std::vector<char> held(g.size(), 0);
+    if (!held.empty()) held[0] = 1;
     for (asf::NodeId f : g.fixed) held[f] = 1;
+    return held;
+  }
+  static Structure of(const asf::PoseGraph& g) {
+    std::vector<std::pair<int, int>> ends;
+    ends.reserve(g.edges.size());
+    for (const auto& e : g.edges) ends.emplace_back(e.from, e.to);
+    return of(heldNodes(g), ends);
+  }
+  static Structure of(const std::vector<char>& held, const Problem& P) {
+    std::vector<std::pair<int, int>> ends;
+    ends.reserve(P.edges.size());
+    for (const auto& e : P.edges) ends.emplace_back(e.from, e.to);
+    return of(held, ends);
+  }
+  /// Free nodes: those not `held`; one entry of `off` per element of `ends` (edge ends).
+  static Structure of(const std::vector<char>& held, const std::vector<std::pair<int, int>>& ends) {
+    Structure S;
+    const std::size_t n = held.size();
     S.free.assign(n, -1);
     for (std::size_t i = 0; i < n; ++i)
       if (!held[i]) S.free[i] = S.nfree++;
-    S.blocks.reserve(S.nfree + g.edges.size());
+    S.blocks.reserve(S.nfree + ends.size());
     for (int j = 0; j < S.nfree; ++j) S.blocks.emplace_back(j, j);
-    for (const auto& e : g.edges) {
-      const int a = S.free[e.from], b = S.free[e.to];
+    for (const auto& [from, to] : ends) {
+      const int a = S.free[from], b = S.free[to];
       if (a >= 0 && b >= 0 && a != b) S.blocks.emplace_back(std::max(a, b), std::min(a, b));
     }
     std::sort(S.blocks.begin(), S.blocks.end());
@@ -116,9 +142,9 @@ struct Structure {
         for (int r = 0; r <= c; ++r) S.Ai[p++] = 3 * j + r;
       }
 
-    S.off.assign(g.edges.size(), -1);
-    for (std::size_t k = 0; k < g.edges.size(); ++k) {
-      const int a = S.free[g.edges[k].from], b = S.free[g.edges[k].to];
+    S.off.assign(ends.size(), -1);
+    for (std::size_t k = 0; k < ends.size(); ++k) {
+      const int a = S.free[ends[k].first], b = S.free[ends[k].second];
       if (a < 0 || b < 0 || a == b) continue;
       const std::pair<int, int> key(std::max(a, b), std::min(a, b));
       const auto first = S.blocks.begin() + S.col_begin[key.first];

@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <queue>
 #include <sstream>
 
@@ -34,38 +35,6 @@ namespace asf::sparse_lm {
 using namespace detail;
 
 using asf::NodeId;
-
-double robustCost(Kernel k, double delta, double s) {
-  const double d2 = delta * delta;
-  switch (k) {
-    case Kernel::None:
-      return s;
-    case Kernel::Huber:
-      return s <= d2 ? s : 2 * delta * std::sqrt(s) - d2;
-    case Kernel::Cauchy:
-      return d2 * std::log1p(s / d2);
-    case Kernel::Dcs:
-      return s <= d2 ? s : d2 * (3 * s - d2) / (d2 + s);
-  }
-  return s;
-}
-
-double robustWeight(Kernel k, double delta, double s) {
-  const double d2 = delta * delta;
-  switch (k) {
-    case Kernel::None:
-      return 1;
-    case Kernel::Huber:
-      return s <= d2 ? 1 : delta / std::sqrt(s);
-    case Kernel::Cauchy:
-      return 1 / (1 + s / d2);
-    case Kernel::Dcs: {
-      const double scale = std::min(1.0, 2 * d2 / (d2 + s));
-      return scale * scale;
-    }
-  }
-  return 1;
-}
 
 namespace {
 
@@ -144,6 +113,7 @@ struct SparseSe2::Impl {
   Counters counters;
   std::string last_symbolic = "none";
   std::size_t last_cross_solved = 0;
+  bool factor_valid = false;  ///< L holds a successful numeric factorization of S's matrix
 
   std::vector<double> H;   ///< values of H in S's pattern (undamped)
   std::vector<double> Ax;  ///< values handed to CHOLMOD (H plus damping)
@@ -209,6 +179,7 @@ struct SparseSe2::Impl {
     }
     if (L) cholmod_free_factor(&L, &cm);
     L = Lnew;
+    factor_valid = false;
     S = std::move(S_new);
     diag.resize(S.dim());
     for (int k = 0; k < S.dim(); ++k) diag[k] = S.Ap[k + 1] - 1;  // last entry of a column
@@ -299,7 +270,8 @@ struct SparseSe2::Impl {
     const int ok = cholmod_factorize(&A, L, &cm);
     ++counters.factorizations;
     if (cm.status < 0 || (!ok && cm.status != CHOLMOD_NOT_POSDEF)) cholmodFailed("factorization");
-    return cm.status == CHOLMOD_OK && L->minor == L->n;
+    factor_valid = cm.status == CHOLMOD_OK && L->minor == L->n;
+    return factor_valid;
   }
 
   /// Solves H X = B for a dense column-major B with ncol columns.
@@ -316,6 +288,12 @@ struct SparseSe2::Impl {
   }
 
   asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
+  asf::OptimizeReport optimizeWindow(asf::PoseGraph& g, const std::vector<NodeId>& window,
+                                     const std::vector<std::size_t>& edges, const Options& o);
+  /// Solves P from g's poses over S_new's free nodes; writes them back to g if chi2 fell.
+  asf::OptimizeReport run(asf::PoseGraph& g, const Problem& P, Structure S_new, const Options& o,
+                          bool lago);
+  std::optional<double> decrementBound(const asf::PoseGraph& g, const Options& o);
   double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r, int& steps,
                  int& accepted);
   /// The damped step at `lambda` from the factored matrix: x_new = x + h, its cost, the
@@ -472,20 +450,44 @@ SparseSe2::Impl::Trial SparseSe2::Impl::tryStep(const Problem& P, const Poses& x
 
 asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& o) {
   validate(g);
+  const Problem P(g, o);
+  return run(g, P, Structure::of(g), o, o.lago_init);
+}
+
+asf::OptimizeReport SparseSe2::Impl::optimizeWindow(asf::PoseGraph& g,
+                                                    const std::vector<NodeId>& window,
+                                                    const std::vector<std::size_t>& edges,
+                                                    const Options& o) {
+  validate(g);
+  for (std::size_t k : edges)
+    if (k >= g.edges.size())
+      throw asf::Error("sparse_lm: window edge " + std::to_string(k) + " does not exist");
+  std::vector<char> held(g.size(), 1);
+  for (NodeId v : window) {
+    if (v >= g.size())
+      throw asf::Error("sparse_lm: window node " + std::to_string(v) + " does not exist");
+    held[v] = 0;
+  }
+  const std::vector<char> gauge = Structure::heldNodes(g);
+  for (std::size_t i = 0; i < held.size(); ++i) held[i] = held[i] || gauge[i];
+  const Problem P(g, edges, o);
+  return run(g, P, Structure::of(held, P), o, false);
+}
+
+asf::OptimizeReport SparseSe2::Impl::run(asf::PoseGraph& g, const Problem& P, Structure S_new,
+                                         const Options& o, bool lago) {
   const SerialOpenMp serial(!o.cholmod_openmp);
   asf::OptimizeReport r;
-  const Problem P(g, o);
   Poses x = posesOf(g);
   double F = cost(P, x, o);
   if (!std::isfinite(F))
     throw asf::Error("sparse_lm: the initial chi2 is not finite (non-finite pose or edge?)");
   r.initial_chi2 = r.final_chi2 = F;
   r.converged = true;
-  if (g.size() < 2 || g.edges.empty()) {
+  if (g.size() < 2 || P.edges.empty()) {
     r.message = "nothing to optimize";
     return r;
   }
-  Structure S_new = Structure::of(g);
   if (S_new.nfree == 0) {
     r.message = "nothing to optimize (every node is fixed)";
     return r;
@@ -495,7 +497,7 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
     return r;
   }
   std::string start = "from the graph's poses";
-  if (o.lago_init) {
+  if (lago) {
     const Timer timer(counters.t_init);
     Poses guess = x;
     if (lagoGuess(P, S_new, guess)) {
@@ -529,6 +531,35 @@ asf::OptimizeReport SparseSe2::Impl::optimize(asf::PoseGraph& g, const Options& 
           asf::formatSignificant(r.final_chi2, 8) + " in " + std::to_string(r.iterations) +
           " iterations (" + r.message + ")");
   return r;
+}
+
+std::optional<double> SparseSe2::Impl::decrementBound(const asf::PoseGraph& g, const Options& o) {
+  if (!L || !factor_valid || S.free.size() > g.size()) return std::nullopt;
+  const std::vector<char> held = Structure::heldNodes(g);
+  for (std::size_t i = 0; i < S.free.size(); ++i)
+    if ((S.free[i] < 0) != (held[i] != 0)) return std::nullopt;  // gauge or fixed set changed
+  const SerialOpenMp serial(!o.cholmod_openmp);
+  const Problem P(g, o);
+  const Poses x = posesOf(g);
+  const int known = static_cast<int>(S.free.size());
+  std::vector<double> rhs(S.dim(), 0.0);  // J^T W e over the factor's free nodes
+  for (const auto& e : P.edges) {
+    const int a = e.from < known ? S.free[e.from] : -1, c = e.to < known ? S.free[e.to] : -1;
+    if (a < 0 && c < 0) continue;
+    const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
+    const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, lin.e.dot(e.W * lin.e)) * e.W;
+    const Eigen::Vector3d We = W * lin.e;
+    if (a >= 0 && a == c) {
+      Eigen::Map<Eigen::Vector3d>(&rhs[3 * a]) += (lin.Ji + lin.Jj).transpose() * We;
+      continue;
+    }
+    if (a >= 0) Eigen::Map<Eigen::Vector3d>(&rhs[3 * a]) += lin.Ji.transpose() * We;
+    if (c >= 0) Eigen::Map<Eigen::Vector3d>(&rhs[3 * c]) += lin.Jj.transpose() * We;
+  }
+  const std::vector<double> h = solve(rhs, 1);
+  double bound = 0;
+  for (std::size_t k = 0; k < rhs.size(); ++k) bound += rhs[k] * h[k];
+  return bound;
 }
 
 asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
@@ -619,6 +650,20 @@ asf::Marginals SparseSe2::marginals(const asf::PoseGraph& g,
                                     const std::vector<std::pair<NodeId, NodeId>>& cross,
                                     const Options& o) {
   return impl_->marginals(g, cross, o);
+}
+
+asf::OptimizeReport SparseSe2::optimizeWindow(asf::PoseGraph& g, const std::vector<NodeId>& window,
+                                              const std::vector<std::size_t>& edges,
+                                              const Options& o) {
+  return impl_->optimizeWindow(g, window, edges, o);
+}
+
+std::optional<double> SparseSe2::decrementBound(const asf::PoseGraph& g, const Options& o) {
+  return impl_->decrementBound(g, o);
+}
+
+std::size_t SparseSe2::factorNodes() const {
+  return impl_->L && impl_->factor_valid ? impl_->S.free.size() : 0;
 }
 
 const Counters& SparseSe2::counters() const { return impl_->counters; }

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,8 +60,8 @@ struct Counters {
   long reused = 0;              ///< same structure as the previous call: symbolic factor kept
   long factorizations = 0;      ///< numeric factorizations
   /// Seconds spent in each phase, summed over calls (for profiling).
-  double t_analysis = 0, t_linearize = 0, t_factorize = 0, t_solve = 0, t_cost = 0,
-         t_inverse = 0, t_init = 0;
+  double t_analysis = 0, t_linearize = 0, t_factorize = 0, t_solve = 0, t_cost = 0, t_inverse = 0,
+         t_init = 0;
 };
 
 /// Cost rho(s) of one edge with squared Mahalanobis error s = e^T Omega e (g2o's kernels:
@@ -89,6 +90,24 @@ class SparseSe2 {
   asf::Marginals marginals(const asf::PoseGraph& g,
                            const std::vector<std::pair<asf::NodeId, asf::NodeId>>& cross,
                            const Options& o);
+
+  /// Optimizes only the nodes in `window` (node 0 and g.fixed stay held even there), over
+  /// the edges g.edges[k], k in `edges` (those touching the window; the others cannot move
+  /// it). Every other node is held where it is. The report's chi2 values are those edges'.
+  /// Uses (and replaces) this object's factor: a window solver is a SparseSe2 of its own.
+  asf::OptimizeReport optimizeWindow(asf::PoseGraph& g, const std::vector<asf::NodeId>& window,
+                                     const std::vector<std::size_t>& edges, const Options& o);
+
+  /// b^T H0^-1 b, where b = J^T W e is the gradient of g's cost at its poses over the nodes of
+  /// the last factorized matrix H0 (the first factorNodes() nodes; later nodes are left out)
+  /// and H0 that matrix (from the last optimize() or marginals()). When g holds H0's edges
+  /// plus others and b vanishes on the later nodes, this bounds the decrease of chi2 a
+  /// Gauss-Newton step on the whole of g would make: g's information on the old nodes after
+  /// eliminating the new ones is at least H0's. nullopt without a valid factor or if the
+  /// gauge / fixed nodes differ.
+  std::optional<double> decrementBound(const asf::PoseGraph& g, const Options& o);
+  /// Number of nodes of the graph the current factor belongs to (0: none).
+  std::size_t factorNodes() const;
 
   const Counters& counters() const;
   /// How the last optimize()/marginals() obtained its symbolic factor: "reused",
