@@ -8,6 +8,8 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -24,6 +26,20 @@ inline std::string readFile(const std::string& path) {
     std::fclose(f);
   }
   return out;
+}
+
+/// Writes `text` to `path` (binary), creating its folder.
+inline void writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+/// An empty folder `name` under the system's temporary folder.
+inline std::filesystem::path freshTempDir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / name;
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d;
 }
 
 /// The number in environment variable `name`, or `fallback` when it is unset or empty

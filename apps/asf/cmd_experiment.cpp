@@ -7,15 +7,16 @@
 #include <asf/pipeline.h>
 #include <tclap/CmdLine.h>
 
-#include "process_launcher.h"
-
 #include <atomic>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 
 #include "commands.h"
+#include "experiment_slurm_host.h"
+#include "process_launcher.h"
 
 namespace asf::app {
 
@@ -48,6 +49,54 @@ void checkPipeline(const ExperimentConfig& cfg) {
   }
 }
 
+/// The asf binary this process runs (the runs and array tasks execute it too).
+std::string asfExecutable() {
+  std::error_code ec;
+  const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
+  if (ec) throw Error("/proc/self/exe: cannot find the asf binary: " + ec.message());
+  return exe;
+}
+
+/// Runs `body` with SIGINT and SIGTERM setting g_stop (the runs or the job are stopped, the
+/// experiment still summarizes), restoring the default handlers after, also on exceptions.
+int withStopSignals(const std::function<int()>& body) {
+  g_stop = false;
+  std::signal(SIGINT, onExperimentSignal);
+  std::signal(SIGTERM, onExperimentSignal);
+  struct Restore {
+    ~Restore() {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+    }
+  } restore;
+  return body();
+}
+
+/// The local backend: the runs as processes here; the exit code of the command.
+int runLocally(const ExperimentConfig& cfg) {
+  checkPipeline(cfg);
+  const std::string exe = asfExecutable();
+  std::cout << "asf experiment: " << cfg.policies.size() << " policies x " << cfg.replications
+            << " replications of " << cfg.pipeline_ini << " into " << cfg.out_dir << "/"
+            << std::endl;
+  const int failed = withStopSignals([&] {
+    ProcessLauncher launcher(exe);
+    int n = 0;
+    for (const auto& r : runExperiment(
+             cfg, launcher, [](const std::string& line) { std::cout << line << std::endl; },
+             &g_stop))
+      if (!r.skipped && r.exit_code != 0 && r.exit_code != interruptedBy(SIGINT) &&
+          r.exit_code != interruptedBy(SIGTERM))
+        ++n;
+    return n;
+  });
+  std::cout << "\n";
+  // runExperiment ended with summarizeExperiment, which wrote the table to summary.md.
+  std::ifstream md(fs::path(cfg.out_dir) / "summary.md");
+  std::cout << md.rdbuf();
+  return g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
+}
+
 }  // namespace
 
 int cmdExperiment(int argc, char** argv) {
@@ -61,7 +110,8 @@ int cmdExperiment(int argc, char** argv) {
       "the table. Ctrl-C stops the running runs (they keep their outputs) and still "
       "summarizes. Keys of [experiment]: pipeline, policies, replications (10), first_seed "
       "(1), jobs (0 = cores), out (results/<INI name>), overrides (section.key=value;...). "
-      "See docs/EXPERIMENTS.md.",
+      "--backend slurm submits the unfinished runs as one Slurm job array instead, follows "
+      "it with squeue and summarizes the same way. See docs/EXPERIMENTS.md.",
       ' ', ASF_VERSION_STRING);
   TCLAP::UnlabeledValueArg<std::string> config("config", "Experiment INI file", true, "",
                                                "CONFIG.ini", cmd);
@@ -72,6 +122,24 @@ int cmdExperiment(int argc, char** argv) {
                             -1, "N", cmd);
   TCLAP::SwitchArg summarize_only("", "summarize-only",
                                   "Do not run anything: summarize the runs that exist", cmd);
+  std::vector<std::string> backends{"local", "slurm"};
+  TCLAP::ValuesConstraint<std::string> backend_values(backends);
+  TCLAP::ValueArg<std::string> backend(
+      "", "backend",
+      "local: runs as processes on this machine; slurm: one sbatch job array (the output "
+      "folder and asf on a filesystem the compute nodes share)",
+      false, "local", &backend_values, cmd);
+  TCLAP::ValueArg<std::string> partition("", "partition", "slurm: the partition", false, "", "P",
+                                         cmd);
+  TCLAP::ValueArg<std::string> time_limit("", "time", "slurm: time limit per run (Slurm format)",
+                                          false, "", "T", cmd);
+  TCLAP::ValueArg<int> max_parallel(
+      "", "max-parallel", "slurm: array tasks running at once (0: no limit)", false, 0, "N", cmd);
+  TCLAP::MultiArg<std::string> sbatch_arg(
+      "", "sbatch-arg", "slurm: one more #SBATCH option, e.g. --mem=2G", false, "OPT", cmd);
+  TCLAP::SwitchArg dry_run("", "dry-run", "slurm: write the array script, do not submit", cmd);
+  TCLAP::ValueArg<double> poll("", "poll", "slurm: seconds between squeue calls", false, 5, "S",
+                               cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
@@ -82,47 +150,32 @@ int cmdExperiment(int argc, char** argv) {
     cfg.jobs = jobs.getValue();
   }
 
+  const bool slurm = backend.getValue() == "slurm";
+  if (!slurm && (partition.isSet() || time_limit.isSet() || max_parallel.isSet() ||
+                 sbatch_arg.isSet() || dry_run.isSet() || poll.isSet()))
+    throw ConfigError(
+        "--partition, --time, --max-parallel, --sbatch-arg, --dry-run and --poll need "
+        "--backend slurm");
+  if (!(poll.getValue() > 0)) throw ConfigError("--poll must be > 0");
   int code = kOk;
   if (summarize_only.getValue()) {
     std::cout << summarizeExperiment(cfg);
-  } else {
+  } else if (slurm) {
     checkPipeline(cfg);
-    std::error_code ec;
-    const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
-    if (ec) throw Error("/proc/self/exe: cannot find the asf binary: " + ec.message());
-
-    std::cout << "asf experiment: " << cfg.policies.size() << " policies x " << cfg.replications
-              << " replications of " << cfg.pipeline_ini << " into " << cfg.out_dir << "/"
-              << std::endl;
-    g_stop = false;
-    std::signal(SIGINT, onExperimentSignal);
-    std::signal(SIGTERM, onExperimentSignal);
-    std::vector<ExperimentRun> runs;
-    try {
-      ProcessLauncher launcher(exe);
-      runs = runExperiment(
-          cfg, launcher, [](const std::string& line) { std::cout << line << std::endl; },
-          &g_stop);
-    } catch (...) {
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
-      throw;
-    }
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
-    std::size_t failed = 0;
-    for (const auto& r : runs)
-      if (!r.skipped && r.exit_code != 0 && r.exit_code != interruptedBy(SIGINT) &&
-          r.exit_code != interruptedBy(SIGTERM))
-        ++failed;
-    std::cout << "\n";
-    // runExperiment ended with summarizeExperiment, which wrote the table to summary.md.
-    std::ifstream md(fs::path(cfg.out_dir) / "summary.md");
-    std::cout << md.rdbuf();
-    if (g_stop)
-      code = interruptedBy(g_signal);
-    else if (failed)
-      code = kError;
+    SlurmOptions o;
+    o.partition = partition.getValue();
+    o.time_limit = time_limit.getValue();
+    o.max_parallel = max_parallel.getValue();
+    o.sbatch_args = sbatch_arg.getValue();
+    const std::string exe = asfExecutable();
+    const int failed = withStopSignals([&] {
+      return runSlurmExperiment(cfg, o, dry_run.getValue(), poll.getValue(), exe, g_stop);
+    });
+    if (dry_run.getValue()) return kOk;
+    std::cout << "\n" << summarizeExperiment(cfg);
+    code = g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
+  } else {
+    code = runLocally(cfg);
   }
   std::cout << "\nasf experiment: report in "
             << (fs::absolute(cfg.out_dir) / "report.html").lexically_normal().string()

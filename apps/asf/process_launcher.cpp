@@ -7,7 +7,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 
 extern char** environ;
 
@@ -68,5 +71,41 @@ std::optional<RunLauncher::Exit> ProcessLauncher::poll(long handle) {
 void ProcessLauncher::interrupt(long handle) { ::kill(static_cast<pid_t>(handle), SIGINT); }
 
 void ProcessLauncher::kill(long handle) { ::kill(static_cast<pid_t>(handle), SIGKILL); }
+
+int runCommand(const std::vector<std::string>& args, std::string& output) {
+  char path[] = "/tmp/asf-command-XXXXXX";
+  const int fd = mkstemp(path);
+  if (fd < 0) {
+    output = std::string("cannot create a temporary file: ") + std::strerror(errno);
+    return -1;
+  }
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&fa, fd, 1);
+  posix_spawn_file_actions_adddup2(&fa, fd, 2);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  close(fd);
+  int code = -1;
+  if (rc != 0) {
+    output = args[0] + ": cannot start: " + std::strerror(rc);
+  } else {
+    int st = 0;
+    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+    }
+    code = WIFSIGNALED(st) ? 128 + WTERMSIG(st) : WEXITSTATUS(st);
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    output = text.str();
+  }
+  unlink(path);
+  return code;
+}
 
 }  // namespace asf::app

@@ -3,6 +3,7 @@
 #include <asf/experiment.h>
 
 #include <string>
+#include <vector>
 
 namespace asf::app {
 
@@ -20,5 +21,10 @@ class ProcessLauncher final : public RunLauncher {
  private:
   std::string exe_;
 };
+
+/// Runs `argv` (argv[0] looked up in PATH) to its end with stdin from /dev/null; its stdout
+/// and stderr together in `output`. Returns the exit status, 128 + the signal that ended
+/// it, or -1 with `output` saying why it could not start.
+int runCommand(const std::vector<std::string>& argv, std::string& output);
 
 }  // namespace asf::app

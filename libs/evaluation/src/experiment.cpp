@@ -19,8 +19,8 @@ namespace asf {
 
 namespace fs = std::filesystem;
 using detail::number;
+using detail::plannedRuns;
 using detail::readSummary;
-using detail::runDir;
 using detail::runStatus;
 using nlohmann::json;
 
@@ -120,15 +120,7 @@ std::vector<ExperimentRun> Scheduler::run() {
 }
 
 void Scheduler::plan() {
-  // Seeds outer, policies inner: an interrupted experiment has comparable runs per policy.
-  for (int r = 0; r < cfg_.replications; ++r)
-    for (const auto& p : cfg_.policies) {
-      ExperimentRun run;
-      run.policy = p;
-      run.seed = cfg_.first_seed + r;
-      run.dir = runDir(cfg_, p, run.seed);
-      runs_.push_back(run);
-    }
+  runs_ = plannedRuns(cfg_);
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     if (runFinished(runs_[i].dir)) {
       runs_[i].skipped = true;

@@ -15,6 +15,19 @@ std::string runDir(const ExperimentConfig& cfg, const std::string& policy, int s
   return (fs::path(cfg.out_dir) / policy / ("seed_" + std::to_string(seed))).string();
 }
 
+std::vector<ExperimentRun> plannedRuns(const ExperimentConfig& cfg) {
+  std::vector<ExperimentRun> runs;
+  for (int r = 0; r < cfg.replications; ++r)
+    for (const auto& p : cfg.policies) {
+      ExperimentRun run;
+      run.policy = p;
+      run.seed = cfg.first_seed + r;
+      run.dir = runDir(cfg, p, run.seed);
+      runs.push_back(run);
+    }
+  return runs;
+}
+
 json readSummary(const std::string& dir, std::string& why) {
   const fs::path p = fs::path(dir) / "summary.json";
   std::ifstream in(p);

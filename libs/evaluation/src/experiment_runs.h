@@ -5,10 +5,14 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 namespace asf::detail {
 
 std::string runDir(const ExperimentConfig& cfg, const std::string& policy, int seed);
+/// Every (policy, seed) of cfg, seeds outer and policies inner (an interrupted experiment
+/// has comparable runs per policy), with their folders; none marked skipped.
+std::vector<ExperimentRun> plannedRuns(const ExperimentConfig& cfg);
 /// summary.json of a run, or null with `why` set.
 nlohmann::json readSummary(const std::string& dir, std::string& why);
 /// "finished", or why the run does not count (missing/invalid file, interrupted, error).

@@ -1,0 +1,150 @@
+// asf experiment --backend slurm: the job array's script and the scheduler's outputs
+// (asf/experiment_slurm.h).
+#include <asf/atomic_file.h>
+#include <asf/errors.h>
+#include <asf/experiment_slurm.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "experiment_runs.h"
+
+namespace asf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void requireToken(const std::string& what, const std::string& value) {
+  for (char c : value)
+    if (std::isspace(static_cast<unsigned char>(c)) || c == '\'' || c == '"')
+      throw ConfigError(what + " '" + value + "': no spaces or quotes allowed");
+}
+
+std::string exitCodeFile(const ExperimentRun& run) {
+  return (fs::path(run.dir) / "exit_code").string();
+}
+
+std::string scriptText(const ExperimentConfig& cfg, const SlurmOptions& o, const SlurmBatch& b,
+                       const std::string& asf_exe) {
+  std::ostringstream s;
+  s << "#!/bin/bash\n"
+    << "# asf experiment --backend slurm: " << b.tasks.size() << " runs of " << cfg.pipeline_ini
+    << "\n"
+    << "#SBATCH --job-name=asf-" << fs::path(cfg.out_dir).filename().string() << "\n"
+    << "#SBATCH --array=0-" << b.tasks.size() - 1;
+  if (o.max_parallel > 0) s << "%" << o.max_parallel;
+  s << "\n#SBATCH --output=" << b.dir << "/logs/task_%a.log\n"
+    << "#SBATCH --cpus-per-task=1\n";
+  if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << "\n";
+  if (!o.time_limit.empty()) s << "#SBATCH --time=" << o.time_limit << "\n";
+  for (const auto& a : o.sbatch_args) s << "#SBATCH " << a << "\n";
+  s << "set -u\ncase \"${SLURM_ARRAY_TASK_ID:?not run as a Slurm array task}\" in\n";
+  for (std::size_t i = 0; i < b.tasks.size(); ++i) {
+    const ExperimentRun& run = b.runs[b.tasks[i]];
+    s << "  " << i << ") dir=" << shellQuote(run.dir) << "; args=(" << shellQuote(asf_exe);
+    for (const auto& a : runArguments(cfg, run)) s << " " << shellQuote(a);
+    s << ") ;;\n";
+  }
+  s << "  *) echo \"asf: no task $SLURM_ARRAY_TASK_ID in this array\" >&2; exit 2 ;;\n"
+    << "esac\n"
+    << "mkdir -p \"$dir\" && rm -f \"$dir/summary.json\" \"$dir/exit_code\"\n"
+    << "\"${args[@]}\" < /dev/null > \"$dir/run.log\" 2>&1\n"
+    << "code=$?\n"
+    << "echo \"$code\" > \"$dir/exit_code.tmp\" && mv \"$dir/exit_code.tmp\" \"$dir/exit_code\"\n"
+    << "exit \"$code\"\n";
+  return s.str();
+}
+
+}  // namespace
+
+std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+SlurmBatch writeSlurmBatch(const ExperimentConfig& cfg_in, const SlurmOptions& o,
+                           const std::string& asf_exe) {
+  requireToken("--partition", o.partition);
+  requireToken("--time", o.time_limit);
+  if (o.max_parallel < 0) throw ConfigError("--max-parallel must be >= 0");
+  for (const auto& a : o.sbatch_args) {
+    if (a.rfind("--", 0) != 0)
+      throw ConfigError("sbatch argument '" + a + "': expected an option starting with --");
+    requireToken("sbatch argument", a);
+  }
+  // The compute nodes see absolute paths only.
+  ExperimentConfig cfg = cfg_in;
+  cfg.out_dir = fs::absolute(cfg.out_dir).lexically_normal().string();
+  SlurmBatch b;
+  b.dir = (fs::path(cfg.out_dir) / "slurm").string();
+  b.runs = detail::plannedRuns(cfg);
+  for (std::size_t i = 0; i < b.runs.size(); ++i) {
+    if (runFinished(b.runs[i].dir)) {
+      b.runs[i].skipped = true;
+      continue;
+    }
+    b.tasks.push_back(i);
+    std::error_code ec;
+    fs::remove(exitCodeFile(b.runs[i]), ec);
+  }
+  if (b.tasks.empty()) return b;
+  std::error_code ec;
+  fs::create_directories(fs::path(b.dir) / "logs", ec);
+  if (ec) throw Error(b.dir + ": cannot create: " + ec.message());
+  b.script = (fs::path(b.dir) / "array.sh").string();
+  writeFileAtomically(b.script, scriptText(cfg, o, b, asf_exe), "Slurm array script");
+  fs::permissions(b.script, fs::perms::owner_exec, fs::perm_options::add, ec);
+  return b;
+}
+
+std::vector<std::string> sbatchCommand(const SlurmBatch& b) {
+  return {"sbatch", "--parsable", b.script};
+}
+
+std::string parseSbatchJobId(const std::string& output) {
+  std::istringstream in(output);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::string id = line.substr(0, line.find(';'));
+    if (!id.empty() && id.find_first_not_of("0123456789") == std::string::npos) return id;
+  }
+  throw Error("sbatch printed no job id: '" + output + "'");
+}
+
+SlurmQueue parseSqueue(const std::string& output) {
+  SlurmQueue q;
+  std::istringstream in(output);
+  std::string state;
+  while (in >> state) {
+    if (state == "PENDING" || state == "CONFIGURING" || state == "REQUEUED")
+      ++q.pending;
+    else if (state == "RUNNING" || state == "COMPLETING")
+      ++q.running;
+    else
+      ++q.other;
+  }
+  return q;
+}
+
+std::size_t slurmTasksEnded(const SlurmBatch& b) {
+  std::size_t n = 0;
+  for (std::size_t i : b.tasks) n += fs::exists(exitCodeFile(b.runs[i])) ? 1 : 0;
+  return n;
+}
+
+std::vector<ExperimentRun> collectSlurmBatch(const SlurmBatch& b) {
+  std::vector<ExperimentRun> runs = b.runs;
+  for (std::size_t i : b.tasks) {
+    std::ifstream in(exitCodeFile(runs[i]));
+    int code = -1;
+    if (!(in >> code)) code = -1;
+    runs[i].exit_code = code;
+  }
+  return runs;
+}
+
+}  // namespace asf

@@ -1,0 +1,159 @@
+// asf experiment --backend slurm, the parts that need no cluster: the array script executed
+// by bash as a Slurm task would be (with a stand-in for asf that records its arguments), the
+// quoting, the parsers of sbatch's and squeue's output, resubmission and exit codes. The
+// whole backend against a real one-node cluster: tests/scripts/slurm_local.sh.
+#include <asf/errors.h>
+#include <asf/experiment.h>
+#include <asf/experiment_slurm.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "process_launcher.h"
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path tempDir(const std::string& name) {
+  return asf_test::freshTempDir("asf_test_slurm_" + name);
+}
+
+void write(const fs::path& p, const std::string& text) { asf_test::writeFile(p, text); }
+
+std::string read(const fs::path& p) { return asf_test::readFile(p.string()); }
+
+asf::ExperimentConfig config(const fs::path& dir) {
+  asf::ExperimentConfig cfg;
+  cfg.pipeline_ini = (dir / "pipe line.ini").string();  // a space: quoting matters
+  cfg.policies = {"tigre", "frontier"};
+  cfg.replications = 2;
+  cfg.first_seed = 3;
+  cfg.out_dir = (dir / "out").string();
+  cfg.overrides = {"sim2d.map_image=it's here.png", "pipeline.max_steps=50"};
+  return cfg;
+}
+
+/// A stand-in for asf: writes its arguments, one per line, to $1's --out folder as args.txt
+/// and exits with the status in the file `status` beside it (0 if none).
+std::string fakeAsf(const fs::path& dir) {
+  const fs::path exe = dir / "fake asf";
+  write(exe,
+        "#!/bin/bash\n"
+        "out=''; prev=''\n"
+        "for a in \"$@\"; do [[ $prev == --out ]] && out=$a; prev=$a; done\n"
+        "printf '%s\\n' \"$@\" > \"$out/args.txt\"\n"
+        "echo 'some output'\n"
+        "exit \"$(cat \"$(dirname \"$0\")/status\" 2> /dev/null || echo 0)\"\n");
+  fs::permissions(exe, fs::perms::owner_exec, fs::perm_options::add);
+  return exe.string();
+}
+
+int runTask(const asf::SlurmBatch& b, std::size_t task) {
+  std::string out;
+  return asf::app::runCommand(
+      {"env", "SLURM_ARRAY_TASK_ID=" + std::to_string(task), "bash", b.script}, out);
+}
+
+TEST(ExperimentSlurm, ArrayTasksRunTheLocalBackendsCommandLines) {
+  const fs::path dir = tempDir("tasks");
+  const asf::ExperimentConfig cfg = config(dir);
+  const std::string exe = fakeAsf(dir);
+  asf::SlurmOptions o;
+  o.partition = "short";
+  o.time_limit = "00:10:00";
+  o.max_parallel = 3;
+  o.sbatch_args = {"--mem=2G"};
+  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, o, exe);
+  ASSERT_EQ(b.runs.size(), 4u);
+  ASSERT_EQ(b.tasks.size(), 4u);
+  const std::string script = read(b.script);
+  for (const char* line : {"#SBATCH --array=0-3%3\n", "#SBATCH --partition=short\n",
+                           "#SBATCH --time=00:10:00\n", "#SBATCH --mem=2G\n"})
+    EXPECT_NE(script.find(line), std::string::npos) << line << "\n" << script;
+  std::string out;
+  ASSERT_EQ(asf::app::runCommand({"bash", "-n", b.script}, out), 0) << out;
+  for (std::size_t task = 0; task < b.tasks.size(); ++task) {
+    const asf::ExperimentRun& run = b.runs[b.tasks[task]];
+    ASSERT_EQ(runTask(b, task), 0);
+    // Bash saw exactly the arguments the local backend passes (quotes, spaces included).
+    std::string expected;
+    for (const auto& a : asf::runArguments(cfg, run)) expected += a + "\n";
+    std::string got = read(fs::path(run.dir) / "args.txt");
+    EXPECT_EQ(got, expected) << "task " << task;
+    EXPECT_EQ(read(fs::path(run.dir) / "run.log"), "some output\n");
+    EXPECT_EQ(read(fs::path(run.dir) / "exit_code"), "0\n");
+    EXPECT_TRUE(fs::path(run.dir).is_absolute());
+  }
+  // Seeds outer, policies inner, as the local backend orders them.
+  EXPECT_EQ(b.runs[b.tasks[1]].policy, "frontier");
+  EXPECT_EQ(b.runs[b.tasks[2]].seed, 4);
+  // A task id beyond the array is refused.
+  EXPECT_EQ(runTask(b, 9), 2);
+}
+
+TEST(ExperimentSlurm, FinishedRunsAreNotResubmittedAndExitCodesAreCollected) {
+  const fs::path dir = tempDir("resume");
+  asf::ExperimentConfig cfg = config(dir);
+  const std::string exe = fakeAsf(dir);
+  // tigre seed 3 finished in an earlier invocation; frontier seed 3 was interrupted.
+  write(dir / "out/tigre/seed_3/summary.json", R"({"stop_reason": "policy done: all"})");
+  write(dir / "out/frontier/seed_3/summary.json", R"({"stop_reason": "interrupted"})");
+  write(dir / "out/frontier/seed_3/exit_code", "130\n");
+  asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, exe);
+  ASSERT_EQ(b.tasks.size(), 3u);
+  EXPECT_TRUE(b.runs[0].skipped);
+  EXPECT_FALSE(fs::exists(dir / "out/frontier/seed_3/exit_code")) << "stale exit status kept";
+  EXPECT_NE(read(b.script).find("#SBATCH --array=0-2\n"), std::string::npos)
+      << "three tasks, no limit asked for";
+  EXPECT_EQ(asf::slurmTasksEnded(b), 0u);
+  write(dir / "status", "3");
+  EXPECT_EQ(runTask(b, 0), 3);
+  EXPECT_FALSE(fs::exists(dir / "out/frontier/seed_3/summary.json")) << "stale summary kept";
+  EXPECT_EQ(asf::slurmTasksEnded(b), 1u);
+  const auto runs = asf::collectSlurmBatch(b);
+  EXPECT_EQ(runs[b.tasks[0]].exit_code, 3);
+  EXPECT_EQ(runs[b.tasks[1]].exit_code, -1) << "a task that never ran has no status";
+
+  // Everything finished: nothing to submit, no script.
+  for (const char* r : {"frontier/seed_3", "tigre/seed_4", "frontier/seed_4"})
+    write(dir / "out" / r / "summary.json", R"({"stop_reason": "max_steps"})");
+  b = asf::writeSlurmBatch(cfg, {}, exe);
+  EXPECT_TRUE(b.tasks.empty());
+  EXPECT_TRUE(b.script.empty());
+}
+
+TEST(ExperimentSlurm, QuotingSurvivesBash) {
+  for (const std::string s : {"plain", "two words", "it's", "'", "$HOME", "a\"b", "`ls`",
+                              "back\\slash", "", "new\nline", "*"}) {
+    std::string out;
+    ASSERT_EQ(asf::app::runCommand({"bash", "-c", "printf %s " + asf::shellQuote(s)}, out), 0);
+    EXPECT_EQ(out, s);
+  }
+}
+
+TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
+  EXPECT_EQ(asf::parseSbatchJobId("4242\n"), "4242");
+  EXPECT_EQ(asf::parseSbatchJobId("77;cluster2\n"), "77");
+  EXPECT_THROW(asf::parseSbatchJobId("sbatch: error: Batch job submission failed\n"), asf::Error);
+  const asf::SlurmQueue q = asf::parseSqueue("PENDING\nRUNNING\nRUNNING\nCOMPLETING\nFAILED\n");
+  EXPECT_EQ(q.pending, 1);
+  EXPECT_EQ(q.running, 3);
+  EXPECT_EQ(q.other, 1);
+  EXPECT_EQ(asf::parseSqueue("").total(), 0);
+
+  const fs::path dir = tempDir("bad");
+  const asf::ExperimentConfig cfg = config(dir);
+  asf::SlurmOptions o;
+  o.partition = "two words";
+  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+  o = {};
+  o.max_parallel = -1;
+  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+  o = {};
+  o.sbatch_args = {"mem=2G"};
+  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+}
+
+}  // namespace
