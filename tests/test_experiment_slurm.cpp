@@ -142,6 +142,14 @@ TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
   EXPECT_EQ(q.running, 3);
   EXPECT_EQ(q.other, 1);
   EXPECT_EQ(asf::parseSqueue("").total(), 0);
+  const auto states = asf::parseSacctStates(
+      "12_0|COMPLETED\n12_1|TIMEOUT\n12_2|CANCELLED by 0\n13_0|FAILED\n12|PENDING\n"
+      "12_x|FAILED\n",
+      "12");
+  ASSERT_EQ(states.size(), 3u);
+  EXPECT_EQ(states.at(0), "COMPLETED");
+  EXPECT_EQ(states.at(1), "TIMEOUT");
+  EXPECT_EQ(states.at(2), "CANCELLED");
 
   const fs::path dir = tempDir("bad");
   const asf::ExperimentConfig cfg = config(dir);

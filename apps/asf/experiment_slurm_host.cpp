@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <thread>
 
 #include "process_launcher.h"
@@ -85,12 +86,22 @@ int runSlurmExperiment(const ExperimentConfig& cfg, const SlurmOptions& o, bool 
   }
   int failed = 0;
   const std::vector<ExperimentRun> runs = collectSlurmBatch(b);
+  std::map<std::size_t, std::string> states;  // Slurm's word on the tasks, if it keeps accounts
+  bool asked = false;
   for (std::size_t task = 0; task < b.tasks.size(); ++task) {
     const ExperimentRun& r = runs[b.tasks[task]];
     if (runFinished(r.dir)) continue;
     ++failed;
+    if (!asked) {
+      asked = true;
+      std::string out;
+      if (runCommand({"sacct", "-n", "-P", "-X", "-j", job, "-o", "JobID,State"}, out) == 0)
+        states = parseSacctStates(out, job);
+    }
+    const auto st = states.find(task);
     std::cout << "asf experiment: " << r.policy << " seed " << r.seed << " (task " << task
               << ") did not finish"
+              << (st != states.end() ? " (Slurm: " + st->second + ")" : std::string())
               << (r.exit_code >= 0 ? " (exit status " + std::to_string(r.exit_code) + ")"
                                    : " (no exit status: never ran, or killed by Slurm)")
               << "; logs: " << (fs::path(r.dir) / "run.log").string() << ", " << b.dir

@@ -3,7 +3,8 @@
 # (Debian slurmctld + slurmd + munge, a generated slurm.conf, ports 16917/16918), torn down
 # on every exit path. A 2 policies x 2 seeds sweep through Slurm must give the local
 # backend's tables (timing columns aside) and the same run outputs to the byte; a second
-# submission must find nothing left to run; --dry-run must write the script only.
+# submission must find nothing left to run; --dry-run must write the script only; Ctrl-C
+# must cancel the job and still summarize.
 # Exit 77 (CTest: skipped) with the reason when Slurm cannot be started here.
 #   tests/scripts/slurm_local.sh ASF_BINARY SOURCE_DIR
 set -uo pipefail
@@ -106,4 +107,29 @@ done
 "$ASF" experiment "$W/exp.ini" --backend slurm -o "$W/slurm" > "$W/again.log" 2>&1 ||
   fail "resubmission: $(cat "$W/again.log")"
 grep -q "4 finished earlier, 0 to submit" "$W/again.log" || fail "resubmitted: $(cat "$W/again.log")"
+# Ctrl-C: the job is cancelled, what exists is summarized, the command exits 130.
+cat > "$W/long.ini" << INI
+[experiment]
+pipeline     = $SRC/configs/default.ini
+policies     = tigre
+replications = 1
+INI
+"$ASF" experiment "$W/long.ini" --backend slurm --poll 0.2 -o "$W/long" > "$W/long.log" 2>&1 &
+pid=$!
+for _ in $(seq 100); do
+  grep -q "1 running" "$W/long.log" && break
+  sleep 0.2
+done
+grep -q "1 running" "$W/long.log" || fail "the long run never ran: $(cat "$W/long.log")"
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+[[ $rc == 130 ]] || fail "Ctrl-C: exit status $rc: $(cat "$W/long.log")"
+grep -q "interrupted: scancel" "$W/long.log" || fail "no scancel: $(cat "$W/long.log")"
+[[ -f $W/long/summary.md ]] || fail "Ctrl-C: no summary"
+for _ in $(seq 20); do
+  [[ -z $(squeue -h) ]] && break
+  sleep 0.5
+done
+[[ -z $(squeue -h) ]] || fail "the job is still queued after Ctrl-C: $(squeue)"
 echo "slurm backend: the sweep through Slurm equals the local one; resubmission skipped"

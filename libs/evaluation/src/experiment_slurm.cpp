@@ -130,6 +130,24 @@ SlurmQueue parseSqueue(const std::string& output) {
   return q;
 }
 
+std::map<std::size_t, std::string> parseSacctStates(const std::string& output,
+                                                    const std::string& job) {
+  std::map<std::size_t, std::string> states;
+  std::istringstream in(output);
+  std::string line;
+  const std::string prefix = job + "_";
+  while (std::getline(in, line)) {
+    const auto bar = line.find('|');
+    if (bar == std::string::npos || line.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string task = line.substr(prefix.size(), bar - prefix.size());
+    if (task.empty() || task.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string state = line.substr(bar + 1);
+    state = state.substr(0, state.find_first_of(" |"));
+    states[std::stoul(task)] = state;
+  }
+  return states;
+}
+
 std::size_t slurmTasksEnded(const SlurmBatch& b) {
   std::size_t n = 0;
   for (std::size_t i : b.tasks) n += fs::exists(exitCodeFile(b.runs[i])) ? 1 : 0;

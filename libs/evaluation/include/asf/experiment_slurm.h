@@ -12,6 +12,8 @@
 /// be on a filesystem the compute nodes share (docs/EXPERIMENTS.md).
 #include <asf/experiment.h>
 
+#include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,12 @@ struct SlurmQueue {
   int total() const { return pending + running + other; }
 };
 SlurmQueue parseSqueue(const std::string& output);
+
+/// Final states of the array's tasks from `sacct -n -P -X -j ID -o JobID,State` ("123_4|
+/// TIMEOUT" lines; task 4 -> "TIMEOUT"; "CANCELLED by 0" -> "CANCELLED"); lines of other
+/// jobs or without a task number are ignored. Empty when accounting is off.
+std::map<std::size_t, std::string> parseSacctStates(const std::string& output,
+                                                    const std::string& job);
 
 /// After the array has left the queue: each task's run gets the exit status its script
 /// wrote (-1 when it wrote none: the task never ran, or was killed by the scheduler).
