@@ -327,7 +327,8 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
                  const std::string& stop) {
     write(d / "out" / p / ("seed_" + std::to_string(seed)) / "summary.json",
           "{\"distance_m\": " + std::to_string(dist) + ", \"coverage\": " + cov +
-              ", \"mean_pose_error_m\": 0.5, \"loop_closures\": 2, \"wall_time_s\": 1.5, "
+              ", \"mean_pose_error_m\": 0.5, \"ate_rmse_m\": " + std::to_string(dist / 1000) +
+              ", \"loop_closures\": 2, \"wall_time_s\": 1.5, "
               "\"stop_reason\": \"" + stop + "\"}");
   };
   // alpha: 10, 20, 60 finished; one interrupted (ignored). beta: one finished, one error,
@@ -359,6 +360,8 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   EXPECT_EQ(a["distance_m"]["n"], 3);
   EXPECT_DOUBLE_EQ(a["coverage"]["mean"].get<double>(), 0.7) << "null coverage skipped";
   EXPECT_EQ(a["coverage"]["n"], 2);
+  EXPECT_NEAR(a["ate_rmse_m"]["mean"].get<double>(), 0.030, 1e-12) << "keyframe ATE column";
+  EXPECT_EQ(a["ate_rmse_m"]["n"], 3);
   EXPECT_TRUE(a["final_pose_error_m"]["mean"].is_null());
   EXPECT_EQ(a["final_pose_error_m"]["n"], 0);
   const json& b = j["policies"]["beta"];

@@ -56,6 +56,7 @@ const Metric kMetrics[] = {
     {"coverage", "coverage (%)", 100, 1},
     {"mean_pose_error_m", "mean pose error (m)", 1, 3},
     {"final_pose_error_m", "final pose error (m)", 1, 3},
+    {"ate_rmse_m", "keyframe ATE (m)", 1, 4},  // the SLAM estimate's, at the end of the run
     {"loop_closures", "loop closures", 1, 1},
     {"decision_ms_mean", "decision time (ms)", 1, 2},
     {"wall_time_s", "wall time (s)", 1, 1},
