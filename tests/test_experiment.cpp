@@ -33,23 +33,12 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path tempDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("asf_test_experiment_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return asf_test::freshTempDir("asf_test_experiment_" + name);
 }
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-}
+void write(const fs::path& p, const std::string& text) { asf_test::writeFile(p, text); }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string read(const fs::path& p) { return asf_test::readFile(p.string()); }
 
 std::size_t count(const std::string& hay, const std::string& needle) {
   std::size_t n = 0;
@@ -133,7 +122,8 @@ TEST(SvgPlot, LinesBandsGapsAndLegend) {
   f.title = "Coverage <vs> distance";
   f.x_label = "distance (m)";
   f.y_label = "coverage (%)";
-  asf::plot::Series a = asf::plot::series("tigre & co", {0, 1, 2, 3, 4, 5}, {0, 10, NAN, 30, 40, 50});
+  asf::plot::Series a =
+      asf::plot::series("tigre & co", {0, 1, 2, 3, 4, 5}, {0, 10, NAN, 30, 40, 50});
   a.y_low = {0, 5, NAN, 25, 35, 45};
   a.y_high = {0, 15, NAN, 35, 45, 55};
   asf::plot::Series b = asf::plot::series("nearest_frontier", {0, 2.5, 5}, {0, 20, INFINITY});
@@ -270,8 +260,7 @@ TEST(ExperimentConfig, ReadsKeysAndResolvesPaths) {
   EXPECT_EQ(c.first_seed, 1);
   EXPECT_EQ(c.jobs, 0);
   EXPECT_EQ(c.out_dir, (d / "res").string()) << "relative to the INI";
-  EXPECT_EQ(c.overrides,
-            (std::vector<std::string>{"map.resolution=0.1", "pipeline.max_steps=5"}));
+  EXPECT_EQ(c.overrides, (std::vector<std::string>{"map.resolution=0.1", "pipeline.max_steps=5"}));
 
   write(d / "exp2.ini", "[experiment]\npipeline = pipe.ini\npolicies = a\n");
   const asf::ExperimentConfig c2 = asf::readExperimentConfig((d / "exp2.ini").string());
@@ -293,7 +282,8 @@ TEST(ExperimentConfig, ErrorsNameFileLineAndKey) {
   const std::string f = (d / "exp.ini").string();
   std::string e = err("[experiment]\npipeline = pipe.ini\npolicies = a\nreplicatons = 3\n");
   EXPECT_TRUE(has(e, f + ":4: [experiment] unknown key 'replicatons' (did you mean "
-                         "'replications'?)")) << e;
+                         "'replications'?)"))
+      << e;
   e = err("[experiment]\npolicies = a\n");
   EXPECT_TRUE(has(e, "missing required key 'pipeline'")) << e;
   e = err("[experiment]\npipeline = nope.ini\npolicies = a\n");
@@ -329,7 +319,8 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
           "{\"distance_m\": " + std::to_string(dist) + ", \"coverage\": " + cov +
               ", \"mean_pose_error_m\": 0.5, \"ate_rmse_m\": " + std::to_string(dist / 1000) +
               ", \"loop_closures\": 2, \"wall_time_s\": 1.5, "
-              "\"stop_reason\": \"" + stop + "\"}");
+              "\"stop_reason\": \"" +
+              stop + "\"}");
   };
   // alpha: 10, 20, 60 finished; one interrupted (ignored). beta: one finished, one error,
   // one invalid file, one missing.
@@ -341,12 +332,12 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   run("beta", 8, 5, "0.25", "error: the planner failed");
   write(d / "out/beta/seed_9/summary.json", "{ not json");
   // Curves: alpha seed 7 and 9 have time series, the others none.
-  write(d / "out/alpha/seed_7/timeseries.csv",
-        std::string(kTimeseriesHeader) + "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
-                                         "2,1,10,0.5,0,1,0,1,0,1,1,0,0,0,0,0\n");
-  write(d / "out/alpha/seed_9/timeseries.csv",
-        std::string(kTimeseriesHeader) + "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
-                                         "2,1,60,0.9,0,3,0,1,0,1,1,0,0,0,0,0\n");
+  write(d / "out/alpha/seed_7/timeseries.csv", std::string(kTimeseriesHeader) +
+                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
+                                                   "2,1,10,0.5,0,1,0,1,0,1,1,0,0,0,0,0\n");
+  write(d / "out/alpha/seed_9/timeseries.csv", std::string(kTimeseriesHeader) +
+                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
+                                                   "2,1,60,0.9,0,3,0,1,0,1,1,0,0,0,0,0\n");
   write(d / "out/alpha/seed_7/map.png", kFakePng);
 
   const std::string md = asf::summarizeExperiment(cfg);
@@ -421,8 +412,8 @@ void writePipeline(const fs::path& dir, const std::string& waypoints = "1 0; 1 1
   write(dir / "pipe.ini",
         "[pipeline]\nsource = segment_world\nfrontend = odometry\nsegmenter = free_components\n"
         "policy = waypoints\nseed = 1\n\n[segment_world]\nworld = two_rooms\nstart_x = 1.0\n"
-        "start_y = 1.0\n\n[waypoints]\nwaypoints = " + waypoints + "\ntolerance = 0.25\n" +
-            extra);
+        "start_y = 1.0\n\n[waypoints]\nwaypoints = " +
+            waypoints + "\ntolerance = 0.25\n" + extra);
 }
 
 json readJson(const fs::path& p) { return json::parse(read(p)); }
@@ -501,8 +492,7 @@ TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
   L.by_policy["broken"].exit = {asf::RunLauncher::Exit::How::Exited, 1, ""};
   L.by_policy["broken"].stop_reason = "error: scripted";
   std::vector<std::string> lines;
-  const auto runs =
-      asf::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
+  const auto runs = asf::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
   std::string all;
   for (const auto& l : lines) all += l + "\n";
   ASSERT_EQ(runs.size(), 6u);
@@ -523,18 +513,10 @@ TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
   EXPECT_TRUE(has(all, "broken seed 5: failed (exit 1, error: scripted)")) << all;
   EXPECT_TRUE(has(all, "good seed 6: finished in")) << all;
   EXPECT_TRUE(has(all, "[6/6] ")) << all;
-  const std::vector<std::string> expected{"run",
-                                          cfg.pipeline_ini,
-                                          "--out",
-                                          (fs::path(cfg.out_dir) / "crash/seed_5").string(),
-                                          "--set",
-                                          "pipeline.policy=crash",
-                                          "--set",
-                                          "pipeline.seed=5",
-                                          "--set",
-                                          "map.resolution=0.1",
-                                          "-v",
-                                          "WARN"};
+  const std::vector<std::string> expected{
+      "run",   cfg.pipeline_ini,        "--out", (fs::path(cfg.out_dir) / "crash/seed_5").string(),
+      "--set", "pipeline.policy=crash", "--set", "pipeline.seed=5",
+      "--set", "map.resolution=0.1",    "-v",    "WARN"};
   EXPECT_EQ(L.started[0], expected);
   const json j = readJson(d / "out/summary.json");
   EXPECT_EQ(j["policies"]["good"]["finished"], 2);
@@ -608,7 +590,8 @@ TEST(ExperimentHost, RunsInParallelSummarizesAndResumes) {
     if (!a.contains(k) || !a[k].is_number() || !b[k].is_number()) continue;
     const double want = (a[k].get<double>() + b[k].get<double>()) / 2;
     EXPECT_NEAR(j["policies"]["waypoints"][k]["mean"].get<double>(), want,
-                1e-12 * std::max(1.0, std::fabs(want))) << k;
+                1e-12 * std::max(1.0, std::fabs(want)))
+        << k;
     EXPECT_EQ(j["policies"]["waypoints"][k]["n"], 2) << k;
   }
   EXPECT_EQ(j["policies"]["waypoints"]["finished"], 2);
@@ -718,7 +701,8 @@ TEST(ExperimentHost, CtrlCStopsRunsAndStillSummarizes) {
   auto started = [&] {
     // Steps written: both runs are past installing their SIGINT handler.
     std::error_code ec;
-    for (const char* s : {"out/waypoints/seed_1/trajectory.csv", "out/waypoints/seed_2/trajectory.csv"}) {
+    for (const char* s :
+         {"out/waypoints/seed_1/trajectory.csv", "out/waypoints/seed_2/trajectory.csv"}) {
       const auto size = fs::file_size(d / s, ec);
       if (ec || size < 2000) return false;
     }
@@ -742,8 +726,7 @@ TEST(ExperimentHost, CtrlCStopsRunsAndStillSummarizes) {
   // The children wrote their outputs, and the experiment summarized them.
   const json j = readJson(d / "out/summary.json");
   int interrupted = 0;
-  for (const auto& r : j["runs"])
-    interrupted += r.value("status", "") == "interrupted";
+  for (const auto& r : j["runs"]) interrupted += r.value("status", "") == "interrupted";
   EXPECT_GE(interrupted, 1) << j.dump(1);
   EXPECT_TRUE(fs::exists(d / "out/report.html"));
   EXPECT_TRUE(has(out, "| waypoints |")) << out;

@@ -2,6 +2,8 @@
 #include "incremental_se2.h"
 
 #include <asf/errors.h>
+#include <asf/pose_covariance.h>
+#include <asf/se2_edge.h>
 #include <asf/text.h>
 
 #include <Eigen/Dense>
@@ -18,15 +20,6 @@ namespace {
 
 Eigen::Vector3d poseVector(const asf::PoseNode& n) {
   return {n.pose.x(), n.pose.y(), n.pose.phi()};
-}
-
-/// Covariance of an edge's mean as additive (x, y, phi) in the frame of `from`: the
-/// information is that of the error, whose translation is in the frame of from (+) mean.
-Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
-  R.topLeftCorner<2, 2>() << c, -s, s, c;
-  return R * e.information.inverse() * R.transpose();
 }
 
 }  // namespace
@@ -146,8 +139,12 @@ asf::OptimizeReport IncrementalSe2::optimize(asf::PoseGraph& g, const Options& o
   // The objective at the incoming poses: the remembered graph's plus the new edges'.
   std::vector<std::size_t> new_edges(g.edges.size() - old_edges);
   for (std::size_t k = 0; k < new_edges.size(); ++k) new_edges[k] = old_edges + k;
-  const double initial =
-      cost_ + detail::cost(detail::Problem(g, new_edges, o), detail::posesOf(g), o);
+  double initial = cost_;
+  for (const auto& e : detail::Problem(g, new_edges, o).edges) {
+    const Eigen::Vector3d r =
+        asf::se2::edgeError(poseVector(g.nodes[e.from]), poseVector(g.nodes[e.to]), e.z);
+    initial += robustCost(e.kernel, o.robust_delta, r.dot(e.W * r));
+  }
   std::vector<std::size_t> edges;
   for (NodeId v : w) edges.insert(edges.end(), incident_[v].begin(), incident_[v].end());
   std::sort(edges.begin(), edges.end());
@@ -196,16 +193,14 @@ bool IncrementalSe2::propagate(const asf::PoseGraph& g) {
       const bool into = e.to == j && e.from < j, out_of = e.from == j && e.to < j;
       if (!into && !out_of) continue;
       const NodeId i = into ? e.from : e.to;
-      const Eigen::Matrix3d Ce = edgeCovInFrom(e);  // frame of e.from
+      const Eigen::Matrix3d Ce = asf::edgeCovarianceInFrom(e);  // frame of e.from
       Eigen::Matrix3d C;
       if (into) {
         asf::composeWithCov(g.nodes[i].pose, marg_.node[i], e.mean, Ce, C);
-      } else {  // x_j = x_i (+) mean^-1, its covariance carried into x_i's frame
-        const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
-        const double x = e.mean.x(), y = e.mean.y();
-        Eigen::Matrix3d J;
-        J << -c, -s, x * s - y * c, s, -c, x * c + y * s, 0, 0, -1;
-        asf::composeWithCov(g.nodes[i].pose, marg_.node[i], -e.mean, J * Ce * J.transpose(), C);
+      } else {  // x_j = x_i (+) mean^-1
+        Eigen::Matrix3d Cinv;
+        const mrpt::poses::CPose2D inv = asf::inverseWithCov(e.mean, Ce, Cinv);
+        asf::composeWithCov(g.nodes[i].pose, marg_.node[i], inv, Cinv, C);
       }
       if (!any || C.trace() < best) {
         marg_.node[j] = 0.5 * (C + C.transpose());

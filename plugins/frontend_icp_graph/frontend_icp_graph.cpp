@@ -7,6 +7,7 @@
 #include <asf/errors.h>
 #include <asf/frontend.h>
 #include <asf/keyframe_tracker.h>
+#include <asf/pose_covariance.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -23,9 +24,9 @@
 namespace {
 
 using asf::composeWithCov;
+using asf::edgeCovarianceInFrom;
 using asf::edgeInformation;
 using asf::icp_graph::Cloud;
-using asf::icp_graph::edgeCovInFrom;
 using asf::icp_graph::LoopHypothesis;
 using asf::icp_graph::MatchResult;
 using asf::icp_graph::poseDiff;
@@ -333,7 +334,7 @@ class IcpGraphFrontend final : public asf::Frontend {
       if (k >= seq_edge_.size() || seq_edge_[k] < 0) return std::nullopt;
       const asf::PoseEdge& e = g.edges[static_cast<std::size_t>(seq_edge_[k])];
       Eigen::Matrix3d out;
-      acc = composeWithCov(acc, C, e.mean, edgeCovInFrom(e), out);
+      acc = composeWithCov(acc, C, e.mean, edgeCovarianceInFrom(e), out);
       C = out;
     }
     return C;
@@ -421,7 +422,7 @@ class IcpGraphFrontend final : public asf::Frontend {
         C = *Cc;
         return p;
       }
-      return asf::icp_graph::inverseWithCov(p, *Cc, C);
+      return asf::inverseWithCov(p, *Cc, C);
     };
     Eigen::Matrix3d Ci, Cj;
     const auto ri = between(a.from, b.from, Ci), rj = between(a.to, b.to, Cj);

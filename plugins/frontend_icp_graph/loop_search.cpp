@@ -157,17 +157,6 @@ std::optional<MatchResult> loopAlignment(const Cloud& ref, const Cloud& cur,
   return first;
 }
 
-mrpt::poses::CPose2D inverseWithCov(const mrpt::poses::CPose2D& p, const Eigen::Matrix3d& C,
-                                    Eigen::Matrix3d& out) {
-  const double c = std::cos(p.phi()), s = std::sin(p.phi()), x = p.x(), y = p.y();
-  Eigen::Matrix3d J;           // d(-p)/dp, -p = (-(c x + s y), s x - c y, -phi)
-  J << -c, -s, s * x - c * y,  //
-      s, -c, c * x + s * y,    //
-      0, 0, -1;
-  out = J * C * J.transpose();
-  return mrpt::poses::CPose2D() - p;
-}
-
 bool mayConfirm(const LoopHypothesis& held, const LoopHypothesis& h, std::size_t span) {
   if (held.to == h.to || held.from == h.from) return false;  // one scan twice is no second cue
   const std::size_t apart = held.from > h.from ? held.from - h.from : h.from - held.from;
@@ -198,13 +187,6 @@ Eigen::Matrix3d relativeCov(const mrpt::poses::CPose2D& xi, const mrpt::poses::C
   Jj.topLeftCorner<2, 2>() << c, s, -s, c;
   const Eigen::Matrix3d X = Ji * Cij * Jj.transpose();
   return Ji * Ci * Ji.transpose() + Jj * Cj * Jj.transpose() + X + X.transpose();
-}
-
-Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
-  R.topLeftCorner<2, 2>() << c, -s, s, c;
-  return R * e.information.inverse() * R.transpose();
 }
 
 std::vector<char> linkedNear(const asf::PoseGraph& g, asf::NodeId start,

@@ -102,11 +102,6 @@ double loopPairChi2(const LoopHypothesis& a, const LoopHypothesis& b,
                     const mrpt::poses::CPose2D& ia_to_ib, const Eigen::Matrix3d& C_i,
                     const mrpt::poses::CPose2D& ja_to_jb, const Eigen::Matrix3d& C_j);
 
-/// The inverse of a relative pose with first-order covariance (additive x, y, phi; `C` in
-/// the frame the pose is expressed in, the result's in the pose's own frame).
-mrpt::poses::CPose2D inverseWithCov(const mrpt::poses::CPose2D& p, const Eigen::Matrix3d& C,
-                                    Eigen::Matrix3d& out);
-
 /// Covariance of xi^-1 (+) xj (additive, frame of i) from global marginals Ci, Cj and the
 /// cross-covariance Cij = Cov(xi, xj) (first order).
 Eigen::Matrix3d relativeCov(const mrpt::poses::CPose2D& xi, const mrpt::poses::CPose2D& xj,
@@ -116,10 +111,6 @@ Eigen::Matrix3d relativeCov(const mrpt::poses::CPose2D& xi, const mrpt::poses::C
 }  // namespace asf::icp_graph
 
 namespace asf::icp_graph {
-/// Covariance of an edge's mean as additive (x, y, phi) in the frame of `from`, recovered from
-/// its information (inverse of edgeInformation without the floor).
-Eigen::Matrix3d edgeCovInFrom(const asf::PoseEdge& e);
-
 struct CandidateGate {
   int skip_recent = 20;     ///< the last this many keyframes are not candidates
   double radius = 3;        ///< old keyframes within this distance are candidates [m]

@@ -1,11 +1,11 @@
 #include <asf/errors.h>
+#include <asf/pose_covariance.h>
 #include <asf/pose_graph.h>
 #include <asf/se2_edge.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Dense>
 #include <cmath>
-
 #include <string>
 #include <vector>
 
@@ -15,9 +15,12 @@ using mrpt::poses::CPose2D;
 
 const char* edgeKindName(EdgeKind k) {
   switch (k) {
-    case EdgeKind::Odometry: return "odometry";
-    case EdgeKind::ScanMatch: return "scan-match";
-    case EdgeKind::LoopClosure: return "loop-closure";
+    case EdgeKind::Odometry:
+      return "odometry";
+    case EdgeKind::ScanMatch:
+      return "scan-match";
+    case EdgeKind::LoopClosure:
+      return "loop-closure";
   }
   return "unknown";
 }
@@ -42,8 +45,8 @@ void PoseGraph::addEdge(const PoseEdge& e) {
 Eigen::Vector3d PoseGraph::edgeError(const PoseEdge& e) const {
   const auto& a = nodes.at(e.from).pose;
   const auto& b = nodes.at(e.to).pose;
-  const mrpt::poses::CPose2D rel = b - a;          // a^-1 (+) b
-  const mrpt::poses::CPose2D err = rel - e.mean;   // mean^-1 (+) rel
+  const mrpt::poses::CPose2D rel = b - a;         // a^-1 (+) b
+  const mrpt::poses::CPose2D err = rel - e.mean;  // mean^-1 (+) rel
   return {err.x(), err.y(), mrpt::math::wrapToPi(err.phi())};
 }
 
@@ -68,6 +71,23 @@ CPose2D composeWithCov(const CPose2D& a, const Eigen::Matrix3d& Ca, const CPose2
   CPose2D p = a + b;
   p.normalizePhi();
   return p;
+}
+
+Eigen::Matrix3d edgeCovarianceInFrom(const PoseEdge& e) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  const double c = std::cos(e.mean.phi()), s = std::sin(e.mean.phi());
+  R.topLeftCorner<2, 2>() << c, -s, s, c;
+  return R * e.information.inverse() * R.transpose();
+}
+
+CPose2D inverseWithCov(const CPose2D& p, const Eigen::Matrix3d& C, Eigen::Matrix3d& out) {
+  const double c = std::cos(p.phi()), s = std::sin(p.phi()), x = p.x(), y = p.y();
+  Eigen::Matrix3d J;           // d(-p)/dp, -p = (-(c x + s y), s x - c y, -phi)
+  J << -c, -s, s * x - c * y,  //
+      s, -c, c * x + s * y,    //
+      0, 0, -1;
+  out = J * C * J.transpose();
+  return CPose2D() - p;
 }
 
 Eigen::Matrix3d edgeInformation(const CPose2D& mean, const Eigen::Matrix3d& cov,

@@ -15,7 +15,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 namespace asf::convert {
@@ -53,29 +52,33 @@ class BagReader {
   using Visitor = bool (*)(void* ctx, const std::string& topic, std::int64_t t,
                            const std::uint8_t* data, std::size_t size);
   virtual void visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const = 0;
+
+ private:
+  /// visit() with `f` called for each message; the visit goes on after one iff kAll.
+  template <bool kAll, class F>
+  void visitWith(const std::vector<std::string>& topics, F& f) const;
 };
 
-template <class F>
-void BagReader::forEach(const std::vector<std::string>& topics, F&& f) const {
+template <bool kAll, class F>
+void BagReader::visitWith(const std::vector<std::string>& topics, F& f) const {
   visit(
       topics,
       [](void* ctx, const std::string& topic, std::int64_t t, const std::uint8_t* d,
          std::size_t n) {
-        (*static_cast<std::remove_reference_t<F>*>(ctx))(topic, t, d, n);
-        return true;
+        (*static_cast<F*>(ctx))(topic, t, d, n);
+        return kAll;
       },
       &f);
 }
 
 template <class F>
+void BagReader::forEach(const std::vector<std::string>& topics, F&& f) const {
+  visitWith<true>(topics, f);
+}
+
+template <class F>
 void BagReader::forFirst(const std::string& topic, F&& f) const {
-  visit(
-      {topic},
-      [](void* ctx, const std::string& name, std::int64_t t, const std::uint8_t* d, std::size_t n) {
-        (*static_cast<std::remove_reference_t<F>*>(ctx))(name, t, d, n);
-        return false;
-      },
-      &f);
+  visitWith<false>({topic}, f);
 }
 
 /// A rosbag2 folder (metadata.yaml beside its .db3 files) or one .db3 file, read through
