@@ -44,6 +44,9 @@ class IcpGraphFrontend final : public asf::Frontend {
   void configure(const asf::Params& p, const asf::PluginContext&) override {
     kf_.setThresholds(p.getDouble("keyframe_distance"), p.getDouble("keyframe_angle_deg") * kDeg);
     gates_.odo_floor = diag3(p.getDouble("min_sigma_xy"), p.getDouble("min_sigma_phi"));
+    icp_.method = p.getString("icp_method") == "point_to_line"
+                      ? asf::icp_graph::IcpMethod::PointToLine
+                      : asf::icp_graph::IcpMethod::MrptLm;
     icp_.max_iterations = static_cast<int>(p.getInt("icp_max_iterations"));
     gates_.max_iterations = icp_.max_iterations;
     icp_.threshold_dist = p.getDouble("icp_threshold_dist");
@@ -534,6 +537,9 @@ const asf::KeySpec kKeys[] = {
                    0, 1e6),
     asf::keyInt("submap_nearby_keyframes", "5",
                 "At most this many of those old keyframes, nearest first", 1, 1000),
+    asf::keyEnum("icp_method", "mrpt_lm", "mrpt_lm|point_to_line",
+                 "Coarse alignment before the point-to-line refinement: MRPT's CICP, or our "
+                 "point-to-line Gauss-Newton (same keys; faster, worse on real logs: README)"),
     asf::keyInt("icp_max_iterations", "80",
                 "CICP maxIterations; an alignment that uses them all is rejected", 1, 10000),
     asf::keyDouble("icp_threshold_dist", "0.75",

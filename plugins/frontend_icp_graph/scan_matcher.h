@@ -77,7 +77,13 @@ class Cloud {
   double normal_radius_ = 0.3;
 };
 
+/// The coarse alignment before the point-to-line refinement: MRPT's CICP (Levenberg-Marquardt
+/// on point-to-point distances), or our own Gauss-Newton on point-to-line residuals with the
+/// same shrinking correspondence distance (thresholds, decimation, goodness as CICP's).
+enum class IcpMethod { MrptLm, PointToLine };
+
 struct IcpOptions {
+  IcpMethod method = IcpMethod::MrptLm;
   int max_iterations = 80;
   double threshold_dist = 0.75;     ///< initial correspondence distance [m]
   double threshold_ang_deg = 0.15;  ///< extra distance per metre of range [deg]
@@ -97,9 +103,10 @@ struct MatchResult {
   /// Covariance of `pose` as additive (x, y, phi) in the reference frame: sigma^2 H^-1 of the
   /// point-to-line (point-to-point where no normal) residuals at the solution, x cov_scale.
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d cicp_cov = Eigen::Matrix3d::Zero();  ///< what CICP returned (for diagnostics)
-  double goodness = 0;        ///< CICP's correspondence ratio at the final threshold
-  unsigned iterations = 0;    ///< CICP outer iterations
+  /// What CICP returned (for diagnostics; zero with IcpMethod::PointToLine).
+  Eigen::Matrix3d cicp_cov = Eigen::Matrix3d::Zero();
+  double goodness = 0;        ///< correspondence ratio at the final threshold (as CICP's)
+  unsigned iterations = 0;    ///< iterations of the coarse alignment
   double inlier_ratio = 0;    ///< fraction of current points within inlier_dist
   double rmse = 0;            ///< RMS point-to-line residual of the inliers [m]
   std::size_t residuals = 0;  ///< residual rows used for the covariance

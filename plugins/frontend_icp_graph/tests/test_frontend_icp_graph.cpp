@@ -172,6 +172,19 @@ std::string ringWorld() {
 
 // ------------------------------------------------------------------------ scan matcher
 
+/// A short drive up the ring world's left corridor (scans of another place than the room).
+std::vector<asf::SensorFrame> ringCorridorDrive() {
+  return simulate({{"map_image", ringWorld()},
+                   {"resolution", "0.05"},
+                   {"start_x", "1.4"},
+                   {"start_y", "7"},
+                   {"laser_fov_deg", "270"},
+                   {"laser_rays", "271"}},
+                  {{1.4, 8}}, 5);
+}
+
+// Both coarse aligners (MRPT's CICP and our point-to-line Gauss-Newton), from guesses as far
+// off as the loop verification's perturbed ones (0.3 m, 10 degrees) and beyond.
 TEST(IcpGraphMatcher, RecoversAKnownOffsetBetweenTwoScansOfARoom) {
   auto frames = simulate({{"laser_fov_deg", "270"}, {"laser_rays", "271"}, {"range_sigma", "0"}},
                          {{2.0, 1.0}});
@@ -182,19 +195,46 @@ TEST(IcpGraphMatcher, RecoversAKnownOffsetBetweenTwoScansOfARoom) {
   const CPose2D truth = CPose2D() - *a.ground_truth + *b.ground_truth;
   const auto ca = asf::icp_graph::Cloud::fromScan(*a.scan);
   const auto cb = asf::icp_graph::Cloud::fromScan(*b.scan);
-  asf::icp_graph::IcpOptions o;
-  const auto guess = truth + CPose2D(0.15, -0.1, 0.05);
-  const auto m = asf::icp_graph::match(ca, cb, guess, o);
-  ASSERT_TRUE(m.ran) << m.reason;
-  EXPECT_NEAR(m.pose.x(), truth.x(), 0.01);
-  EXPECT_NEAR(m.pose.y(), truth.y(), 0.01);
-  EXPECT_NEAR(mrpt::math::wrapToPi(m.pose.phi() - truth.phi()), 0, 0.005);
-  EXPECT_GT(m.goodness, 0.8);
-  EXPECT_GT(m.inlier_ratio, 0.8);
-  // Noise-free ranges, but ray-cast on a 4 cm grid: residuals of a couple of centimetres.
-  EXPECT_LT(m.rmse, 0.03);
-  EXPECT_TRUE(m.cov.allFinite());
-  EXPECT_GT(m.cov.determinant(), 0);
+  using asf::icp_graph::IcpMethod;
+  for (IcpMethod method : {IcpMethod::MrptLm, IcpMethod::PointToLine})
+    for (const CPose2D& off : {CPose2D(0.15, -0.1, 0.05), CPose2D(0.3, 0.3, 0.1745),
+                               CPose2D(-0.3, 0.3, -0.1745), CPose2D(0.4, -0.3, 0.2)}) {
+      SCOPED_TRACE(std::string(method == IcpMethod::MrptLm ? "CICP" : "point-to-line") +
+                   " from an offset of " + off.asString());
+      asf::icp_graph::IcpOptions o;
+      o.method = method;
+      const auto m = asf::icp_graph::match(ca, cb, truth + off, o);
+      ASSERT_TRUE(m.ran) << m.reason;
+      // CICP ends 11 mm off from the 10-degree guesses, point-to-line within 1 mm.
+      EXPECT_NEAR(m.pose.x(), truth.x(), 0.015);
+      EXPECT_NEAR(m.pose.y(), truth.y(), 0.015);
+      EXPECT_NEAR(mrpt::math::wrapToPi(m.pose.phi() - truth.phi()), 0, 0.005);
+      EXPECT_LT(static_cast<int>(m.iterations), o.max_iterations) << "converged";
+      EXPECT_GT(m.goodness, 0.8);
+      EXPECT_GT(m.inlier_ratio, 0.8);
+      // Noise-free ranges, but ray-cast on a 4 cm grid: residuals of a couple of centimetres.
+      EXPECT_LT(m.rmse, 0.03);
+      EXPECT_TRUE(m.cov.allFinite());
+      EXPECT_GT(m.cov.determinant(), 0);
+    }
+}
+
+// The goodness is CICP's correspondence ratio for both aligners: the share of the decimated
+// points with a reference point within the final distance; a scan against itself has all of
+// them, against a scan of another place few.
+TEST(IcpGraphMatcher, GoodnessCountsTheCorrespondencesAtTheFinalDistance) {
+  auto frames = simulate({{"laser_fov_deg", "270"}, {"laser_rays", "271"}, {"range_sigma", "0"}},
+                         {{2.0, 1.0}});
+  const auto ring = ringCorridorDrive();
+  const auto room = asf::icp_graph::Cloud::fromScan(*frames.front().scan);
+  const auto other = asf::icp_graph::Cloud::fromScan(*ring.front().scan);
+  using asf::icp_graph::IcpMethod;
+  for (IcpMethod method : {IcpMethod::MrptLm, IcpMethod::PointToLine}) {
+    asf::icp_graph::IcpOptions o;
+    o.method = method;
+    EXPECT_DOUBLE_EQ(asf::icp_graph::match(room, room, CPose2D(), o).goodness, 1.0);
+    EXPECT_LT(asf::icp_graph::match(room, other, CPose2D(), o).goodness, 0.5);
+  }
 }
 
 // Thinning replaces the points of each square (cells aligned with the frame's origin,
@@ -225,45 +265,48 @@ TEST(IcpGraphMatcher, ThinningKeepsTheMeanOfEachCell) {
 
 TEST(IcpGraphFrontend, IcpEdgesAreCloserToTheTruthThanOdometry) {
   const auto frames = simulate(kNoisyRoom, kRoomTour, 2);
-  auto fe = icpGraph({{"loop_closure", "false"}});
-  const auto g = run(*fe, frames);
-  ASSERT_GT(g.size(), 20u);
-  // Integrated odometry at each frame time, to get the odometry increment of every edge.
-  std::map<double, CPose2D> odo;
-  CPose2D acc;
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    if (k) acc = acc + frames[k].odometry;
-    odo[frames[k].timestamp] = acc;
+  for (const char* method : {"mrpt_lm", "point_to_line"}) {
+    SCOPED_TRACE(method);
+    auto fe = icpGraph({{"loop_closure", "false"}, {"icp_method", method}});
+    const auto g = run(*fe, frames);
+    ASSERT_GT(g.size(), 20u);
+    // Integrated odometry at each frame time, to get the odometry increment of every edge.
+    std::map<double, CPose2D> odo;
+    CPose2D acc;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      if (k) acc = acc + frames[k].odometry;
+      odo[frames[k].timestamp] = acc;
+    }
+    double icp_t = 0, icp_r = 0, odo_t = 0, odo_r = 0, chi2 = 0;
+    int n = 0;
+    for (const auto& e : g.edges) {
+      if (e.kind != asf::EdgeKind::ScanMatch) continue;
+      const auto [et, er] = edgeError(g, e);
+      asf::PoseEdge oe = e;
+      oe.mean = CPose2D() - odo.at(g.nodes[e.from].timestamp) + odo.at(g.nodes[e.to].timestamp);
+      const auto [ot, orr] = edgeError(g, oe);
+      icp_t += et, icp_r += er, odo_t += ot, odo_r += orr;
+      // Normalized error of the ICP edge under its own information (g2o error convention).
+      asf::PoseGraph two;
+      two.addNode(CPose2D());
+      two.addNode(CPose2D() - *g.nodes[e.from].ground_truth + *g.nodes[e.to].ground_truth);
+      asf::PoseEdge te = e;
+      te.from = 0, te.to = 1;
+      two.addEdge(te);
+      chi2 += two.chi2();
+      ++n;
+    }
+    ASSERT_GT(n, static_cast<int>(g.edges.size()) * 8 / 10) << "most edges should be ICP edges";
+    icp_t /= n, icp_r /= n, odo_t /= n, odo_r /= n, chi2 /= n;
+    std::cout << method << ": mean edge error over " << n << " ICP edges: ICP " << icp_t << " m, "
+              << icp_r << " rad; odometry " << odo_t << " m, " << odo_r << " rad; mean chi2 "
+              << chi2 << " (3 if the covariance is right)\n";
+    EXPECT_LT(icp_t, 0.3 * odo_t);
+    EXPECT_LT(icp_r, 0.3 * odo_r);
+    // The information is neither wildly over- nor under-confident.
+    EXPECT_GT(chi2, 0.3);
+    EXPECT_LT(chi2, 12);
   }
-  double icp_t = 0, icp_r = 0, odo_t = 0, odo_r = 0, chi2 = 0;
-  int n = 0;
-  for (const auto& e : g.edges) {
-    if (e.kind != asf::EdgeKind::ScanMatch) continue;
-    const auto [et, er] = edgeError(g, e);
-    asf::PoseEdge oe = e;
-    oe.mean = CPose2D() - odo.at(g.nodes[e.from].timestamp) + odo.at(g.nodes[e.to].timestamp);
-    const auto [ot, orr] = edgeError(g, oe);
-    icp_t += et, icp_r += er, odo_t += ot, odo_r += orr;
-    // Normalized error of the ICP edge under its own information (g2o error convention).
-    asf::PoseGraph two;
-    two.addNode(CPose2D());
-    two.addNode(CPose2D() - *g.nodes[e.from].ground_truth + *g.nodes[e.to].ground_truth);
-    asf::PoseEdge te = e;
-    te.from = 0, te.to = 1;
-    two.addEdge(te);
-    chi2 += two.chi2();
-    ++n;
-  }
-  ASSERT_GT(n, static_cast<int>(g.edges.size()) * 8 / 10) << "most edges should be ICP edges";
-  icp_t /= n, icp_r /= n, odo_t /= n, odo_r /= n, chi2 /= n;
-  std::cout << "mean edge error over " << n << " ICP edges: ICP " << icp_t << " m, " << icp_r
-            << " rad; odometry " << odo_t << " m, " << odo_r << " rad; mean chi2 " << chi2
-            << " (3 if the covariance is right)\n";
-  EXPECT_LT(icp_t, 0.3 * odo_t);
-  EXPECT_LT(icp_r, 0.3 * odo_r);
-  // The information is neither wildly over- nor under-confident.
-  EXPECT_GT(chi2, 0.3);
-  EXPECT_LT(chi2, 12);
 }
 
 TEST(IcpGraphFrontend, HeavyOdometryNoiseTrajectoryErrorIsFarBelowTheOdometryFrontEnds) {
@@ -316,28 +359,26 @@ TEST(IcpGraphFrontend, QualityGateRejectsScansFromDifferentPlaces) {
   // previous one (the reference is the previous keyframe alone: a submap would hold the
   // scan of the same world two keyframes back). The gate must keep the odometry edge.
   const auto room = simulate(kNoisyRoom, {{6, 1}}, 5);
-  const auto ring = simulate({{"map_image", ringWorld()},
-                              {"resolution", "0.05"},
-                              {"start_x", "1.4"},
-                              {"start_y", "7"},
-                              {"laser_fov_deg", "270"},
-                              {"laser_rays", "271"}},
-                             {{1.4, 8}}, 5);
-  auto fe = icpGraph({{"loop_closure", "false"}, {"submap_keyframes", "1"}});
-  asf::PoseGraph g;
-  asf::Marginals m;
-  asf::SensorFrame f = room.front();
-  fe->process(f, g, m);
-  for (int k = 0; k < 6; ++k) {
-    asf::SensorFrame s = (k % 2 ? room : ring)[k % 2 ? 10 : 5];
-    s.odometry = CPose2D(0.6, 0, 0);
-    s.odometry_cov = Eigen::Vector3d(1e-3, 1e-3, 1e-3).asDiagonal();
-    EXPECT_TRUE(fe->process(s, g, m));
-  }
-  ASSERT_EQ(g.edges.size(), 6u);
-  for (const auto& e : g.edges) {
-    EXPECT_EQ(e.kind, asf::EdgeKind::Odometry) << e.from << " -> " << e.to;
-    EXPECT_NEAR(e.mean.x(), 0.6, 1e-9);
+  const auto ring = ringCorridorDrive();
+  for (const char* method : {"mrpt_lm", "point_to_line"}) {
+    SCOPED_TRACE(method);
+    auto fe =
+        icpGraph({{"loop_closure", "false"}, {"submap_keyframes", "1"}, {"icp_method", method}});
+    asf::PoseGraph g;
+    asf::Marginals m;
+    asf::SensorFrame f = room.front();
+    fe->process(f, g, m);
+    for (int k = 0; k < 6; ++k) {
+      asf::SensorFrame s = (k % 2 ? room : ring)[k % 2 ? 10 : 5];
+      s.odometry = CPose2D(0.6, 0, 0);
+      s.odometry_cov = Eigen::Vector3d(1e-3, 1e-3, 1e-3).asDiagonal();
+      EXPECT_TRUE(fe->process(s, g, m));
+    }
+    ASSERT_EQ(g.edges.size(), 6u);
+    for (const auto& e : g.edges) {
+      EXPECT_EQ(e.kind, asf::EdgeKind::Odometry) << e.from << " -> " << e.to;
+      EXPECT_NEAR(e.mean.x(), 0.6, 1e-9);
+    }
   }
 }
 
@@ -351,10 +392,12 @@ TEST(IcpGraphFrontend, QualityGateRejectsAFeaturelessCorridor) {
                                 {"laser_fov_deg", "270"},
                                 {"laser_rays", "271"}},
                                {{26, 1}}, 6);
-  auto fe = icpGraph({{"loop_closure", "false"}});
-  const auto g = run(*fe, frames);
-  ASSERT_GT(g.edges.size(), 8u);
-  EXPECT_EQ(countKind(g, asf::EdgeKind::ScanMatch), 0u);
+  for (const char* method : {"mrpt_lm", "point_to_line"}) {
+    auto fe = icpGraph({{"loop_closure", "false"}, {"icp_method", method}});
+    const auto g = run(*fe, frames);
+    ASSERT_GT(g.edges.size(), 8u);
+    EXPECT_EQ(countKind(g, asf::EdgeKind::ScanMatch), 0u) << method;
+  }
 }
 
 TEST(IcpGraphFrontend, LoopClosureInARingCorridorCorrectsTheDrift) {
@@ -378,10 +421,11 @@ TEST(IcpGraphFrontend, LoopClosureInARingCorridorCorrectsTheDrift) {
   auto be2 = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
   auto without = icpGraph({{"loop_closure", "false"}});
   const auto gn = run(*without, frames, be2.instance.get());
-  // ICP from perturbed guesses (the default), and the correlative search with pairwise
-  // confirmation (configs/slam_carmen.ini).
-  for (const KV& loops_by : {KV{}, KV{{"loop_search", "correlative"}, {"loop_confirm", "true"}}}) {
-    SCOPED_TRACE(loops_by.empty() ? "icp" : "correlative, confirmed");
+  // ICP from perturbed guesses (the default), the same with our point-to-line aligner, and the
+  // correlative search with pairwise confirmation (configs/slam_carmen.ini).
+  for (const KV& loops_by : {KV{}, KV{{"icp_method", "point_to_line"}},
+                             KV{{"loop_search", "correlative"}, {"loop_confirm", "true"}}}) {
+    SCOPED_TRACE(loops_by.empty() ? "icp" : loops_by.begin()->second);
     auto be = make<asf::Backend>("backend_dense_gn.so", "dense_gn", {});
     auto with = icpGraph(loops_by);
     const auto gw = run(*with, frames, be.instance.get());
