@@ -10,6 +10,7 @@
 #include <asf/text.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -176,7 +177,7 @@ class TigrePolicy final : public asf::Policy {
       const EdgeKey k = keyOf(e);
       // A region edge chosen again and again but never registered as traversed (the robot
       // crosses elsewhere, the border is thin) is given up like a failing one.
-      if (failures_[k] >= max_edge_failures_ ||
+      if (failures_[k] >= failureBudget(e) ||
           (!e.frontier() && e.traversals.empty() && chosen_[k] >= max_edge_failures_ + 1)) {
         ++given_up;
         continue;
@@ -349,6 +350,15 @@ class TigrePolicy final : public asf::Policy {
     auto it = tries_.find({k, from});
     return it != tries_.end() && it->second.outward == outward &&
            it->second.count > max_edge_failures_;
+  }
+
+  /// Failures an edge may have before it is given up: max_edge_failures; for a frontier,
+  /// that many per blacklist disc across its width (each failed goal rules out one disc of
+  /// it, so a long frontier is not given up for two bad spots).
+  int failureBudget(const asf::TopoEdge& e) const {
+    if (!e.frontier() || blacklist_radius_ <= 0) return max_edge_failures_;
+    const double discs = std::floor(e.width / (2 * blacklist_radius_));
+    return max_edge_failures_ * static_cast<int>(std::clamp(discs, 1.0, 1000.0));
   }
 
   bool blacklisted(const Point2& p) const {

@@ -23,9 +23,9 @@ asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv
   auto h = asf::Registry::create<asf::Policy>(info());
   asf::PluginContext ctx;
   ctx.seed = 7;
-  h->configure(asf::Params::fromSpecs("tigre", info()->descriptor->keys,
-                                      info()->descriptor->num_keys, kv),
-               ctx);
+  h->configure(
+      asf::Params::fromSpecs("tigre", info()->descriptor->keys, info()->descriptor->num_keys, kv),
+      ctx);
   return h;
 }
 
@@ -42,7 +42,8 @@ struct World {
         std::map<std::string, std::string> topo_keys = {}) {
     const double res = 0.1;
     const double rim = 0.3;
-    auto grid = std::make_shared<mrpt::maps::COccupancyGridMap2D>(-rim, W + rim, -rim, H + rim, res);
+    auto grid =
+        std::make_shared<mrpt::maps::COccupancyGridMap2D>(-rim, W + rim, -rim, H + rim, res);
     asf::LabelImage& L = seg.labels;
     L.width = static_cast<int>(grid->getSizeX());
     L.height = static_cast<int>(grid->getSizeY());
@@ -290,7 +291,8 @@ TEST(PolicyTigre, FrontierEdgeGoalIsOnTheFrontierAndNotRetriedAfterReaching) {
   for (; n < 50; ++n) {
     const asf::Decision e = p->decide(s);
     if (e.type == asf::Decision::Type::Done) break;
-    EXPECT_TRUE(goals.insert({static_cast<int>(e.goal.x * 10), static_cast<int>(e.goal.y * 10)}).second)
+    EXPECT_TRUE(
+        goals.insert({static_cast<int>(e.goal.x * 10), static_cast<int>(e.goal.y * 10)}).second)
         << "goal repeated: " << e.reason;
     s.robot = mrpt::poses::CPose2D(e.goal.x, e.goal.y, 0);
     s.last_goal = e.goal;
@@ -309,6 +311,69 @@ TEST(PolicyTigre, WaitsForAMapThenGivesUp) {
     EXPECT_NE(d.reason.find("waiting"), std::string::npos);
   }
   EXPECT_EQ(p->decide(s).type, asf::Decision::Type::Done);
+}
+
+/// A known room x < 3 m whose right side, H metres long, opens onto unknown space.
+struct OpenRoom {
+  World w;
+  explicit OpenRoom(double H)
+      : w(6.0, H, [](double x, double) -> asf::RegionId { return x < 3.0 ? 1 : 0; }),
+        y0(std::min(1.0, H / 2)) {
+    auto grid = std::const_pointer_cast<mrpt::maps::COccupancyGridMap2D>(w.map.grid);
+    for (int cy = 0; cy < static_cast<int>(grid->getSizeY()); ++cy)
+      for (int cx = 0; cx < static_cast<int>(grid->getSizeX()); ++cx)
+        if (grid->idx2x(cx) >= 3.0) grid->setCell(cx, cy, 0.5f);
+    w.topo.update(w.seg, w.map);
+    w.put(1.0, y0);
+  }
+  const double y0;  ///< the robot's y: 1 m, or the middle of a narrower room
+  /// Decisions while the navigation fails every goal, until Done or `max`.
+  std::vector<asf::Decision> failEveryGoal(asf::Policy& p, int max) {
+    asf::ExplorationState s;
+    s.topo = &w.topo.graph();
+    s.robot = mrpt::poses::CPose2D(1.0, y0, 0);
+    s.map = &w.map;
+    s.segmentation = &w.seg;
+    std::vector<asf::Decision> out;
+    for (int i = 0; i < max; ++i) {
+      out.push_back(p.decide(s));
+      if (out.back().type == asf::Decision::Type::Done) break;
+      s.last_status = asf::NavStatus::Unreachable;
+      s.last_goal = out.back().goal;
+    }
+    return out;
+  }
+};
+
+// Two failed goals give up a narrow frontier but not a long one: each failure only rules out
+// the frontier around its goal (blacklist_radius), so a 10 m frontier gets 2 failures per
+// metre of it (max_edge_failures per 2 x 0.5 m), tried along its length, then given up.
+TEST(PolicyTigre, ALongFrontierOutlastsTwoFailedGoals) {
+  OpenRoom narrow(1.0);
+  ASSERT_EQ(narrow.w.topo.graph().edges.size(), 1u);
+  ASSERT_LT(narrow.w.topo.graph().edges[0].width, 2.0);
+  auto p1 = make({{"max_edge_failures", "2"}});
+  const auto n = narrow.failEveryGoal(*p1, 50);
+  EXPECT_EQ(n.back().type, asf::Decision::Type::Done);
+  EXPECT_LE(n.size(), 3u) << "a 1 m frontier: given up after two failures";
+
+  OpenRoom wide(10.0);
+  const asf::TopoGraph& g = wide.w.topo.graph();
+  ASSERT_EQ(g.edges.size(), 1u);
+  ASSERT_TRUE(g.edges[0].frontier());
+  ASSERT_GT(g.edges[0].width, 9.0);
+  auto p2 = make({{"max_edge_failures", "2"}});
+  const auto d = wide.failEveryGoal(*p2, 100);
+  ASSERT_GE(d.size(), 4u);
+  for (std::size_t i = 0; i + 1 < d.size(); ++i) {
+    ASSERT_EQ(d[i].type, asf::Decision::Type::GoTo) << i << ": " << d[i].reason;
+    EXPECT_NE(d[i].reason.find("frontier of region 1"), std::string::npos) << d[i].reason;
+  }
+  // Along the frontier, up and away from the failures; done when it is used up.
+  EXPECT_GT(d[2].goal.y, d[0].goal.y + 0.5);
+  EXPECT_EQ(d.back().type, asf::Decision::Type::Done);
+  EXPECT_LE(d.size(), 2 * 10 + 1u);
+  EXPECT_GE(d.size(), 9u) << "goals along most of the 10 m";
 }
 
 TEST(PolicyTigre, UnreachableEdgeIsGivenUpAfterMaxFailures) {
