@@ -61,25 +61,16 @@ EOF
     { echo "building-worlds: the run on $n failed (see $OUT/$n.log)" >&2; exit 1; }
 done
 python3 - "$OUT" "${names[@]}" <<'PY'
-import csv, json, sys
+import sys
+sys.path.insert(0, "scripts")
+from stage_times import NAMES, stage_cells, stage_totals
 out, names = sys.argv[1], sys.argv[2:]
-stages = ["frontend_ms", "backend_ms", "map_ms", "segment_ms", "policy_ms"]
-heads = ["front-end", "back-end", "maps", "segmentation", "policy", "rest"]
 print("| map | finished | steps | keyframes | distance [m] | coverage [%] | ATE [m] | wall [s] | " +
-      " | ".join(f"{h} [s] (ms/step)" for h in heads) + " |")
-print("|---" * (8 + len(heads)) + "|")
+      " | ".join(f"{h} [s] (ms/step)" for h in NAMES) + " |")
+print("|---" * (8 + len(NAMES)) + "|")
 for n in names:
-    s = json.load(open(f"{out}/{n}/summary.json"))
-    tot = dict.fromkeys(stages, 0.0)
-    with open(f"{out}/{n}/timeseries.csv") as f:
-        for r in csv.DictReader(f):
-            for k in stages:
-                tot[k] += float(r[k])
-    wall = s["wall_time_s"] * 1000
-    tot["rest"] = wall - sum(tot[k] for k in stages)
-    steps = max(s["steps"], 1)
-    cells = " | ".join(f"{tot[k] / 1000:.2f} ({tot[k] / steps:.3f})" for k in stages + ["rest"])
+    s, tot, wall = stage_totals(f"{out}/{n}")
     print(f"| {n} | {'yes' if s['finished'] else 'no'} | {s['steps']} | {s['nodes']} | "
           f"{s['distance_m']:.1f} | {100 * s['coverage']:.1f} | {s['ate_rmse_m']:.4f} | "
-          f"{wall / 1000:.2f} | {cells} |")
+          f"{wall / 1000:.2f} | {stage_cells(tot, s['steps'])} |")
 PY

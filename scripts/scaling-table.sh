@@ -35,28 +35,20 @@ for n in $TILES; do
     { echo "scaling-table: the run with $n tiles failed (see $OUT/tiles_$n.log)" >&2; exit 1; }
 done
 python3 - "$OUT" $TILES <<'PY'
-import csv, json, math, sys
+import math, sys
+sys.path.insert(0, "scripts")
+from stage_times import NAMES as names, STAGES as stages, stage_cells, stage_totals
 out, tiles = sys.argv[1], sys.argv[2:]
-stages = ["frontend_ms", "backend_ms", "map_ms", "segment_ms", "policy_ms"]
 rows = []
 for n in tiles:
-    d = f"{out}/tiles_{n}"
-    s = json.load(open(f"{d}/summary.json"))
-    tot = dict.fromkeys(stages, 0.0)
-    with open(f"{d}/timeseries.csv") as f:
-        for r in csv.DictReader(f):
-            for k in stages:
-                tot[k] += float(r[k])
-    wall = s["wall_time_s"] * 1000
-    tot["rest"] = wall - sum(tot[k] for k in stages)
+    s, tot, wall = stage_totals(f"{out}/tiles_{n}")
     rows.append((int(n), s["steps"], s["nodes"], wall, tot, s["distance_m"], s["ate_rmse_m"]))
-names = ["front-end", "back-end", "maps", "segmentation", "policy", "rest"]
 keys = stages + ["rest"]
 print("| world | steps | keyframes | distance [m] | ATE [m] | wall [s] | " +
       " | ".join(f"{n} [s] (ms/step)" for n in names) + " |")
 print("|---" * (6 + len(names)) + "|")
 for n, steps, nodes, wall, tot, dist, ate in rows:
-    cells = " | ".join(f"{tot[k] / 1000:.2f} ({tot[k] / steps:.3f})" for k in keys)
+    cells = stage_cells(tot, steps)
     print(f"| {20 * n} m | {steps} | {nodes} | {dist:.1f} | {ate:.4f} | {wall / 1000:.2f} | {cells} |")
 print()
 print("Growth exponent of each stage's total time in the steps, log(t2/t1) / log(s2/s1):")
