@@ -317,8 +317,8 @@ void alignCicp(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& g
 /// our kd-tree and point-to-line rows, no damping. Fills pose, goodness (the share of the
 /// decimated points with a correspondence at the last distance, as CICP's) and iterations
 /// (max_iterations when it did not converge: correspondences that keep switching). A
-/// variant: about twice as fast as CICP in the front-end, but worse on MRPT's simulated
-/// logs (plugin README, "Coarse alignment").
+/// variant: about twice as fast as CICP in the front-end, but worse on the real CARMEN logs
+/// and MRPT's simulated ones (plugin README, "Coarse alignment").
 void alignPointToLine(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose2D& guess,
                       const IcpOptions& o, MatchResult& r) {
   Selection sel;

@@ -430,7 +430,9 @@ const asf::KeySpec kKeys[] = {
                    "again [m]",
                    0.0, 10.0),
     asf::keyInt("max_edge_failures", "2",
-                "An edge whose goals failed (unreachable/blocked) this often is given up", 1, 100),
+                "An edge whose goals failed (unreachable/blocked) this often is given up; a "
+                "frontier this often per 2 x blacklist_radius of its width",
+                1, 100),
     asf::keyEnum("next_goal", "centre_new", "centre|centre_new|entry|none",
                  "After the border of a region edge: on to the next region's centre (thesis), "
                  "to the centre only of a region not visited before (else entry), just inside "
