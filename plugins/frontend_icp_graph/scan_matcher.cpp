@@ -239,8 +239,12 @@ Residuals residuals(const Cloud& ref, const Cloud& cur, const mrpt::poses::CPose
     const Eigen::Vector2d q(pose.x() + c * px - s * py, pose.y() + s * px + c * py);
     float d2 = 0;
     const std::size_t k = ref.nearest(static_cast<float>(q.x()), static_cast<float>(q.y()), d2);
-    const double lim = inlier_dist + sel.per_metre * std::hypot(px, py);
-    if (d2 > (sel.per_metre > 0 ? lim * lim : in2)) continue;
+    if (sel.per_metre > 0) {
+      const double lim = inlier_dist + sel.per_metre * std::hypot(px, py);
+      if (d2 > lim * lim) continue;
+    } else if (d2 > in2) {
+      continue;
+    }
     ++out.inliers;
     const Eigen::Vector2d dq_dphi(-s * px - c * py, c * px - s * py);
     const Eigen::Vector2d e = q - Eigen::Vector2d(ref.xs()[k], ref.ys()[k]);
