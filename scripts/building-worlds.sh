@@ -8,7 +8,9 @@
 # steps, keyframes, distance, coverage, keyframe ATE, wall time and the per-stage times summed
 # from each run's timeseries.csv (ms per step in brackets).
 #   scripts/building-worlds.sh [--maps DIR] [--only "NAME ..."] [--max-steps N]
-#                              [--set KEY=VALUE]... [--reuse] [OUT_DIR]
+#                              [--config INI] [--set KEY=VALUE]... [--reuse] [OUT_DIR]
+# --config: another pipeline (default configs/explore_map_server.ini; configs/
+# explore_building.ini adds the loop search that refuses aliased offices).
 # Needs the built host (scripts/build.sh) and the maps (a user's clone has no ../shared:
 # then it says so and exits 77). Runs one at a time; outputs in OUT_DIR (default
 # results/buildings): OUT_DIR/worlds/NAME.yaml, OUT_DIR/NAME/ (the run) and NAME.log.
@@ -17,11 +19,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ASF=${ASF:-build/bin/asf}
 MAPS=../shared/datasets/roomseg/plain ONLY="" MAX_STEPS=20000 REUSE=0 SETS=()
+CONFIG=configs/explore_map_server.ini
 while (($#)); do
   case $1 in
     --maps) MAPS=$2; shift 2 ;;
     --only) ONLY=$2; shift 2 ;;
     --max-steps) MAX_STEPS=$2; shift 2 ;;
+    --config) CONFIG=$2; shift 2 ;;
     --set) SETS+=(--set "$2"); shift 2 ;;
     --reuse) REUSE=1; shift ;;
     -*) echo "building-worlds: unknown option $1" >&2; exit 2 ;;
@@ -54,7 +58,7 @@ EOF
     continue
   fi
   echo "building-worlds: $n" >&2
-  "$ASF" run configs/explore_map_server.ini -o "$OUT/$n" --set sim2d.map_image="$OUT/worlds/$n.yaml" \
+  "$ASF" run "$CONFIG" -o "$OUT/$n" --set sim2d.map_image="$OUT/worlds/$n.yaml" \
     --set sparse_lm.incremental=true --set pipeline.max_steps="$MAX_STEPS" \
     --set pipeline.progress_interval=0 "${SETS[@]}" \
     > "$OUT/$n.log" 2>&1 ||
