@@ -4,13 +4,15 @@
 // marginals() after every node, as the pipeline calls them. Graphs: intel and MIT from the
 // shared datasets beside the repository, and any g2o file named by ASF_BENCH_GRAPH (e.g. a
 // run's graph.g2o). Modes: plain (incremental = false), incremental (its exact marginals)
-// and propagated (incremental_marginals = propagated). One replay per benchmark (it is long); the
+// updated and propagated (incremental_marginals = updated | propagated). One replay per
+// benchmark (it is long); the
 // counters say how the modes' answers compare: the final chi2 against the plain back-end's, and at
 // every 25th node the trace of the newest node's marginal and the median over all nodes against an
 // exact computation (outside the timing).
 //
 //   build/bench/bench_incremental [--benchmark_filter=intel]
 //   ASF_BENCH_GRAPH=/tmp/run/graph.g2o build/bench/bench_incremental --benchmark_filter=env
+//   ASF_BENCH_SET="incremental_update_nodes=32;incremental_update_touched=8" ... (other keys)
 #include <asf/backend.h>
 #include <asf/registry.h>
 #include <benchmark/benchmark.h>
@@ -19,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -83,7 +86,13 @@ void BM_Replay(benchmark::State& state, const std::string& name, const std::stri
   if (!full) return;
   std::map<std::string, std::string> keys;
   if (mode != "plain") keys["incremental"] = "true";
-  if (mode == "propagated") keys["incremental_marginals"] = "propagated";
+  if (mode == "propagated" || mode == "updated") keys["incremental_marginals"] = mode;
+  if (const char* set = std::getenv("ASF_BENCH_SET"); set && mode != "plain") {
+    std::string item;  // key=value;key=value, for the incremental modes
+    for (std::istringstream in(set); std::getline(in, item, ';');)
+      if (const auto eq = item.find('='); eq != std::string::npos)
+        keys[item.substr(0, eq)] = item.substr(eq + 1);
+  }
   const auto by_end = edgesByNewestEnd(*full);
   double chi2 = 0;
   std::vector<double> newest_ratio, median_ratio;
@@ -133,7 +142,7 @@ void BM_Replay(benchmark::State& state, const std::string& name, const std::stri
 
 void registerAll() {
   for (const char* name : {"intel", "MIT", "env"})
-    for (const char* mode : {"plain", "incremental", "propagated"})
+    for (const char* mode : {"plain", "incremental", "updated", "propagated"})
       benchmark::RegisterBenchmark((std::string("BM_Replay/") + name + "/" + mode).c_str(),
                                    [name = std::string(name), mode = std::string(mode)](
                                        benchmark::State& s) { BM_Replay(s, name, mode); })

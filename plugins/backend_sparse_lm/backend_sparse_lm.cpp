@@ -38,7 +38,12 @@ class SparseLmBackend final : public asf::Backend {
     inc_.gap = p.getDouble("incremental_gap");
     inc_.hops = static_cast<int>(p.getInt("incremental_hops"));
     inc_.max_window = static_cast<std::size_t>(p.getInt("incremental_max_window"));
-    inc_.exact_marginals = p.getString("incremental_marginals") == "exact";
+    const std::string marginals = p.getString("incremental_marginals");
+    inc_.marginals = marginals == "updated"      ? asf::sparse_lm::MarginalsMode::Updated
+                     : marginals == "propagated" ? asf::sparse_lm::MarginalsMode::Propagated
+                                                 : asf::sparse_lm::MarginalsMode::Exact;
+    inc_.update_max_nodes = static_cast<std::size_t>(p.getInt("incremental_update_nodes"));
+    inc_.update_max_touched = static_cast<std::size_t>(p.getInt("incremental_update_touched"));
     opt_.log = [this](const std::string& line) { MRPT_LOG_INFO(line); };
   }
 
@@ -57,8 +62,13 @@ class SparseLmBackend final : public asf::Backend {
   asf::Marginals marginals(const asf::PoseGraph& g,
                            const std::vector<std::pair<asf::NodeId, asf::NodeId>>& cross) override {
     const long exact = core_.counters().exact_marginals;
+    const long updated = core_.counters().updated_marginals;
     asf::Marginals m = core_.marginals(g, cross, opt_, inc_);
-    if (core_.counters().exact_marginals == exact)
+    if (core_.counters().updated_marginals != updated)
+      MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of " << g.size() << " nodes updated ("
+                                                       << core_.counters().updated_marginals
+                                                       << " so far)");
+    else if (core_.counters().exact_marginals == exact)
       MRPT_LOG_DEBUG_STREAM("sparse_lm: marginals of " << g.size()
                                                        << " nodes, the newer ones propagated");
     else
@@ -124,11 +134,21 @@ const asf::KeySpec kKeys[] = {
     asf::keyInt("incremental_max_window", "300",
                 "A larger window solves the whole graph instead (as does one over half of it)", 1,
                 100000000),
-    asf::keyEnum("incremental_marginals", "exact", "exact|propagated",
-                 "With incremental: exact (a factorization of the whole graph every time) or "
+    asf::keyEnum("incremental_marginals", "exact", "exact|updated|propagated",
+                 "With incremental: exact (a factorization of the whole graph every time), "
+                 "updated (after a window solve, the last whole factorization's marginals "
+                 "updated for what was added since: that linearization's exact blocks) or "
                  "propagated (after a window solve, the last exact blocks and newer nodes from "
                  "an edge to an older node: upper bounds, cheaper, and they change what "
                  "covariance gates admit)"),
+    asf::keyInt("incremental_update_nodes", "32",
+                "Updated marginals: factorize the whole graph again once the nodes added since "
+                "plus the older nodes the new edges touch exceed this",
+                1, 100000),
+    asf::keyInt("incremental_update_touched", "8",
+                "Updated marginals: factorize the whole graph again once the new edges touch "
+                "more older nodes than this (each costs a solve; the update O(n) in their rank)",
+                1, 100000),
     asf::keyInt("verbosity", "0",
                 "0: quiet; 1: one INFO line per optimize(); 2: one INFO line per step", 0, 2),
 };

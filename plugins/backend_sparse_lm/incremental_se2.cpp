@@ -44,6 +44,7 @@ void IncrementalSe2::syncEdges(const asf::PoseGraph& g, bool extends) {
     edges_.clear();
     incident_.clear();
     marg_ = {};  // its blocks belong to another graph: never propagated from
+    update_.stop();
   }
   incident_.resize(g.size());
   for (std::size_t k = edges_.size(); k < g.edges.size(); ++k) {
@@ -108,6 +109,7 @@ asf::OptimizeReport IncrementalSe2::solveWhole(asf::PoseGraph& g, const Options&
                                                const IncrementalOptions& io,
                                                const std::string& why) {
   asf::OptimizeReport r = whole_.optimize(g, o);
+  update_.stop();  // whole_'s factor is now a damped one of another graph
   cost_ = r.final_chi2;
   ++counters_.whole_solves;
   counters_.last_path = "whole graph (" + why + ")";
@@ -123,6 +125,7 @@ asf::OptimizeReport IncrementalSe2::optimize(asf::PoseGraph& g, const Options& o
     ++counters_.whole_solves;
     counters_.last_path = "whole graph (incremental off)";
     marg_ = {};
+    update_.stop();
     return whole_.optimize(g, o);
   }
   const bool extends = extendsLast(g);
@@ -218,10 +221,17 @@ asf::Marginals IncrementalSe2::marginals(const asf::PoseGraph& g,
                                          const Options& o, const IncrementalOptions& io) {
   if (!io.enabled) {
     ++counters_.exact_marginals;
+    update_.stop();
     return whole_.marginals(g, cross, o);
   }
   const bool same = g.size() == poses_.size() && g.edges.size() == edges_.size() && extendsLast(g);
-  if (!io.exact_marginals && cross.empty() && same && !last_whole_ && propagate(g)) {
+  const bool after_window = cross.empty() && same && !last_whole_;
+  if (after_window && io.marginals == MarginalsMode::Updated &&
+      update_.update(g, whole_, o, io.update_max_nodes, io.update_max_touched, marg_)) {
+    ++counters_.updated_marginals;
+    return marg_;
+  }
+  if (after_window && io.marginals == MarginalsMode::Propagated && propagate(g)) {
     ++counters_.propagated_marginals;
     marg_.cross.clear();
     marg_.graph_revision = g.revision;
@@ -229,7 +239,12 @@ asf::Marginals IncrementalSe2::marginals(const asf::PoseGraph& g,
   }
   marg_ = whole_.marginals(g, cross, o);
   ++counters_.exact_marginals;
-  if (same) last_whole_ = true;  // the factor is now the whole graph's at these poses
+  if (same) {
+    last_whole_ = true;  // the factor is now the whole graph's at these poses
+    update_.start(g, marg_);
+  } else {
+    update_.stop();
+  }
   return marg_;
 }
 

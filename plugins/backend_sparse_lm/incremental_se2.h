@@ -15,13 +15,16 @@
 /// model, i.e. within sqrt(gap) standard deviations of it along any direction
 /// ((x - x*)^T H (x - x*) <= gap).
 ///
-/// Marginals: exact (from a factorization of the whole graph at its poses) with
-/// `exact_marginals` (the default), after a solve of the whole graph, or when cross blocks
-/// are asked for. Without it, after window solves the last exact blocks are kept and each
-/// newer node's block is propagated along one of its edges to older nodes (first order; the
-/// edge giving the smallest trace): upper bounds in the positive semi-definite order of what
-/// a new computation would give (information only grows; to first order in the poses that
-/// moved), at the cost of one 3x3 composition per new node instead of a factorization.
+/// Marginals (`marginals`): Exact (the default) factorizes the whole graph at its poses at
+/// every call. Updated: after window solves, the last whole factorization's blocks updated
+/// for the information added since (marginal_update.h): the blocks that factorization's
+/// linearization gives, a new one only when the update outgrows its limits. Propagated:
+/// after window solves the last exact blocks are kept and each newer node's block is
+/// propagated along one of its edges to older nodes (first order; the edge giving the
+/// smallest trace): upper bounds in the positive semi-definite order of what a new
+/// computation would give (information only grows; to first order in the poses that moved),
+/// at the cost of one 3x3 composition per new node instead of a factorization. All three are
+/// exact after a solve of the whole graph, or when cross blocks are asked for.
 #include <asf/backend.h>
 #include <asf/pose_graph.h>
 
@@ -31,16 +34,22 @@
 #include <utility>
 #include <vector>
 
+#include "marginal_update.h"
 #include "sparse_se2.h"
 
 namespace asf::sparse_lm {
+
+enum class MarginalsMode { Exact, Updated, Propagated };
 
 struct IncrementalOptions {
   bool enabled = false;
   double gap = 0.5;              ///< chi2 a whole-graph step may still gain, at most
   int hops = 3;                  ///< window: edges away from the new nodes and edge ends
   std::size_t max_window = 300;  ///< larger windows: solve the whole graph instead
-  bool exact_marginals = true;   ///< marginals always from a factorization of the whole graph
+  MarginalsMode marginals = MarginalsMode::Exact;
+  /// Updated marginals: a new whole factorization once the new nodes plus the old nodes new
+  /// edges touch exceed `update_max_nodes`, or those old nodes `update_max_touched`.
+  std::size_t update_max_nodes = 32, update_max_touched = 8;
 };
 
 struct IncrementalCounters {
@@ -49,8 +58,9 @@ struct IncrementalCounters {
   long bound_exceeded = 0;   ///< ... of which after a window solve whose bound was above gap
   long exact_marginals = 0;  ///< marginals() from a factorization of the whole graph
   long propagated_marginals = 0;
-  double last_bound = -1;  ///< the last decrement bound computed (-1: none)
-  std::string last_path;   ///< how the last optimize() was answered, for the log
+  long updated_marginals = 0;  ///< marginals() updated from the last whole factorization
+  double last_bound = -1;      ///< the last decrement bound computed (-1: none)
+  std::string last_path;       ///< how the last optimize() was answered, for the log
 };
 
 class IncrementalSe2 {
@@ -94,7 +104,8 @@ class IncrementalSe2 {
   /// Whole-graph factor current with the remembered poses (set by a whole solve, cleared by a
   /// window solve): marginals() may then use it.
   bool last_whole_ = false;
-  asf::Marginals marg_;  ///< the last marginals returned (exact or propagated)
+  asf::Marginals marg_;    ///< the last marginals returned (exact or propagated)
+  MarginalUpdate update_;  ///< active from an exact marginals() until whole_ factorizes again
 };
 
 }  // namespace asf::sparse_lm

@@ -287,6 +287,21 @@ struct SparseSe2::Impl {
     return B;
   }
 
+  /// Columns of the factored matrix's inverse for free nodes `cols`: dim x 3 cols.size().
+  Eigen::MatrixXd columns(const std::vector<int>& cols) {
+    const std::size_t dim = static_cast<std::size_t>(S.dim());
+    constexpr std::size_t kChunk = 16;  // pose columns per solve: 48 right-hand sides
+    Eigen::MatrixXd X(dim, 3 * cols.size());
+    for (std::size_t first = 0; first < cols.size(); first += kChunk) {
+      const std::size_t k = std::min(kChunk, cols.size() - first);
+      std::vector<double> B(dim * 3 * k, 0.0);
+      for (std::size_t c = 0; c < 3 * k; ++c) B[c * dim + 3 * cols[first + c / 3] + c % 3] = 1;
+      const std::vector<double> Y = solve(std::move(B), 3 * k);
+      X.middleCols(3 * first, 3 * k) = Eigen::Map<const Eigen::MatrixXd>(Y.data(), dim, 3 * k);
+    }
+    return X;
+  }
+
   asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
   asf::OptimizeReport optimizeWindow(asf::PoseGraph& g, const std::vector<NodeId>& window,
                                      const std::vector<std::size_t>& edges, const Options& o);
@@ -616,25 +631,16 @@ asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
     else
       by_column[fj].push_back(ij);
   }
-  const std::size_t dim = static_cast<std::size_t>(S.dim());
-  constexpr std::size_t kChunk = 16;  // pose columns per solve: 48 right-hand sides
-  for (auto it = by_column.begin(); it != by_column.end();) {
-    std::vector<int> cols;
-    auto stop = it;
-    for (; stop != by_column.end() && cols.size() < kChunk; ++stop) cols.push_back(stop->first);
-    std::vector<double> B(dim * 3 * cols.size(), 0.0);
-    for (std::size_t k = 0; k < cols.size(); ++k)
-      for (int c = 0; c < 3; ++c) B[(3 * k + c) * dim + 3 * cols[k] + c] = 1;
-    const std::vector<double> X = solve(std::move(B), 3 * cols.size());
-    for (std::size_t k = 0; it != stop; ++it, ++k)
-      for (const auto& ij : it->second) {
-        const int fi = S.free[ij.first];
-        Eigen::Matrix3d C;
-        for (int c = 0; c < 3; ++c)
-          for (int r = 0; r < 3; ++r) C(r, c) = X[(3 * k + c) * dim + 3 * fi + r];
-        m.cross[ij] = C;
-        ++last_cross_solved;
-      }
+  std::vector<int> cols;
+  for (const auto& [f, requests] : by_column) cols.push_back(f);
+  const Eigen::MatrixXd X = columns(cols);
+  std::size_t k = 0;
+  for (const auto& [f, requests] : by_column) {
+    for (const auto& ij : requests) {
+      m.cross[ij] = X.block<3, 3>(3 * S.free[ij.first], 3 * k);
+      ++last_cross_solved;
+    }
+    ++k;
   }
   return m;
 }
@@ -660,6 +666,23 @@ asf::OptimizeReport SparseSe2::optimizeWindow(asf::PoseGraph& g, const std::vect
 
 std::optional<double> SparseSe2::decrementBound(const asf::PoseGraph& g, const Options& o) {
   return impl_->decrementBound(g, o);
+}
+
+Eigen::MatrixXd SparseSe2::covarianceColumns(const std::vector<NodeId>& nodes, const Options& o) {
+  Impl& m = *impl_;
+  const std::size_t known = factorNodes();
+  std::vector<int> cols;
+  for (NodeId v : nodes) {
+    if (v >= known || m.S.free[v] < 0)
+      throw asf::Error("sparse_lm: internal error: covariance column of a node outside the factor");
+    cols.push_back(m.S.free[v]);
+  }
+  const SerialOpenMp serial(!o.cholmod_openmp);
+  const Eigen::MatrixXd X = m.columns(cols);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(3 * known, X.cols());
+  for (std::size_t i = 0; i < known; ++i)
+    if (m.S.free[i] >= 0) out.middleRows(3 * i, 3) = X.middleRows(3 * m.S.free[i], 3);
+  return out;
 }
 
 std::size_t SparseSe2::factorNodes() const {

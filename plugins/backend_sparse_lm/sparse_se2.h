@@ -106,6 +106,11 @@ class SparseSe2 {
   /// eliminating the new ones is at least H0's. nullopt without a valid factor or if the
   /// gauge / fixed nodes differ.
   std::optional<double> decrementBound(const asf::PoseGraph& g, const Options& o);
+  /// Columns of H0^-1 (H0: the last factorized matrix) for `nodes`, free nodes of H0, as a
+  /// (3 factorNodes()) x (3 nodes.size()) matrix with rows by node id (held nodes' rows
+  /// zero). H0 is the information matrix only after marginals(): optimize() leaves a damped
+  /// one. Throws asf::Error for a node outside the factor or held.
+  Eigen::MatrixXd covarianceColumns(const std::vector<asf::NodeId>& nodes, const Options& o);
   /// Number of nodes of the graph the current factor belongs to (0: none).
   std::size_t factorNodes() const;
 

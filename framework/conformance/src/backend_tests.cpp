@@ -191,6 +191,28 @@ void registerMarginalTests(const InfoPtr& info) {
         }
       });
 
+  // Incremental back-ends answer a growing graph from what they kept: the contract holds
+  // there too (a graph replayed node by node, each edge once both its ends exist).
+  addTest<T>(
+      info, "marginals_of_a_growing_graph_keep_the_contract", Needs::Instance, [](KindTest<T>& t) {
+        auto h = t.make();
+        const PoseGraph full = makeNoisyLoop(kGraphSeed, 40);
+        PoseGraph g;
+        for (std::size_t n = 0; n < full.size(); ++n) {
+          g.addNode(full.nodes[n].pose, full.nodes[n].timestamp);
+          for (const auto& e : full.edges)
+            if (std::max(e.from, e.to) == n) g.addEdge(e);
+          h->optimize(g);
+          const Marginals m = h->marginals(g);
+          ASSERT_EQ(m.node.size(), g.size()) << "marginals(): one block per node";
+          ASSERT_EQ(m.graph_revision, g.revision) << "after node " << n;
+          ASSERT_LE(maxAbs(m.node[0]), 1e-6) << "the gauge, after node " << n;
+          for (std::size_t i = 1; i < m.node.size(); ++i)
+            ASSERT_TRUE(isSymmetricPsd(m.node[i])) << "Cov(x_" << i << ") after node " << n << ":\n"
+                                                   << m.node[i];
+        }
+      });
+
   addTest<T>(info, "marginals_of_disconnected_node_throw_asf_error", Needs::Instance,
              [](KindTest<T>& t) {
                auto h = t.make();
