@@ -82,6 +82,8 @@ void expectSameAsRecount(const asf::MapAreaTracker& t, const asf::GridMap& map,
                          const asf::CoverageMeter& meter, const std::string& when) {
   EXPECT_DOUBLE_EQ(t.freeArea(), asf::freeArea(map)) << when;
   EXPECT_DOUBLE_EQ(t.coverage(), meter.coverage(map)) << when;
+  EXPECT_EQ(t.informationBits(), asf::mapInformationBits(map))
+      << when << ": the running total is exact";
 }
 
 }  // namespace
@@ -217,6 +219,26 @@ TEST(MapAreaTracker, EqualsTheFullRecountAfterEveryStepOfARun) {
   // the change box only.
   EXPECT_EQ(tracker.recounts(), 3u);
   EXPECT_GT(updates, 40u);
+}
+
+TEST(MapEntropy, BitsByHand) {
+  // 20 x 10 unknown cells: one bit each. Then one cell nearly certain (its stored value's
+  // probability p: -p log2 p - (1-p) log2 (1-p)).
+  using Grid = mrpt::maps::COccupancyGridMap2D;
+  auto g = std::make_shared<Grid>(0.f, 2.f, 0.f, 1.f, 0.1f);
+  ASSERT_EQ(g->getSizeX() * g->getSizeY(), 200u);
+  asf::GridMap m;
+  m.grid = g;
+  m.version = 1;
+  EXPECT_EQ(asf::mapEntropyBits(m), 200.0);
+  g->setCell(3, 4, 0.95f);
+  const double p = g->getCell(3, 4);
+  const double h = -(p * std::log2(p) + (1 - p) * std::log2(1 - p));
+  EXPECT_NEAR(asf::mapEntropyBits(m), 199.0 + h, 1e-9);
+  EXPECT_NEAR(asf::mapInformationBits(m), 1.0 - h, 1e-9) << "unknown cells say nothing";
+  EXPECT_LT(h, 0.35) << "a nearly certain cell: far below 1 bit";
+  EXPECT_EQ(asf::mapEntropyBits(asf::GridMap{}), 0.0) << "no map";
+  EXPECT_EQ(asf::mapInformationBits(asf::GridMap{}), 0.0);
 }
 
 TEST(MapAreaTracker, UntrustedBoxesAreRecounted) {

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -85,8 +86,9 @@ std::vector<std::string> svgsOf(const std::string& html) {
   return out;
 }
 
-bool hasNanOrInf(const std::string& s) {
-  return has(s, "nan") || has(s, "NaN") || has(s, "inf") || has(s, "NAN");
+bool hasNanOrInf(const std::string& s) {  // as a value, not inside a word ("information")
+  static const std::regex value("(^|[^A-Za-z])(nan|inf)([^A-Za-z]|$)", std::regex::icase);
+  return std::regex_search(s, value);
 }
 
 }  // namespace
@@ -179,7 +181,7 @@ const char* kFakePngBase64 = "TWFueSBoYW5kcyBtYWtlIGxpZ2h0IHdvcmsu";
 
 const char* kTimeseriesHeader =
     "step,time_s,distance_m,coverage,explored_area_m2,pose_error_m,loop_closures,nodes,edges,"
-    "regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms\n";
+    "regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms,map_information_bits\n";
 
 }  // namespace
 
@@ -223,6 +225,26 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
   EXPECT_TRUE(has(html, "(1.5, 2)"));
   EXPECT_TRUE(has(html, "source: sim2d"));
   EXPECT_FALSE(fs::exists(d / "report.html.tmp"));
+}
+
+TEST(RunReport, MapEntropyOverTheFinalGrid) {
+  // 1000 cells; the map says 0, 200 then 600 bits: entropy 1.0, 0.8, 0.4 kbit. Without
+  // map_cells (a run from before the column) there is no such plot.
+  const fs::path d = tempDir("report_entropy");
+  write(d / "summary.json", R"({"policy": "tigre", "distance_m": 20, "map_cells": 1000})");
+  write(d / "timeseries.csv", std::string(kTimeseriesHeader) +
+                                  "1,0,0,0.1,1,0,0,1,0,1,1,1,2,3,4,5,0\n"
+                                  "2,1,10,0.5,5,0.2,0,2,1,1,1,1,2,3,4,5,200\n"
+                                  "3,2,20,0.9,9,0.3,1,3,2,2,2,1,2,3,4,5,600\n");
+  std::string html = read(asf::writeRunReport(d.string()));
+  auto svgs = svgsOf(html);
+  ASSERT_EQ(svgs.size(), 5u);
+  EXPECT_TRUE(has(svgs[3], "Map entropy over the final grid")) << svgs[3];
+  EXPECT_TRUE(has(svgs[3], "entropy (kbit)"));
+  EXPECT_FALSE(hasNanOrInf(svgs[3])) << svgs[3];
+  write(d / "summary.json", R"({"policy": "tigre", "distance_m": 20})");
+  html = read(asf::writeRunReport(d.string()));
+  EXPECT_EQ(svgsOf(html).size(), 4u);
 }
 
 TEST(RunReport, MissingFilesAreNotedNotFatal) {
@@ -333,11 +355,11 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   write(d / "out/beta/seed_9/summary.json", "{ not json");
   // Curves: alpha seed 7 and 9 have time series, the others none.
   write(d / "out/alpha/seed_7/timeseries.csv", std::string(kTimeseriesHeader) +
-                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
-                                                   "2,1,10,0.5,0,1,0,1,0,1,1,0,0,0,0,0\n");
+                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0,0\n"
+                                                   "2,1,10,0.5,0,1,0,1,0,1,1,0,0,0,0,0,500\n");
   write(d / "out/alpha/seed_9/timeseries.csv", std::string(kTimeseriesHeader) +
-                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0\n"
-                                                   "2,1,60,0.9,0,3,0,1,0,1,1,0,0,0,0,0\n");
+                                                   "1,0,0,0,0,0,0,1,0,1,1,0,0,0,0,0,0\n"
+                                                   "2,1,60,0.9,0,3,0,1,0,1,1,0,0,0,0,0,900\n");
   write(d / "out/alpha/seed_7/map.png", kFakePng);
 
   const std::string md = asf::summarizeExperiment(cfg);
@@ -374,6 +396,9 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   // Markdown: a row per policy with mean ± std, and the runs that do not count.
   EXPECT_TRUE(has(md, "| alpha | 3/4 | 30.00 ± 26.46 | 70.0 ± 28.3 (n=2) |")) << md;
   EXPECT_TRUE(has(md, "| beta | 1/4 | 5.00 ± 0.00 |")) << md;
+  // The coverage milestones and the RPE beside the ATE (issue 23's standard metrics).
+  EXPECT_TRUE(has(md, "| coverage (%) | distance to 90 % (m) | distance to 99 % (m) |")) << md;
+  EXPECT_TRUE(has(md, "| keyframe ATE (m) | keyframe RPE (m) |")) << md;
   EXPECT_TRUE(has(md, "- beta seed 10: missing summary.json")) << md;
   EXPECT_EQ(read(d / "out/summary.md"), md);
   const std::string csv = read(d / "out/summary.csv");
@@ -392,10 +417,14 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   EXPECT_EQ(tagBalance(epd), "");
   EXPECT_TRUE(has(epd, "alpha (2 runs)"));
   EXPECT_FALSE(hasNanOrInf(epd));
+  const std::string info = read(d / "out/map_information_vs_distance.svg");
+  EXPECT_EQ(tagBalance(info), "");
+  EXPECT_TRUE(has(info, "alpha (2 runs)")) << info;
+  EXPECT_FALSE(hasNanOrInf(info));
 
   const std::string html = read(d / "out/report.html");
   EXPECT_EQ(tagBalance(html), "");
-  EXPECT_EQ(svgsOf(html).size(), 2u);
+  EXPECT_EQ(svgsOf(html).size(), 3u) << "coverage, error per distance, map information";
   EXPECT_TRUE(has(html, std::string("base64,") + kFakePngBase64)) << "alpha's first map";
   EXPECT_TRUE(has(html, "beta: no run has a map.png"));
   EXPECT_TRUE(has(html, "missing summary.json"));
@@ -596,8 +625,9 @@ TEST(ExperimentHost, RunsInParallelSummarizesAndResumes) {
   }
   EXPECT_EQ(j["policies"]["waypoints"]["finished"], 2);
   ASSERT_EQ(j["runs"].size(), 2u);
-  for (const char* f : {"summary.md", "summary.csv", "coverage_vs_distance.svg",
-                        "error_per_distance_vs_distance.svg", "report.html"})
+  for (const char* f :
+       {"summary.md", "summary.csv", "coverage_vs_distance.svg",
+        "error_per_distance_vs_distance.svg", "map_information_vs_distance.svg", "report.html"})
     EXPECT_TRUE(fs::exists(d / "out" / f)) << f;
 
   // Again: nothing to run.

@@ -3,8 +3,10 @@
 // own stop rule with (nearly) the whole reachable area mapped.
 #include <asf/config.h>
 #include <asf/pipeline.h>
+#include <asf/run_report.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -71,6 +73,43 @@ nlohmann::json explore(const std::string& policy, const fs::path& dir) {
   return j;
 }
 
+/// Coverage milestones in summary.json: the distance and time of the first timeseries row at
+/// or above each share (recomputed from timeseries.csv), null for a share never reached.
+void expectMilestonesOfTheTimeseries(const nlohmann::json& j, const fs::path& run) {
+  const auto ts = asf::report::readCsvColumns((run / "timeseries.csv").string());
+  const std::vector<double>& cov = ts.at("coverage");
+  int reached = 0;
+  double last_d = -1;
+  for (const int pct : {25, 50, 75, 90, 99}) {
+    const auto& d = j["distance_to_coverage_" + std::to_string(pct) + "_m"];
+    const auto& t = j["time_to_coverage_" + std::to_string(pct) + "_s"];
+    std::size_t row = 0;
+    while (row < cov.size() && !(cov[row] >= pct / 100.0)) ++row;
+    if (row == cov.size()) {
+      EXPECT_TRUE(d.is_null() && t.is_null()) << pct << " % never reached";
+      continue;
+    }
+    ++reached;
+    EXPECT_NEAR(d.get<double>(), ts.at("distance_m")[row], 1e-4) << pct << " %";
+    EXPECT_NEAR(t.get<double>(), ts.at("time_s")[row], 1e-4) << pct << " %";
+    EXPECT_GE(d.get<double>(), last_d) << pct << " %: milestones in order";
+    last_d = d.get<double>();
+  }
+  EXPECT_GE(reached, 4) << "coverage >= 0.97 passes 25, 50, 75 and 90 %";
+  EXPECT_LT(last_d, j["distance_m"].get<double>()) << "before the end of the run";
+  // The map's information in every row, growing as the world gets mapped; the entropy over
+  // the final grid is its cells minus that, and ends as summary.json's.
+  const std::vector<double>& info = ts.at("map_information_bits");
+  ASSERT_FALSE(info.empty());
+  for (double v : info) ASSERT_TRUE(std::isfinite(v) && v >= 0);
+  EXPECT_GT(info.back(), 2 * info.front());
+  const double cells = j["map_cells"].get<double>();
+  EXPECT_NEAR(j["map_entropy_bits"].get<double>(), cells - j["map_information_bits"].get<double>(),
+              1e-6);
+  EXPECT_LT(j["map_entropy_bits"].get<double>(), cells - info.front())
+      << "less entropy at the end than after the first scan";
+}
+
 TEST(Exploration, TigreTraversesEveryEdgeAndMapsTheWorld) {
   const fs::path dir = tempDir("tigre");
   const auto j = explore("tigre", dir);
@@ -78,6 +117,7 @@ TEST(Exploration, TigreTraversesEveryEdgeAndMapsTheWorld) {
   EXPECT_NE(j["stop_reason"].get<std::string>().find("every edge traversed"), std::string::npos)
       << j["stop_reason"];
   EXPECT_GE(j["coverage"].get<double>(), 0.97);
+  expectMilestonesOfTheTimeseries(j, dir / "tigre");
   EXPECT_GT(j["loop_closures"].get<int>(), 0);
   // Every region edge of the final graph has been crossed at least once.
   std::ifstream f(dir / "tigre" / "topology.json");

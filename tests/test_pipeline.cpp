@@ -2,18 +2,18 @@
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
-#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <asf/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/trajectory_eval.h>
 #include <gtest/gtest.h>
-
-#include "test_util.h"
+#include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <nlohmann/json.hpp>
+#include <regex>
+
+#include "test_util.h"
 
 using asf_test::has;
 namespace {
@@ -65,7 +65,8 @@ TEST(PipelineConfig, DefaultConfigResolves) {
   EXPECT_EQ(texts(rc2.pipeline), texts(rc.pipeline));
   EXPECT_EQ(texts(rc2.map), texts(rc.map));
   ASSERT_EQ(rc2.plugin_params.size(), rc.plugin_params.size());
-  for (const auto& [name, p] : rc.plugin_params) EXPECT_EQ(texts(rc2.plugin_params.at(name)), texts(p)) << name;
+  for (const auto& [name, p] : rc.plugin_params)
+    EXPECT_EQ(texts(rc2.plugin_params.at(name)), texts(p)) << name;
 }
 
 TEST(PipelineConfig, ErrorsNameFileSectionKeyAndSuggest) {
@@ -76,25 +77,32 @@ TEST(PipelineConfig, ErrorsNameFileSectionKeyAndSuggest) {
       "p.ini");
   const std::string msg = errorOf([&] { asf::resolveConfig(ini, reg); });
   EXPECT_TRUE(has(msg, "p.ini:5: [pipeline] seed = '-3': out of range")) << msg;
-  EXPECT_TRUE(has(msg, "p.ini:3: [pipeline] frontend: unknown frontend plugin 'odometri'; "
-                       "available frontend plugins: ")) << msg;
+  EXPECT_TRUE(has(msg,
+                  "p.ini:3: [pipeline] frontend: unknown frontend plugin 'odometri'; "
+                  "available frontend plugins: "))
+      << msg;
   // The list names the available ones, in order: the one meant is among them.
-  EXPECT_TRUE(std::regex_search(msg, std::regex("available frontend plugins: ([a-z_]+, )*odometry")))
+  EXPECT_TRUE(
+      std::regex_search(msg, std::regex("available frontend plugins: ([a-z_]+, )*odometry")))
       << msg;
   EXPECT_TRUE(has(msg, "p.ini:6: unknown section [segment_wrld] (did you mean [segment_world]?)"))
       << msg;
-  EXPECT_TRUE(has(msg, "p.ini:9: [dense_gn] unknown key 'max_iteratons' (did you mean "
-                       "'max_iterations'?)")) << msg;
+  EXPECT_TRUE(has(msg,
+                  "p.ini:9: [dense_gn] unknown key 'max_iteratons' (did you mean "
+                  "'max_iterations'?)"))
+      << msg;
 }
 
 TEST(PipelineConfig, MissingSlotsAndWrongKinds) {
   asf::Registry reg;
-  std::string msg = errorOf([&] { asf::resolveConfig(asf::IniConfig::fromText("[map]\n", "p.ini"), reg); });
+  std::string msg =
+      errorOf([&] { asf::resolveConfig(asf::IniConfig::fromText("[map]\n", "p.ini"), reg); });
   EXPECT_TRUE(has(msg, "p.ini: no [pipeline] section")) << msg;
   EXPECT_TRUE(has(msg, "missing required key 'source'")) << msg;
   msg = errorOf([&] {
     asf::resolveConfig(
-        asf::IniConfig::fromText("[pipeline]\nsource = dense_gn\nfrontend = odometry\n", "p.ini"), reg);
+        asf::IniConfig::fromText("[pipeline]\nsource = dense_gn\nfrontend = odometry\n", "p.ini"),
+        reg);
   });
   EXPECT_TRUE(has(msg, "p.ini:2: [pipeline] source: plugin 'dense_gn'")) << msg;
   EXPECT_TRUE(has(msg, "is a backend, not a source")) << msg;
@@ -106,7 +114,8 @@ TEST(PipelineConfig, SectionOfAnUnusedPluginIsValidatedAndWarned) {
       "[pipeline]\nsource = segment_world\nfrontend = odometry\n[shortest]\n", "p.ini");
   const auto rc = asf::resolveConfig(ini, reg);
   ASSERT_EQ(rc.warnings.size(), 1u);
-  EXPECT_TRUE(has(rc.warnings[0], "configures plugin 'shortest', which this pipeline does not use"));
+  EXPECT_TRUE(
+      has(rc.warnings[0], "configures plugin 'shortest', which this pipeline does not use"));
 }
 
 TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
@@ -142,6 +151,10 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   EXPECT_LE(s.ate_rmse_m, s.ate_max_m);
   EXPECT_LT(s.ate_max_m, 1.0);
   EXPECT_EQ(j["ate_rmse_m"], s.ate_rmse_m);
+  // The RPE of consecutive keyframes: local errors, below the largest absolute one here.
+  EXPECT_GT(s.rpe_trans_rmse_m, 0.0);
+  EXPECT_LT(s.rpe_trans_rmse_m, s.ate_max_m);
+  EXPECT_EQ(j["rpe_trans_rmse_m"], s.rpe_trans_rmse_m);
   const auto kf = asf::readTrajectory((out / "keyframes.txt").string());
   ASSERT_EQ(kf.size(), s.nodes);
   for (std::size_t i = 0; i < kf.size(); ++i)
@@ -163,7 +176,8 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   EXPECT_EQ(s2.steps, s.steps);
   EXPECT_EQ(s2.final_pose_error_m, s.final_pose_error_m);
   std::ifstream a(out / "trajectory.csv"), b(out2 / "trajectory.csv");
-  EXPECT_TRUE(std::equal(std::istreambuf_iterator<char>(a), {}, std::istreambuf_iterator<char>(b), {}));
+  EXPECT_TRUE(
+      std::equal(std::istreambuf_iterator<char>(a), {}, std::istreambuf_iterator<char>(b), {}));
   fs::remove_all(out);
   fs::remove_all(out2);
 }

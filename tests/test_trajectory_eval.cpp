@@ -3,14 +3,15 @@
 #include <asf/errors.h>
 #include <asf/trajectory_eval.h>
 #include <gtest/gtest.h>
+#include <mrpt/core/bits_math.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <sstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 
 #include "test_util.h"
 
@@ -71,6 +72,52 @@ TEST(TrajectoryEval, HandComputedErrors) {
   EXPECT_NEAR(al.errors_m[0], std::sqrt(2.0) - 1, 1e-12);
 }
 
+TEST(TrajectoryEval, RelativePoseErrorByHand) {
+  // A straight line of 1 m steps; the estimate's third step is 1.1 m: one pair off by 0.1 m.
+  const std::vector<CPose2D> truth{CPose2D(0, 0, 0), CPose2D(1, 0, 0), CPose2D(2, 0, 0),
+                                   CPose2D(3, 0, 0)};
+  std::vector<CPose2D> est{CPose2D(0, 0, 0), CPose2D(1, 0, 0), CPose2D(2, 0, 0),
+                           CPose2D(3.1, 0, 0)};
+  auto r = asf::relativePoseError(est, truth);
+  EXPECT_EQ(r.pairs, 3u);
+  EXPECT_NEAR(r.trans_rmse_m, std::sqrt(0.01 / 3), 1e-12);
+  EXPECT_NEAR(r.trans_max_m, 0.1, 1e-12);
+  EXPECT_NEAR(r.rot_rmse_deg, 0, 1e-12);
+  // Over two steps both pairs that include the long step see it.
+  r = asf::relativePoseError(est, truth, 2);
+  EXPECT_EQ(r.pairs, 2u);
+  EXPECT_NEAR(r.trans_rmse_m, std::sqrt(0.01 / 2), 1e-12);
+  // A heading error of 0.1 rad at pose 1 (position right): the first pair's motion turns by
+  // 0.1 rad, and the second's, seen from the turned pose, goes 1 m at -0.1 rad.
+  est = truth;
+  est[1] = CPose2D(1, 0, 0.1);
+  r = asf::relativePoseError(est, truth);
+  const double t2 = std::pow(std::cos(0.1) - 1, 2) + std::pow(std::sin(0.1), 2);
+  EXPECT_NEAR(r.trans_rmse_m, std::sqrt(t2 / 3), 1e-12);
+  EXPECT_NEAR(r.rot_rmse_deg, mrpt::RAD2DEG(std::sqrt(2 * 0.01 / 3)), 1e-9);
+  EXPECT_THROW(asf::relativePoseError(est, truth, 4), asf::Error);
+  EXPECT_THROW(asf::relativePoseError(est, truth, 0), asf::Error);
+}
+
+TEST(TrajectoryEval, RelativePoseErrorIgnoresTheFrameAndEarlierDrift) {
+  std::mt19937 rng(5);
+  const std::vector<CPose2D> truth = randomPath(rng, 50);
+  // The whole estimate in another frame: no relative error at all, an ATE without alignment.
+  std::vector<CPose2D> est;
+  const CPose2D frame(3, -2, 0.7);
+  for (const auto& p : truth) est.push_back(frame + p);
+  EXPECT_LT(asf::relativePoseError(est, truth).trans_rmse_m, 1e-9);
+  EXPECT_GT(asf::evaluateMatched(est, truth, false).ate_rmse_m, 1.0);
+  // One wrong step (0.2 m sideways at pose 10, everything after it carried along): the ATE
+  // sees it at every later pose, the RPE at the one pair that contains it.
+  est = truth;
+  for (std::size_t i = 10; i < est.size(); ++i)
+    est[i] = truth[9] + CPose2D(0, 0.2, 0) + (truth[i] - truth[9]);
+  const auto r = asf::relativePoseError(est, truth);
+  EXPECT_NEAR(r.trans_max_m, 0.2, 1e-9);
+  EXPECT_NEAR(r.trans_rmse_m, 0.2 / std::sqrt(49.0), 1e-9);
+}
+
 TEST(TrajectoryEval, MatchesByTimeAndCountsUnmatched) {
   std::vector<asf::GroundTruthPose> gt;
   for (int i = 0; i <= 10; ++i) gt.push_back({100.0 + i, CPose2D(i, 0, 0)});
@@ -91,7 +138,8 @@ TEST(TrajectoryEval, MatchesByTimeAndCountsUnmatched) {
 }
 
 TEST(TrajectoryEval, ReadsTextAndRejectsBadLinesWithTheirNumber) {
-  const auto ok = tempFile("ok.txt", "# comment\n% other comment\n\n1.5 1 2 0.1 extra\n2.5 3 4 0.2\n");
+  const auto ok =
+      tempFile("ok.txt", "# comment\n% other comment\n\n1.5 1 2 0.1 extra\n2.5 3 4 0.2\n");
   const auto t = asf::readTrajectory(ok.string());
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[0].t, 1.5);
@@ -120,8 +168,8 @@ TEST(TrajectoryEval, AteCommandAlignsAndWritesPerPoseErrors) {
   }
   const auto gf = tempFile("gt.txt", g.str()), ef = tempFile("est.txt", e.str());
   const auto errs = fs::temp_directory_path() / "asf_test_trajectory_eval" / "errors.txt";
-  const auto r = asf_test::runHost("ate " + ef.string() + " " + gf.string() + " --json -e " +
-                                   errs.string(), false);
+  const auto r = asf_test::runHost(
+      "ate " + ef.string() + " " + gf.string() + " --json -e " + errs.string(), false);
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["poses"], 40);

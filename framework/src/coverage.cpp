@@ -158,6 +158,62 @@ class CellTable {
   std::vector<std::uint8_t> flags_;
 };
 
+/// What each stored cell value says, in fixed point (bits * 2^32): 1 - its binary entropy,
+/// 0 for an unknown cell. Sums over many cells are then exact, and a running total equals
+/// a recount to the last bit.
+class InformationTable {
+ public:
+  InformationTable() : i_(std::size_t{1} << (8 * sizeof(CellValue))) {
+    for (long v = std::numeric_limits<CellValue>::min(); v <= std::numeric_limits<CellValue>::max();
+         ++v) {
+      const double p = mrpt::maps::COccupancyGridMap2D::l2p(static_cast<CellValue>(v));
+      const double h = p <= 0 || p >= 1 ? 0 : -(p * std::log2(p) + (1 - p) * std::log2(1 - p));
+      i_[index(static_cast<CellValue>(v))] = std::llround((1 - h) * kOne);
+    }
+  }
+  static constexpr double kOne = 4294967296.0;  ///< 2^32: one bit
+  std::int64_t operator()(CellValue v) const { return i_[index(v)]; }
+
+ private:
+  static std::size_t index(CellValue v) {
+    return static_cast<std::size_t>(static_cast<long>(v) - std::numeric_limits<CellValue>::min());
+  }
+  std::vector<std::int64_t> i_;
+};
+const InformationTable& informationTable() {
+  static const InformationTable table;
+  return table;
+}
+
+/// Fixed-point information of the cells of `g` in [x0, x1] x [y0, y1] (clamped); of `g`
+/// minus that of `before` (the same geometry) when `before` is given.
+std::int64_t informationIn(const mrpt::maps::COccupancyGridMap2D& g,
+                           const mrpt::maps::COccupancyGridMap2D* before, int x0, int x1, int y0,
+                           int y1) {
+  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
+  x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
+  y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
+  const InformationTable& info = informationTable();
+  const std::size_t sx = g.getSizeX();
+  std::int64_t sum = 0;
+  for (int y = y0; y <= y1; ++y) {
+    const auto* a = g.getRawMap().data() + static_cast<std::size_t>(y) * sx;
+    const auto* b =
+        before ? before->getRawMap().data() + static_cast<std::size_t>(y) * sx : nullptr;
+    for (int x = x0; x <= x1; ++x)
+      if (!b)
+        sum += info(a[x]);
+      else if (a[x] != b[x])
+        sum += info(a[x]) - info(b[x]);
+  }
+  return sum;
+}
+
+std::int64_t allInformation(const mrpt::maps::COccupancyGridMap2D& g) {
+  return informationIn(g, nullptr, 0, static_cast<int>(g.getSizeX()) - 1, 0,
+                       static_cast<int>(g.getSizeY()) - 1);
+}
+
 /// The table of `band` (one per band and thread: runs of an experiment share no state).
 const CellTable& cellTable(double band) {
   thread_local std::map<double, CellTable> tables;
@@ -260,6 +316,16 @@ std::size_t allFreeCells(const mrpt::maps::COccupancyGridMap2D& g, double unknow
 
 }  // namespace
 
+double mapInformationBits(const GridMap& map) {
+  return map.grid ? static_cast<double>(allInformation(*map.grid)) / InformationTable::kOne : 0;
+}
+
+double mapEntropyBits(const GridMap& map) {
+  if (!map.grid) return 0;
+  const double cells = static_cast<double>(map.grid->getSizeX()) * map.grid->getSizeY();
+  return cells - mapInformationBits(map);
+}
+
 double freeArea(const GridMap& map, double unknown_band) {
   if (!map.grid) return 0;
   const double r = map.grid->getResolution();
@@ -276,6 +342,7 @@ void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
   ++recounts_;
   visited_ += static_cast<std::size_t>(g.getSizeX()) * g.getSizeY();
   free_cells_ = allFreeCells(g, band_);
+  information_ = allInformation(g);
   if (meter_) {
     observed_ = meter_->observedCount(g, indexFor(g));
     visited_ += meter_->reachableCells();
@@ -326,6 +393,7 @@ void MapAreaTracker::update(const GridMap& map) {
     seen_ = nullptr;
     version_ = map.version;
     free_cells_ = observed_ = 0;
+    information_ = 0;
     return;
   }
   if (counted_ && map.version == version_ && map.grid.get() == seen_) return;
@@ -351,6 +419,7 @@ void MapAreaTracker::update(const GridMap& map) {
   visited_ += 2 * static_cast<std::size_t>(x1 - x0 + 1) * (y1 - y0 + 1);
   free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) +
                                          freeCellChange(g, before, x0, x1, y0, y1, band_));
+  information_ += informationIn(g, &before, x0, x1, y0, y1);
   if (meter_)
     observed_ =
         static_cast<std::size_t>(static_cast<long>(observed_) +
@@ -369,6 +438,10 @@ double MapAreaTracker::freeArea() const {
   if (!counted_) return 0;
   const double r = counted_->getResolution();
   return static_cast<double>(free_cells_) * r * r;
+}
+
+double MapAreaTracker::informationBits() const {
+  return counted_ ? static_cast<double>(information_) / InformationTable::kOne : 0;
 }
 
 double MapAreaTracker::coverage() const {

@@ -327,8 +327,16 @@ void RunState::seriesRow(double pose_error) {
   const auto t_area = Clock::now();
   m_.area.update(m_.navMap());
   stage_.map += msSince(t_area);
-  if (m_.coverage) last_coverage_ = r.coverage = m_.area.coverage();
+  if (m_.coverage) {
+    last_coverage_ = r.coverage = m_.area.coverage();
+    for (int k = 0; k < 5; ++k)
+      if (sum_.coverage_distance_m[k] < 0 && r.coverage >= RunSummary::kCoverageMilestones[k]) {
+        sum_.coverage_distance_m[k] = r.distance;
+        sum_.coverage_time_s[k] = r.time;
+      }
+  }
   r.explored_area = m_.area.freeArea();
+  if (m_.navMap().grid) r.map_information_bits = m_.area.informationBits();
   r.pose_error = pose_error;
   r.loop_closures = loopClosures();
   r.nodes = m_.graph.size();
@@ -392,9 +400,17 @@ void RunState::summarize() {
     sum_.ate_rmse_m = te.ate_rmse_m;
     sum_.ate_max_m = te.ate_max_m;
     sum_.ate_poses = te.poses;
+    const RelativePoseError rpe = relativePoseError(kf_est, kf_gt);
+    sum_.rpe_trans_rmse_m = rpe.trans_rmse_m;
+    sum_.rpe_rot_rmse_deg = rpe.rot_rmse_deg;
   }
   sum_.loop_closures = loopClosures();
   sum_.explored_area_m2 = freeArea(m_.navMap());
+  if (const auto& grid = m_.navMap().grid) {
+    sum_.map_cells = static_cast<std::size_t>(grid->getSizeX()) * grid->getSizeY();
+    sum_.map_information_bits = mapInformationBits(m_.navMap());
+    sum_.map_entropy_bits = mapEntropyBits(m_.navMap());
+  }
   sum_.map_versions = m_.maps.scanMap().version;
   sum_.map_rebuilds = m_.maps.scanMapRebuilds();
   if (m_.coverage) {

@@ -1,6 +1,7 @@
 #include "recorder.h"
 
 #include <asf/atomic_file.h>
+#include <asf/map_views.h>
 #include <asf/occupancy_io.h>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
@@ -13,8 +14,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-
-#include <asf/map_views.h>
 
 namespace asf {
 
@@ -90,7 +89,7 @@ Recorder::Recorder(const std::string& out_dir, const ResolvedConfig& cfg) : dir_
   series_.open(dir_ + "/timeseries.csv");
   series_ << "step,time_s,distance_m,coverage,explored_area_m2,pose_error_m,loop_closures,nodes,"
              "edges,regions,decisions,frontend_ms,backend_ms,map_ms,segment_ms,policy_ms,"
-             "segmentations,incremental_segmentations,changed_cells\n";
+             "segmentations,incremental_segmentations,changed_cells,map_information_bits\n";
   if (!traj_ || !decisions_ || !series_) throw Error(dir_ + ": cannot write the run's files");
 }
 
@@ -116,6 +115,8 @@ void Recorder::series(const SeriesRow& r) {
   for (double v : r.ms) series_ << ',' << v;
   series_ << ',' << r.segmentations << ',' << r.incremental_segmentations << ',';
   if (r.changed_cells >= 0) series_ << r.changed_cells;
+  series_ << ',';
+  if (r.map_information_bits >= 0) series_ << std::setprecision(10) << r.map_information_bits;
   series_ << '\n';
   series_.flush();
   last_row_ = r;
@@ -239,6 +240,17 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     j["ate_rmse_m"] = summary.ate_rmse_m < 0 ? json(nullptr) : json(summary.ate_rmse_m);
     j["ate_max_m"] = summary.ate_max_m < 0 ? json(nullptr) : json(summary.ate_max_m);
     j["ate_poses"] = summary.ate_poses;
+    j["map_cells"] = summary.map_cells;
+    j["map_information_bits"] = orNull(summary.map_information_bits);
+    j["map_entropy_bits"] = orNull(summary.map_entropy_bits);
+    j["rpe_trans_rmse_m"] = orNull(summary.rpe_trans_rmse_m);
+    j["rpe_rot_rmse_deg"] = orNull(summary.rpe_rot_rmse_deg);
+    for (int k = 0; k < 5; ++k) {  // distance_to_coverage_25_m ... time_to_coverage_99_s
+      const std::string pct =
+          std::to_string(static_cast<int>(100 * RunSummary::kCoverageMilestones[k] + 0.5));
+      j["distance_to_coverage_" + pct + "_m"] = orNull(summary.coverage_distance_m[k]);
+      j["time_to_coverage_" + pct + "_s"] = orNull(summary.coverage_time_s[k]);
+    }
     j["regions"] = summary.regions;
     j["decisions"] = summary.decisions;
     j["finished"] = summary.finished;

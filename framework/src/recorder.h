@@ -51,7 +51,8 @@ class Recorder {
     int decisions = 0;
     std::array<double, 5> ms{};  ///< frontend, backend, map, segment, policy
     std::size_t segmentations = 0, incremental_segmentations = 0;  ///< so far
-    std::int64_t changed_cells = -1;  ///< summed over the segmentations since the last row
+    std::int64_t changed_cells = -1;   ///< summed over the segmentations since the last row
+    double map_information_bits = -1;  ///< of the navigation grid (mapInformationBits); -1: none
   };
   /// Also rewrites progress.json (status "running" and the row's figures) at the first row
   /// and then every 5 s of wall time: what a killed run leaves about itself. finish() sets
@@ -71,8 +72,7 @@ class Recorder {
   /// [pipeline] map3d: map3d.bt, map3d.ot, map3d_grid.png (the projection) and map3d.json
   /// (parameters, statistics, counts, timings). Never throws.
   struct Map3dInfo {
-    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0,
-                over_cap = 0;
+    std::size_t keyframes = 0, observations = 0, not_keyframes = 0, unsupported = 0, over_cap = 0;
     double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
     std::string navigation_map;
   };

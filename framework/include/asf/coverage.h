@@ -90,6 +90,7 @@ class MapAreaTracker {
   void update(const GridMap& map);
   double freeArea() const;                               ///< m^2, as asf::freeArea(map)
   double coverage() const;                               ///< as CoverageMeter::coverage(map)
+  double informationBits() const;                        ///< as mapInformationBits(map), exactly
   std::size_t cellsVisited() const { return visited_; }  ///< grid cells read, all updates
   std::size_t recounts() const { return recounts_; }     ///< updates that read everything
 
@@ -111,7 +112,19 @@ class MapAreaTracker {
   const void* seen_ = nullptr;  ///< the grid object of the version counted (identity only)
   std::uint64_t version_ = 0;
   std::size_t free_cells_ = 0, observed_ = 0, visited_ = 0, recounts_ = 0;
+  std::int64_t information_ = 0;  ///< of counted_, bits * 2^32 (mapInformationBits' fixed point)
 };
+
+/// What an occupancy grid says, in bits: the sum over its cells of 1 - h(p), h the binary
+/// entropy -p log2 p - (1 - p) log2(1 - p) of the cell's occupancy; an unknown cell adds 0,
+/// a certain one 1. So the entropy of the map over any fixed region R that holds the grid
+/// (the measure of map uncertainty active SLAM papers plot) is cells(R) - information, and
+/// that holds while the grid grows: a run's timeseries gives the entropy over its final
+/// grid as that grid's cells minus each row's information. Each cell's term is rounded to
+/// 2^-32 bit, so sums are exact. Reads the whole grid: a run keeps it with MapAreaTracker.
+double mapInformationBits(const GridMap& map);
+/// The entropy over the grid itself: its cells minus mapInformationBits (unknown: 1 bit).
+double mapEntropyBits(const GridMap& map);
 
 /// Free area [m^2] of an estimated map: cells with p(free) >= 0.5 + unknown_band. Reads the
 /// whole grid: a run keeps it with MapAreaTracker.

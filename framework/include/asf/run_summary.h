@@ -17,6 +17,14 @@ struct RunSummary {
   /// after SE(2) alignment (asf/trajectory_eval.h); -1 with fewer than 2 such nodes.
   double ate_rmse_m = -1, ate_max_m = -1;
   std::size_t ate_poses = 0;
+  /// Relative pose error of consecutive final keyframes (asf::relativePoseError, delta 1);
+  /// -1 with fewer than 2 keyframes with ground truth.
+  double rpe_trans_rmse_m = -1, rpe_rot_rmse_deg = -1;
+  /// Distance driven and simulated time when the coverage (of the timeseries rows) first
+  /// reached each of kCoverageMilestones; -1 if it never did.
+  static constexpr double kCoverageMilestones[5] = {0.25, 0.5, 0.75, 0.9, 0.99};
+  double coverage_distance_m[5] = {-1, -1, -1, -1, -1};
+  double coverage_time_s[5] = {-1, -1, -1, -1, -1};
   std::size_t regions = 0;
   int decisions = 0;
   /// Share of the reachable free area of the true world observed by the final map; -1
@@ -24,6 +32,10 @@ struct RunSummary {
   double coverage = -1;
   double reachable_area_m2 = -1;  ///< of the true world; -1 when unknown
   double explored_area_m2 = 0;    ///< free area of the final map
+  /// The final map: its cells, what it says and its entropy over itself
+  /// (asf::mapInformationBits, mapEntropyBits; -1: no map).
+  std::size_t map_cells = 0;
+  double map_information_bits = -1, map_entropy_bits = -1;
   /// Versions of the scans' occupancy grid, and how many of them were rebuilt from every
   /// scan because the back-end moved inserted keyframes.
   std::size_t map_versions = 0, map_rebuilds = 0;

@@ -54,9 +54,13 @@ struct Metric {
 const Metric kMetrics[] = {
     {"distance_m", "distance (m)", 1, 2},
     {"coverage", "coverage (%)", 100, 1},
+    // Where the coverage first reached 90 % and 99 % (summary.json has 25 / 50 / 75 too).
+    {"distance_to_coverage_90_m", "distance to 90 % (m)", 1, 1},
+    {"distance_to_coverage_99_m", "distance to 99 % (m)", 1, 1},
     {"mean_pose_error_m", "mean pose error (m)", 1, 3},
     {"final_pose_error_m", "final pose error (m)", 1, 3},
-    {"ate_rmse_m", "keyframe ATE (m)", 1, 4},  // the SLAM estimate's, at the end of the run
+    {"ate_rmse_m", "keyframe ATE (m)", 1, 4},        // the SLAM estimate's, at the end of the run
+    {"rpe_trans_rmse_m", "keyframe RPE (m)", 1, 4},  // consecutive keyframes' motion
     {"loop_closures", "loop closures", 1, 1},
     {"decision_ms_mean", "decision time (ms)", 1, 2},
     {"wall_time_s", "wall time (s)", 1, 1},
@@ -111,7 +115,7 @@ plot::Series meanCurve(const std::string& label, const std::vector<Curve>& curve
 
 /// The coverage (%) and error-per-distance curves of a run's timeseries.csv; false when
 /// the file is missing or unusable.
-bool readCurves(const std::string& dir, Curve& coverage, Curve& epd) {
+bool readCurves(const std::string& dir, Curve& coverage, Curve& epd, Curve& info) {
   std::map<std::string, std::vector<double>> ts;
   try {
     ts = report::readCsvColumns((fs::path(dir) / "timeseries.csv").string());
@@ -123,6 +127,7 @@ bool readCurves(const std::string& dir, Curve& coverage, Curve& epd) {
   const std::vector<double> none(d.size(), NAN);
   const auto& c = ts.count("coverage") ? ts["coverage"] : none;
   const auto& e = ts.count("pose_error_m") ? ts["pose_error_m"] : none;
+  const auto& m = ts.count("map_information_bits") ? ts["map_information_bits"] : none;
   double last = -INFINITY;
   for (std::size_t i = 0; i < d.size(); ++i) {
     // Distance never decreases; a row that says otherwise is dropped, not interpolated.
@@ -135,6 +140,10 @@ bool readCurves(const std::string& dir, Curve& coverage, Curve& epd) {
     if (std::isfinite(e[i]) && d[i] > 0) {
       epd.d.push_back(d[i]);
       epd.y.push_back(e[i] / d[i]);
+    }
+    if (std::isfinite(m[i])) {
+      info.d.push_back(d[i]);
+      info.y.push_back(m[i] / 1000);
     }
   }
   return true;
@@ -285,6 +294,10 @@ struct CurveFigures {
                    "distance travelled (m)",
                    "pose error / distance",
                    {}};
+  plot::Figure information{"Map information vs distance (mean ± std over runs)",
+                           "distance travelled (m)",
+                           "map information (kbit: cells' 1 - entropy)",
+                           {}};
   std::size_t without_timeseries = 0;  ///< finished runs without a usable timeseries.csv
 };
 
@@ -300,19 +313,21 @@ plot::Series policyCurve(const std::string& policy, const std::vector<Curve>& cu
 CurveFigures curveFigures(const ExperimentConfig& cfg, const std::vector<RunData>& runs) {
   CurveFigures f;
   for (const auto& p : cfg.policies) {
-    std::vector<Curve> cc, ec;
+    std::vector<Curve> cc, ec, ic;
     for (const auto& r : runs) {
       if (r.policy != p || !r.ok()) continue;
-      Curve c, e;
-      if (!readCurves(r.dir, c, e)) {
+      Curve c, e, i;
+      if (!readCurves(r.dir, c, e, i)) {
         ++f.without_timeseries;
         continue;
       }
       if (!c.d.empty()) cc.push_back(c);
       if (!e.d.empty()) ec.push_back(e);
+      if (!i.d.empty()) ic.push_back(i);
     }
     f.coverage.series.push_back(policyCurve(p, cc, true));
     f.epd.series.push_back(policyCurve(p, ec, false));
+    f.information.series.push_back(policyCurve(p, ic, true));
   }
   return f;
 }
@@ -401,7 +416,8 @@ std::string reportHtml(const ExperimentConfig& cfg, PolicyStats& ps,
   h << "</p>\n";
   htmlSummary(h, cfg, ps);
   h << "<h2>Curves</h2>\n<div class=\"grid\">\n<div>" << plot::svg(curves.coverage)
-    << "</div>\n<div>" << plot::svg(curves.epd) << "</div>\n</div>\n";
+    << "</div>\n<div>" << plot::svg(curves.epd) << "</div>\n<div>" << plot::svg(curves.information)
+    << "</div>\n</div>\n";
   if (curves.without_timeseries)
     h << "<p class=\"note\">" << curves.without_timeseries
       << " finished run(s) without a usable timeseries.csv: no curves from them.</p>\n";
@@ -427,6 +443,7 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
   const CurveFigures curves = curveFigures(cfg, runs);
   plot::writeSvg(curves.coverage, (out / "coverage_vs_distance.svg").string());
   plot::writeSvg(curves.epd, (out / "error_per_distance_vs_distance.svg").string());
+  plot::writeSvg(curves.information, (out / "map_information_vs_distance.svg").string());
   writeFileAtomically((out / "report.html").string(), reportHtml(cfg, ps, runs, curves));
   return table + notes;
 }

@@ -136,10 +136,18 @@ const KeyInfo kSummaryKeys[] = {
     {"coverage", "coverage"},
     {"explored_area_m2", "explored area (m²)"},
     {"reachable_area_m2", "reachable area (m²)"},
+    {"map_information_bits", "map information (bits)"},
+    {"map_entropy_bits", "map entropy over its grid (bits)"},
+    {"distance_to_coverage_50_m", "distance to 50 % coverage (m)"},
+    {"distance_to_coverage_90_m", "distance to 90 % coverage (m)"},
+    {"distance_to_coverage_99_m", "distance to 99 % coverage (m)"},
+    {"time_to_coverage_99_s", "time to 99 % coverage (s)"},
     {"mean_pose_error_m", "mean pose error (m)"},
     {"final_pose_error_m", "final pose error (m)"},
     {"ate_rmse_m", "ATE RMSE (m)"},
     {"ate_max_m", "ATE max (m)"},
+    {"rpe_trans_rmse_m", "RPE RMSE, consecutive keyframes (m)"},
+    {"rpe_rot_rmse_deg", "RPE RMSE, consecutive keyframes (deg)"},
     {"loop_closures", "loop closures"},
     {"decisions", "decisions"},
     {"decision_ms_mean", "decision time, mean (ms)"},
@@ -276,7 +284,9 @@ bool anyFinite(const std::vector<double>& v) {
   return false;
 }
 
-std::string plots(const std::string& path, std::vector<std::string>& notes) {
+/// `map_cells`: the final grid's cells (summary.json), NaN when unknown: the map entropy
+/// over that grid is its cells minus each row's map_information_bits.
+std::string plots(const std::string& path, double map_cells, std::vector<std::string>& notes) {
   std::map<std::string, std::vector<double>> ts;
   try {
     ts = report::readCsvColumns(path);
@@ -312,6 +322,14 @@ std::string plots(const std::string& path, std::vector<std::string>& notes) {
   plot::Figure rel{"Pose error per distance travelled", xl, "pose error / distance", {}};
   rel.series.push_back(plot::series("pose error / distance", d, epd));
   figs.push_back(rel);
+
+  if (ts.count("map_information_bits") && std::isfinite(map_cells)) {
+    std::vector<double> h = column(ts, "map_information_bits", rows);
+    for (double& v : h) v = (map_cells - v) / 1000;
+    plot::Figure ent{"Map entropy over the final grid", xl, "entropy (kbit)", {}};
+    ent.series.push_back(plot::series("map entropy", d, h));
+    figs.push_back(ent);
+  }
 
   // Cumulative time per stage: per-row milliseconds are too noisy to read. Seconds once
   // some stage passes one second, else milliseconds.
@@ -422,7 +440,11 @@ std::string writeRunReport(const std::string& run_dir) {
   body << "</div>\n";
 
   body << "<h2>Progress</h2>\n";
-  const std::string p = plots((dir / "timeseries.csv").string(), notes);
+  const double map_cells = have_summary && summary.contains("map_cells") &&
+                                   summary["map_cells"].is_number()
+                               ? summary["map_cells"].get<double>()
+                               : NAN;
+  const std::string p = plots((dir / "timeseries.csv").string(), map_cells, notes);
   body << (p.empty() ? "<p class=\"note\">No time series (see the notes below).</p>\n" : p);
 
   body << "<h2>Decisions</h2>\n";

@@ -1,6 +1,5 @@
 #include <asf/errors.h>
 #include <asf/trajectory_eval.h>
-
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
 
@@ -61,9 +60,30 @@ TrajectoryError evaluateMatched(const std::vector<CPose2D>& est, const std::vect
   return r;
 }
 
+RelativePoseError relativePoseError(const std::vector<CPose2D>& est, const std::vector<CPose2D>& gt,
+                                    std::size_t delta) {
+  if (est.size() != gt.size() || delta == 0 || est.size() < delta + 1)
+    throw Error("relative pose error: needs as many estimated as true poses, more than delta (" +
+                std::to_string(delta) + ")");
+  RelativePoseError r;
+  double t2 = 0, r2 = 0;
+  for (std::size_t i = 0; i + delta < est.size(); ++i) {
+    const CPose2D moved_est = est[i + delta] - est[i];  // est_i^-1 (+) est_{i+delta}
+    const CPose2D moved_gt = gt[i + delta] - gt[i];
+    const CPose2D e = moved_est - moved_gt;
+    const double t = std::hypot(e.x(), e.y()), a = mrpt::math::wrapToPi(e.phi());
+    t2 += t * t, r2 += a * a;
+    r.trans_max_m = std::max(r.trans_max_m, t);
+    ++r.pairs;
+  }
+  r.trans_rmse_m = std::sqrt(t2 / r.pairs);
+  r.rot_rmse_deg = mrpt::RAD2DEG(std::sqrt(r2 / r.pairs));
+  return r;
+}
+
 TrajectoryError evaluateTrajectory(const std::vector<TimedPose>& estimate,
-                                   const std::vector<GroundTruthPose>& ground_truth,
-                                   double max_gap, bool align) {
+                                   const std::vector<GroundTruthPose>& ground_truth, double max_gap,
+                                   bool align) {
   std::vector<CPose2D> est, gt;
   std::vector<double> times;
   std::size_t unmatched = 0;
