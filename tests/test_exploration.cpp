@@ -48,15 +48,15 @@ fs::path writeWorld(const fs::path& dir) {
   return f;
 }
 
-nlohmann::json explore(const std::string& policy, const fs::path& dir) {
+/// `pipeline_keys`: more [pipeline] lines ("key = value\n").
+nlohmann::json explore(const std::string& policy, const fs::path& dir,
+                       const std::string& pipeline_keys = "") {
   const fs::path world = writeWorld(dir);
   std::ostringstream ini;
   ini << "[pipeline]\nsource = sim2d\nfrontend = icp_graph\nbackend = sparse_lm\n"
          "segmenter = dude\npolicy = "
-      << policy
-      << "\nseed = 3\nmax_steps = 12000\nprogress_interval = 0\nverbosity = WARN\n"
-         "[sim2d]\nmap_image = "
-      << world.string()
+      << policy << "\nseed = 3\nmax_steps = 12000\nprogress_interval = 0\nverbosity = WARN\n"
+      << pipeline_keys << "[sim2d]\nmap_image = " << world.string()
       << "\nresolution = 0.05\nstart_x = 1.0\nstart_y = 1.0\nlaser_rays = 361\n"
          "laser_fov_deg = 270\nlaser_max_range = 8.0\nrobot_radius = 0.2\n"
          "[map]\nresolution = 0.05\n";
@@ -129,6 +129,46 @@ TEST(Exploration, TigreTraversesEveryEdgeAndMapsTheWorld) {
     EXPECT_GE(e["traversals"].size(), 1u) << e.dump();
   }
   EXPECT_GE(region_edges, 1);
+  fs::remove_all(dir);
+}
+
+struct Point {
+  double x, y;
+};
+/// The true position (gt_x, gt_y) of trajectory.csv's first and last rows.
+std::pair<Point, Point> firstAndLastTruth(const fs::path& run) {
+  const auto t = asf::report::readCsvColumns((run / "trajectory.csv").string());
+  return {{t.at("gt_x").front(), t.at("gt_y").front()}, {t.at("gt_x").back(), t.at("gt_y").back()}};
+}
+
+TEST(Exploration, ReturnHomeEndsTheRunAtTheStart) {
+  const fs::path dir = tempDir("home");
+  const auto j = explore("tigre", dir, "return_home = true\n");
+  EXPECT_TRUE(j["finished"].get<bool>()) << j["stop_reason"];
+  const std::string why = j["stop_reason"];
+  EXPECT_NE(why.find("every edge traversed"), std::string::npos) << why;
+  EXPECT_NE(why.find("; back at the start ("), std::string::npos) << why;
+  const auto [first, last] = firstAndLastTruth(dir / "tigre");
+  // Within the goal tolerance (0.3 m) of the estimated start, plus the estimate's error.
+  EXPECT_LT(std::hypot(last.x - first.x, last.y - first.y), 0.5)
+      << "ended at (" << last.x << ", " << last.y << "), started at (" << first.x << ", " << first.y
+      << ")";
+  EXPECT_GE(j["coverage"].get<double>(), 0.97);
+  fs::remove_all(dir);
+}
+
+TEST(Exploration, ProgressTimeoutStopsARunThatMapsNothingNew) {
+  // 40 m^2 of new area within every 3 m: more than a robot can see in this world after its
+  // first views, so the run stops early, saying why, not finished.
+  const fs::path dir = tempDir("timeout");
+  const auto j = explore("tigre", dir, "progress_timeout_m = 3\nprogress_min_area = 40\n");
+  EXPECT_FALSE(j["finished"].get<bool>());
+  const std::string why = j["stop_reason"];
+  EXPECT_NE(why.find("no progress: the explored area grew by less than 40 m^2 over the last 3 m"),
+            std::string::npos)
+      << why;
+  EXPECT_GE(j["distance_m"].get<double>(), 3.0);
+  EXPECT_LT(j["coverage"].get<double>(), 0.97) << "stopped before the world was mapped";
   fs::remove_all(dir);
 }
 

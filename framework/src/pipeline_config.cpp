@@ -37,6 +37,19 @@ const KeySpec kPipelineKeys[] = {
            "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
            "(a policy going round in circles)",
            1),
+    keyBool("return_home", "false",
+            "When the policy says done, drive back to the start (the first keyframe's estimate) "
+            "and stop there; the stop reason says whether the robot got back"),
+    keyDouble("progress_timeout_m", "0",
+              "Stop when the explored area grew by less than progress_min_area over this many "
+              "metres driven (0: off)",
+              0),
+    keyDouble("progress_timeout_s", "0",
+              "Stop when the explored area grew by less than progress_min_area over this many "
+              "seconds of the source's clock (0: off)",
+              0),
+    keyDouble("progress_min_area", "1", "New area [m^2] that counts as progress for the timeouts",
+              0),
     keyBool("map3d", "false",
             "Build the 3D map ([map3d]) from the frames' 3D observations at the keyframes; "
             "writes map3d.bt, map3d.ot, map3d.json, map3d_grid.png"),

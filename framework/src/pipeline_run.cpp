@@ -38,6 +38,10 @@ struct RunLimits {
         max_failed(static_cast<int>(p.getInt("max_failed_goals"))),
         max_idle(static_cast<int>(p.getInt("max_idle_decisions"))),
         want_marginals(p.getBool("marginals")),
+        return_home(p.getBool("return_home")),
+        progress_timeout_m(p.getDouble("progress_timeout_m")),
+        progress_timeout_s(p.getDouble("progress_timeout_s")),
+        progress_min_area(p.getDouble("progress_min_area")),
         progress_interval(p.getDouble("progress_interval")),
         snapshots(p.getDoubleList("snapshot_distances")) {
     std::sort(snapshots.begin(), snapshots.end());
@@ -48,6 +52,8 @@ struct RunLimits {
   long optimize_every, segment_every;
   int max_failed, max_idle;
   bool want_marginals;
+  bool return_home;
+  double progress_timeout_m, progress_timeout_s, progress_min_area;
   double progress_interval;
   std::vector<double> snapshots;  ///< sorted
 };
@@ -69,6 +75,11 @@ class RunState {
   bool budgetSpent();
   /// The policy's turn when the robot is idle; false when the run stops.
   bool decide();
+  /// return_home: sends the robot to the start; false when that failed at once (then the
+  /// run stops, finished, saying so).
+  bool goHome(const std::string& reason, const mrpt::poses::CPose2D& robot);
+  /// The robot stopped on its way home: the stop reason says whether it got there.
+  bool arrivedHome(NavStatus st);
   bool giveUp(NavStatus status);
   /// One frame through the stages.
   void step(const SensorFrame& frame);
@@ -111,6 +122,11 @@ class RunState {
   long err_n_ = 0, nodes_since_opt_ = 0;
   int failed_in_row_ = 0, idle_decisions_ = 0;
   double idle_since_distance_ = 0;
+  /// The last time the explored area grew by progress_min_area: its area, distance, time.
+  double progress_area_ = 0, progress_distance_ = 0, progress_time_ = 0;
+  bool returning_home_ = false;  ///< the policy said done; the robot drives to the start
+  double home_from_distance_ = 0;
+  std::string done_reason_;  ///< the policy's reason, for the stop reason at home
   Goal last_goal_;
   bool have_goal_ = false;
   // Compute time per stage since the last timeseries row, and per call for the summary.
@@ -155,9 +171,22 @@ bool RunState::budgetSpent() {
     sum_.stop_reason = "step budget (" + std::to_string(limits_.max_steps) + ") spent";
   } else if (limits_.max_distance > 0 && sum_.distance_m >= limits_.max_distance) {
     sum_.stop_reason = "distance budget spent";
+  } else if (!returning_home_ && limits_.progress_timeout_m > 0 &&
+             sum_.distance_m - progress_distance_ >= limits_.progress_timeout_m) {
+    sum_.stop_reason = "no progress: the explored area grew by less than " +
+                       formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
+                       formatSignificant(limits_.progress_timeout_m, 4) + " m (progress_timeout_m)";
+  } else if (!returning_home_ && limits_.progress_timeout_s > 0 &&
+             now_t_ - progress_time_ >= limits_.progress_timeout_s) {
+    sum_.stop_reason = "no progress: the explored area grew by less than " +
+                       formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
+                       formatSignificant(limits_.progress_timeout_s, 4) + " s (progress_timeout_s)";
   } else {
     return false;
   }
+  if (returning_home_)  // the exploration itself was done
+    sum_.stop_reason = "policy done: " + done_reason_ +
+                       "; stopped on the way back to the start: " + sum_.stop_reason;
   return true;
 }
 
@@ -183,6 +212,7 @@ bool RunState::giveUp(NavStatus st) {
 
 bool RunState::decide() {
   const NavStatus st = have_goal_ ? m_.source->status() : NavStatus::Idle;
+  if (returning_home_) return arrivedHome(st);
   if (giveUp(st)) return false;
   ExplorationState s;
   s.topo = &m_.topo.graph();
@@ -206,7 +236,7 @@ bool RunState::decide() {
   if (d.type == Decision::Type::Done) {
     sum_.finished = true;
     sum_.stop_reason = "policy done: " + d.reason;
-    return false;
+    return limits_.return_home && goHome(d.reason, s.robot);
   }
   if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y))
     throw Error("policy '" + m_.cfg.slots.at("policy")->name() + "' returned a non-finite goal");
@@ -336,6 +366,11 @@ void RunState::seriesRow(double pose_error) {
       }
   }
   r.explored_area = m_.area.freeArea();
+  if (r.explored_area >= progress_area_ + limits_.progress_min_area) {
+    progress_area_ = r.explored_area;
+    progress_distance_ = r.distance;
+    progress_time_ = r.time;
+  }
   if (m_.navMap().grid) r.map_information_bits = m_.area.informationBits();
   r.pose_error = pose_error;
   r.loop_closures = loopClosures();
@@ -467,6 +502,39 @@ void RunState::finish() {
   seriesRow(currentPoseError());
   sum_.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start_).count();
   writeOutputs();
+}
+
+bool RunState::goHome(const std::string& reason, const mrpt::poses::CPose2D& robot) {
+  if (m_.graph.empty()) return false;
+  const mrpt::poses::CPose2D& home = m_.graph.nodes.front().pose;
+  NavigationContext ctx;
+  ctx.robot_estimate = robot;
+  ctx.map = m_.navMap().version ? &m_.navMap() : nullptr;
+  Goal g;
+  g.x = home.x();
+  g.y = home.y();
+  done_reason_ = reason;
+  returning_home_ = true;
+  home_from_distance_ = sum_.distance_m;
+  m_.logStr(mrpt::system::LVL_INFO, "policy done (" + reason + "): returning to the start (" +
+                                        formatSignificant(g.x, 4) + ", " +
+                                        formatSignificant(g.y, 4) + ")");
+  const NavStatus st = m_.source->navigate(g, ctx);
+  last_goal_ = g;
+  have_goal_ = true;
+  if (st == NavStatus::Unreachable || st == NavStatus::Blocked) return arrivedHome(st);
+  return true;
+}
+
+bool RunState::arrivedHome(NavStatus st) {
+  const double d = sum_.distance_m - home_from_distance_;
+  sum_.finished = true;
+  sum_.stop_reason = "policy done: " + done_reason_ +
+                     (st == NavStatus::Reached ? "; back at the start ("
+                                               : std::string("; did not get back to the start (") +
+                                                     navStatusName(st) + ", ") +
+                     formatSignificant(d, 4) + " m driven to it)";
+  return false;
 }
 
 void RunState::checkPathHome() {
