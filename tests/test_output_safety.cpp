@@ -13,11 +13,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <nlohmann/json.hpp>
-#include <algorithm>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -179,6 +179,65 @@ TEST(RunExit, SigtermWritesTheOutputsAndExits143) {
   EXPECT_TRUE(fs::exists(d / "out" / "graph.g2o")) << out;
 }
 
+// Issue 23: SIGUSR1 pauses a run between two steps (progress.json says "paused", no step is
+// written meanwhile) and a second SIGUSR1 resumes it; the run then ends exactly as one that
+// was never paused.
+TEST(RunExit, SigusrPausesAndResumesARunThatEndsAsIfNeverPaused) {
+  const fs::path d = tempDir("pause");
+  std::string route;
+  for (int i = 0; i < 40; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
+  route += "0 0";
+  // 2522 steps; the sparse back-end keeps them to about a second (the INI's dense one: 2 min).
+  const std::vector<std::string> args = {
+      "run",   ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini",
+      "--set", "waypoints.waypoints=" + route,
+      "--set", "pipeline.backend=sparse_lm"};
+  std::vector<std::string> paused = args;
+  paused.insert(paused.end(), {"--out", (d / "paused").string()});
+  const std::string log = (d / "paused.log").string();
+  const pid_t pid = asf_test::spawnHost(paused, log);
+  ASSERT_GT(pid, 0);
+  std::error_code ec;
+  const fs::path traj = d / "paused" / "trajectory.csv";
+  auto waitFor = [&](auto&& cond) {  // synchronisation only: generous, not a speed limit
+    const auto t0 = std::chrono::steady_clock::now();
+    while (!cond() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return cond();
+  };
+  ASSERT_TRUE(waitFor([&] { return fs::file_size(traj, ec) >= 2000 && !ec; })) << readText(log);
+  kill(pid, SIGUSR1);
+  auto status = [&] {
+    try {
+      return nlohmann::json::parse(readText(d / "paused" / "progress.json"))["status"]
+          .get<std::string>();
+    } catch (const std::exception&) {
+      return std::string();
+    }
+  };
+  ASSERT_TRUE(waitFor([&] { return status() == "paused"; })) << readText(log);
+  const auto size = fs::file_size(traj);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(fs::file_size(traj), size) << "steps written while paused";
+  kill(pid, SIGUSR1);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  const std::string out = readText(log);
+  ASSERT_TRUE(WIFEXITED(st)) << out;
+  EXPECT_EQ(WEXITSTATUS(st), 0) << out;
+  const std::string run_log = readText(d / "paused" / "run.log");
+  EXPECT_TRUE(asf_test::has(run_log, "paused at step")) << run_log;
+  EXPECT_TRUE(asf_test::has(run_log, "resumed at step")) << run_log;
+  EXPECT_EQ(status(), "finished");
+  // The same run without a pause: the same keyframes and trajectory to the digit.
+  const std::string plain = "run " + args[1] + " --set \"" + args[3] + "\" --set " + args[5] +
+                            " --out " + (d / "plain").string();
+  const auto r = asf_test::runHost(plain);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(readText(d / "paused" / "keyframes.txt"), readText(d / "plain" / "keyframes.txt"));
+  EXPECT_EQ(readText(d / "paused" / "trajectory.csv"), readText(d / "plain" / "trajectory.csv"));
+}
+
 // Issue 20, item 8: after kill -9 every file already written is readable: the CSVs' rows
 // whole, progress.json a valid summary of what was done ("running", steps and distance).
 TEST(RunExit, AfterSigkillTheFilesWrittenAreReadable) {
@@ -186,10 +245,10 @@ TEST(RunExit, AfterSigkillTheFilesWrittenAreReadable) {
   std::string route;
   for (int i = 0; i < 400; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
   route += "0 0";
-  const pid_t pid = asf_test::spawnHost(
-      {"run", ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini", "--out", (d / "out").string(),
-       "--set", "waypoints.waypoints=" + route},
-      (d / "run.log").string());
+  const pid_t pid =
+      asf_test::spawnHost({"run", ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini", "--out",
+                           (d / "out").string(), "--set", "waypoints.waypoints=" + route},
+                          (d / "run.log").string());
   ASSERT_GT(pid, 0);
   const auto t0 = std::chrono::steady_clock::now();
   std::error_code ec;

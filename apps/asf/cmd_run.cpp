@@ -10,19 +10,21 @@
 namespace asf::app {
 
 namespace {
-std::atomic<bool> g_stop{false};
+std::atomic<bool> g_stop{false}, g_pause{false};
 std::atomic<int> g_signal{0};
 extern "C" void onSignal(int signo) {
   g_signal = signo;
   g_stop = true;
 }
+extern "C" void onPauseSignal(int) { g_pause = !g_pause.load(); }
 }  // namespace
 
 int cmdRun(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Runs the pipeline of CONFIG: source -> front-end -> back-end -> map -> segmenter -> "
       "topological graph -> policy, until the source ends, the policy is done or a budget is "
-      "spent. Ctrl-C stops the run and still writes its outputs.",
+      "spent. Ctrl-C stops the run and still writes its outputs; SIGUSR1 (kill -USR1 PID) pauses "
+      "it and a second SIGUSR1 resumes it.",
       ' ', ASF_VERSION_STRING);
   TCLAP::UnlabeledValueArg<std::string> config("config", "Pipeline INI file", true, "",
                                                "CONFIG.ini", cmd);
@@ -53,9 +55,11 @@ int cmdRun(int argc, char** argv) {
 
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  const RunSummary s = pipeline.run(&g_stop);
+  std::signal(SIGUSR1, onPauseSignal);
+  const RunSummary s = pipeline.run(&g_stop, &g_pause);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGUSR1, SIG_DFL);
 
   std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, " << s.distance_m
             << " m, " << s.nodes << " nodes, " << s.edges << " edges, " << s.regions << " regions";

@@ -128,6 +128,8 @@ std::vector<std::string> Pipeline::outputFiles() {
           "summary.json", "progress.json",  "report.html",    "run.log"};
 }
 
-RunSummary Pipeline::run(const std::atomic<bool>* stop) { return runPipeline(*impl_, stop); }
+RunSummary Pipeline::run(const std::atomic<bool>* stop, const std::atomic<bool>* pause) {
+  return runPipeline(*impl_, stop, pause);
+}
 
 }  // namespace asf

@@ -60,6 +60,7 @@ struct PipelineParts : public mrpt::system::COutputLogger {
 };
 
 /// Runs the pipeline once (Pipeline::run).
-RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop);
+RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
+                       const std::atomic<bool>* pause = nullptr);
 
 }  // namespace asf

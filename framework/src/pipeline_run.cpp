@@ -13,6 +13,7 @@
 #include <iomanip>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "pipeline_impl.h"
 #include "recorder.h"
@@ -60,9 +61,10 @@ struct RunLimits {
 
 class RunState {
  public:
-  RunState(PipelineParts& m, const std::atomic<bool>* stop)
+  RunState(PipelineParts& m, const std::atomic<bool>* stop, const std::atomic<bool>* pause)
       : m_(m),
         stop_(stop),
+        pause_(pause),
         limits_(m.cfg.pipeline),
         exploring_(m.policy && m.source->isActive()),
         t_start_(Clock::now()),
@@ -75,6 +77,8 @@ class RunState {
   bool budgetSpent();
   /// The policy's turn when the robot is idle; false when the run stops.
   bool decide();
+  /// Holds the run (no step, no decision) while pause_ is set or until stop_ is.
+  void waitWhilePaused();
   /// return_home: sends the robot to the start; false when that failed at once (then the
   /// run stops, finished, saying so).
   bool goHome(const std::string& reason, const mrpt::poses::CPose2D& robot);
@@ -108,6 +112,7 @@ class RunState {
 
   PipelineParts& m_;
   const std::atomic<bool>* stop_;
+  const std::atomic<bool>* pause_;
   const RunLimits limits_;
   const bool exploring_;
   const Clock::time_point t_start_;
@@ -141,6 +146,10 @@ class RunState {
 RunSummary RunState::run() {
   try {
     while (!budgetSpent()) {
+      if (pause_ && pause_->load()) {
+        waitWhilePaused();
+        continue;  // the stop flag first
+      }
       if (exploring_ && m_.source->status() != NavStatus::Moving && !decide()) break;
       std::optional<SensorFrame> frame = m_.source->next();
       if (!frame) {
@@ -537,6 +546,16 @@ bool RunState::arrivedHome(NavStatus st) {
   return false;
 }
 
+void RunState::waitWhilePaused() {
+  m_.logStr(mrpt::system::LVL_INFO, "paused at step " + std::to_string(sum_.steps));
+  rec_.status("paused");
+  while (pause_->load() && !(stop_ && stop_->load()))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (stop_ && stop_->load()) return;
+  m_.logStr(mrpt::system::LVL_INFO, "resumed at step " + std::to_string(sum_.steps));
+  rec_.status("running");
+}
+
 void RunState::checkPathHome() {
   if (!m_.planner || m_.graph.size() <= 1 || (stop_ && stop_->load())) return;
   PlanRequest req;
@@ -557,8 +576,9 @@ void RunState::checkPathHome() {
 
 }  // namespace
 
-RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop) {
-  return RunState(parts, stop).run();
+RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
+                       const std::atomic<bool>* pause) {
+  return RunState(parts, stop, pause).run();
 }
 
 }  // namespace asf

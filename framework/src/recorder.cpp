@@ -132,6 +132,14 @@ void Recorder::series(const SeriesRow& r) {
   }
 }
 
+void Recorder::status(const std::string& status) {
+  try {
+    writeProgress(status, last_row_);
+  } catch (const std::exception& e) {
+    std::cerr << "asf run: progress.json not written: " << e.what() << "\n";
+  }
+}
+
 void Recorder::writeProgress(const std::string& status, const SeriesRow& r) {
   json j{{"status", status},
          {"step", r.step},

@@ -86,6 +86,13 @@ class Recorder {
                      const Segmentation& seg, const TopoGraph& topo,
                      const std::vector<mrpt::poses::CPose2D>& path);
   void writeProgress(const std::string& status, const SeriesRow& r);
+
+ public:
+  /// Rewrites progress.json with `status` and the last row's figures (e.g. "paused"). Never
+  /// throws: a failure is reported on stderr, the run goes on.
+  void status(const std::string& status);
+
+ private:
   std::string dir_;
   std::ofstream traj_, decisions_, series_;
   SeriesRow last_row_;

@@ -32,8 +32,10 @@ class Pipeline {
 
   /// Runs until the source ends, the policy is done, the budget is spent or `stop` is set.
   /// Writes the outputs as it goes; on an exception the outputs of what happened so far
-  /// are still written before it propagates.
-  RunSummary run(const std::atomic<bool>* stop = nullptr);
+  /// are still written before it propagates. While `pause` is set the run waits between
+  /// two steps (no source step, no decision; progress.json says "paused") and goes on as if
+  /// nothing happened when it is cleared; `stop` still ends it.
+  RunSummary run(const std::atomic<bool>* stop = nullptr, const std::atomic<bool>* pause = nullptr);
 
   /// The files a run writes, relative to out_dir (for messages and docs).
   static std::vector<std::string> outputFiles();
