@@ -201,6 +201,9 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
         "step,time_s,previous_status,decision,goal_x,goal_y,reason\n"
         "1,0,idle,goto,1.5,2,nearest frontier\n"
         "9,4,arrived,done,,,no frontier left\n");
+  fs::create_directories(d / "timeline");
+  write(d / "timeline/0001.png", kFakePng);
+  write(d / "timeline/0002.png", kFakePng);
   const std::string path = asf::writeRunReport(d.string());
   EXPECT_EQ(path, (d / "report.html").string());
   const std::string html = read(path);
@@ -225,6 +228,16 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
   EXPECT_TRUE(has(html, "(1.5, 2)"));
   EXPECT_TRUE(has(html, "source: sim2d"));
   EXPECT_FALSE(fs::exists(d / "report.html.tmp"));
+  // The timeline: both pictures, a slider over them, each decision's caption.
+  EXPECT_TRUE(has(html, "<h2>Timeline</h2>")) << html;
+  EXPECT_TRUE(has(html, "type=\"range\" min=\"0\" max=\"1\"")) << html;
+  const std::string url = std::string("data:image/png;base64,") + kFakePngBase64;
+  EXPECT_NE(html.find(url, html.find(url, html.find("<h2>Timeline</h2>")) + 1),
+            std::string::npos)
+      << "the two frames";
+  EXPECT_TRUE(has(html, "decision 1 of 2 · step 1 · t = 0 s · goto (1.5, 2) · nearest frontier"))
+      << html;
+  EXPECT_TRUE(has(html, "decision 2 of 2 · step 9 · t = 4 s · done · no frontier left")) << html;
 }
 
 TEST(RunReport, MapEntropyOverTheFinalGrid) {

@@ -118,6 +118,15 @@ TEST(Exploration, TigreTraversesEveryEdgeAndMapsTheWorld) {
       << j["stop_reason"];
   EXPECT_GE(j["coverage"].get<double>(), 0.97);
   expectMilestonesOfTheTimeseries(j, dir / "tigre");
+  // A timeline picture per decision once there is a map (not at the first, before any scan).
+  int frames = 0;
+  for (const auto& e : fs::directory_iterator(dir / "tigre" / "timeline"))
+    frames += e.path().extension() == ".png";
+  EXPECT_GE(frames, j["decisions"].get<int>() - 1);
+  EXPECT_LE(frames, j["decisions"].get<int>());
+  std::ifstream report(dir / "tigre" / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("<h2>Timeline</h2>"), std::string::npos);
   EXPECT_GT(j["loop_closures"].get<int>(), 0);
   // Every region edge of the final graph has been crossed at least once.
   std::ifstream f(dir / "tigre" / "topology.json");

@@ -37,6 +37,10 @@ const KeySpec kPipelineKeys[] = {
            "Stop when this many decisions in a row moved the robot less than 0.1 m in total "
            "(a policy going round in circles)",
            1),
+    keyBool("timeline", "true",
+            "Picture the run at each decision (timeline/NNNN.png: regions, graph, path, robot, "
+            "goal) for report.html's timeline"),
+    keyInt("timeline_max_side", "400", "Longer side of a timeline picture [px]", 50, 10000),
     keyBool("return_home", "false",
             "When the policy says done, drive back to the start (the first keyframe's estimate) "
             "and stop there; the stop reason says whether the robot got back"),

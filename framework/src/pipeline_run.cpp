@@ -40,6 +40,8 @@ struct RunLimits {
         max_idle(static_cast<int>(p.getInt("max_idle_decisions"))),
         want_marginals(p.getBool("marginals")),
         return_home(p.getBool("return_home")),
+        timeline(p.getBool("timeline")),
+        timeline_max_side(static_cast<int>(p.getInt("timeline_max_side"))),
         progress_timeout_m(p.getDouble("progress_timeout_m")),
         progress_timeout_s(p.getDouble("progress_timeout_s")),
         progress_min_area(p.getDouble("progress_min_area")),
@@ -54,6 +56,8 @@ struct RunLimits {
   int max_failed, max_idle;
   bool want_marginals;
   bool return_home;
+  bool timeline;
+  int timeline_max_side;
   double progress_timeout_m, progress_timeout_s, progress_min_area;
   double progress_interval;
   std::vector<double> snapshots;  ///< sorted
@@ -242,6 +246,11 @@ bool RunState::decide() {
   decision_ms_.push_back(dec_ms);
   ++sum_.decisions;
   rec_.decision(sum_.steps, s.time, d, st);
+  if (limits_.timeline) {
+    const Point2 goal{d.goal.x, d.goal.y};
+    rec_.timelineFrame(sum_.decisions, m_.navMap(), m_.seg, m_.topo.graph(), m_.path, s.robot,
+                       d.type == Decision::Type::GoTo ? &goal : nullptr, limits_.timeline_max_side);
+  }
   if (d.type == Decision::Type::Done) {
     sum_.finished = true;
     sum_.stop_reason = "policy done: " + d.reason;

@@ -132,6 +132,19 @@ void Recorder::series(const SeriesRow& r) {
   }
 }
 
+void Recorder::timelineFrame(int n, const GridMap& map, const Segmentation& seg,
+                             const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
+                             const mrpt::poses::CPose2D& robot, const Point2* goal, int max_side) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/timeline/%04d.png", n);
+  try {
+    std::filesystem::create_directories(dir_ + "/timeline");
+    writeTimelineFrame(dir_ + name, map, seg, topo, path, robot, goal, max_side);
+  } catch (const std::exception& e) {
+    std::cerr << "asf run: timeline frame " << n << " not written: " << e.what() << "\n";
+  }
+}
+
 void Recorder::status(const std::string& status) {
   try {
     writeProgress(status, last_row_);

@@ -41,6 +41,29 @@ void writeMapViews(const std::string& prefix, const PoseGraph& graph, const Grid
   if (!cv::imwrite(prefix + "map.png", m.img)) throw Error(prefix + "map.png: cannot write");
 }
 
+void writeTimelineFrame(const std::string& file, const GridMap& map, const Segmentation& seg,
+                        const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
+                        const mrpt::poses::CPose2D& robot, const Point2* goal, int max_side) {
+  if (!map.grid) return;
+  MapImage m = render::renderGrid(*map.grid);
+  if (!seg.labels.labels.empty()) render::drawRegions(m, seg.labels);
+  for (std::size_t i = 1; i < path.size(); ++i)
+    cv::line(m.img, m.px(path[i - 1].x(), path[i - 1].y()), m.px(path[i].x(), path[i].y()),
+             {200, 80, 0}, 1, cv::LINE_AA);
+  render::drawTopology(m, topo);
+  const int r = std::max(4, static_cast<int>(0.4 / m.res));  // large enough to see scaled down
+  if (goal) cv::drawMarker(m.img, m.px(goal->x, goal->y), {0, 140, 0}, cv::MARKER_CROSS, 4 * r, 3);
+  cv::circle(m.img, m.px(robot.x(), robot.y()), r, {0, 0, 220}, -1, cv::LINE_AA);
+  const int side = std::max(m.img.cols, m.img.rows);
+  if (max_side > 0 && side > max_side) {
+    const double f = static_cast<double>(max_side) / side;
+    cv::resize(m.img, m.img, cv::Size(), f, f, cv::INTER_AREA);
+  }
+  std::vector<unsigned char> png;
+  if (!cv::imencode(".png", m.img, png)) throw Error(file + ": cannot encode");
+  writeFileAtomically(file, std::string(png.begin(), png.end()));
+}
+
 void writeGridPng(const std::string& file, const GridMap& map) {
   const MapImage m = render::renderGrid(*map.grid);
   if (!cv::imwrite(file, m.img)) throw Error("cannot write");

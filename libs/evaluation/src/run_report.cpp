@@ -272,6 +272,76 @@ std::string decisionsTable(const std::string& path, std::size_t n, std::string& 
   return o.str();
 }
 
+/// Each decision's caption from decisions.csv (step, decision, goal, reason), in order.
+std::vector<std::string> decisionCaptions(const std::string& path) {
+  std::vector<std::string> out;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line)) return out;  // the header: step,time_s,previous_status,...
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    std::string x;
+    for (int i = 0; i < 6 && std::getline(ss, x, ','); ++i) f.push_back(x);
+    std::getline(ss, x);  // the reason: the rest of the line
+    if (f.size() < 6) continue;
+    std::string c = "step " + f[0] + " · t = " + f[1] + " s · " + f[3];
+    if (!f[4].empty()) c += " (" + f[4] + ", " + f[5] + ")";
+    out.push_back(c + " · " + x);
+  }
+  return out;
+}
+
+/// The timeline: timeline/NNNN.png of every decision in one image with a slider and a play
+/// button (inline script; the pictures as data URLs: no file or network needed). Empty
+/// without pictures.
+std::string timelineSection(const fs::path& dir) {
+  std::vector<fs::path> frames;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir / "timeline", ec))
+    if (e.path().extension() == ".png") frames.push_back(e.path());
+  if (frames.empty()) return "";
+  std::sort(frames.begin(), frames.end());
+  const std::vector<std::string> captions = decisionCaptions((dir / "decisions.csv").string());
+  json urls = json::array(), caps = json::array();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    std::ifstream in(frames[i], std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    urls.push_back("data:image/png;base64," + report::base64(bytes));
+    caps.push_back("decision " + std::to_string(i + 1) + " of " + std::to_string(frames.size()) +
+                   (i < captions.size() ? " · " + captions[i] : std::string()));
+  }
+  std::string data = "[" + urls.dump() + "," + caps.dump() + "]";
+  // Inside <script>: no "<" may open a tag.
+  for (std::size_t p = 0; (p = data.find('<', p)) != std::string::npos;)
+    data.replace(p, 1, "\\u003c");
+  std::ostringstream o;
+  o << "<h2>Timeline</h2>\n<p>The run at each decision: regions, topological graph, path, "
+       "robot (red) and goal (green cross).</p>\n<figure><img id=\"tl-img\" alt=\"timeline\" src=\""
+    << urls[0].get<std::string>() << "\"/><figcaption><button id=\"tl-play\" type=\"button\">"
+    << "play</button> <input id=\"tl-pos\" type=\"range\" min=\"0\" max=\"" << frames.size() - 1
+    << "\" value=\"0\"/> <span id=\"tl-cap\"></span></figcaption></figure>\n"
+    << "<script>\n(function () {\n  const d = " << data << ";\n"
+    << "  const img = document.getElementById('tl-img'), pos = document.getElementById('tl-pos');\n"
+    << "  const cap = document.getElementById('tl-cap'), btn = "
+       "document.getElementById('tl-play');\n"
+    << "  let timer = null;\n"
+    << "  function show(i) { pos.value = i; img.src = d[0][i]; cap.textContent = d[1][i]; }\n"
+    << "  pos.addEventListener('input', function () { show(+pos.value); });\n"
+    << "  btn.addEventListener('click', function () {\n"
+    << "    if (timer) { clearInterval(timer); timer = null; btn.textContent = 'play'; return; }\n"
+    << "    if (+pos.value >= d[0].length - 1) show(0);\n"
+    << "    btn.textContent = 'pause';\n"
+    << "    timer = setInterval(function () {\n"
+    << "      const i = +pos.value + 1;\n"
+    << "      if (i >= d[0].length) { clearInterval(timer); timer = null; btn.textContent = "
+       "'play'; }\n"
+    << "      else show(i);\n"
+    << "    }, 400);\n  });\n  show(0);\n})();\n</script>\n";
+  return o.str();
+}
+
 std::vector<double> column(const std::map<std::string, std::vector<double>>& cols,
                            const std::string& name, std::size_t rows) {
   auto it = cols.find(name);
@@ -440,14 +510,14 @@ std::string writeRunReport(const std::string& run_dir) {
   body << "</div>\n";
 
   body << "<h2>Progress</h2>\n";
-  const double map_cells = have_summary && summary.contains("map_cells") &&
-                                   summary["map_cells"].is_number()
-                               ? summary["map_cells"].get<double>()
-                               : NAN;
+  const double map_cells =
+      have_summary && summary.contains("map_cells") && summary["map_cells"].is_number()
+          ? summary["map_cells"].get<double>()
+          : NAN;
   const std::string p = plots((dir / "timeseries.csv").string(), map_cells, notes);
   body << (p.empty() ? "<p class=\"note\">No time series (see the notes below).</p>\n" : p);
 
-  body << "<h2>Decisions</h2>\n";
+  body << timelineSection(dir) << "<h2>Decisions</h2>\n";
   std::string dnote;
   const std::string dt = decisionsTable((dir / "decisions.csv").string(), 20, dnote);
   if (!dnote.empty()) notes.push_back(dnote);

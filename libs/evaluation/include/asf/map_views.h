@@ -21,6 +21,14 @@ void writeMapViews(const std::string& prefix, const PoseGraph& graph, const Grid
                    const Segmentation& seg, const TopoGraph& topo,
                    const std::vector<mrpt::poses::CPose2D>& path);
 
+/// One frame of a run's timeline (report.html): the regions (or the bare grid without a
+/// segmentation), the topological graph, the path so far, the robot and its goal, scaled
+/// down so that its longer side is at most `max_side` pixels, written as a PNG to `file`.
+/// Nothing without a grid. Throws asf::Error when it cannot be written.
+void writeTimelineFrame(const std::string& file, const GridMap& map, const Segmentation& seg,
+                        const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
+                        const mrpt::poses::CPose2D& robot, const Point2* goal, int max_side);
+
 /// The grid as a grey PNG (grey level = p(free), y up). Throws asf::Error when it cannot be
 /// written; `map` must have a grid.
 void writeGridPng(const std::string& file, const GridMap& map);
