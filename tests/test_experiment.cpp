@@ -200,10 +200,11 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
   write(d / "decisions.csv",
         "step,time_s,previous_status,decision,goal_x,goal_y,reason\n"
         "1,0,idle,goto,1.5,2,nearest frontier\n"
+        "5,2,arrived,goto,0.5,1,the next room\n"
         "9,4,arrived,done,,,no frontier left\n");
-  fs::create_directories(d / "timeline");
-  write(d / "timeline/0001.png", kFakePng);
+  fs::create_directories(d / "timeline");  // decision 1 has no picture (no map yet)
   write(d / "timeline/0002.png", kFakePng);
+  write(d / "timeline/0003.png", kFakePng);
   const std::string path = asf::writeRunReport(d.string());
   EXPECT_EQ(path, (d / "report.html").string());
   const std::string html = read(path);
@@ -232,12 +233,11 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
   EXPECT_TRUE(has(html, "<h2>Timeline</h2>")) << html;
   EXPECT_TRUE(has(html, "type=\"range\" min=\"0\" max=\"1\"")) << html;
   const std::string url = std::string("data:image/png;base64,") + kFakePngBase64;
-  EXPECT_NE(html.find(url, html.find(url, html.find("<h2>Timeline</h2>")) + 1),
-            std::string::npos)
+  EXPECT_NE(html.find(url, html.find(url, html.find("<h2>Timeline</h2>")) + 1), std::string::npos)
       << "the two frames";
-  EXPECT_TRUE(has(html, "decision 1 of 2 · step 1 · t = 0 s · goto (1.5, 2) · nearest frontier"))
+  EXPECT_TRUE(has(html, "decision 2 of 3 · step 5 · t = 2 s · goto (0.5, 1) · the next room"))
       << html;
-  EXPECT_TRUE(has(html, "decision 2 of 2 · step 9 · t = 4 s · done · no frontier left")) << html;
+  EXPECT_TRUE(has(html, "decision 3 of 3 · step 9 · t = 4 s · done · no frontier left")) << html;
 }
 
 TEST(RunReport, MapEntropyOverTheFinalGrid) {
@@ -258,6 +258,28 @@ TEST(RunReport, MapEntropyOverTheFinalGrid) {
   write(d / "summary.json", R"({"policy": "tigre", "distance_m": 20})");
   html = read(asf::writeRunReport(d.string()));
   EXPECT_EQ(svgsOf(html).size(), 4u);
+}
+
+TEST(RunReport, TimelineOfALongRunIsThinnedEvenly) {
+  // 400 decisions, a picture each: 150 of them embedded, the first and the last among them,
+  // each captioned with its own decision.
+  const fs::path d = tempDir("report_long_timeline");
+  fs::create_directories(d / "timeline");
+  std::string csv = "step,time_s,previous_status,decision,goal_x,goal_y,reason\n";
+  for (int n = 1; n <= 400; ++n) {
+    csv += std::to_string(10 * n) + "," + std::to_string(n) + ",arrived,goto,1,2,goal " +
+           std::to_string(n) + "\n";
+    char name[32];
+    std::snprintf(name, sizeof name, "timeline/%04d.png", n);
+    write(d / name, kFakePng);
+  }
+  write(d / "decisions.csv", csv);
+  const std::string html = read(asf::writeRunReport(d.string()));
+  EXPECT_TRUE(has(html, "type=\"range\" min=\"0\" max=\"149\"")) << "150 pictures";
+  EXPECT_TRUE(has(html, "decision 1 of 400 · step 10 · t = 1 s · goto (1, 2) · goal 1\""));
+  EXPECT_TRUE(has(html, "decision 400 of 400 · step 4000 · t = 400 s · goto (1, 2) · goal 400"));
+  EXPECT_FALSE(has(html, "decision 2 of 400")) << "thinned";
+  EXPECT_EQ(tagBalance(html), "");
 }
 
 TEST(RunReport, MissingFilesAreNotedNotFatal) {

@@ -304,13 +304,21 @@ std::string timelineSection(const fs::path& dir) {
   if (frames.empty()) return "";
   std::sort(frames.begin(), frames.end());
   const std::vector<std::string> captions = decisionCaptions((dir / "decisions.csv").string());
+  // At most kMaxFrames pictures, evenly spread, keep the report's size bounded on long runs.
+  constexpr std::size_t kMaxFrames = 150;
+  std::vector<std::size_t> pick(std::min(frames.size(), kMaxFrames));
+  for (std::size_t k = 0; k < pick.size(); ++k)
+    pick[k] = pick.size() == 1 ? 0 : k * (frames.size() - 1) / (pick.size() - 1);
   json urls = json::array(), caps = json::array();
-  for (std::size_t i = 0; i < frames.size(); ++i) {
+  for (const std::size_t i : pick) {
     std::ifstream in(frames[i], std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     urls.push_back("data:image/png;base64," + report::base64(bytes));
-    caps.push_back("decision " + std::to_string(i + 1) + " of " + std::to_string(frames.size()) +
-                   (i < captions.size() ? " · " + captions[i] : std::string()));
+    // NNNN.png is the run's NNNN-th decision (the first ones may have no picture: no map yet).
+    const long n = std::strtol(frames[i].stem().string().c_str(), nullptr, 10);
+    const bool known = n >= 1 && static_cast<std::size_t>(n) <= captions.size();
+    caps.push_back("decision " + std::to_string(n) + " of " + std::to_string(captions.size()) +
+                   (known ? " · " + captions[n - 1] : std::string()));
   }
   std::string data = "[" + urls.dump() + "," + caps.dump() + "]";
   // Inside <script>: no "<" may open a tag.
@@ -320,7 +328,7 @@ std::string timelineSection(const fs::path& dir) {
   o << "<h2>Timeline</h2>\n<p>The run at each decision: regions, topological graph, path, "
        "robot (red) and goal (green cross).</p>\n<figure><img id=\"tl-img\" alt=\"timeline\" src=\""
     << urls[0].get<std::string>() << "\"/><figcaption><button id=\"tl-play\" type=\"button\">"
-    << "play</button> <input id=\"tl-pos\" type=\"range\" min=\"0\" max=\"" << frames.size() - 1
+    << "play</button> <input id=\"tl-pos\" type=\"range\" min=\"0\" max=\"" << pick.size() - 1
     << "\" value=\"0\"/> <span id=\"tl-cap\"></span></figcaption></figure>\n"
     << "<script>\n(function () {\n  const d = " << data << ";\n"
     << "  const img = document.getElementById('tl-img'), pos = document.getElementById('tl-pos');\n"
