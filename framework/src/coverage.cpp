@@ -185,35 +185,6 @@ const InformationTable& informationTable() {
   return table;
 }
 
-/// Fixed-point information of the cells of `g` in [x0, x1] x [y0, y1] (clamped); of `g`
-/// minus that of `before` (the same geometry) when `before` is given.
-std::int64_t informationIn(const mrpt::maps::COccupancyGridMap2D& g,
-                           const mrpt::maps::COccupancyGridMap2D* before, int x0, int x1, int y0,
-                           int y1) {
-  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
-  x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
-  y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
-  const InformationTable& info = informationTable();
-  const std::size_t sx = g.getSizeX();
-  std::int64_t sum = 0;
-  for (int y = y0; y <= y1; ++y) {
-    const auto* a = g.getRawMap().data() + static_cast<std::size_t>(y) * sx;
-    const auto* b =
-        before ? before->getRawMap().data() + static_cast<std::size_t>(y) * sx : nullptr;
-    for (int x = x0; x <= x1; ++x)
-      if (!b)
-        sum += info(a[x]);
-      else if (a[x] != b[x])
-        sum += info(a[x]) - info(b[x]);
-  }
-  return sum;
-}
-
-std::int64_t allInformation(const mrpt::maps::COccupancyGridMap2D& g) {
-  return informationIn(g, nullptr, 0, static_cast<int>(g.getSizeX()) - 1, 0,
-                       static_cast<int>(g.getSizeY()) - 1);
-}
-
 /// The table of `band` (one per band and thread: runs of an experiment share no state).
 const CellTable& cellTable(double band) {
   thread_local std::map<double, CellTable> tables;
@@ -271,53 +242,55 @@ double CoverageMeter::coverage(const GridMap& map) const {
 
 namespace {
 
-/// Free cells of `now` minus those of `before` (a grid of the same geometry) in the cell
-/// range [x0, x1] x [y0, y1] (clamped): only cells whose stored values differ are compared.
-long freeCellChange(const mrpt::maps::COccupancyGridMap2D& now,
-                    const mrpt::maps::COccupancyGridMap2D& before, int x0, int x1, int y0, int y1,
-                    double unknown_band) {
-  x0 = std::max(x0, 0), y0 = std::max(y0, 0);
-  x1 = std::min(x1, static_cast<int>(now.getSizeX()) - 1);
-  y1 = std::min(y1, static_cast<int>(now.getSizeY()) - 1);
-  const CellTable& t = cellTable(unknown_band);
-  const std::size_t sx = now.getSizeX();
-  long change = 0;
-  for (int y = y0; y <= y1; ++y) {
-    const auto* a = now.getRawMap().data() + static_cast<std::size_t>(y) * sx;
-    const auto* b = before.getRawMap().data() + static_cast<std::size_t>(y) * sx;
-    for (int x = x0; x <= x1; ++x)
-      if (a[x] != b[x]) change += static_cast<long>(t.free(a[x])) - static_cast<long>(t.free(b[x]));
-  }
-  return change;
-}
+/// What the area tracker counts over a range of cells: the free ones and their information
+/// (InformationTable's fixed point).
+struct CellSums {
+  long free = 0;
+  std::int64_t information = 0;
+};
 
-/// Free cells of `g` in the cell range [x0, x1] x [y0, y1] (clamped to the grid).
-std::size_t freeCells(const mrpt::maps::COccupancyGridMap2D& g, int x0, int x1, int y0, int y1,
-                      double unknown_band) {
+/// CellSums of `g` over the cells [x0, x1] x [y0, y1] (clamped to the grid); with `before`
+/// (a grid of the same geometry) those of `g` minus those of `before`, in one pass that
+/// reads only the cells whose stored values differ.
+CellSums cellSums(const mrpt::maps::COccupancyGridMap2D& g,
+                  const mrpt::maps::COccupancyGridMap2D* before, int x0, int x1, int y0, int y1,
+                  double unknown_band) {
   x0 = std::max(x0, 0), y0 = std::max(y0, 0);
   x1 = std::min(x1, static_cast<int>(g.getSizeX()) - 1);
   y1 = std::min(y1, static_cast<int>(g.getSizeY()) - 1);
   const CellTable& t = cellTable(unknown_band);
-  const auto& raw = g.getRawMap();
+  const InformationTable& info = informationTable();
   const std::size_t sx = g.getSizeX();
-  std::size_t n = 0;
+  CellSums sum;
   for (int y = y0; y <= y1; ++y) {
-    const auto* row = raw.data() + static_cast<std::size_t>(y) * sx;
-    for (int x = x0; x <= x1; ++x)  // getCell(x, y) of a cell inside the grid
-      if (t.free(row[x])) ++n;
+    const auto* a = g.getRawMap().data() + static_cast<std::size_t>(y) * sx;
+    const auto* b =
+        before ? before->getRawMap().data() + static_cast<std::size_t>(y) * sx : nullptr;
+    for (int x = x0; x <= x1; ++x) {
+      if (!b) {
+        sum.free += t.free(a[x]);
+        sum.information += info(a[x]);
+      } else if (a[x] != b[x]) {
+        sum.free += static_cast<long>(t.free(a[x])) - static_cast<long>(t.free(b[x]));
+        sum.information += info(a[x]) - info(b[x]);
+      }
+    }
   }
-  return n;
+  return sum;
 }
 
-std::size_t allFreeCells(const mrpt::maps::COccupancyGridMap2D& g, double unknown_band) {
-  return freeCells(g, 0, static_cast<int>(g.getSizeX()) - 1, 0, static_cast<int>(g.getSizeY()) - 1,
-                   unknown_band);
+CellSums allCells(const mrpt::maps::COccupancyGridMap2D& g, double unknown_band) {
+  return cellSums(g, nullptr, 0, static_cast<int>(g.getSizeX()) - 1, 0,
+                  static_cast<int>(g.getSizeY()) - 1, unknown_band);
 }
 
 }  // namespace
 
 double mapInformationBits(const GridMap& map) {
-  return map.grid ? static_cast<double>(allInformation(*map.grid)) / InformationTable::kOne : 0;
+  // The band does not change what a cell says, only whether it counts as free.
+  return map.grid
+             ? static_cast<double>(allCells(*map.grid, 0.02).information) / InformationTable::kOne
+             : 0;
 }
 
 double mapEntropyBits(const GridMap& map) {
@@ -329,7 +302,7 @@ double mapEntropyBits(const GridMap& map) {
 double freeArea(const GridMap& map, double unknown_band) {
   if (!map.grid) return 0;
   const double r = map.grid->getResolution();
-  return static_cast<double>(allFreeCells(*map.grid, unknown_band)) * r * r;
+  return static_cast<double>(allCells(*map.grid, unknown_band).free) * r * r;
 }
 
 MapAreaTracker::MapAreaTracker(const CoverageMeter* meter, double unknown_band)
@@ -341,8 +314,9 @@ MapAreaTracker& MapAreaTracker::operator=(MapAreaTracker&&) noexcept = default;
 void MapAreaTracker::recount(const mrpt::maps::COccupancyGridMap2D& g) {
   ++recounts_;
   visited_ += static_cast<std::size_t>(g.getSizeX()) * g.getSizeY();
-  free_cells_ = allFreeCells(g, band_);
-  information_ = allInformation(g);
+  const CellSums all = allCells(g, band_);
+  free_cells_ = static_cast<std::size_t>(all.free);
+  information_ = all.information;
   if (meter_) {
     observed_ = meter_->observedCount(g, indexFor(g));
     visited_ += meter_->reachableCells();
@@ -417,9 +391,9 @@ void MapAreaTracker::update(const GridMap& map) {
   if (!same_geometry) regrid(g, x0, x1, y0, y1);
   const mrpt::maps::COccupancyGridMap2D& before = *counted_;
   visited_ += 2 * static_cast<std::size_t>(x1 - x0 + 1) * (y1 - y0 + 1);
-  free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) +
-                                         freeCellChange(g, before, x0, x1, y0, y1, band_));
-  information_ += informationIn(g, &before, x0, x1, y0, y1);
+  const CellSums change = cellSums(g, &before, x0, x1, y0, y1, band_);
+  free_cells_ = static_cast<std::size_t>(static_cast<long>(free_cells_) + change.free);
+  information_ += change.information;
   if (meter_)
     observed_ =
         static_cast<std::size_t>(static_cast<long>(observed_) +

@@ -178,22 +178,25 @@ RunSummary RunState::run() {
 }
 
 bool RunState::budgetSpent() {
+  // A timeout over `limit` of distance or time since the explored area last grew.
+  auto noProgress = [&](double since, double limit, const char* unit, const char* key) {
+    if (returning_home_ || limit <= 0 || since < limit) return false;
+    sum_.stop_reason = "no progress: the explored area grew by less than " +
+                       formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
+                       formatSignificant(limit, 4) + " " + unit + " (" + key + ")";
+    return true;
+  };
   if (stop_ && stop_->load()) {
     sum_.stop_reason = "interrupted";
   } else if (limits_.max_steps > 0 && sum_.steps >= limits_.max_steps) {
     sum_.stop_reason = "step budget (" + std::to_string(limits_.max_steps) + ") spent";
   } else if (limits_.max_distance > 0 && sum_.distance_m >= limits_.max_distance) {
     sum_.stop_reason = "distance budget spent";
-  } else if (!returning_home_ && limits_.progress_timeout_m > 0 &&
-             sum_.distance_m - progress_distance_ >= limits_.progress_timeout_m) {
-    sum_.stop_reason = "no progress: the explored area grew by less than " +
-                       formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
-                       formatSignificant(limits_.progress_timeout_m, 4) + " m (progress_timeout_m)";
-  } else if (!returning_home_ && limits_.progress_timeout_s > 0 &&
-             now_t_ - progress_time_ >= limits_.progress_timeout_s) {
-    sum_.stop_reason = "no progress: the explored area grew by less than " +
-                       formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
-                       formatSignificant(limits_.progress_timeout_s, 4) + " s (progress_timeout_s)";
+  } else if (noProgress(sum_.distance_m - progress_distance_, limits_.progress_timeout_m, "m",
+                        "progress_timeout_m") ||
+             noProgress(now_t_ - progress_time_, limits_.progress_timeout_s, "s",
+                        "progress_timeout_s")) {
+    // the reason is set
   } else {
     return false;
   }

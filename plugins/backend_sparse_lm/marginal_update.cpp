@@ -91,8 +91,8 @@ bool MarginalUpdate::update(const asf::PoseGraph& g, SparseSe2& whole, const Opt
   if (lambda.info() != Eigen::Success) return false;
   const Eigen::MatrixXd Sigma = lambda.solve(Eigen::MatrixXd::Identity(dim, dim));
 
-  out.node.assign(g.size(), Eigen::Matrix3d::Zero());
-  for (std::size_t i = 0; i < nodes_; ++i) out.node[i] = blocks_[i];
+  out.node = blocks_;  // the new nodes' blocks are set below, held ones stay zero
+  out.node.resize(g.size(), Eigen::Matrix3d::Zero());
   if (nb > 0) {
     const Eigen::MatrixXd K = S0inv * (S0 - Sigma.topLeftCorner(sb, sb)) * S0inv;
     downdateOld(0.5 * (K + K.transpose()), held, out.node);

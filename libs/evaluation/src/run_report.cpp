@@ -214,17 +214,21 @@ std::string summaryTable(const json& j) {
   return o.str();
 }
 
-/// The last `n` rows of decisions.csv as a table (step, decision, goal, reason).
-std::string decisionsTable(const std::string& path, std::size_t n, std::string& note) {
+using DecisionRow = std::map<std::string, std::string>;
+
+/// decisions.csv's rows, fields by column name; the last column (the reason) keeps any
+/// commas. `note` says why there are none (missing, empty, no row).
+std::vector<DecisionRow> decisionRows(const std::string& path, std::string& note) {
+  std::vector<DecisionRow> rows;
   std::ifstream in(path);
+  std::string line;
   if (!in) {
     note = "decisions.csv: missing";
-    return "";
+    return rows;
   }
-  std::string line;
   if (!std::getline(in, line)) {
     note = "decisions.csv: empty";
-    return "";
+    return rows;
   }
   std::vector<std::string> header;
   {
@@ -232,63 +236,54 @@ std::string decisionsTable(const std::string& path, std::size_t n, std::string& 
     std::string f;
     while (std::getline(ss, f, ',')) header.push_back(f);
   }
-  auto col = [&](const char* name) -> int {
-    for (std::size_t i = 0; i < header.size(); ++i)
-      if (header[i] == name) return static_cast<int>(i);
-    return -1;
-  };
-  const int c_step = col("step"), c_dec = col("decision"), c_gx = col("goal_x"),
-            c_gy = col("goal_y"), c_reason = col("reason");
-  std::vector<std::string> lines;
-  std::size_t total = 0;
   while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    ++total;
-    lines.push_back(line);
-    if (lines.size() > n) lines.erase(lines.begin());
-  }
-  if (lines.empty()) {
-    note = "decisions.csv: no decision recorded";
-    return "";
-  }
-  std::ostringstream o;
-  o << "<p>The last " << lines.size() << " of " << total << " decisions.</p>\n"
-    << "<table>\n<tr><th>step</th><th>decision</th><th>goal (m)</th><th>reason</th></tr>\n";
-  for (const auto& l : lines) {
-    std::vector<std::string> f;
-    std::stringstream ss(l);
+    if (line.empty() || header.empty()) continue;
+    DecisionRow row;
+    std::stringstream ss(line);
     std::string x;
-    while (std::getline(ss, x, ',')) f.push_back(x);
-    auto at = [&](int i) { return i >= 0 && i < static_cast<int>(f.size()) ? f[i] : ""; };
-    std::string reason = at(c_reason);
-    // A reason with commas (not written by asf, but possible) keeps its tail.
-    if (c_reason + 1 == static_cast<int>(header.size()))
-      for (std::size_t i = header.size(); i < f.size(); ++i) reason += "," + f[i];
-    const std::string goal = at(c_gx).empty() ? "" : "(" + at(c_gx) + ", " + at(c_gy) + ")";
-    o << "<tr><td class=\"num\">" << htmlEscape(at(c_step)) << "</td><td>" << htmlEscape(at(c_dec))
-      << "</td><td>" << htmlEscape(goal) << "</td><td>" << htmlEscape(reason) << "</td></tr>\n";
+    for (std::size_t i = 0; i + 1 < header.size() && std::getline(ss, x, ','); ++i)
+      row[header[i]] = x;
+    if (std::getline(ss, x)) row[header.back()] = x;  // the rest of the line
+    rows.push_back(std::move(row));
   }
+  if (rows.empty()) note = "decisions.csv: no decision recorded";
+  return rows;
+}
+
+std::string field(const DecisionRow& r, const char* key) {
+  const auto it = r.find(key);
+  return it == r.end() ? std::string() : it->second;
+}
+
+/// "(x, y)" of a decision's goal, empty without one.
+std::string goalText(const DecisionRow& r) {
+  return field(r, "goal_x").empty() ? ""
+                                    : "(" + field(r, "goal_x") + ", " + field(r, "goal_y") + ")";
+}
+
+/// The last `n` decisions as a table (step, decision, goal, reason); empty without any.
+std::string decisionsTable(const std::vector<DecisionRow>& rows, std::size_t n) {
+  if (rows.empty()) return "";
+  const std::size_t first = rows.size() > n ? rows.size() - n : 0;
+  std::ostringstream o;
+  o << "<p>The last " << rows.size() - first << " of " << rows.size() << " decisions.</p>\n"
+    << "<table>\n<tr><th>step</th><th>decision</th><th>goal (m)</th><th>reason</th></tr>\n";
+  for (std::size_t i = first; i < rows.size(); ++i)
+    o << "<tr><td class=\"num\">" << htmlEscape(field(rows[i], "step")) << "</td><td>"
+      << htmlEscape(field(rows[i], "decision")) << "</td><td>" << htmlEscape(goalText(rows[i]))
+      << "</td><td>" << htmlEscape(field(rows[i], "reason")) << "</td></tr>\n";
   o << "</table>\n";
   return o.str();
 }
 
-/// Each decision's caption from decisions.csv (step, decision, goal, reason), in order.
-std::vector<std::string> decisionCaptions(const std::string& path) {
+/// Each decision's caption (step, time, decision, goal, reason), in order.
+std::vector<std::string> decisionCaptions(const std::vector<DecisionRow>& rows) {
   std::vector<std::string> out;
-  std::ifstream in(path);
-  std::string line;
-  if (!std::getline(in, line)) return out;  // the header: step,time_s,previous_status,...
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    std::string x;
-    for (int i = 0; i < 6 && std::getline(ss, x, ','); ++i) f.push_back(x);
-    std::getline(ss, x);  // the reason: the rest of the line
-    if (f.size() < 6) continue;
-    std::string c = "step " + f[0] + " · t = " + f[1] + " s · " + f[3];
-    if (!f[4].empty()) c += " (" + f[4] + ", " + f[5] + ")";
-    out.push_back(c + " · " + x);
+  for (const auto& r : rows) {
+    std::string c = "step " + field(r, "step") + " · t = " + field(r, "time_s") + " s · " +
+                    field(r, "decision");
+    if (!goalText(r).empty()) c += " " + goalText(r);
+    out.push_back(c + " · " + field(r, "reason"));
   }
   return out;
 }
@@ -296,14 +291,14 @@ std::vector<std::string> decisionCaptions(const std::string& path) {
 /// The timeline: timeline/NNNN.png of every decision in one image with a slider and a play
 /// button (inline script; the pictures as data URLs: no file or network needed). Empty
 /// without pictures.
-std::string timelineSection(const fs::path& dir) {
+std::string timelineSection(const fs::path& dir, const std::vector<DecisionRow>& decisions) {
   std::vector<fs::path> frames;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir / "timeline", ec))
     if (e.path().extension() == ".png") frames.push_back(e.path());
   if (frames.empty()) return "";
   std::sort(frames.begin(), frames.end());
-  const std::vector<std::string> captions = decisionCaptions((dir / "decisions.csv").string());
+  const std::vector<std::string> captions = decisionCaptions(decisions);
   // At most kMaxFrames pictures, evenly spread, keep the report's size bounded on long runs.
   constexpr std::size_t kMaxFrames = 150;
   std::vector<std::size_t> pick(std::min(frames.size(), kMaxFrames));
@@ -525,9 +520,10 @@ std::string writeRunReport(const std::string& run_dir) {
   const std::string p = plots((dir / "timeseries.csv").string(), map_cells, notes);
   body << (p.empty() ? "<p class=\"note\">No time series (see the notes below).</p>\n" : p);
 
-  body << timelineSection(dir) << "<h2>Decisions</h2>\n";
   std::string dnote;
-  const std::string dt = decisionsTable((dir / "decisions.csv").string(), 20, dnote);
+  const std::vector<DecisionRow> decisions = decisionRows((dir / "decisions.csv").string(), dnote);
+  body << timelineSection(dir, decisions) << "<h2>Decisions</h2>\n";
+  const std::string dt = decisionsTable(decisions, 20);
   if (!dnote.empty()) notes.push_back(dnote);
   body << (dt.empty() ? "<p class=\"note\">" + htmlEscape(dnote) + "</p>\n" : dt);
 
