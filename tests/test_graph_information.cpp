@@ -77,14 +77,15 @@ TEST(GraphInformation, ParseCriterionAndInputErrors) {
   EXPECT_EQ(parseCriterion("p=-2"), -2.0);
   EXPECT_EQ(parseCriterion("0.5"), 0.5);
   EXPECT_EQ(criterionName(-2.0), "p=-2");
-  EXPECT_TRUE(asf_test::has(asf_test::errorOf<asf::InputError>([] { parseCriterion("X"); }), "'X'"));
+  EXPECT_TRUE(
+      asf_test::has(asf_test::errorOf<asf::InputError>([] { parseCriterion("X"); }), "'X'"));
   EXPECT_THROW(parseCriterion("2"), asf::InputError);  // p > 1 is not an information function
   const Multigraph g = complete(4);
   EXPECT_THROW(information(g, VectorXd::Ones(5), 0), asf::InputError);
   VectorXd neg = VectorXd::Ones(6);
   neg[2] = -1;
-  EXPECT_TRUE(asf_test::has(asf_test::errorOf<asf::InputError>([&] { information(g, neg, 0); }),
-                            "edge 2"));
+  EXPECT_TRUE(
+      asf_test::has(asf_test::errorOf<asf::InputError>([&] { information(g, neg, 0); }), "edge 2"));
   EXPECT_THROW(optimalDesign(g, 1.5), asf::InputError);
 }
 
@@ -157,6 +158,42 @@ TEST(GraphInformation, DisconnectedIsZeroWithFlagNeverNaN) {
   EXPECT_FALSE(optimalDesign(one, 0).connected);
 }
 
+TEST(GraphInformation, SparseDOptimalityByTheMatrixTreeTheoremEqualsTheDenseSpectrum) {
+  // Closed forms: a path has one spanning tree (prod mu = n), K_n has n^(n-2) (prod = n^(n-1)).
+  for (int n : {2, 5, 12}) {
+    EXPECT_NEAR(dOptimalitySparse(path(n), VectorXd::Ones(n - 1)), std::pow(n, 1.0 / (n - 1)),
+                1e-12);
+    const Multigraph k = complete(n);
+    EXPECT_NEAR(dOptimalitySparse(k, VectorXd::Ones(k.m())), n, 1e-10 * n);
+  }
+  // Random weighted multigraphs with parallel edges and self-loops against the eigenvalues.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> w(0.1, 5);
+  for (int trial = 0; trial < 20; ++trial) {
+    Multigraph g = path(3 + trial);
+    for (int k = 0; k < 2 * g.n; ++k) {
+      const int u = static_cast<int>(rng() % g.n), v = static_cast<int>(rng() % g.n);
+      g.edges.push_back({u, v, 1, w(rng)});
+    }
+    VectorXd x(g.m());
+    for (int j = 0; j < g.m(); ++j) x[j] = w(rng);
+    const double dense = information(g, x, kCriterionD).value;
+    EXPECT_NEAR(dOptimalitySparse(g, x), dense, 1e-9 * dense) << "trial " << trial;
+  }
+  // Not spanning: zero, as the dense criterion.
+  Multigraph g;
+  g.n = 4;
+  g.edges = {{0, 1, 1}, {2, 3, 1}};
+  EXPECT_EQ(dOptimalitySparse(g, VectorXd::Ones(2)), 0.0);
+  const Multigraph k4 = complete(4);
+  VectorXd x = VectorXd::Ones(6);
+  x[0] = x[1] = x[2] = 0;
+  EXPECT_EQ(dOptimalitySparse(k4, x), 0.0);
+  Multigraph one;
+  one.n = 1;
+  EXPECT_EQ(dOptimalitySparse(one, VectorXd()), 0.0);
+}
+
 TEST(GraphInformation, WalkInformationRate) {
   const Multigraph k4 = complete(4);  // edges 0:0-1 1:0-2 2:0-3 3:1-2 4:1-3 5:2-3
   // Closed walk 0-1-2-0-3-1 ... : edge sequence must chain.
@@ -172,15 +209,17 @@ TEST(GraphInformation, WalkInformationRate) {
   std::vector<int> twice = walk;
   twice.insert(twice.end(), {3, 1, 2, 4, 0});  // continues from node 1: 1-2, 2-0, 0-3, 3-1, 1-0
   const VectorXd c2 = walkEdgeCounts(k4, twice);
-  EXPECT_NEAR(walkInformation(k4, twice, kCriterionA).value,
-              information(k4, c2, kCriterionA).value, 1e-15);
+  EXPECT_NEAR(walkInformation(k4, twice, kCriterionA).value, information(k4, c2, kCriterionA).value,
+              1e-15);
   EXPECT_NEAR(information(k4, 2 * c, kCriterionA).rate, information(k4, c, kCriterionA).rate,
               1e-14);
   // Every edge once (not a walk on K4, but counts): rate = optimum 2/3, efficiency 1.
   EXPECT_NEAR(efficiency(k4, VectorXd::Ones(6), kE, 2.0 / 3), 1.0, 1e-12);
   // Not a walk: 0-1 then 2-3.
-  EXPECT_TRUE(asf_test::has(
-      asf_test::errorOf<asf::InputError>([&] { walkEdgeCounts(k4, {0, 5}); }), "position 1"));
+  EXPECT_TRUE(asf_test::has(asf_test::errorOf<asf::InputError>([&] {
+                              walkEdgeCounts(k4, {0, 5});
+                            }),
+                            "position 1"));
   EXPECT_THROW(walkEdgeCounts(k4, {0, 6}), asf::InputError);
 }
 
@@ -248,7 +287,7 @@ TEST(GraphInformation, BruteForceGridSmallGraph) {
     EXPECT_LE(best, o.upper_bound * (1 + 1e-12));
     EXPECT_LE(o.relative_gap, p == kE ? 1e-5 : 1e-6);
     EXPECT_GE(o.value, best * (1 - 1e-12));  // no grid point beats the solver
-    EXPECT_GT(best, o.value * 0.98);          // and the grid gets close to it
+    EXPECT_GT(best, o.value * 0.98);         // and the grid gets close to it
   }
 }
 
@@ -391,14 +430,15 @@ TEST(GraphInformation, CrossCheckCvxopt) {
     while (std::fgets(buf, sizeof buf, f)) out += buf;
     ASSERT_EQ(pclose(f), 0) << cmd << "\n" << out;
     const auto j = nlohmann::json::parse(out);
-    for (auto [name, p, tol] : {std::tuple{"D", 0.0, 1e-6}, std::tuple{"A", -1.0, 1e-6},
-                                std::tuple{"E", kE, 1e-5}}) {
+    for (auto [name, p, tol] :
+         {std::tuple{"D", 0.0, 1e-6}, std::tuple{"A", -1.0, 1e-6}, std::tuple{"E", kE, 1e-5}}) {
       SCOPED_TRACE(graphLine(g) + " " + name);
       const OptimalDesign o = optimalDesign(g, p);
       const double cvx = j[name].get<double>();
       EXPECT_NEAR(o.value, cvx, tol * cvx);
-      std::printf("cvxopt cross-check n=%d m=%d %s: asf %.10g (gap %.2g) cvxopt %.10g rel.diff %.2g\n",
-                  g.n, g.m(), name, o.value, o.relative_gap, cvx, std::abs(o.value - cvx) / cvx);
+      std::printf(
+          "cvxopt cross-check n=%d m=%d %s: asf %.10g (gap %.2g) cvxopt %.10g rel.diff %.2g\n", g.n,
+          g.m(), name, o.value, o.relative_gap, cvx, std::abs(o.value - cvx) / cvx);
       // cvxopt's x is feasible, so its value can not exceed our certified bound.
       EXPECT_LE(cvx, o.upper_bound * (1 + 1e-9));
     }
@@ -444,7 +484,8 @@ TEST(GraphInformation, ExhaustiveSearchK4) {
   EXPECT_TRUE(asf_test::has(text, "<svg"));
   EXPECT_TRUE(asf_test::has(text, "</svg>"));
   std::size_t lines = 0;
-  for (std::size_t pos = 0; (pos = text.find("<polyline", pos)) != std::string::npos; ++pos) ++lines;
+  for (std::size_t pos = 0; (pos = text.find("<polyline", pos)) != std::string::npos; ++pos)
+    ++lines;
   EXPECT_EQ(lines, 8u);  // 4 criteria x 2 panels
 
   o.max_states = 10;

@@ -168,7 +168,35 @@ TEST(Reachability, DoorNarrowerThanTheRobotBlocksWiderDoorIsGoneAround) {
   const double d = wide.distanceTo(goal);
   EXPECT_GE(d, through_door - 2 * kRes);
   EXPECT_LE(d, through_door * 1.0824 + 4 * kRes);  // octile stretch of a straight line
-  EXPECT_GT(d, 4.0 + 1.0);                          // far longer than straight across
+  EXPECT_GT(d, 4.0 + 1.0);                         // far longer than straight across
+}
+
+TEST(Reachability, PathToFollowsTheDistanceFieldThroughTheDoor) {
+  const asf::Point2 start{1, 1}, goal{5, 1};
+  asf::ReachabilityOptions o;
+  o.robot_radius = 0.2;
+  const auto r = asf::Reachability::compute(wrap(roomWithDoor(0.8)), start, o);
+  const std::vector<asf::Point2> path = r.pathTo(goal);
+  ASSERT_GE(path.size(), 2u);
+  EXPECT_LE(std::hypot(path.front().x - start.x, path.front().y - start.y), kRes);
+  EXPECT_LE(std::hypot(path.back().x - goal.x, path.back().y - goal.y), kRes);
+  EXPECT_NEAR(r.distanceTo(path.front()), 0, 1e-9);
+  double length = 0;
+  bool through_door = false;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double step = std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+    EXPECT_LE(step, M_SQRT2 * kRes + 1e-6) << "step " << i << " is not to a neighbour";
+    EXPECT_GT(r.distanceTo(path[i]), r.distanceTo(path[i - 1])) << "step " << i;
+    EXPECT_TRUE(r.reachable(path[i]));
+    length += step;
+    if (std::abs(path[i].x - 3) < 0.06) through_door = through_door || path[i].y > 3.15;
+  }
+  // A shortest path: its length is the field's distance (float metres, ~1e-6 per step).
+  EXPECT_NEAR(length, r.distanceTo(goal), 1e-3);
+  EXPECT_TRUE(through_door);
+  // Nothing to follow to an unreachable place or off the grid.
+  EXPECT_TRUE(r.pathTo({50, 50}).empty());
+  EXPECT_TRUE(asf::Reachability::compute(wrap(roomWithDoor(0.3)), start, o).pathTo(goal).empty());
 }
 
 TEST(Reachability, UnknownCellsBlock) {

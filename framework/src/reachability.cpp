@@ -263,6 +263,34 @@ std::optional<Point2> Reachability::nearestReachable(const Point2& p, double rad
   return cellCenter(bx, by);
 }
 
+std::vector<Point2> Reachability::pathTo(const Point2& p) const {
+  if (!reachable(p)) return {};
+  int cx = static_cast<int>(std::floor((p.x - origin_x_) / resolution_));
+  int cy = static_cast<int>(std::floor((p.y - origin_y_) / resolution_));
+  std::vector<Point2> back{cellCenter(cx, cy)};
+  // Each step goes to a strictly nearer cell, so the walk ends, at the start (distance 0):
+  // every other reachable cell has its predecessor among its neighbours.
+  for (double d = cellDistance(cx, cy); d > 0;) {
+    int bx = -1, by = -1;
+    double best = std::numeric_limits<double>::infinity(), best_d = d;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const double dn = cellDistance(cx + dx, cy + dy);
+        if (!(dn < d)) continue;
+        // No corner cutting, as in the search: both cells a diagonal step passes are open.
+        if (dx != 0 && dy != 0 &&
+            !(cellDistance(cx + dx, cy) < kUnreachable && cellDistance(cx, cy + dy) < kUnreachable))
+          continue;
+        const double through = dn + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0) * resolution_;
+        if (through < best) best = through, best_d = dn, bx = cx + dx, by = cy + dy;
+      }
+    if (bx < 0) break;  // float rounding left no nearer neighbour: stop where we are
+    cx = bx, cy = by, d = best_d;
+    back.push_back(cellCenter(cx, cy));
+  }
+  return {back.rbegin(), back.rend()};
+}
+
 int Reachability::closest(const std::vector<Point2>& candidates, double snap_radius,
                           Point2* snapped, double* distance) const {
   int best = -1;

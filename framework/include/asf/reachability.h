@@ -49,7 +49,6 @@ constexpr KeySpec keyUnknownBand() {
 /// unknown_band (unknown cells would count as obstacles).
 ReachabilityOptions reachabilityOptionsFrom(const Params& p);
 
-
 /// Every cell of `grid` classified by cellStateOf (grid_map.h) under the thresholds of
 /// `options` (row-major, getSizeX() per row), through a table over the
 /// raw cell values (MRPT's cells are 8 or 16 bits): cheaper than a probability per cell.
@@ -77,8 +76,13 @@ class Reachability {
   /// Among `candidates`, the index of the one with the smallest geodesic distance
   /// (each candidate may be moved to its nearest reachable cell within `snap_radius`);
   /// -1 if none is reachable. `snapped`, when given, receives the reachable point.
-  int closest(const std::vector<Point2>& candidates, double snap_radius,
-              Point2* snapped = nullptr, double* distance = nullptr) const;
+  int closest(const std::vector<Point2>& candidates, double snap_radius, Point2* snapped = nullptr,
+              double* distance = nullptr) const;
+
+  /// A shortest way from the start to p's cell: cell centres, the start's first and p's cell
+  /// last, each 8-adjacent to the one before (back from p, each step to the neighbour whose
+  /// distance plus the step is least: the Dijkstra predecessor). Empty if p is unreachable.
+  std::vector<Point2> pathTo(const Point2& p) const;
 
   /// Grid geometry, for callers that scan cells (e.g. frontier detection).
   double resolution() const { return resolution_; }

@@ -6,6 +6,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -75,6 +77,33 @@ MatrixXd laplacian(const Multigraph& g, const VectorXd& x) {
     L(e.v, e.u) -= w;
   }
   return L;
+}
+
+double dOptimalitySparse(const Multigraph& g, const VectorXd& x) {
+  checkWeights(g, x, "dOptimalitySparse");
+  if (g.n < 2 || !supportConnectedImpl(g, x)) return 0;
+  // L(x) without node 0's row and column: node v > 0 is unknown v - 1.
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(4 * g.edges.size());
+  for (int j = 0; j < g.m(); ++j) {
+    const auto& e = g.edges[j];
+    const double w = x[j] * e.information;
+    if (e.u == e.v || w == 0) continue;
+    for (const int a : {e.u, e.v})
+      if (a > 0) t.emplace_back(a - 1, a - 1, w);
+    if (e.u > 0 && e.v > 0) {
+      t.emplace_back(e.u - 1, e.v - 1, -w);
+      t.emplace_back(e.v - 1, e.u - 1, -w);
+    }
+  }
+  Eigen::SparseMatrix<double> L0(g.n - 1, g.n - 1);
+  L0.setFromTriplets(t.begin(), t.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(L0);
+  if (ldlt.info() != Eigen::Success) return 0;
+  const VectorXd d = ldlt.vectorD();
+  if (!(d.minCoeff() > 0)) return 0;
+  const double log_pdet = std::log(static_cast<double>(g.n)) + d.array().log().sum();
+  return std::exp(log_pdet / (g.n - 1));
 }
 
 VectorXd reducedSpectrum(const Multigraph& g, const VectorXd& x) {

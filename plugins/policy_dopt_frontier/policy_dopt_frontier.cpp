@@ -1,0 +1,96 @@
+// policy_dopt_frontier: frontier exploration where each frontier is scored by the
+// D-optimality of the pose graph expected after driving to it (Placed and Castellanos, RA-L
+// 2023: edge weights det(Omega)^(1/3), weighted spanning trees), the best one taken. Frontiers,
+// goals and blacklisting are the frontier explorer's (policy_frontier_core); the expected
+// graph is expected_pose_graph.h.
+#include <asf/expected_pose_graph.h>
+#include <asf/frontier_search.h>
+
+#include <iomanip>
+#include <sstream>
+
+namespace {
+
+class DOptFrontierPolicy final : public asf::Policy {
+ public:
+  void configure(const asf::Params& p, const asf::PluginContext&) override {
+    search_.configure(p, *this);
+    expected_.node_spacing = p.getDouble("node_spacing");
+    expected_.loop_radius = p.getDouble("loop_radius");
+    expected_.loop_skip_recent = static_cast<int>(p.getInt("loop_skip_recent"));
+  }
+
+  asf::Decision decide(const asf::ExplorationState& s) override {
+    return search_.decide(
+        s, [&](const std::vector<asf::FrontierCandidate>& candidates,
+               const asf::Reachability& reach) { return choose(s, candidates, reach); });
+  }
+
+ private:
+  static std::string where(const asf::FrontierCandidate& c) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(2) << c.length << " m long, " << c.distance
+       << " m away (frontier cell " << c.target.x << ", " << c.target.y << ")";
+    return os.str();
+  }
+
+  /// The candidate whose expected graph has the largest ||L_w||_0; ties (and a graph without
+  /// edges, before the first keyframes) go to the nearest.
+  asf::FrontierChoice choose(const asf::ExplorationState& s,
+                             const std::vector<asf::FrontierCandidate>& candidates,
+                             const asf::Reachability& reach) const {
+    const bool has_edges = s.graph && s.graph->size() >= 2 && !s.graph->edges.empty();
+    if (!has_edges || candidates.size() == 1) {
+      const std::string why = has_edges ? "the only frontier: "
+                                        : "no pose graph yet, nearest of " +
+                                              std::to_string(candidates.size()) + " frontiers: ";
+      return {0, why + where(candidates.front())};
+    }
+    const asf::ExpectedPoseGraph graph(*s.graph, expected_);
+    std::size_t best = 0;
+    std::vector<asf::Expectation> expected(candidates.size());
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      expected[i] = graph.afterPath(reach.pathTo(candidates[i].goal));
+      if (expected[i].d_optimality > expected[best].d_optimality) best = i;
+    }
+    std::ostringstream why;
+    why << "D-optimal of " << candidates.size() << " frontiers: " << std::setprecision(6)
+        << expected[best].d_optimality << " (nearest " << expected[0].d_optimality << ", now "
+        << graph.present() << "), " << expected[best].nodes << " nodes and " << expected[best].loops
+        << " loops expected, " << where(candidates[best]);
+    return {best, why.str()};
+  }
+
+  asf::FrontierSearch search_;
+  asf::ExpectedGraphOptions expected_;
+};
+
+const asf::KeySpec kKeys[] = {
+    asf::keyRobotRadius("0.2"),
+    asf::keyOccupiedThreshold(),
+    asf::keyUnknownBand(),
+    asf::keyMinFrontierSize(),
+    asf::keyFrontierGoalTolerance(),
+    asf::keySnapRadius(),
+    asf::keyBlacklistRadius(),
+    asf::keyMaxFailuresPerFrontier(),
+    asf::keyDouble("node_spacing", "0.5",
+                   "The expected graph gets a node every this many metres of the path to a "
+                   "frontier (the front-end's keyframe_distance) [m]",
+                   0.01, 100),
+    asf::keyDouble("loop_radius", "2",
+                   "An expected node closes a loop with the nearest old node within this "
+                   "distance [m]",
+                   0, 100),
+    asf::keyInt("loop_skip_recent", "20",
+                "Expected loops exclude the last this many nodes before the new one (the "
+                "front-end's loop_skip_recent)",
+                0, 100000),
+};
+
+}  // namespace
+
+ASF_PLUGIN(DOptFrontierPolicy, asf::PluginKind::Policy, "dopt_frontier", "1.0.0",
+           "Frontier exploration by the D-optimality of the expected pose graph (Placed and "
+           "Castellanos 2023: weighted Laplacian, det(Omega)^(1/3) edge weights)",
+           asf::ThreadSafety::ThreadCompatible, kKeys)
