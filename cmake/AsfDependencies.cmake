@@ -4,8 +4,9 @@
 include_guard(GLOBAL)
 include(${CMAKE_CURRENT_LIST_DIR}/AsfContractDependencies.cmake)
 
-# The other MRPT modules. slam: CICP (icp_graph); graphslam: the mrpt_levmarq baseline back-end.
-set(ASF_MRPT_MODULES obs maps graphs slam graphslam)
+# The other MRPT modules. slam: CICP (icp_graph); graphslam: the mrpt_levmarq baseline back-end;
+# gui: the live view of `asf run --gui` (apps/asf/live_window.cpp, loaded only then).
+set(ASF_MRPT_MODULES obs maps graphs slam graphslam gui)
 foreach(_m ${ASF_MRPT_MODULES})
   find_package(mrpt-${_m} 2.5 CONFIG QUIET)
   asf_require(mrpt-${_m}_FOUND "MRPT >= 2.5 (module mrpt-${_m})" libmrpt-dev)

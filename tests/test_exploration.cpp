@@ -2,6 +2,7 @@
 // -> topological graph -> policy, until the policy says done. Each policy must finish by its
 // own stop rule with (nearly) the whole reachable area mapped.
 #include <asf/config.h>
+#include <asf/errors.h>
 #include <asf/pipeline.h>
 #include <asf/run_report.h>
 #include <gtest/gtest.h>
@@ -11,6 +12,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 
@@ -48,21 +51,9 @@ fs::path writeWorld(const fs::path& dir) {
   return f;
 }
 
-/// `pipeline_keys`: more [pipeline] lines ("key = value\n").
-nlohmann::json explore(const std::string& policy, const fs::path& dir,
-                       const std::string& pipeline_keys = "") {
-  const fs::path world = writeWorld(dir);
-  std::ostringstream ini;
-  ini << "[pipeline]\nsource = sim2d\nfrontend = icp_graph\nbackend = sparse_lm\n"
-         "segmenter = dude\npolicy = "
-      << policy << "\nseed = 3\nmax_steps = 12000\nprogress_interval = 0\nverbosity = WARN\n"
-      << pipeline_keys << "[sim2d]\nmap_image = " << world.string()
-      << "\nresolution = 0.05\nstart_x = 1.0\nstart_y = 1.0\nlaser_rays = 361\n"
-         "laser_fov_deg = 270\nlaser_max_range = 8.0\nrobot_radius = 0.2\n"
-         "[map]\nresolution = 0.05\n";
+nlohmann::json runConfig(const asf::IniConfig& ini, const fs::path& out) {
   asf::Registry reg;
-  const auto cfg = asf::resolveConfig(asf::IniConfig::fromText(ini.str(), "exploration.ini"), reg);
-  const fs::path out = dir / policy;
+  const auto cfg = asf::resolveConfig(ini, reg);
   asf::Pipeline p(cfg, out.string());
   const asf::RunSummary s = p.run();
   std::ifstream f(out / "summary.json");
@@ -71,6 +62,22 @@ nlohmann::json explore(const std::string& policy, const fs::path& dir,
   EXPECT_TRUE(fs::exists(out / "report.html"));
   EXPECT_EQ(j["finished"], s.finished);
   return j;
+}
+
+/// `pipeline_keys`: more [pipeline] lines ("key = value\n").
+nlohmann::json explore(const std::string& policy, const fs::path& dir,
+                       const std::string& pipeline_keys = "", long max_steps = 12000) {
+  const fs::path world = writeWorld(dir);
+  std::ostringstream ini;
+  ini << "[pipeline]\nsource = sim2d\nfrontend = icp_graph\nbackend = sparse_lm\n"
+         "segmenter = dude\npolicy = "
+      << policy << "\nseed = 3\nmax_steps = " << max_steps
+      << "\nprogress_interval = 0\nverbosity = WARN\n"
+      << pipeline_keys << "[sim2d]\nmap_image = " << world.string()
+      << "\nresolution = 0.05\nstart_x = 1.0\nstart_y = 1.0\nlaser_rays = 361\n"
+         "laser_fov_deg = 270\nlaser_max_range = 8.0\nrobot_radius = 0.2\n"
+         "[map]\nresolution = 0.05\n";
+  return runConfig(asf::IniConfig::fromText(ini.str(), "exploration.ini"), dir / policy);
 }
 
 /// Coverage milestones in summary.json: the distance and time of the first timeseries row at
@@ -125,7 +132,8 @@ TEST(Exploration, TigreTraversesEveryEdgeAndMapsTheWorld) {
   EXPECT_GE(frames, j["decisions"].get<int>() - 1);
   EXPECT_LE(frames, j["decisions"].get<int>());
   std::ifstream report(dir / "tigre" / "report.html");
-  const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  const std::string html((std::istreambuf_iterator<char>(report)),
+                         std::istreambuf_iterator<char>());
   EXPECT_NE(html.find("<h2>Timeline</h2>"), std::string::npos);
   EXPECT_GT(j["loop_closures"].get<int>(), 0);
   // Every region edge of the final graph has been crossed at least once.
@@ -197,6 +205,117 @@ TEST(Exploration, OfflinePostmanWalksTheTrueGraph) {
             std::string::npos)
       << j["stop_reason"];
   EXPECT_GE(j["coverage"].get<double>(), 0.97);
+  fs::remove_all(dir);
+}
+
+TEST(Exploration, DOptFrontierExplorerMapsTheWorld) {
+  const fs::path dir = tempDir("dopt");
+  const auto j = explore("dopt_frontier", dir);
+  EXPECT_TRUE(j["finished"].get<bool>()) << j["stop_reason"];
+  EXPECT_GE(j["coverage"].get<double>(), 0.97);
+  fs::remove_all(dir);
+}
+
+// ---- asf run --resume ([pipeline] resume, [sim2d] resume_from) ---------------------------
+
+std::vector<std::string> lines(const fs::path& f) {
+  std::ifstream in(f);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+/// The first `n` fields of a CSV line.
+std::string firstFields(const std::string& line, int n) {
+  std::size_t pos = 0;
+  for (int k = 0; k < n && pos != std::string::npos; ++k) pos = line.find(',', pos + 1);
+  return line.substr(0, pos);
+}
+
+/// The run in `interrupted` continued into `out`, as `asf run --resume` sets it up.
+nlohmann::json resume(const fs::path& interrupted, const fs::path& out,
+                      const std::string& max_steps = "12000") {
+  asf::IniConfig ini = asf::IniConfig::fromFile((interrupted / "config.ini").string());
+  ini.set("pipeline", "resume", interrupted.string(), "test");
+  ini.set("sim2d", "resume_from", interrupted.string(), "test");
+  ini.set("pipeline", "max_steps", max_steps, "test");
+  return runConfig(ini, out);
+}
+
+TEST(Exploration, ResumedRunReplaysTheInterruptedOneThenFinishesTheExploration) {
+  const fs::path dir = tempDir("resume");
+  const auto whole = explore("tigre", dir);
+  ASSERT_TRUE(whole["finished"].get<bool>());
+  const long half = whole["steps"].get<long>() / 2;
+  fs::rename(dir / "tigre", dir / "whole");
+  const auto cut = explore("tigre", dir, "", half);
+  ASSERT_FALSE(cut["finished"].get<bool>());
+  const fs::path first = dir / "tigre";
+  const auto j = resume(first, dir / "resumed");
+
+  // The interrupted run again, to the digit: its steps, its decisions, its estimates.
+  ASSERT_TRUE(j.contains("resumed")) << j.dump();
+  EXPECT_EQ(j["resumed"]["after_steps"].get<long>(), half);
+  const auto recorded = lines(first / "decisions.csv");
+  EXPECT_EQ(j["resumed"]["replayed_decisions"].get<int>(), static_cast<int>(recorded.size()) - 1);
+  EXPECT_EQ(j["resumed"]["replayed_decisions_differing"].get<int>(), 0);
+  const auto retaken = lines(dir / "resumed" / "decisions.csv");
+  ASSERT_GT(retaken.size(), recorded.size());
+  for (std::size_t i = 0; i < recorded.size(); ++i)
+    EXPECT_EQ(firstFields(retaken[i], 6), firstFields(recorded[i], 6)) << "decision row " << i;
+  const auto before = lines(first / "trajectory.csv"),
+             after = lines(dir / "resumed" / "trajectory.csv");
+  ASSERT_EQ(before.size(), static_cast<std::size_t>(half) + 1);
+  for (std::size_t i = 0; i < before.size(); ++i)  // step, time, estimate x, y, phi
+    ASSERT_EQ(firstFields(after[i], 5), firstFields(before[i], 5)) << "trajectory row " << i;
+  // Its recording continues the interrupted one's.
+  const auto gt0 = lines(first / "sim2d.gt.txt"), gt1 = lines(dir / "resumed" / "sim2d.gt.txt");
+  ASSERT_EQ(gt1.size(), j["steps"].get<std::size_t>() + 1);  // a header line, a line per step
+  EXPECT_TRUE(std::equal(gt0.begin(), gt0.end(), gt1.begin()));
+
+  // Then the exploration goes on to the end, as the uninterrupted one did (other noise after
+  // the interruption: another path, of a similar length).
+  EXPECT_TRUE(j["finished"].get<bool>()) << j["stop_reason"];
+  EXPECT_NE(j["stop_reason"].get<std::string>().find("every edge traversed"), std::string::npos);
+  EXPECT_GT(j["steps"].get<long>(), half);
+  EXPECT_GE(j["coverage"].get<double>(), 0.97);
+  EXPECT_NEAR(j["distance_m"].get<double>(), whole["distance_m"].get<double>(),
+              0.3 * whole["distance_m"].get<double>());
+
+  // A log cut by a kill (its last record half written): the frames before the cut are the
+  // run's; the decisions after them are not replayed.
+  const fs::path killed = dir / "killed";
+  fs::copy(first, killed, fs::copy_options::recursive);
+  fs::resize_file(killed / "sim2d.rawlog", fs::file_size(killed / "sim2d.rawlog") * 6 / 10 + 7);
+  const auto k = resume(killed, dir / "resumed_killed");
+  EXPECT_GT(k["resumed"]["after_steps"].get<long>(), half / 2);
+  EXPECT_LT(k["resumed"]["after_steps"].get<long>(), half);
+  EXPECT_LT(k["resumed"]["replayed_decisions"].get<int>(), static_cast<int>(recorded.size()) - 1);
+  EXPECT_EQ(k["resumed"]["replayed_decisions_differing"].get<int>(), 0);
+  EXPECT_TRUE(k["finished"].get<bool>()) << k["stop_reason"];
+  fs::remove_all(dir);
+}
+
+TEST(Exploration, ResumeErrorsNameTheKeyOrTheFile) {
+  const fs::path dir = tempDir("resume_errors");
+  explore("frontier", dir, "", 300);
+  const fs::path run = dir / "frontier";
+  asf::IniConfig ini = asf::IniConfig::fromFile((run / "config.ini").string());
+  // The source must continue the same recording.
+  ini.set("pipeline", "resume", run.string(), "test");
+  std::string msg = asf_test::errorOf<asf::Error>([&] { runConfig(ini, dir / "a"); });
+  EXPECT_NE(msg.find("sim2d.resume_from = the same folder"), std::string::npos) << msg;
+  // Never into the folder it reads.
+  ini.set("sim2d", "resume_from", run.string(), "test");
+  msg = asf_test::errorOf<asf::Error>([&] { runConfig(ini, run); });
+  EXPECT_NE(msg.find("resume_from"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("own output folder"), std::string::npos) << msg;
+  EXPECT_TRUE(fs::exists(run / "sim2d.rawlog")) << "the interrupted run keeps its files";
+  EXPECT_GT(fs::file_size(run / "sim2d.rawlog"), 0u);
+  // Its decisions are needed.
+  fs::remove(run / "decisions.csv");
+  msg = asf_test::errorOf<asf::Error>([&] { runConfig(ini, dir / "b"); });
+  EXPECT_NE(msg.find("decisions.csv"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
 

@@ -128,6 +128,13 @@ std::vector<std::string> Pipeline::outputFiles() {
           "summary.json", "progress.json",  "report.html",    "run.log"};
 }
 
+void Pipeline::setLiveView(std::function<void(const ViewImage&)> show, double period_s,
+                           int max_side) {
+  impl_->live_view = std::move(show);
+  impl_->live_period_s = period_s;
+  impl_->live_max_side = max_side;
+}
+
 RunSummary Pipeline::run(const std::atomic<bool>* stop, const std::atomic<bool>* pause) {
   return runPipeline(*impl_, stop, pause);
 }

@@ -54,6 +54,11 @@ const KeySpec kPipelineKeys[] = {
               0),
     keyDouble("progress_min_area", "1", "New area [m^2] that counts as progress for the timeouts",
               0),
+    keyPath("resume", "",
+            "A run folder this run continues (asf run --resume sets it): its recorded log goes "
+            "through the stages again, the policy retakes its recorded decisions, then the "
+            "exploration goes on; needs a source that continues its recording (sim2d "
+            "resume_from). Empty: a new run"),
     keyBool("map3d", "false",
             "Build the 3D map ([map3d]) from the frames' 3D observations at the keyframes; "
             "writes map3d.bt, map3d.ot, map3d.json, map3d_grid.png"),

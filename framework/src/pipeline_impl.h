@@ -13,6 +13,7 @@
 #include <mrpt/system/COutputLogger.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,10 @@ struct PipelineParts : public mrpt::system::COutputLogger {
   /// Free area and coverage of the navigation grid, updated with every version (O(changed
   /// cells)).
   MapAreaTracker area;
+  /// Pipeline::setLiveView: the viewer (empty: none), its period [s] and picture size.
+  std::function<void(const ViewImage&)> live_view;
+  double live_period_s = 0.5;
+  int live_max_side = 800;
   TopoGraph world_topo;  ///< of the true world, map frame (offline baselines)
   bool have_world_topo = false;
 

@@ -2,154 +2,26 @@
 // optimize, update maps, segment, track), the final optimization reusing them, and the
 // summary.
 #include <asf/errors.h>
+#include <asf/map_views.h>
 #include <asf/run_report.h>
 #include <asf/text.h>
 #include <asf/trajectory_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <iomanip>
-#include <optional>
 #include <sstream>
 #include <thread>
 
-#include "pipeline_impl.h"
-#include "recorder.h"
+#include "run_state.h"
 
-namespace asf {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double planarDistance(const mrpt::poses::CPose2D& a, const mrpt::poses::CPose2D& b) {
-  return std::hypot(a.x() - b.x(), a.y() - b.y());
-}
-
-/// The [pipeline] keys the loop reads, once.
-struct RunLimits {
-  explicit RunLimits(const Params& p)
-      : max_steps(static_cast<long>(p.getInt("max_steps"))),
-        steps_budget(!p.isDefault("max_steps") && max_steps > 0),
-        max_distance(p.getDouble("max_distance")),
-        optimize_every(static_cast<long>(p.getInt("optimize_every"))),
-        segment_every(static_cast<long>(p.getInt("segment_every"))),
-        max_failed(static_cast<int>(p.getInt("max_failed_goals"))),
-        max_idle(static_cast<int>(p.getInt("max_idle_decisions"))),
-        want_marginals(p.getBool("marginals")),
-        return_home(p.getBool("return_home")),
-        timeline(p.getBool("timeline")),
-        timeline_max_side(static_cast<int>(p.getInt("timeline_max_side"))),
-        progress_timeout_m(p.getDouble("progress_timeout_m")),
-        progress_timeout_s(p.getDouble("progress_timeout_s")),
-        progress_min_area(p.getDouble("progress_min_area")),
-        progress_interval(p.getDouble("progress_interval")),
-        snapshots(p.getDoubleList("snapshot_distances")) {
-    std::sort(snapshots.begin(), snapshots.end());
-  }
-  long max_steps;
-  bool steps_budget;  ///< max_steps was set (not the default): the progress line has an ETA
-  double max_distance;
-  long optimize_every, segment_every;
-  int max_failed, max_idle;
-  bool want_marginals;
-  bool return_home;
-  bool timeline;
-  int timeline_max_side;
-  double progress_timeout_m, progress_timeout_s, progress_min_area;
-  double progress_interval;
-  std::vector<double> snapshots;  ///< sorted
-};
-
-class RunState {
- public:
-  RunState(PipelineParts& m, const std::atomic<bool>* stop, const std::atomic<bool>* pause)
-      : m_(m),
-        stop_(stop),
-        pause_(pause),
-        limits_(m.cfg.pipeline),
-        exploring_(m.policy && m.source->isActive()),
-        t_start_(Clock::now()),
-        last_progress_(t_start_),
-        rec_(m.out_dir, m.cfg) {}
-
-  RunSummary run();
-
- private:
-  bool budgetSpent();
-  /// The policy's turn when the robot is idle; false when the run stops.
-  bool decide();
-  /// Holds the run (no step, no decision) while pause_ is set or until stop_ is.
-  void waitWhilePaused();
-  /// return_home: sends the robot to the start; false when that failed at once (then the
-  /// run stops, finished, saying so).
-  bool goHome(const std::string& reason, const mrpt::poses::CPose2D& robot);
-  /// The robot stopped on its way home: the stop reason says whether it got there.
-  bool arrivedHome(NavStatus st);
-  bool giveUp(NavStatus status);
-  /// One frame through the stages.
-  void step(const SensorFrame& frame);
-  /// Front-end (and the frame's 3D keyframes); true if the graph changed.
-  bool sense(const SensorFrame& frame);
-  void optimize();
-  /// The maps from the graph; true if the navigation grid changed.
-  bool updateMaps(bool graph_changed);
-  /// Segmentation and topological graph of the navigation grid; returns its time [ms].
-  double segment();
-  /// Poses, distance, pose error, the recorder's rows and snapshots.
-  void track(const SensorFrame& frame, bool map_changed);
-  /// Keyframes added since the last optimization are optimized once more at the end, so the
-  /// outputs (graph, map, ATE) are those of the whole graph, not of an earlier state of it.
-  void finalOptimization();
-  void summarize();
-  void writeOutputs();
-  void finish();
-  /// The planner's path home, logged after the outputs are on disk: a slow planner on a large
-  /// graph then costs time, never the run's files; an interrupted run skips it.
-  void checkPathHome();
-  void seriesRow(double pose_error);
-  void progress(bool force);
-  double currentPoseError() const { return err_n_ ? planarDistance(*last_truth_, last_est_) : -1; }
-  std::size_t loopClosures() const;
-
-  PipelineParts& m_;
-  const std::atomic<bool>* stop_;
-  const std::atomic<bool>* pause_;
-  const RunLimits limits_;
-  const bool exploring_;
-  const Clock::time_point t_start_;
-  Clock::time_point last_progress_;
-  Recorder rec_;
-  RunSummary sum_;
-
-  std::size_t next_snapshot_ = 0;
-  std::optional<mrpt::poses::CPose2D> gt0_, last_truth_;
-  mrpt::poses::CPose2D last_est_;
-  double err_sum_ = 0, t0_ = 0, now_t_ = 0;
-  long err_n_ = 0, nodes_since_opt_ = 0;
-  int failed_in_row_ = 0, idle_decisions_ = 0;
-  double idle_since_distance_ = 0;
-  /// The last time the explored area grew by progress_min_area: its area, distance, time.
-  double progress_area_ = 0, progress_distance_ = 0, progress_time_ = 0;
-  bool returning_home_ = false;  ///< the policy said done; the robot drives to the start
-  double home_from_distance_ = 0;
-  std::string done_reason_;  ///< the policy's reason, for the stop reason at home
-  Goal last_goal_;
-  bool have_goal_ = false;
-  // Compute time per stage since the last timeseries row, and per call for the summary.
-  struct StageMs {
-    double frontend = 0, backend = 0, map = 0, segment = 0, policy = 0;
-  } stage_;
-  std::vector<double> decision_ms_, segment_ms_;
-  SegmentationLog seg_log_;
-  double last_coverage_ = -1;
-};
+namespace asf::run {
 
 RunSummary RunState::run() {
   try {
-    while (!budgetSpent()) {
+    const bool go_on = limits_.resume.empty() || replayRecorded();
+    while (go_on && !budgetSpent()) {
       if (pause_ && pause_->load()) {
         waitWhilePaused();
         continue;  // the stop flag first
@@ -226,10 +98,7 @@ bool RunState::giveUp(NavStatus st) {
   return false;
 }
 
-bool RunState::decide() {
-  const NavStatus st = have_goal_ ? m_.source->status() : NavStatus::Idle;
-  if (returning_home_) return arrivedHome(st);
-  if (giveUp(st)) return false;
+ExplorationState RunState::explorationState(NavStatus st) const {
   ExplorationState s;
   s.topo = &m_.topo.graph();
   s.robot = m_.frontend->currentPose(m_.graph);
@@ -242,13 +111,17 @@ bool RunState::decide() {
   s.last_goal = last_goal_;
   s.segmentation = m_.seg.regions.empty() ? nullptr : &m_.seg;
   s.world_topo = m_.have_world_topo ? &m_.world_topo : nullptr;
+  return s;
+}
+
+Decision RunState::policyDecision(const ExplorationState& s) {
   const auto t_dec = Clock::now();
   const Decision d = m_.policy->decide(s);
   const double dec_ms = msSince(t_dec);
   stage_.policy += dec_ms;
   decision_ms_.push_back(dec_ms);
   ++sum_.decisions;
-  rec_.decision(sum_.steps, s.time, d, st);
+  rec_.decision(sum_.steps, s.time, d, s.last_status);
   if (limits_.timeline) {
     const Point2 goal{d.goal.x, d.goal.y};
     rec_.timelineFrame(sum_.decisions, m_.navMap(), m_.seg, m_.topo.graph(), m_.path, s.robot,
@@ -257,18 +130,34 @@ bool RunState::decide() {
   if (d.type == Decision::Type::Done) {
     sum_.finished = true;
     sum_.stop_reason = "policy done: " + d.reason;
-    return limits_.return_home && goHome(d.reason, s.robot);
-  }
-  if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y))
+  } else if (!std::isfinite(d.goal.x) || !std::isfinite(d.goal.y)) {
     throw Error("policy '" + m_.cfg.slots.at("policy")->name() + "' returned a non-finite goal");
+  } else {
+    m_.logStr(mrpt::system::LVL_DEBUG, "goal (" + std::to_string(d.goal.x) + ", " +
+                                           std::to_string(d.goal.y) + "): " + d.reason);
+    last_goal_ = d.goal;
+    have_goal_ = true;
+  }
+  return d;
+}
+
+NavStatus RunState::navigateTo(const Goal& goal, const mrpt::poses::CPose2D& robot,
+                               const GridMap* map) {
+  if (!map) map = &m_.navMap();
   NavigationContext ctx;
-  ctx.robot_estimate = s.robot;
-  ctx.map = s.map;
-  m_.logStr(mrpt::system::LVL_DEBUG, "goal (" + std::to_string(d.goal.x) + ", " +
-                                         std::to_string(d.goal.y) + "): " + d.reason);
-  m_.source->navigate(d.goal, ctx);
-  last_goal_ = d.goal;
-  have_goal_ = true;
+  ctx.robot_estimate = robot;
+  ctx.map = map->version ? map : nullptr;
+  return m_.source->navigate(goal, ctx);
+}
+
+bool RunState::decide() {
+  const NavStatus st = have_goal_ ? m_.source->status() : NavStatus::Idle;
+  if (returning_home_) return arrivedHome(st);
+  if (giveUp(st)) return false;
+  const ExplorationState s = explorationState(st);
+  const Decision d = policyDecision(s);
+  if (d.type == Decision::Type::Done) return limits_.return_home && goHome(d.reason, s.robot);
+  navigateTo(d.goal, s.robot);
   return true;
 }
 
@@ -354,6 +243,20 @@ void RunState::track(const SensorFrame& frame, bool map_changed) {
                   m_.path);
   if (map_changed) seriesRow(truth ? planarDistance(*truth, est) : -1);
   progress(false);
+  if (m_.live_view) showLive(false);
+}
+
+void RunState::showLive(bool force) {
+  const auto now = Clock::now();
+  if (!force && std::chrono::duration<double>(now - last_live_).count() < m_.live_period_s) return;
+  last_live_ = now;
+  const Point2 goal{last_goal_.x, last_goal_.y};
+  const ViewImage view = renderLiveView(m_.navMap(), m_.seg, m_.topo.graph(), m_.graph, m_.path,
+                                        m_.frontend->currentPose(m_.graph),
+                                        have_goal_ ? &goal : nullptr, m_.live_max_side);
+  if (view.bgr.empty()) return;
+  m_.live_view(view);
+  if (force) writeViewPng(m_.out_dir + "/live_view.png", view);
 }
 
 void RunState::finalOptimization() {
@@ -521,28 +424,31 @@ void RunState::finish() {
   }
   summarize();
   seriesRow(currentPoseError());
+  if (m_.live_view) {
+    try {
+      showLive(true);
+    } catch (const std::exception& e) {
+      m_.logStr(mrpt::system::LVL_ERROR, std::string("live view: ") + e.what());
+    }
+  }
   sum_.wall_time_s = std::chrono::duration<double>(Clock::now() - t_start_).count();
   writeOutputs();
 }
 
 bool RunState::goHome(const std::string& reason, const mrpt::poses::CPose2D& robot) {
   if (m_.graph.empty()) return false;
-  const mrpt::poses::CPose2D& home = m_.graph.nodes.front().pose;
-  NavigationContext ctx;
-  ctx.robot_estimate = robot;
-  ctx.map = m_.navMap().version ? &m_.navMap() : nullptr;
   Goal g;
-  g.x = home.x();
-  g.y = home.y();
+  g.x = m_.graph.nodes.front().pose.x();
+  g.y = m_.graph.nodes.front().pose.y();
   done_reason_ = reason;
   returning_home_ = true;
   home_from_distance_ = sum_.distance_m;
   m_.logStr(mrpt::system::LVL_INFO, "policy done (" + reason + "): returning to the start (" +
                                         formatSignificant(g.x, 4) + ", " +
                                         formatSignificant(g.y, 4) + ")");
-  const NavStatus st = m_.source->navigate(g, ctx);
   last_goal_ = g;
   have_goal_ = true;
+  const NavStatus st = navigateTo(g, robot);
   if (st == NavStatus::Unreachable || st == NavStatus::Blocked) return arrivedHome(st);
   return true;
 }
@@ -586,11 +492,13 @@ void RunState::checkPathHome() {
   m_.logStr(mrpt::system::LVL_INFO, os.str());
 }
 
-}  // namespace
+}  // namespace asf::run
+
+namespace asf {
 
 RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
                        const std::atomic<bool>* pause) {
-  return RunState(parts, stop, pause).run();
+  return run::RunState(parts, stop, pause).run();
 }
 
 }  // namespace asf

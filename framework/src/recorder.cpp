@@ -274,6 +274,11 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     }
     j["regions"] = summary.regions;
     j["decisions"] = summary.decisions;
+    if (!summary.resumed_from.empty())
+      j["resumed"] = {{"from", summary.resumed_from},
+                      {"after_steps", summary.resumed_after_steps},
+                      {"replayed_decisions", summary.replayed_decisions},
+                      {"replayed_decisions_differing", summary.replayed_decisions_differing}};
     j["finished"] = summary.finished;
     j["stop_reason"] = summary.stop_reason;
     j["wall_time_s"] = summary.wall_time_s;

@@ -7,6 +7,7 @@
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
 #include <asf/rawlog_io.h>
+#include <asf/recorded_run.h>
 #include <asf/source.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/math/wrap2pi.h>
@@ -47,6 +48,42 @@ class Sim2dSource final : public asf::Source {
     step_ = 0;
     status_ = asf::NavStatus::Idle;
     next_scan_time_ = 0;
+    if (!p.getString("resume_from").empty()) resumeFrom(p);
+  }
+
+  /// Continues an earlier run's recording (`asf run --resume`): its frames copied to ours, the
+  /// robot where they end (the map frame stays the first run's), the noise streams where they
+  /// were: each recorded move and scan draws again what it drew (as many engine outputs).
+  void resumeFrom(const asf::Params& p) {
+    const std::string base =
+        (std::filesystem::path(p.getString("resume_from")) / p.getString("record_name")).string();
+    std::optional<CPose2D> last;
+    double last_scan_time = -1;
+    std::size_t frames = 0;
+    try {
+      frames = asf::forEachRecordedFrame(base, [&](asf::SensorFrame& f) {
+        if (writer_) writer_->write(f), gt_writer_->write(f.timestamp, *f.ground_truth);
+        last = *f.ground_truth;
+        if (f.odometry.x() != 0 || f.odometry.y() != 0 || f.odometry.phi() != 0)
+          sampleNoise(Eigen::Matrix3d::Identity());  // move() drew for a move, never at rest
+        if (f.scan) {
+          last_scan_ = f.scan, last_scan_time = f.timestamp;
+          std::normal_distribution<double> n01(0.0, 1.0);  // as scan(): one per ray
+          for (int i = 0; i < rays_; ++i) n01(laser_rng_);
+        }
+        if (tilted_ && !f.observations3d.empty()) {
+          std::normal_distribution<double> n01(0.0, 1.0);  // as scanTilted()
+          for (std::size_t i = 0; i < tilted_rays_; ++i) n01(tilted_rng_);
+        }
+      });
+    } catch (const asf::InputError& e) {
+      p.fail("resume_from", e.what());
+    }
+    if (!last) p.fail("resume_from", base + ".rawlog: no frame to continue from");
+    true_pose_ = believed_ = *last;
+    step_ = static_cast<std::int64_t>(frames);
+    if (laser_rate_ > 0) next_scan_time_ = last_scan_time + 1.0 / laser_rate_;
+    MRPT_LOG_INFO_STREAM("continuing " << base << ".rawlog after its " << frames << " frames");
   }
 
   /// The true world: the built-in room, or a map image with obstacle heights.
@@ -224,6 +261,13 @@ class Sim2dSource final : public asf::Source {
       const std::filesystem::path base = std::filesystem::path(ctx.output_dir) / name;
       rawlog_path_ = base.string() + ".rawlog";
       gt_path_ = base.string() + ".gt.txt";
+      const std::string resume = p.getString("resume_from");
+      namespace fs = std::filesystem;
+      if (!resume.empty() &&
+          fs::weakly_canonical(fs::path(resume) / name) == fs::weakly_canonical(base))
+        p.fail("resume_from",
+               "is this run's own output folder: the recording to continue would "
+               "be overwritten before it is read (use another output folder)");
       writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
       gt_writer_ = std::make_unique<asf::GroundTruthWriter>(gt_path_);
     }
@@ -640,6 +684,10 @@ const asf::KeySpec kKeys[] = {
                  "Record the run to <output>/<record_name>.rawlog and .gt.txt (needs an output "
                  "folder)"),
     asf::keyString("record_name", "sim2d", "Base name of the recorded files"),
+    asf::keyPath("resume_from", "",
+                 "A run folder whose recording (<record_name>.rawlog, .gt.txt) this run continues "
+                 "(asf run --resume sets it): its frames are copied to this run's recording and "
+                 "the robot starts where they end. Empty: a new run"),
     asf::keyInt("max_steps", "100000", "Frames produced before the stream ends", 1, 1e12),
 };
 

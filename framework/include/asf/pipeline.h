@@ -13,10 +13,12 @@
 /// add no node are not used. [pipeline] navigation_map chooses the grid the policy, the
 /// navigation, the segmenter and the coverage see: the 2D scans' grid, the projection, or
 /// both merged (asf::mergeOccupancy: an obstacle either sees is an obstacle).
+#include <asf/map_views.h>
 #include <asf/pipeline_config.h>
 #include <asf/run_summary.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +38,12 @@ class Pipeline {
   /// two steps (no source step, no decision; progress.json says "paused") and goes on as if
   /// nothing happened when it is cleared; `stop` still ends it.
   RunSummary run(const std::atomic<bool>* stop = nullptr, const std::atomic<bool>* pause = nullptr);
+
+  /// A live view (`asf run --gui`): during run(), `show` gets the picture of the run
+  /// (renderLiveView: map, regions, topological graph, pose graph, path, robot, goal; at most
+  /// `max_side` px) from the run's thread, at most once per `period_s` seconds of wall time
+  /// and once at the end, which is also written to live_view.png.
+  void setLiveView(std::function<void(const ViewImage&)> show, double period_s, int max_side);
 
   /// The files a run writes, relative to out_dir (for messages and docs).
   static std::vector<std::string> outputFiles();

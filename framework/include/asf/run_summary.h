@@ -48,6 +48,12 @@ struct RunSummary {
   double changed_cells_median = -1;  ///< of the segmentations that report it; -1: none
   std::string policy;                ///< plugin name, empty without a policy
   long seed = 0;
+  /// A run that continued another ([pipeline] resume): that folder, the recorded steps it
+  /// replayed, and the recorded decisions the policy took again (those whose goal or kind
+  /// came out otherwise: the replay's estimates differ from the recorded run's).
+  std::string resumed_from;
+  long resumed_after_steps = 0;
+  int replayed_decisions = 0, replayed_decisions_differing = 0;
   bool finished = false;  ///< the policy said done, or the passive source ended
   std::string stop_reason;
   double wall_time_s = 0;

@@ -118,6 +118,38 @@ figcaption{color:#555;font-size:.85em}
 )";
 }
 
+std::vector<DecisionRow> readDecisionRows(const std::string& path, std::string& note) {
+  std::vector<DecisionRow> rows;
+  std::ifstream in(path);
+  std::string line;
+  if (!in) {
+    note = "decisions.csv: missing";
+    return rows;
+  }
+  if (!std::getline(in, line)) {
+    note = "decisions.csv: empty";
+    return rows;
+  }
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) header.push_back(f);
+  }
+  while (std::getline(in, line)) {
+    if (line.empty() || header.empty()) continue;
+    DecisionRow row;
+    std::stringstream ss(line);
+    std::string x;
+    for (std::size_t i = 0; i + 1 < header.size() && std::getline(ss, x, ','); ++i)
+      row[header[i]] = x;
+    if (std::getline(ss, x)) row[header.back()] = x;  // the rest of the line
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) note = "decisions.csv: no decision recorded";
+  return rows;
+}
+
 }  // namespace report
 
 namespace {
@@ -214,41 +246,7 @@ std::string summaryTable(const json& j) {
   return o.str();
 }
 
-using DecisionRow = std::map<std::string, std::string>;
-
-/// decisions.csv's rows, fields by column name; the last column (the reason) keeps any
-/// commas. `note` says why there are none (missing, empty, no row).
-std::vector<DecisionRow> decisionRows(const std::string& path, std::string& note) {
-  std::vector<DecisionRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  if (!in) {
-    note = "decisions.csv: missing";
-    return rows;
-  }
-  if (!std::getline(in, line)) {
-    note = "decisions.csv: empty";
-    return rows;
-  }
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string f;
-    while (std::getline(ss, f, ',')) header.push_back(f);
-  }
-  while (std::getline(in, line)) {
-    if (line.empty() || header.empty()) continue;
-    DecisionRow row;
-    std::stringstream ss(line);
-    std::string x;
-    for (std::size_t i = 0; i + 1 < header.size() && std::getline(ss, x, ','); ++i)
-      row[header[i]] = x;
-    if (std::getline(ss, x)) row[header.back()] = x;  // the rest of the line
-    rows.push_back(std::move(row));
-  }
-  if (rows.empty()) note = "decisions.csv: no decision recorded";
-  return rows;
-}
+using report::DecisionRow;
 
 std::string field(const DecisionRow& r, const char* key) {
   const auto it = r.find(key);
@@ -521,7 +519,8 @@ std::string writeRunReport(const std::string& run_dir) {
   body << (p.empty() ? "<p class=\"note\">No time series (see the notes below).</p>\n" : p);
 
   std::string dnote;
-  const std::vector<DecisionRow> decisions = decisionRows((dir / "decisions.csv").string(), dnote);
+  const std::vector<DecisionRow> decisions =
+      report::readDecisionRows((dir / "decisions.csv").string(), dnote);
   body << timelineSection(dir, decisions) << "<h2>Decisions</h2>\n";
   const std::string dt = decisionsTable(decisions, 20);
   if (!dnote.empty()) notes.push_back(dnote);

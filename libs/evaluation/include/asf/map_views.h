@@ -29,6 +29,22 @@ void writeTimelineFrame(const std::string& file, const GridMap& map, const Segme
                         const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
                         const mrpt::poses::CPose2D& robot, const Point2* goal, int max_side);
 
+/// A picture in memory: 8-bit blue, green, red per pixel, rows top to bottom.
+struct ViewImage {
+  int width = 0, height = 0;
+  std::vector<unsigned char> bgr;  ///< width * height * 3
+};
+
+/// What the live view (`asf run --gui`) shows: the timeline frame's picture (regions, the
+/// topological graph, the path, the robot and its goal) with the pose graph over it: its
+/// edges (loop closures in magenta) and nodes, at most `max_side` pixels. Empty without a
+/// grid.
+ViewImage renderLiveView(const GridMap& map, const Segmentation& seg, const TopoGraph& topo,
+                         const PoseGraph& graph, const std::vector<mrpt::poses::CPose2D>& path,
+                         const mrpt::poses::CPose2D& robot, const Point2* goal, int max_side);
+/// Writes a ViewImage as a PNG (asf::Error when it cannot).
+void writeViewPng(const std::string& file, const ViewImage& image);
+
 /// The grid as a grey PNG (grey level = p(free), y up). Throws asf::Error when it cannot be
 /// written; `map` must have a grid.
 void writeGridPng(const std::string& file, const GridMap& map);
