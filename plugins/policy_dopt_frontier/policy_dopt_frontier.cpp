@@ -5,8 +5,12 @@
 // graph is expected_pose_graph.h.
 #include <asf/expected_pose_graph.h>
 #include <asf/frontier_search.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 
+#include <cmath>
+#include <cstdint>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 
 namespace {
@@ -18,6 +22,9 @@ class DOptFrontierPolicy final : public asf::Policy {
     expected_.node_spacing = p.getDouble("node_spacing");
     expected_.loop_radius = p.getDouble("loop_radius");
     expected_.loop_skip_recent = static_cast<int>(p.getInt("loop_skip_recent"));
+    reach_ = asf::reachabilityOptionsFrom(p);
+    info_radius_ = p.getDouble("info_radius");
+    placed_model_ = p.getString("edge_model") == "placed";
   }
 
   asf::Decision decide(const asf::ExplorationState& s) override {
@@ -47,10 +54,11 @@ class DOptFrontierPolicy final : public asf::Policy {
       return {0, why + where(candidates.front())};
     }
     const asf::ExpectedPoseGraph graph(*s.graph, expected_);
+    const asf::AreaFn area = placed_model_ ? areaShares(*s.map->grid) : asf::AreaFn{};
     std::size_t best = 0;
     std::vector<asf::Expectation> expected(candidates.size());
     for (std::size_t i = 0; i < candidates.size(); ++i) {
-      expected[i] = graph.afterPath(reach.pathTo(candidates[i].goal));
+      expected[i] = graph.afterPath(reach.pathTo(candidates[i].goal), area);
       if (expected[i].d_optimality > expected[best].d_optimality) best = i;
     }
     std::ostringstream why;
@@ -61,8 +69,39 @@ class DOptFrontierPolicy final : public asf::Policy {
     return {best, why.str()};
   }
 
+  /// The unknown and occupied shares of the cells whose centres lie within info_radius of a
+  /// point (cells off the grid count as unknown: nothing is known there).
+  asf::AreaFn areaShares(const mrpt::maps::COccupancyGridMap2D& grid) const {
+    auto state = std::make_shared<std::vector<std::uint8_t>>(asf::classifyCells(grid, reach_));
+    const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
+    const double res = grid.getResolution(), x0 = grid.getXMin(), y0 = grid.getYMin();
+    const double r = info_radius_;
+    return [state, W, H, res, x0, y0, r](const asf::Point2& p) {
+      const int cx = static_cast<int>(std::floor((p.x - x0) / res));
+      const int cy = static_cast<int>(std::floor((p.y - y0) / res));
+      const int span = static_cast<int>(std::ceil(r / res));
+      int all = 0, unknown = 0, occupied = 0;
+      for (int y = cy - span; y <= cy + span; ++y)
+        for (int x = cx - span; x <= cx + span; ++x) {
+          const double dx = x0 + (x + 0.5) * res - p.x, dy = y0 + (y + 0.5) * res - p.y;
+          if (dx * dx + dy * dy > r * r) continue;
+          ++all;
+          const std::uint8_t c = (x < 0 || y < 0 || x >= W || y >= H)
+                                     ? std::uint8_t{asf::kCellUnknown}
+                                     : (*state)[static_cast<std::size_t>(y) * W + x];
+          unknown += c == asf::kCellUnknown;
+          occupied += c == asf::kCellOccupied;
+        }
+      return all == 0 ? asf::AreaShares{}
+                      : asf::AreaShares{double(unknown) / all, double(occupied) / all};
+    };
+  }
+
   asf::FrontierSearch search_;
   asf::ExpectedGraphOptions expected_;
+  asf::ReachabilityOptions reach_;
+  double info_radius_ = 1;
+  bool placed_model_ = true;
 };
 
 const asf::KeySpec kKeys[] = {
@@ -82,6 +121,15 @@ const asf::KeySpec kKeys[] = {
                    "An expected node closes a loop with the nearest old node within this "
                    "distance [m]",
                    0, 100),
+    asf::keyEnum("edge_model", "placed", "placed|median",
+                 "Weights of the expected edges: the medians of the graph's own edges, scaled "
+                 "as the authors' controller does by the unknown (odometry) and occupied "
+                 "(loops, with their age) shares of the map within info_radius (placed), or "
+                 "the medians alone (median)"),
+    asf::keyDouble("info_radius", "1",
+                   "Radius of the map's shares around an expected node (the authors' "
+                   "info_radius) [m]",
+                   0.05, 100),
     asf::keyInt("loop_skip_recent", "20",
                 "Expected loops exclude the last this many nodes before the new one (the "
                 "front-end's loop_skip_recent)",

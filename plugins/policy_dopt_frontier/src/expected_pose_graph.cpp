@@ -77,7 +77,8 @@ int ExpectedPoseGraph::nearestOldNode(const Point2& p, int max_id) const {
   return best;
 }
 
-Expectation ExpectedPoseGraph::afterPath(const std::vector<Point2>& path) const {
+Expectation ExpectedPoseGraph::afterPath(const std::vector<Point2>& path,
+                                         const AreaFn& area) const {
   // Arc lengths where new nodes go: every node_spacing, and the path's end.
   std::vector<Point2> added;
   double arc = 0, next = options_.node_spacing;
@@ -99,10 +100,13 @@ Expectation ExpectedPoseGraph::afterPath(const std::vector<Point2>& path) const 
   int previous = base_.n - 1;
   for (const Point2& p : added) {
     const int id = g.n++;
-    g.edges.push_back({previous, id, 1, odometry_weight_});
+    const AreaShares a = area ? area(p) : AreaShares{};
+    g.edges.push_back({previous, id, 1, odometry_weight_ * (1 + a.unknown)});
     const int old = nearestOldNode(p, id - options_.loop_skip_recent - 1);
-    if (old >= 0) {
-      g.edges.push_back({old, id, 1, loop_weight_});
+    // The authors' loop: only with structure to match, weighed by its age and that structure.
+    const double loop = area ? loop_weight_ * 1.5 * (id - old) / g.n * a.occupied : loop_weight_;
+    if (old >= 0 && (!area || a.occupied > 0.03) && loop > 0) {
+      g.edges.push_back({old, id, 1, loop});
       ++out.loops;
     }
     previous = id;

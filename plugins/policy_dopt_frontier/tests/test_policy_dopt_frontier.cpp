@@ -88,6 +88,43 @@ TEST(ExpectedPoseGraph, EqualsTheGraphBuiltByHandAndItsDenseSpectrum) {
               1e-9);
 }
 
+TEST(ExpectedPoseGraph, TheAuthorsScalingByTheMapAroundEachExpectedNode) {
+  const Eigen::Matrix3d odo = Eigen::Vector3d(4, 9, 1).asDiagonal();
+  asf::PoseGraph g = chain(5, 0, 0.5, odo);
+  g.addEdge(edge(0, 4, 8 * Eigen::Matrix3d::Identity(), asf::EdgeKind::LoopClosure));
+  asf::ExpectedGraphOptions o;
+  o.node_spacing = 0.5;
+  o.loop_radius = 1.15;
+  o.loop_skip_recent = 2;
+  const asf::ExpectedPoseGraph expected(g, o);
+  const std::vector<asf::Point2> path{{2, 0}, {2, 0.7}, {2, 1.2}};
+  const double w = std::cbrt(36.0);
+  // Half unknown, a fifth occupied around every node: odometry x 1.5; the loops 2-5 and 3-6
+  // x 1.5 x age x 0.2, the age being (new id - old id) / nodes of the graph then.
+  const asf::Expectation e = expected.afterPath(path, [](const asf::Point2&) {
+    return asf::AreaShares{0.5, 0.2};
+  });
+  EXPECT_EQ(e.loops, 2);
+  asf::graph::Multigraph hand;
+  hand.n = 8;
+  for (int i = 0; i < 4; ++i) hand.edges.push_back({i, i + 1, 1, w});
+  hand.edges.push_back({0, 4, 1, 8});
+  hand.edges.push_back({4, 5, 1, 1.5 * w});
+  hand.edges.push_back({2, 5, 1, 8 * 1.5 * (5 - 2) / 6.0 * 0.2});
+  hand.edges.push_back({5, 6, 1, 1.5 * w});
+  hand.edges.push_back({3, 6, 1, 8 * 1.5 * (6 - 3) / 7.0 * 0.2});
+  hand.edges.push_back({6, 7, 1, 1.5 * w});
+  const double dense =
+      asf::graph::information(hand, Eigen::VectorXd::Ones(hand.m()), asf::graph::kCriterionD).value;
+  EXPECT_NEAR(e.d_optimality, dense, 1e-9 * dense);
+  // Nothing to match (3 % occupied or less): no loop expected.
+  const asf::Expectation bare = expected.afterPath(path, [](const asf::Point2&) {
+    return asf::AreaShares{0.5, 0.03};
+  });
+  EXPECT_EQ(bare.loops, 0);
+  EXPECT_LT(bare.d_optimality, e.d_optimality);
+}
+
 TEST(ExpectedPoseGraph, NodesEveryNodeSpacingAndOneAtTheEnd) {
   const asf::PoseGraph g = chain(3, 0, 0.5, Eigen::Matrix3d::Identity());
   asf::ExpectedGraphOptions o;

@@ -9,17 +9,21 @@
 /// (graph::dOptimalitySparse; thesis ch. 5 ties the same Laplacian to the pose graph's
 /// information, Theorem 5.2.1).
 ///
-/// The path is "hallucinated" as the paper does: new nodes along it, each joined to the one
-/// before by an odometry edge, and a loop closure wherever an old node is near enough for the
-/// front-end to close one. Weights of the expected edges are the medians of the present
-/// graph's own (odometry: consecutive nodes; loops: LoopClosure edges), so nothing is assumed
-/// about the sensors.
+/// The path is "hallucinated" as the authors' controller does: new nodes along it, each joined
+/// to the one before by an odometry edge, and a loop closure wherever an old node is near
+/// enough for the front-end to close one. Expected edges start from the medians of the present
+/// graph's own weights (odometry: consecutive nodes; loops: LoopClosure edges). With the map's
+/// shares around each new node (AreaShares) they are scaled as in the authors' controller:
+/// odometry by 1 + the unknown share (what the node will map), a loop by 1.5 x its age (id
+/// difference over the graph's nodes) x the occupied share, and no loop where under 3 % of the
+/// cells are occupied (nothing to match). Without them, the medians alone.
 #include <asf/geometry.h>
 #include <asf/multigraph.h>
 #include <asf/pose_graph.h>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -34,6 +38,13 @@ struct ExpectedGraphOptions {
   double loop_radius = 2.0;   ///< an old node this near a new one closes a loop [m]
   int loop_skip_recent = 20;  ///< ... unless it is among the last this many nodes before it
 };
+
+/// Shares of the cells within a radius of a point that are unknown and occupied (the authors'
+/// `cellInformation`): what an expected node there would see.
+struct AreaShares {
+  double unknown = 0, occupied = 0;
+};
+using AreaFn = std::function<AreaShares(const Point2&)>;
 
 /// What a path is expected to add to the graph.
 struct Expectation {
@@ -52,7 +63,8 @@ class ExpectedPoseGraph {
   /// every node_spacing metres of arc length and one at the end, an odometry edge from the
   /// newest node (or the previous new one) to each, and to each the nearest old node within
   /// loop_radius that is not among the loop_skip_recent nodes before it.
-  Expectation afterPath(const std::vector<Point2>& path) const;
+  /// `area` (optional): the map's shares around a point, for the authors' scaling above.
+  Expectation afterPath(const std::vector<Point2>& path, const AreaFn& area = {}) const;
 
   /// ||L_w||_0 of the present graph.
   double present() const;
