@@ -7,6 +7,7 @@
 #include <asf/run_report.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -312,6 +313,16 @@ TEST(Exploration, ResumeErrorsNameTheKeyOrTheFile) {
   EXPECT_NE(msg.find("own output folder"), std::string::npos) << msg;
   EXPECT_TRUE(fs::exists(run / "sim2d.rawlog")) << "the interrupted run keeps its files";
   EXPECT_GT(fs::file_size(run / "sim2d.rawlog"), 0u);
+  // Stopped while replaying (Ctrl-C): an interrupted run, its files written.
+  {
+    asf::Registry reg;
+    asf::Pipeline p(asf::resolveConfig(ini, reg), (dir / "stopped").string());
+    const std::atomic<bool> stop{true};
+    const asf::RunSummary s = p.run(&stop);
+    EXPECT_EQ(s.stop_reason, "interrupted");
+    EXPECT_FALSE(s.finished);
+    EXPECT_TRUE(fs::exists(dir / "stopped" / "summary.json"));
+  }
   // Its decisions are needed.
   fs::remove(run / "decisions.csv");
   msg = asf_test::errorOf<asf::Error>([&] { runConfig(ini, dir / "b"); });

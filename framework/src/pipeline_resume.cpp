@@ -52,7 +52,8 @@ bool RunState::replayRecorded() {
   };
   sum_.resumed_from = dir;
   m_.logStr(mrpt::system::LVL_INFO, "resume: replaying " + dir);
-  const std::string base = (std::filesystem::path(dir) / sp.getString("record_name")).string();
+  const std::string name = sp.has("record_name") ? sp.getString("record_name") : source;
+  const std::string base = (std::filesystem::path(dir) / name).string();
   forEachRecordedFrame(base, [&](SensorFrame& f) {
     if (stop_ && stop_->load()) ended = true;
     if (ended || (retake(), ended)) return;
@@ -64,6 +65,7 @@ bool RunState::replayRecorded() {
             "resume: " + std::to_string(sum_.steps) + " recorded steps and " +
                 std::to_string(sum_.replayed_decisions) + " decisions replayed (" +
                 std::to_string(sum_.replayed_decisions_differing) + " differing); continuing");
+  if (stop_ && stop_->load()) sum_.stop_reason = "interrupted";
   if (ended) return false;
   sum_.finished = false;  // a replayed Done on the way home: finished when home
   const mrpt::poses::CPose2D robot = m_.frontend->currentPose(m_.graph);
