@@ -85,6 +85,23 @@ TEST(LiveView, PictureShowsTheMapThePoseGraphTheRobotAndItsGoal) {
   EXPECT_TRUE(asf::renderLiveView({}, {}, {}, graph, {}, {}, nullptr, 40).bgr.empty());
 }
 
+TEST(LiveView, WithoutADisplayGuiIsAClearErrorAndWritesNothing) {
+  const fs::path out = fs::temp_directory_path() / "asf_test_live_view_no_display";
+  fs::remove_all(out);
+  const asf_test::HostResult r = asf_test::runHost(
+      "run " ASF_TEST_SOURCE_DIR "/configs/default.ini --set pipeline.max_steps=10 --gui --out " +
+          out.string(),
+      true, "env -u DISPLAY ");
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("--gui: no display (DISPLAY is not set)"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out)) << "nothing written";
+  const asf_test::HostResult bad = asf_test::runHost(
+      "run " ASF_TEST_SOURCE_DIR "/configs/default.ini --gui --gui-refresh 0 --out " +
+      out.string());
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.out.find("--gui-refresh 0"), std::string::npos) << bad.out;
+}
+
 /// An XWD file (X Window Dump, as Xvfb -fbdir keeps its screen) as BGR rows, 24/32 bits per
 /// pixel, either byte order. Empty when it cannot be read.
 cv::Mat readXwd(const fs::path& file) {

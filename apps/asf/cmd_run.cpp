@@ -169,13 +169,16 @@ int cmdRun(int argc, char** argv) {
   const ResolvedConfig rc = resolveConfig(ini, reg);
 
   if (dir.empty()) dir = "results/" + std::filesystem::path(config_file).stem().string();
-  Pipeline pipeline(rc, dir);
+  // The window first: without a display nothing is created, not even the output folder.
   std::unique_ptr<LiveWindow> window;
   if (gui.getValue()) {
     if (!(gui_refresh.getValue() > 0))
       throw InputError("asf run --gui-refresh " + std::to_string(gui_refresh.getValue()) +
                        ": must be > 0 seconds");
     window = std::make_unique<LiveWindow>("asf run " + config_file);
+  }
+  Pipeline pipeline(rc, dir);
+  if (window) {
     LiveWindow* w = window.get();
     pipeline.setLiveView([w](const ViewImage& v) { w->show(v); }, gui_refresh.getValue(), 800);
   }
