@@ -5,12 +5,10 @@
 // graph is expected_pose_graph.h.
 #include <asf/expected_pose_graph.h>
 #include <asf/frontier_search.h>
-#include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
-#include <memory>
 #include <sstream>
 
 namespace {
@@ -22,7 +20,6 @@ class DOptFrontierPolicy final : public asf::Policy {
     expected_.node_spacing = p.getDouble("node_spacing");
     expected_.loop_radius = p.getDouble("loop_radius");
     expected_.loop_skip_recent = static_cast<int>(p.getInt("loop_skip_recent"));
-    reach_ = asf::reachabilityOptionsFrom(p);
     info_radius_ = p.getDouble("info_radius");
     placed_model_ = p.getString("edge_model") == "placed";
   }
@@ -30,7 +27,9 @@ class DOptFrontierPolicy final : public asf::Policy {
   asf::Decision decide(const asf::ExplorationState& s) override {
     return search_.decide(
         s, [&](const std::vector<asf::FrontierCandidate>& candidates,
-               const asf::Reachability& reach) { return choose(s, candidates, reach); });
+               const asf::Reachability& reach, const std::vector<std::uint8_t>& cells) {
+          return choose(s, candidates, reach, cells);
+        });
   }
 
  private:
@@ -45,7 +44,8 @@ class DOptFrontierPolicy final : public asf::Policy {
   /// edges, before the first keyframes) go to the nearest.
   asf::FrontierChoice choose(const asf::ExplorationState& s,
                              const std::vector<asf::FrontierCandidate>& candidates,
-                             const asf::Reachability& reach) const {
+                             const asf::Reachability& reach,
+                             const std::vector<std::uint8_t>& cells) const {
     const bool has_edges = s.graph && s.graph->size() >= 2 && !s.graph->edges.empty();
     if (!has_edges || candidates.size() == 1) {
       const std::string why = has_edges ? "the only frontier: "
@@ -54,7 +54,7 @@ class DOptFrontierPolicy final : public asf::Policy {
       return {0, why + where(candidates.front())};
     }
     const asf::ExpectedPoseGraph graph(*s.graph, expected_);
-    const asf::AreaFn area = placed_model_ ? areaShares(*s.map->grid) : asf::AreaFn{};
+    const asf::AreaFn area = placed_model_ ? areaShares(reach, cells) : asf::AreaFn{};
     std::size_t best = 0;
     std::vector<asf::Expectation> expected(candidates.size());
     for (std::size_t i = 0; i < candidates.size(); ++i) {
@@ -69,21 +69,23 @@ class DOptFrontierPolicy final : public asf::Policy {
     return {best, why.str()};
   }
 
-  /// The unknown and occupied shares of the cells whose centres lie within info_radius of a
-  /// point (cells off the grid count as unknown: nothing is known there).
-  asf::AreaFn areaShares(const mrpt::maps::COccupancyGridMap2D& grid) const {
-    auto state = std::make_shared<std::vector<std::uint8_t>>(asf::classifyCells(grid, reach_));
-    const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
-    const double res = grid.getResolution(), x0 = grid.getXMin(), y0 = grid.getYMin();
-    const double r = info_radius_;
-    return [state, W, H, res, x0, y0, r](const asf::Point2& p) {
-      const int cx = static_cast<int>(std::floor((p.x - x0) / res));
-      const int cy = static_cast<int>(std::floor((p.y - y0) / res));
+  /// The unknown and occupied shares of the cells (the search's classification, on the grid
+  /// of `reach`) whose centres lie within info_radius of a point; cells off the grid count as
+  /// unknown: nothing is known there. Valid while `cells` is.
+  asf::AreaFn areaShares(const asf::Reachability& reach,
+                         const std::vector<std::uint8_t>& cells) const {
+    const int W = reach.width(), H = reach.height();
+    const double res = reach.resolution(), r = info_radius_;
+    const asf::Point2 c0 = reach.cellCenter(0, 0);
+    const std::vector<std::uint8_t>* state = &cells;
+    return [state, W, H, res, c0, r](const asf::Point2& p) {
+      const int cx = static_cast<int>(std::floor((p.x - c0.x) / res + 0.5));
+      const int cy = static_cast<int>(std::floor((p.y - c0.y) / res + 0.5));
       const int span = static_cast<int>(std::ceil(r / res));
       int all = 0, unknown = 0, occupied = 0;
       for (int y = cy - span; y <= cy + span; ++y)
         for (int x = cx - span; x <= cx + span; ++x) {
-          const double dx = x0 + (x + 0.5) * res - p.x, dy = y0 + (y + 0.5) * res - p.y;
+          const double dx = c0.x + x * res - p.x, dy = c0.y + y * res - p.y;
           if (dx * dx + dy * dy > r * r) continue;
           ++all;
           const std::uint8_t c = (x < 0 || y < 0 || x >= W || y >= H)
@@ -99,7 +101,6 @@ class DOptFrontierPolicy final : public asf::Policy {
 
   asf::FrontierSearch search_;
   asf::ExpectedGraphOptions expected_;
-  asf::ReachabilityOptions reach_;
   double info_radius_ = 1;
   bool placed_model_ = true;
 };

@@ -3,6 +3,7 @@
 // the free space it can drive.
 #include <asf/frontier_search.h>
 
+#include <cstdint>
 #include <iomanip>
 #include <sstream>
 
@@ -15,15 +16,15 @@ class FrontierPolicy final : public asf::Policy {
   }
 
   asf::Decision decide(const asf::ExplorationState& s) override {
-    return search_.decide(
-        s, [](const std::vector<asf::FrontierCandidate>& candidates, const asf::Reachability&) {
-          const asf::FrontierCandidate& best = candidates.front();  // nearest first
-          std::ostringstream why;
-          why << std::fixed << std::setprecision(2) << "nearest of " << candidates.size()
-              << " frontiers: " << best.length << " m long, " << best.distance
-              << " m away (frontier cell " << best.target.x << ", " << best.target.y << ")";
-          return asf::FrontierChoice{0, why.str()};
-        });
+    return search_.decide(s, [](const std::vector<asf::FrontierCandidate>& candidates,
+                                const asf::Reachability&, const std::vector<std::uint8_t>&) {
+      const asf::FrontierCandidate& best = candidates.front();  // nearest first
+      std::ostringstream why;
+      why << std::fixed << std::setprecision(2) << "nearest of " << candidates.size()
+          << " frontiers: " << best.length << " m long, " << best.distance
+          << " m away (frontier cell " << best.target.x << ", " << best.target.y << ")";
+      return asf::FrontierChoice{0, why.str()};
+    });
   }
 
  private:

@@ -59,7 +59,9 @@ Decision FrontierSearch::decide(const ExplorationState& s, const FrontierChooser
   }
 
   const Reachability reach = Reachability::compute(*s.map, robot, reach_);
-  const std::vector<Frontier> frontiers = findFrontiers(*grid);
+  const std::vector<std::uint8_t> cells = classifyCells(*grid, reach_);
+  const std::vector<Frontier> frontiers =
+      findFrontiers(cells, static_cast<int>(grid->getSizeX()), static_cast<int>(grid->getSizeY()));
 
   if (reached_) {
     // Reached, but the frontier is still there: the robot cannot see past it from there
@@ -81,7 +83,7 @@ Decision FrontierSearch::decide(const ExplorationState& s, const FrontierChooser
           << min_frontier_size_ << " m)";
       return Decision::done(why.str());
     }
-    const FrontierChoice choice = choose(found, reach);
+    const FrontierChoice choice = choose(found, reach, cells);
     const FrontierCandidate& best = found.at(choice.index);
     if (dist2(best.goal, robot) <= goal_tolerance_ * goal_tolerance_) {
       addFailure(best.target, "frontier at the robot's position");
@@ -128,9 +130,7 @@ void FrontierSearch::addFailure(const Point2& at, const std::string& why) {
 }
 
 std::vector<FrontierSearch::Frontier> FrontierSearch::findFrontiers(
-    const mrpt::maps::COccupancyGridMap2D& grid) const {
-  const int W = static_cast<int>(grid.getSizeX()), H = static_cast<int>(grid.getSizeY());
-  const std::vector<std::uint8_t> state = classifyCells(grid, reach_);
+    const std::vector<std::uint8_t>& state, int W, int H) const {
   const auto unknownAt = [&](int x, int y) {
     return x < 0 || y < 0 || x >= W || y >= H ||
            state[static_cast<std::size_t>(y) * W + x] == kUnknown;

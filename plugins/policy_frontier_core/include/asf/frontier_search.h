@@ -8,6 +8,7 @@
 #include <asf/policy.h>
 #include <asf/reachability.h>
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -55,9 +56,11 @@ struct FrontierChoice {
   std::size_t index = 0;
   std::string reason;
 };
-/// Chooses among candidates sorted nearest first (ties: smaller cell index), never empty.
-using FrontierChooser =
-    std::function<FrontierChoice(const std::vector<FrontierCandidate>&, const Reachability&)>;
+/// Chooses among candidates sorted nearest first (ties: smaller cell index), never empty,
+/// given the decision's reachability field and its cells classified (classifyCells: the
+/// grid's cells row-major, free / unknown / occupied), which the search made anyway.
+using FrontierChooser = std::function<FrontierChoice(
+    const std::vector<FrontierCandidate>&, const Reachability&, const std::vector<std::uint8_t>&)>;
 
 class FrontierSearch {
  public:
@@ -84,7 +87,8 @@ class FrontierSearch {
 
   void takeOutcome(const ExplorationState& s);
   void addFailure(const Point2& at, const std::string& why);
-  std::vector<Frontier> findFrontiers(const mrpt::maps::COccupancyGridMap2D& grid) const;
+  /// `state`: the grid's cells classified, W x H row-major.
+  std::vector<Frontier> findFrontiers(const std::vector<std::uint8_t>& state, int W, int H) const;
   bool nearFrontierCell(const std::vector<Frontier>& frontiers, const Point2& p, double radius,
                         const Reachability& reach) const;
   std::vector<FrontierCandidate> candidates(const std::vector<Frontier>& frontiers,
