@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
 # Installs every Debian package asf needs to build, test and run.
 # Idempotent: when everything is present it returns after one dpkg query. Arguments are more
-# packages to install the same way (scripts/fuzz.sh: clang and its libFuzzer runtime).
+# packages to install the same way (scripts/fuzz.sh: clang and its libFuzzer runtime); --ros2
+# adds the optional ROS 2 component's (both DDS implementations and their code generators;
+# scripts/test.sh installs them, the main job does not need them).
 set -euo pipefail
+
+ROS2_PKGS=(cyclonedds-dev cyclonedds-tools libfastrtps-dev fastddsgen)
+args=()
+for a in "$@"; do
+  if [[ "$a" == "--ros2" ]]; then args+=("${ROS2_PKGS[@]}"); else args+=("$a"); fi
+done
+set -- ${args[@]+"${args[@]}"}
 
 PKGS=(
   build-essential cmake pkg-config ccache

@@ -30,10 +30,15 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::string dir = exeDir();
+  // `asf sim-robot` lives in its own module (apps/sim_robot): it links Fast DDS, which the
+  // host does not, and it is built only with the optional ROS 2 component.
+  const bool sim_robot = argc >= 2 && std::strcmp(argv[1], "sim-robot") == 0;
+  const char* module = sim_robot ? "libasf_sim_robot.so" : "libasf_host.so";
+  const char* entry = sim_robot ? "asf_sim_robot_main" : "asf_host_main";
   // The build tree and an install with lib/ as its library directory: <exe>/../lib/asf, where
   // the plugins' directory is too; else the configured install library directory.
-  const std::string candidates[] = {dir + "/../lib/asf/libasf_host.so",
-                                    dir + "/../" ASF_HOST_INSTALL_DIR "/libasf_host.so"};
+  const std::string candidates[] = {dir + "/../lib/asf/" + module,
+                                    dir + "/../" ASF_HOST_INSTALL_DIR "/" + module};
   std::string errors;
   for (const std::string& lib : candidates) {
     if (access(lib.c_str(), F_OK) != 0) continue;
@@ -43,12 +48,18 @@ int main(int argc, char** argv) {
       continue;
     }
     using HostMain = int (*)(int, char**);
-    const auto host_main = reinterpret_cast<HostMain>(dlsym(handle, "asf_host_main"));
+    const auto host_main = reinterpret_cast<HostMain>(dlsym(handle, entry));
     if (!host_main) {
-      std::fprintf(stderr, "asf: error: %s has no asf_host_main\n", lib.c_str());
+      std::fprintf(stderr, "asf: error: %s has no %s\n", lib.c_str(), entry);
       return 1;
     }
     return host_main(argc, argv);
+  }
+  if (sim_robot && errors.empty()) {
+    std::fprintf(stderr,
+                 "asf: error: asf sim-robot is part of the optional ROS 2 component, not built "
+                 "here: install its packages (scripts/install-deps.sh --ros2) and build again\n");
+    return 1;
   }
   std::fprintf(stderr, "asf: error: cannot load the host library (looked for %s and %s)%s\n",
                candidates[0].c_str(), candidates[1].c_str(), errors.c_str());

@@ -1,0 +1,431 @@
+// asf sim-robot: an active asf source (sim2d, from a pipeline's INI file) behind ROS 2 topics,
+// on Fast DDS. It publishes what a ROS 2 robot or simulator does (/clock, /scan, /odom,
+// /tf odom -> base_link, /tf_static base_link -> laser) plus its truth (/ground_truth,
+// /world_map), and drives as nav2 would: a geometry_msgs/PoseStamped on /goal_pose is planned
+// on the latest /map and map -> odom, its outcome published on the NavigateToPose action's
+// status topic. Loaded by the launcher (`asf sim-robot`) from libasf_sim_robot.so.
+#include <asf/abi.h>
+#include <asf/config.h>
+#include <asf/errors.h>
+#include <asf/pipeline_config.h>
+#include <asf/registry.h>
+#include <asf/ros2/messages.h>
+#include <asf/source.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <thread>
+
+#include "action_msgsPubSubTypes.h"
+#include "fastdds_node.h"
+#include "geometry_msgsPubSubTypes.h"
+#include "nav_msgsPubSubTypes.h"
+#include "rosgraph_msgsPubSubTypes.h"
+#include "sensor_msgsPubSubTypes.h"
+#include "tf2_msgsPubSubTypes.h"
+
+namespace {
+
+namespace ros2 = asf::ros2;
+namespace bi = builtin_interfaces::msg::dds_;
+namespace gm = geometry_msgs::msg::dds_;
+using mrpt::poses::CPose2D;
+
+std::atomic<bool> g_stop{false};
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+extern "C" void onSignal(int) { g_stop = true; }
+
+struct Options {
+  std::string config, out;
+  std::vector<std::string> sets;
+  int domain = 0;
+  bool loopback = false;
+  double rate = 1.0;       // real-time factor
+  double duration = 0;     // simulated seconds; 0: until stopped
+  double clock_start = 1;  // ROS tools read a zero stamp as "latest": start the clock here
+};
+
+const char* kUsage =
+    "usage: asf sim-robot CONFIG.ini [--set section.key=value]... [--domain N] [--loopback]\n"
+    "                     [--rate FACTOR] [--duration SECONDS] [--out DIR]\n"
+    "The [pipeline] source of CONFIG.ini (sim2d) as a ROS 2 robot on Fast DDS: publishes\n"
+    "/clock /scan /odom /tf /tf_static /ground_truth /world_map, takes /goal_pose with /map and\n"
+    "map -> odom, reports goals on /navigate_to_pose/_action/status. --rate: real-time factor\n"
+    "(default 1); --loopback: discovery on 127.0.0.1 only; --out: the simulator's recording and\n"
+    "sim_robot.json. Stops on SIGINT or SIGTERM, after --duration, or when the source ends.\n";
+
+Options parseArgs(int argc, char** argv) {
+  Options o;
+  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env && *env) o.domain = std::atoi(env);
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw asf::ConfigError("asf sim-robot: " + a + " needs a value");
+      return argv[++i];
+    };
+    auto number = [&](double lo, double hi) {
+      const std::string v = value();
+      char* end = nullptr;
+      const double d = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end || !(d >= lo && d <= hi))
+        throw asf::ConfigError("asf sim-robot: " + a + " " + v + ": not a number in [" +
+                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      return d;
+    };
+    if (a == "--set" || a == "-s") o.sets.push_back(value());
+    else if (a == "--domain") o.domain = static_cast<int>(number(0, 232));
+    else if (a == "--loopback") o.loopback = true;
+    else if (a == "--rate") o.rate = number(1e-3, 1e4);
+    else if (a == "--duration") o.duration = number(0, 1e9);
+    else if (a == "--out") o.out = value();
+    else if (a == "-h" || a == "--help") { std::fputs(kUsage, stdout); std::exit(0); }
+    else if (o.config.empty() && a[0] != '-') o.config = a;
+    else throw asf::ConfigError("asf sim-robot: unknown argument '" + a + "'\n" + kUsage);
+  }
+  if (o.config.empty()) throw asf::ConfigError(std::string("asf sim-robot: no CONFIG.ini\n") + kUsage);
+  return o;
+}
+
+bi::Time_ rosTime(double t) {
+  const ros2::Stamp s = ros2::toStamp(t);
+  bi::Time_ m;
+  m.sec(s.sec);
+  m.nanosec(s.nanosec);
+  return m;
+}
+
+gm::Pose_ rosPose(const ros2::Transform& t) {
+  gm::Pose_ p;
+  p.position().x(t.tx), p.position().y(t.ty), p.position().z(t.tz);
+  p.orientation().x(t.qx), p.orientation().y(t.qy), p.orientation().z(t.qz), p.orientation().w(t.qw);
+  return p;
+}
+
+gm::TransformStamped_ rosTransform(double t, const std::string& parent, const std::string& child,
+                                   const ros2::Transform& tr) {
+  gm::TransformStamped_ m;
+  m.header().stamp(rosTime(t));
+  m.header().frame_id(parent);
+  m.child_frame_id(child);
+  m.transform().translation().x(tr.tx), m.transform().translation().y(tr.ty),
+      m.transform().translation().z(tr.tz);
+  m.transform().rotation().x(tr.qx), m.transform().rotation().y(tr.qy),
+      m.transform().rotation().z(tr.qz), m.transform().rotation().w(tr.qw);
+  return m;
+}
+
+nav_msgs::msg::dds_::OccupancyGrid_ rosGrid(const ros2::OccupancyGrid& g) {
+  nav_msgs::msg::dds_::OccupancyGrid_ m;
+  m.header().stamp(rosTime(ros2::toSeconds(g.stamp)));
+  m.header().frame_id(g.frame_id);
+  m.info().resolution(g.resolution);
+  m.info().width(g.width);
+  m.info().height(g.height);
+  m.info().origin(rosPose(g.origin));
+  m.data(g.data);
+  return m;
+}
+
+ros2::Transform fromRos(const gm::Pose_& p) {
+  return {p.position().x(), p.position().y(), p.position().z(), p.orientation().x(),
+          p.orientation().y(), p.orientation().z(), p.orientation().w()};
+}
+
+/// What the readers receive, under a mutex.
+struct Inbox {
+  std::mutex mu;
+  std::optional<asf::Goal> goal;  // a new goal not yet handed to the simulator
+  std::shared_ptr<mrpt::maps::COccupancyGridMap2D> map;
+  std::uint64_t map_version = 0;
+  CPose2D map_to_odom;
+  std::size_t goals_received = 0;
+};
+
+}  // namespace
+
+namespace {
+
+class SimRobot {
+ public:
+  explicit SimRobot(const Options& o) : o_(o), node_(o.domain, o.loopback) {
+    loadSource();
+    advertise();
+    subscribe();
+  }
+
+  /// Steps the simulator at the real-time factor until stopped; returns the exit code.
+  int run() {
+    publishStatic();
+    const auto start = std::chrono::steady_clock::now();
+    double t = 0;
+    while (!g_stop) {
+      takeGoal();
+      std::optional<asf::SensorFrame> f = source_->next();
+      if (!f) break;
+      t = f->timestamp;
+      publishFrame(*f);
+      followGoal();
+      if (o_.duration > 0 && t >= o_.duration) break;
+      const auto due = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(t / o_.rate));
+      std::this_thread::sleep_until(due);
+    }
+    writeSummary(t);
+    std::fprintf(stderr, "asf sim-robot: %zu scans published, %zu goals (%zu reached, %zu failed), %.1f s simulated\n",
+                 scans_, inbox_.goals_received, reached_, failed_, t);
+    return 0;
+  }
+
+ private:
+  void loadSource() {
+    asf::IniConfig ini = asf::IniConfig::fromFile(o_.config);
+    for (const auto& s : o_.sets) ini.applyOverride(s);
+    asf::ResolvedConfig cfg = asf::resolveConfig(ini, registry_);
+    const auto it = cfg.slots.find("source");
+    if (it == cfg.slots.end()) throw asf::ConfigError(o_.config + ": [pipeline] names no source");
+    plugin_ = asf::Registry::instantiate(*it->second);
+    source_ = dynamic_cast<asf::Source*>(plugin_.get());
+    if (!source_) throw asf::ConfigError(o_.config + ": the source is not a source plugin");
+    asf::PluginContext ctx;
+    // The pipeline's seed for its source slot (framework/src/pipeline.cpp): the same noise
+    // streams as the source in an `asf run` of the same configuration.
+    ctx.seed = splitmix64(static_cast<std::uint64_t>(cfg.pipeline.getInt("seed")) * 8 + 0);
+    ctx.output_dir = o_.out;
+    if (!o_.out.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(o_.out, ec);
+      if (ec) throw asf::Error(o_.out + ": cannot create the output folder: " + ec.message());
+    }
+    const asf::Params& p = cfg.plugin_params.at(it->second->name());
+    source_->configure(p, ctx);
+    if (!source_->isActive())
+      throw asf::ConfigError(o_.config + ": source '" + it->second->name() +
+                             "' does not drive (asf sim-robot needs an active source, e.g. sim2d)");
+    for (const char* k : {"sensor_x", "sensor_y", "sensor_z", "sensor_yaw_deg"})
+      if (!p.has(k)) throw asf::ConfigError(o_.config + ": source has no key " + k);
+    mount_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"), p.getDouble("sensor_z"),
+                                  p.getDouble("sensor_yaw_deg") * M_PI / 180, 0, 0);
+    uuid_rng_.seed(ctx.seed);
+  }
+
+  void advertise() {
+    using asf::simrobot::Qos;
+    clock_ = node_.writer<rosgraph_msgs::msg::dds_::Clock_, rosgraph_msgs::msg::dds_::Clock_PubSubType>(
+        "/clock", Qos::SensorData, 1);
+    scan_ = node_.writer<sensor_msgs::msg::dds_::LaserScan_, sensor_msgs::msg::dds_::LaserScan_PubSubType>(
+        "/scan", Qos::SensorData, 5);
+    odom_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
+        "/odom", Qos::Reliable, 50);
+    gt_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
+        "/ground_truth", Qos::Reliable, 50);
+    tf_ = node_.writer<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
+        "/tf", Qos::Reliable, 100);
+    tf_static_ = node_.writer<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
+        "/tf_static", Qos::ReliableLatched, 1);
+    world_ = node_.writer<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+        "/world_map", Qos::ReliableLatched, 1);
+    status_ = node_.writer<action_msgs::msg::dds_::GoalStatusArray_, action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
+        "/navigate_to_pose/_action/status", Qos::ReliableLatched, 1);
+  }
+
+  void subscribe() {
+    using asf::simrobot::Qos;
+    node_.reader<gm::PoseStamped_, gm::PoseStamped_PubSubType>(
+        "/goal_pose", Qos::Reliable, 10, [this](const gm::PoseStamped_& m) {
+          std::lock_guard<std::mutex> lock(inbox_.mu);
+          asf::Goal g;
+          g.x = m.pose().position().x();
+          g.y = m.pose().position().y();
+          g.tolerance = goal_tolerance_;
+          inbox_.goal = g;
+          ++inbox_.goals_received;
+        });
+    node_.reader<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+        "/map", Qos::ReliableLatched, 1, [this](const nav_msgs::msg::dds_::OccupancyGrid_& m) {
+          ros2::OccupancyGrid g;
+          g.resolution = m.info().resolution();
+          g.width = m.info().width(), g.height = m.info().height();
+          g.origin = fromRos(m.info().origin());
+          g.data = m.data();
+          try {
+            auto grid = ros2::mrptFromOccupancy(g);
+            std::lock_guard<std::mutex> lock(inbox_.mu);
+            inbox_.map = std::move(grid);
+            ++inbox_.map_version;
+          } catch (const std::exception& e) {
+            std::fprintf(stderr, "asf sim-robot: topic /map: %s (ignored)\n", e.what());
+          }
+        });
+    node_.reader<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
+        "/tf", Qos::Reliable, 100, [this](const tf2_msgs::msg::dds_::TFMessage_& m) {
+          for (const auto& t : m.transforms()) {
+            if (t.header().frame_id() != "map" || t.child_frame_id() != "odom") continue;
+            const auto& r = t.transform().rotation();
+            std::lock_guard<std::mutex> lock(inbox_.mu);
+            inbox_.map_to_odom = CPose2D(t.transform().translation().x(), t.transform().translation().y(),
+                                         ros2::yawFromQuaternion(r.x(), r.y(), r.z(), r.w()));
+          }
+        });
+  }
+
+  // The laser's mounting and the true world, once (transient local: late joiners get them).
+  void publishStatic() {
+    tf2_msgs::msg::dds_::TFMessage_ m;
+    m.transforms().push_back(rosTransform(o_.clock_start, "base_link", "laser", ros2::transformFromPose(mount_)));
+    tf_static_->write(&m);
+    if (const auto truth = source_->worldTruth()) {
+      nav_msgs::msg::dds_::OccupancyGrid_ g =
+          rosGrid(ros2::occupancyFromMrpt(*truth->grid, ros2::toStamp(o_.clock_start), "world"));
+      world_->write(&g);
+    }
+  }
+
+  void publishFrame(const asf::SensorFrame& f) {
+    const double t = f.timestamp + o_.clock_start;
+    rosgraph_msgs::msg::dds_::Clock_ c;
+    c.clock(rosTime(t));
+    clock_->write(&c);
+    odom_pose_ = odom_pose_ + f.odometry;
+    odom_pose_.normalizePhi();
+    const ros2::Transform tr = ros2::transformFromPose(odom_pose_);
+    nav_msgs::msg::dds_::Odometry_ o;
+    o.header().stamp(rosTime(t));
+    o.header().frame_id("odom");
+    o.child_frame_id("base_link");
+    o.pose().pose(rosPose(tr));
+    odom_->write(&o);
+    tf2_msgs::msg::dds_::TFMessage_ tf;
+    tf.transforms().push_back(rosTransform(t, "odom", "base_link", tr));
+    tf_->write(&tf);
+    if (f.ground_truth) {
+      nav_msgs::msg::dds_::Odometry_ g = o;
+      g.header().frame_id("world");
+      g.pose().pose(rosPose(ros2::transformFromPose(*f.ground_truth)));
+      gt_->write(&g);
+    }
+    if (f.scan) {
+      const ros2::LaserScan s = ros2::laserScanFromMrpt(*f.scan, ros2::toStamp(t), "laser");
+      sensor_msgs::msg::dds_::LaserScan_ m;
+      m.header().stamp(rosTime(t));
+      m.header().frame_id(s.frame_id);
+      m.angle_min(s.angle_min), m.angle_max(s.angle_max), m.angle_increment(s.angle_increment);
+      m.range_min(s.range_min), m.range_max(s.range_max);
+      m.ranges(s.ranges);
+      m.intensities(s.intensities);
+      scan_->write(&m);
+      ++scans_;
+    }
+  }
+
+  // A new goal from /goal_pose: planned on the latest /map from where map -> odom puts the
+  // robot (nav2 plans on the SLAM map and pose); the goal before it is canceled (preempted).
+  void takeGoal() {
+    asf::Goal g;
+    asf::NavigationContext ctx;
+    asf::GridMap map;
+    {
+      std::lock_guard<std::mutex> lock(inbox_.mu);
+      if (!inbox_.goal) return;
+      g = *inbox_.goal;
+      inbox_.goal.reset();
+      map.grid = inbox_.map;
+      map.version = inbox_.map ? inbox_.map_version : 0;
+      ctx.robot_estimate = inbox_.map_to_odom + odom_pose_;
+    }
+    ctx.map = map.version ? &map : nullptr;
+    if (active_) setState(ros2::GoalState::Canceled), ++failed_;
+    goals_.push_back({newUuid(), 0});
+    active_ = true;
+    setState(ros2::GoalState::Executing);
+    settle(source_->navigate(g, ctx));
+  }
+
+  void followGoal() {
+    if (active_) settle(source_->status());
+  }
+
+  void settle(asf::NavStatus st) {
+    if (st == asf::NavStatus::Moving || !active_) return;
+    const bool ok = st == asf::NavStatus::Reached;
+    setState(ok ? ros2::GoalState::Succeeded : ros2::GoalState::Aborted);
+    ++(ok ? reached_ : failed_);
+    active_ = false;
+  }
+
+  std::array<std::uint8_t, 16> newUuid() {
+    std::array<std::uint8_t, 16> id;
+    for (auto& b : id) b = static_cast<std::uint8_t>(uuid_rng_());
+    return id;
+  }
+
+  // The status list as an action server keeps it: the last goals, newest last.
+  void setState(ros2::GoalState s) {
+    goals_.back().second = static_cast<std::int8_t>(s);
+    while (goals_.size() > 8) goals_.erase(goals_.begin());
+    action_msgs::msg::dds_::GoalStatusArray_ m;
+    for (const auto& [id, state] : goals_) {
+      action_msgs::msg::dds_::GoalStatus_ e;
+      e.goal_info().goal_id().uuid(id);
+      e.status(state);
+      m.status_list().push_back(e);
+    }
+    status_->write(&m);
+  }
+
+  void writeSummary(double t) {
+    if (o_.out.empty()) return;
+    std::ofstream f(o_.out + "/sim_robot.json");
+    f << "{\"scans_published\": " << scans_ << ", \"goals_received\": " << inbox_.goals_received
+      << ", \"goals_reached\": " << reached_ << ", \"goals_failed\": " << failed_
+      << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false") << "}\n";
+  }
+
+  Options o_;
+  asf::simrobot::FastNode node_;
+  asf::Registry registry_;
+  std::unique_ptr<asf::Plugin> plugin_;
+  asf::Source* source_ = nullptr;
+  mrpt::poses::CPose3D mount_;
+  CPose2D odom_pose_;
+  double goal_tolerance_ = 0.3;
+  Inbox inbox_;
+  std::vector<std::pair<std::array<std::uint8_t, 16>, std::int8_t>> goals_;
+  bool active_ = false;
+  std::size_t scans_ = 0, reached_ = 0, failed_ = 0;
+  std::mt19937_64 uuid_rng_;
+  eprosima::fastdds::dds::DataWriter *clock_ = nullptr, *scan_ = nullptr, *odom_ = nullptr,
+                                     *gt_ = nullptr, *tf_ = nullptr, *tf_static_ = nullptr,
+                                     *world_ = nullptr, *status_ = nullptr;
+};
+
+}  // namespace
+
+extern "C" ASF_EXPORT int asf_sim_robot_main(int argc, char** argv) {
+  try {
+    const Options o = parseArgs(argc, argv);
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    SimRobot robot(o);
+    std::fprintf(stderr, "asf sim-robot: %s on domain %d%s, real-time factor %g\n", o.config.c_str(),
+                 o.domain, o.loopback ? " (loopback)" : "", o.rate);
+    return robot.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "asf sim-robot: error: %s\n", e.what());
+    return 1;
+  }
+}

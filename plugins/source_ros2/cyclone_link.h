@@ -1,0 +1,74 @@
+#pragma once
+// The live source's side of the wire: one Cyclone DDS participant, readers that hand each
+// ROS 2 message (converted to asf/ros2/messages.h) to a callback on Cyclone's receive thread,
+// and writers. No asf state lives here (live_core.h holds it).
+#include <asf/ros2/messages.h>
+
+#include <cstdint>
+#include <functional>
+#include <list>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "live_core.h"
+
+namespace asf::ros2live {
+
+enum class Qos {
+  SensorData,      ///< best effort, keep last (what ROS 2 drivers publish scans with)
+  Reliable,        ///< reliable, volatile, keep last
+  ReliableLatched, ///< reliable, transient local, keep last (/map, /tf_static, action status)
+};
+
+struct LinkOptions {
+  int domain_id = 0;
+  bool loopback = false;  ///< unicast discovery to 127.0.0.1 on lo only, no multicast
+};
+
+class CycloneLink {
+ public:
+  /// Throws std::runtime_error (Cyclone's reason) when the participant cannot be created.
+  explicit CycloneLink(const LinkOptions& o);
+  ~CycloneLink();
+  CycloneLink(const CycloneLink&) = delete;
+  CycloneLink& operator=(const CycloneLink&) = delete;
+
+  // Readers; `ros_topic` is a ROS 2 name ("/scan"). Callbacks run on Cyclone's thread.
+  void onScan(const std::string& ros_topic, Qos qos, int depth,
+              std::function<void(ros2::LaserScan)> fn);
+  void onOdometry(const std::string& ros_topic, Qos qos, std::function<void(ros2::Odometry)> fn);
+  void onTransforms(const std::string& ros_topic, Qos qos,
+                    std::function<void(std::vector<ros2::TransformStamped>)> fn);
+  void onClock(const std::string& ros_topic, std::function<void(ros2::Stamp)> fn);
+  void onGoalStatus(const std::string& ros_topic, std::function<void(std::vector<GoalStatusEntry>)> fn);
+  void onOccupancy(const std::string& ros_topic, std::function<void(ros2::OccupancyGrid)> fn);
+
+  // Writers: advertise once, then publish. Each returns false when Cyclone refused the sample.
+  int advertiseOccupancy(const std::string& ros_topic);
+  int advertiseTransforms(const std::string& ros_topic, Qos qos);
+  int advertisePose(const std::string& ros_topic);
+  int advertiseString(const std::string& ros_topic);
+  bool publish(int writer, const ros2::OccupancyGrid& m);
+  bool publish(int writer, const std::vector<ros2::TransformStamped>& m);
+  bool publishPose(int writer, const ros2::Stamp& stamp, const std::string& frame,
+                   const ros2::Transform& pose);
+  bool publishString(int writer, const std::string& text);
+
+  /// The types of the writers discovered on a ROS 2 topic (other participants and ours), for
+  /// saying why nothing arrives.
+  std::vector<std::string> publisherTypes(const std::string& ros_topic) const;
+  /// Readers of a ROS 2 topic this participant writes, discovered anywhere.
+  std::size_t subscriberCount(const std::string& ros_topic) const;
+
+ private:
+  int reader(const void* descriptor, const std::string& ros_topic, Qos qos, int depth,
+             std::function<void(int)> on_data);
+  int writer(const void* descriptor, const std::string& ros_topic, Qos qos, int depth);
+  int topic(const void* descriptor, const std::string& ros_topic);
+
+  int domain_ = 0, participant_ = 0, publications_ = 0, subscriptions_ = 0;
+  std::list<std::function<void(int)>> callbacks_;  // stable addresses for the listeners
+};
+
+}  // namespace asf::ros2live

@@ -1,0 +1,494 @@
+// source_ros2: a live robot over ROS 2 (DDS, Cyclone DDS; no ROS installation). Frames are its
+// LaserScans with the odometry (nav_msgs/Odometry, or tf odom -> base) at each scan's stamp
+// and the laser's mounting from /tf_static. With drive = nav2 it is an active source: goals go
+// out as geometry_msgs/PoseStamped on /goal_pose (what nav2's BT navigator takes from rviz),
+// their outcome comes back on the NavigateToPose action's status topic, and /map and
+// map -> odom go out for the navigator to plan on. Every run is recorded as a rawlog.
+#include <asf/errors.h>
+#include <asf/ground_truth.h>
+#include <asf/odometry_noise.h>
+#include <asf/rawlog_io.h>
+#include <asf/source.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdlib>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+
+#include "cyclone_link.h"
+#include "live_core.h"
+
+namespace {
+
+using asf::ros2live::Qos;
+using mrpt::poses::CPose2D;
+using mrpt::poses::CPose3D;
+using SteadyClock = std::chrono::steady_clock;
+namespace ros2 = asf::ros2;
+
+double wallSeconds() {
+  return std::chrono::duration<double>(SteadyClock::now().time_since_epoch()).count();
+}
+
+CPose2D planar(const ros2::Transform& t) {
+  return CPose2D(t.tx, t.ty, ros2::yawFromQuaternion(t.qx, t.qy, t.qz, t.qw));
+}
+
+class Ros2Source final : public asf::Source {
+ public:
+  ~Ros2Source() override {
+    link_.reset();  // no callback after this
+    if (frames_ > 0 || scans_.arrived() > 0)
+      MRPT_LOG_INFO_STREAM("topic " << scan_topic_ << ": " << scans_.arrived() << " scans received, "
+                                    << frames_ << " passed to the pipeline, " << scans_.dropped()
+                                    << " dropped (queue full), " << out_of_order_
+                                    << " out of order; stamps " << std::fixed << first_t_ << " to "
+                                    << last_t_ << " s");
+    if (writer_)
+      MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to " << rawlog_path_);
+  }
+
+  void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
+    configureTopics(p);
+    configureRecording(p, ctx);
+    connect(p);
+    if (!world_topic_.empty()) waitForWorld(p);
+  }
+
+  bool isActive() const override { return nav2_; }
+  std::shared_ptr<const asf::WorldTruth> worldTruth() const override { return truth_; }
+
+  std::optional<asf::SensorFrame> next() override {
+    for (;;) {
+      std::optional<asf::ros2live::ArrivedScan> s = std::move(first_);
+      first_.reset();
+      const double wait = frames_ == 0 ? startup_timeout_ : message_timeout_;
+      if (!s) s = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * wait)));
+      if (!s) throw asf::InputError(silence(scan_topic_, "sensor_msgs/LaserScan", wait));
+      const double t = ros2::toSeconds(s->msg.stamp);
+      if (frames_ > 0 && t < last_t_) {
+        ++out_of_order_;  // the contract: timestamps never go back
+        continue;
+      }
+      return frame(*s, t);
+    }
+  }
+
+  asf::NavStatus navigate(const asf::Goal& goal, const asf::NavigationContext& ctx) override {
+    if (!nav2_) return asf::NavStatus::Unreachable;
+    publishMapAndPose(ctx);
+    if (!std::isfinite(goal.x) || !std::isfinite(goal.y)) return asf::NavStatus::Unreachable;
+    const CPose2D& r = ctx.robot_estimate;
+    if (std::hypot(goal.x - r.x(), goal.y - r.y()) <= goal.tolerance) {
+      tracker_.cancel();
+      return asf::NavStatus::Reached;
+    }
+    const double yaw = std::atan2(goal.y - r.y(), goal.x - r.x());
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      tracker_.sent(wallSeconds());
+    }
+    link_->publishPose(goal_wr_, now(), map_frame_, ros2::transformFromPose(CPose2D(goal.x, goal.y, yaw)));
+    ++goals_sent_;
+    publishStatus(goal);
+    return asf::NavStatus::Moving;
+  }
+
+  asf::NavStatus status() const override {
+    if (!nav2_) return asf::NavStatus::Idle;
+    std::lock_guard<std::mutex> lock(mu_);
+    const bool was_active = tracker_.active();
+    const asf::NavStatus st = tracker_.status(frames_, wallSeconds(), accept_timeout_, goal_timeout_);
+    if (was_active && !tracker_.active())
+      MRPT_LOG_INFO_STREAM("goal " << goals_sent_ << " on " << goal_topic_ << ": "
+                                   << asf::navStatusName(st) << " (" << tracker_.why() << ")");
+    return st;
+  }
+
+ private:
+  void configureTopics(const asf::Params& p) {
+    scan_topic_ = p.getString("scan_topic");
+    odom_topic_ = p.getString("odom_topic");
+    odom_from_tf_ = p.getString("odometry") == "tf";
+    tf_topic_ = p.getString("tf_topic");
+    tf_static_topic_ = p.getString("tf_static_topic");
+    clock_topic_ = p.getString("clock_topic");
+    use_sim_time_ = p.getBool("use_sim_time");
+    map_frame_ = p.getString("map_frame");
+    odom_frame_ = p.getString("odom_frame");
+    base_frame_ = p.getString("base_frame");
+    gt_topic_ = p.getString("ground_truth_topic");
+    world_topic_ = p.getString("world_map_topic");
+    nav2_ = p.getString("drive") == "nav2";
+    goal_topic_ = p.getString("goal_topic");
+    nav_status_topic_ = p.getString("nav_status_topic");
+    map_topic_ = p.getString("map_topic");
+    status_topic_ = p.getString("status_topic");
+    startup_timeout_ = p.getDouble("startup_timeout_s");
+    message_timeout_ = p.getDouble("message_timeout_s");
+    odom_tolerance_ = p.getDouble("odom_tolerance_s");
+    accept_timeout_ = p.getDouble("goal_accept_timeout_s");
+    goal_timeout_ = p.getDouble("goal_timeout_s");
+    map_period_ = p.getDouble("map_period_s");
+    radius_ = p.getDouble("robot_radius");
+    model_.a1 = p.getDouble("odo_a1");
+    model_.a2 = p.getDouble("odo_a2");
+    model_.a3 = p.getDouble("odo_a3");
+    model_.a4 = p.getDouble("odo_a4");
+    model_.min_std_xy = p.getDouble("odo_min_std_xy");
+    model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
+                          "goal_topic", "nav_status_topic", "map_topic", "status_topic",
+                          "ground_truth_topic", "world_map_topic"}) {
+      const std::string v = p.getString(k);
+      if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic"))
+        continue;
+      try {
+        ros2::ddsTopic(v);
+      } catch (const std::invalid_argument& e) {
+        p.fail(k, e.what());
+      }
+    }
+    if (!world_topic_.empty() && gt_topic_.empty())
+      p.fail("world_map_topic", "needs ground_truth_topic (the world map is placed by the robot's true start)");
+  }
+
+  void configureRecording(const asf::Params& p, const asf::PluginContext& ctx) {
+    if (!p.getBool("record") || ctx.output_dir.empty()) return;
+    const std::string base = (std::filesystem::path(ctx.output_dir) / p.getString("record_name")).string();
+    rawlog_path_ = base + ".rawlog";
+    writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
+    if (!gt_topic_.empty()) gt_writer_ = std::make_unique<asf::GroundTruthWriter>(base + ".gt.txt");
+  }
+
+  void connect(const asf::Params& p) {
+    asf::ros2live::LinkOptions o;
+    o.domain_id = static_cast<int>(p.getInt("domain_id"));
+    if (o.domain_id < 0) {
+      const char* env = std::getenv("ROS_DOMAIN_ID");
+      o.domain_id = env && *env ? std::atoi(env) : 0;
+    }
+    o.loopback = p.getString("discovery") == "loopback";
+    try {
+      link_ = std::make_unique<asf::ros2live::CycloneLink>(o);
+      subscribe(p);
+      if (nav2_) {
+        goal_wr_ = link_->advertisePose(goal_topic_);
+        map_wr_ = link_->advertiseOccupancy(map_topic_);
+        tf_wr_ = link_->advertiseTransforms(tf_topic_, Qos::Reliable);
+        link_->onGoalStatus(nav_status_topic_, [this](std::vector<asf::ros2live::GoalStatusEntry> l) {
+          std::lock_guard<std::mutex> lock(mu_);
+          tracker_.statusArrived(l, scans_.arrived());
+        });
+      }
+      status_wr_ = link_->advertiseString(status_topic_);
+    } catch (const std::runtime_error& e) {
+      p.fail("domain_id", std::string("DDS: ") + e.what());
+    }
+  }
+
+  void subscribe(const asf::Params& p) {
+    const Qos scan_qos = p.getString("scan_qos") == "reliable" ? Qos::Reliable : Qos::SensorData;
+    link_->onScan(scan_topic_, scan_qos, 64, [this](ros2::LaserScan m) { scans_.push(std::move(m)); });
+    const Qos odom_qos = p.getString("odom_qos") == "reliable" ? Qos::Reliable : Qos::SensorData;
+    if (!odom_from_tf_)
+      link_->onOdometry(odom_topic_, odom_qos, [this](ros2::Odometry m) {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (robot_frame_.empty()) robot_frame_ = m.child_frame_id;
+        odom_.add(ros2::toSeconds(m.stamp), planar(m.pose));
+        cv_.notify_all();
+      });
+    else
+      robot_frame_ = base_frame_;
+    auto onTf = [this](bool is_static, const std::vector<ros2::TransformStamped>& l) {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (const auto& t : l) {
+        if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_)
+          odom_.add(ros2::toSeconds(t.stamp), planar(t.transform));
+        else if (t.parent != map_frame_)  // map -> odom is ours (or another SLAM's)
+          tree_.set(t.parent, t.child, ros2::poseFromTransform(t.transform));
+      }
+      cv_.notify_all();
+    };
+    link_->onTransforms(tf_static_topic_, Qos::ReliableLatched,
+                        [onTf](std::vector<ros2::TransformStamped> l) { onTf(true, l); });
+    link_->onTransforms(tf_topic_, Qos::Reliable,
+                        [onTf](std::vector<ros2::TransformStamped> l) { onTf(false, l); });
+    if (use_sim_time_)
+      link_->onClock(clock_topic_, [this](ros2::Stamp s) {
+        std::lock_guard<std::mutex> lock(mu_);
+        clock_ = s;
+      });
+    if (!gt_topic_.empty())
+      link_->onOdometry(gt_topic_, Qos::Reliable, [this](ros2::Odometry m) {
+        std::lock_guard<std::mutex> lock(mu_);
+        gt_.add(ros2::toSeconds(m.stamp), planar(m.pose));
+        cv_.notify_all();
+      });
+    if (!world_topic_.empty())
+      link_->onOccupancy(world_topic_, [this](ros2::OccupancyGrid m) {
+        std::lock_guard<std::mutex> lock(mu_);
+        world_ = std::move(m);
+        cv_.notify_all();
+      });
+  }
+
+  // The true world from world_map_topic, placed by the true pose at the first scan.
+  void waitForWorld(const asf::Params& p) {
+    first_ = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)));
+    if (!first_) p.fail("world_map_topic", silence(scan_topic_, "sensor_msgs/LaserScan", startup_timeout_));
+    const double t = ros2::toSeconds(first_->msg.stamp);
+    std::unique_lock<std::mutex> lock(mu_);
+    const bool ok = cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)),
+                                 [&] { return world_ && gt_.newest() >= t; });
+    if (!world_) {
+      lock.unlock();
+      p.fail("world_map_topic", silence(world_topic_, "nav_msgs/OccupancyGrid", startup_timeout_));
+    }
+    if (!ok) {
+      lock.unlock();
+      p.fail("ground_truth_topic", silence(gt_topic_, "nav_msgs/Odometry", startup_timeout_));
+    }
+    auto truth = std::make_shared<asf::WorldTruth>();
+    try {
+      truth->grid = ros2::mrptFromOccupancy(*world_);
+    } catch (const std::exception& e) {
+      lock.unlock();
+      p.fail("world_map_topic", std::string("topic ") + world_topic_ + ": " + e.what());
+    }
+    truth->map_origin = *gt_.at(t, odom_tolerance_ + 1e9);
+    truth->robot_radius = radius_;
+    truth_ = std::move(truth);
+  }
+
+  // Why nothing came on a topic: no publisher, or publishers of another type.
+  std::string silence(const std::string& topic, const std::string& type, double waited) const {
+    std::ostringstream os;
+    os << "[ros2] topic " << topic << ": no " << type << " for " << waited << " s; ";
+    const auto types = link_->publisherTypes(topic);
+    if (types.empty()) {
+      os << "no publisher of it was discovered (is the robot running, on the same domain id and "
+            "network?)";
+      return os.str();
+    }
+    for (const std::string& t : types)
+      if (t.find("::msg::dds_::") != std::string::npos &&
+          type.find(t.substr(0, t.find("::msg::"))) == std::string::npos) {
+        os << "it is published with type " << t << ", not " << type;
+        return os.str();
+      }
+    os << types.size() << " publisher(s) of it were discovered but sent nothing asf received "
+       << "(stopped, or QoS that does not match: a best-effort publisher and a reliable reader)";
+    return os.str();
+  }
+
+  // The odometry at t, waiting for it up to message_timeout_s.
+  CPose2D odometryAt(double t) {
+    std::unique_lock<std::mutex> lock(mu_);
+    const auto deadline = SteadyClock::now() + std::chrono::milliseconds(static_cast<long>(1000 * message_timeout_));
+    cv_.wait_until(lock, deadline, [&] { return odom_.newest() >= t; });
+    if (auto p = odom_.at(t, odom_tolerance_)) return *p;
+    std::ostringstream os;
+    os << "[ros2] " << (odom_from_tf_ ? "topic " + tf_topic_ + ": no transform " + odom_frame_ + " -> " + base_frame_
+                                      : "topic " + odom_topic_ + ": no odometry")
+       << " within " << odom_tolerance_ << " s of the scan stamped " << t << " s";
+    if (odom_.empty())
+      os << " (none has arrived)";
+    else
+      os << " (the newest is stamped " << odom_.newest() << " s)";
+    lock.unlock();
+    if (odom_.empty() && !odom_from_tf_ && link_->publisherTypes(odom_topic_).empty())
+      os << "; no publisher of " << odom_topic_ << " was discovered (odometry = tf takes it from " << tf_topic_ << ")";
+    throw asf::InputError(os.str());
+  }
+
+  // The laser's pose on the robot, waiting for /tf_static up to startup_timeout_s.
+  CPose3D mounting(const std::string& laser_frame) {
+    std::unique_lock<std::mutex> lock(mu_);
+    const auto it = mounts_.find(laser_frame);
+    if (it != mounts_.end()) return it->second;
+    std::optional<CPose3D> m;
+    cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)), [&] {
+      m = laser_frame == robot_frame_ ? CPose3D() : tree_.lookup(robot_frame_, laser_frame);
+      return m.has_value();
+    });
+    if (!m)
+      throw asf::InputError("[ros2] topic " + scan_topic_ + ": no transform " + robot_frame_ + " -> " +
+                            laser_frame + " (the scan's frame) on " + tf_static_topic_ + " or " + tf_topic_ +
+                            "; known transforms: " + tree_.describe());
+    mounts_[laser_frame] = *m;
+    return *m;
+  }
+
+  asf::SensorFrame frame(const asf::ros2live::ArrivedScan& s, double t) {
+    const CPose2D odom = odometryAt(t);
+    asf::SensorFrame f;
+    f.timestamp = t;
+    if (frames_ > 0) {
+      f.odometry = odom - last_odom_;
+      f.odometry_cov = model_.covariance(f.odometry);
+    }
+    try {
+      f.scan = ros2::mrptFromLaserScan(s.msg, mounting(s.msg.frame_id), t);
+    } catch (const std::invalid_argument& e) {
+      throw asf::InputError("[ros2] topic " + scan_topic_ + ": scan stamped " + std::to_string(t) +
+                            " s: " + e.what());
+    }
+    if (!gt_topic_.empty()) {
+      std::lock_guard<std::mutex> lock(mu_);
+      f.ground_truth = gt_.at(t, odom_tolerance_);
+    }
+    if (writer_) writer_->write(f);
+    if (gt_writer_ && f.ground_truth) gt_writer_->write(t, *f.ground_truth);
+    last_odom_ = odom;
+    if (frames_ == 0) first_t_ = t;
+    last_t_ = t;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      ++frames_;
+    }
+    return f;
+  }
+
+  ros2::Stamp now() const {
+    if (use_sim_time_) {
+      std::lock_guard<std::mutex> lock(mu_);
+      return clock_;
+    }
+    return ros2::toStamp(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+  }
+
+  // /map (at most every map_period_s, when it changed) and map -> odom for the navigator.
+  void publishMapAndPose(const asf::NavigationContext& ctx) {
+    const ros2::Stamp stamp = use_sim_time_ ? now() : ros2::toStamp(last_t_);
+    const double t = wallSeconds();
+    if (ctx.map && ctx.map->grid && ctx.map->version != map_version_ && t - map_sent_ >= map_period_) {
+      link_->publish(map_wr_, ros2::occupancyFromMrpt(*ctx.map->grid, stamp, map_frame_));
+      map_version_ = ctx.map->version;
+      map_sent_ = t;
+    }
+    const CPose2D map_to_odom = ctx.robot_estimate + (CPose2D() - last_odom_);
+    link_->publish(tf_wr_, std::vector<ros2::TransformStamped>{
+                               {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}});
+  }
+
+  void publishStatus(const asf::Goal& g) {
+    std::ostringstream os;
+    os << "{\"frames\": " << frames_ << ", \"scans_received\": " << scans_.arrived()
+       << ", \"scans_dropped\": " << scans_.dropped() << ", \"goals_sent\": " << goals_sent_
+       << ", \"goal\": [" << g.x << ", " << g.y << "]}";
+    link_->publishString(status_wr_, os.str());
+  }
+
+  std::string scan_topic_, odom_topic_, tf_topic_, tf_static_topic_, clock_topic_, gt_topic_,
+      world_topic_, goal_topic_, nav_status_topic_, map_topic_, status_topic_;
+  std::string map_frame_, odom_frame_, base_frame_, robot_frame_, rawlog_path_;
+  bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false;
+  double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
+         goal_timeout_ = 0, map_period_ = 1, radius_ = 0.2;
+  asf::OdometryNoiseModel model_;
+  std::unique_ptr<asf::RawlogWriter> writer_;
+  std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
+  std::shared_ptr<const asf::WorldTruth> truth_;
+
+  // Filled by the receive thread, under mu_.
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  asf::ros2live::PoseHistory odom_, gt_;
+  asf::ros2live::TransformTree tree_;
+  mutable asf::ros2live::GoalTracker tracker_;
+  ros2::Stamp clock_;
+  std::optional<ros2::OccupancyGrid> world_;
+  asf::ros2live::ScanQueue scans_{20000};
+
+  std::map<std::string, CPose3D> mounts_;
+  std::optional<asf::ros2live::ArrivedScan> first_;
+  std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0;
+  double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300;
+  CPose2D last_odom_;
+  int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0;
+  std::unique_ptr<asf::ros2live::CycloneLink> link_;  // last: destroyed first
+};
+
+const asf::KeySpec kKeys[] = {
+    asf::keyInt("domain_id", "-1", "DDS domain (ROS_DOMAIN_ID); -1: $ROS_DOMAIN_ID, else 0", -1, 232),
+    asf::keyEnum("discovery", "default", "default|loopback",
+                 "default: DDS discovery as ROS 2 does it (multicast, or CYCLONEDDS_URI); loopback: "
+                 "unicast to 127.0.0.1 on the loopback interface only, no multicast (tests)"),
+    asf::keyString("scan_topic", "/scan", "sensor_msgs/LaserScan topic"),
+    asf::keyEnum("scan_qos", "sensor_data", "sensor_data|reliable",
+                 "QoS of the scan subscription: sensor_data (best effort; matches every "
+                 "publisher) or reliable (matches reliable publishers only)"),
+    asf::keyEnum("odometry", "topic", "topic|tf",
+                 "Where the odometry comes from: odom_topic (nav_msgs/Odometry), or the transform "
+                 "odom_frame -> base_frame on tf_topic"),
+    asf::keyString("odom_topic", "/odom", "nav_msgs/Odometry topic (odometry = topic)"),
+    asf::keyEnum("odom_qos", "reliable", "reliable|sensor_data",
+                 "QoS of the odometry subscription (sensor_data: best effort)"),
+    asf::keyString("tf_topic", "/tf", "tf2_msgs/TFMessage topic of the moving transforms"),
+    asf::keyString("tf_static_topic", "/tf_static",
+                   "tf2_msgs/TFMessage topic of the fixed transforms (the laser's mounting)"),
+    asf::keyString("map_frame", "map", "REP 105 map frame (asf publishes map -> odom)"),
+    asf::keyString("odom_frame", "odom", "REP 105 odometry frame"),
+    asf::keyString("base_frame", "base_link",
+                   "Robot frame of odometry = tf (with odometry = topic, the odometry's child "
+                   "frame is the robot frame)"),
+    asf::keyBool("use_sim_time", "false",
+                 "Stamp what asf publishes with the time of clock_topic (a simulator's), not the "
+                 "system clock"),
+    asf::keyString("clock_topic", "/clock", "rosgraph_msgs/Clock topic (use_sim_time)"),
+    asf::keyDouble("odom_tolerance_s", "0.1",
+                   "A scan needs odometry within this of its stamp (interpolated between two "
+                   "around it) [s]",
+                   0, 100),
+    asf::keyDouble("startup_timeout_s", "30",
+                   "Wait this long for the first scan, the laser's transform and the world map [s]",
+                   0.1, 1e6),
+    asf::keyDouble("message_timeout_s", "5",
+                   "A run stops with an error naming the topic when no scan (or no odometry for "
+                   "one) came for this long [s]",
+                   0.1, 1e6),
+    asf::keyEnum("drive", "none", "none|nav2",
+                 "none: asf maps while something else drives (a passive source); nav2: asf's "
+                 "policy explores by sending goals to a navigator"),
+    asf::keyString("goal_topic", "/goal_pose", "geometry_msgs/PoseStamped goal topic (drive = nav2)"),
+    asf::keyString("nav_status_topic", "/navigate_to_pose/_action/status",
+                   "action_msgs/GoalStatusArray topic of the navigator's action (drive = nav2)"),
+    asf::keyDouble("goal_accept_timeout_s", "5",
+                   "A goal no navigator accepted within this is a failed goal [s]", 0.1, 1e6),
+    asf::keyDouble("goal_timeout_s", "0",
+                   "A goal running longer than this is a failed goal; 0: no limit [s]", 0, 1e9),
+    asf::keyString("map_topic", "/map",
+                   "nav_msgs/OccupancyGrid asf publishes (reliable, transient local; drive = nav2)"),
+    asf::keyDouble("map_period_s", "1.0",
+                   "Publish the map at most this often, and only when it changed [s]", 0, 1e6),
+    asf::keyString("status_topic", "/asf/status", "std_msgs/String (JSON) with the run's counters"),
+    asf::keyString("ground_truth_topic", "",
+                   "nav_msgs/Odometry of the true pose (a simulator's); empty: none"),
+    asf::keyString("world_map_topic", "",
+                   "nav_msgs/OccupancyGrid of the true world (a simulator's), for coverage; empty: none"),
+    asf::keyDouble("robot_radius", "0.2", "Robot radius, for the coverage of the true world [m]",
+                   0.01, 100),
+    asf::keyDouble("odo_a1", "0.01", "Odometry covariance (MRPT Gaussian): xy std per metre [m/m]", 0, 10),
+    asf::keyDouble("odo_a2", "0.001", "Odometry covariance: xy std per degree [m/deg]", 0, 10),
+    asf::keyDouble("odo_a3", "1.0", "Odometry covariance: heading std per metre [deg/m]", 0, 1000),
+    asf::keyDouble("odo_a4", "0.05", "Odometry covariance: heading std per degree [deg/deg]", 0, 10),
+    asf::keyDouble("odo_min_std_xy", "0.001", "Odometry covariance: minimum xy std [m]", 0, 10),
+    asf::keyDouble("odo_min_std_phi_deg", "0.05", "Odometry covariance: minimum heading std [deg]", 0, 360),
+    asf::keyBool("record", "true",
+                 "Record the run to <output>/<record_name>.rawlog (and .gt.txt with ground truth)"),
+    asf::keyString("record_name", "ros2", "Base name of the recorded files"),
+};
+
+}  // namespace
+
+ASF_PLUGIN(Ros2Source, asf::PluginKind::Source, "ros2", "0.1.0",
+           "A live robot over ROS 2 (DDS, no ROS installation): LaserScan, odometry and tf in; "
+           "goals to nav2, /map and map -> odom out; recorded as a rawlog",
+           asf::ThreadSafety::ThreadCompatible, kKeys)

@@ -1,0 +1,36 @@
+#!/usr/bin/env python3
+"""Checks a live run made by live_loop.sh: finished by the policy, coverage, pose error, and
+every scan between the first and the last one asf took was received (the robot publishes one
+per simulated step of [sim2d] dt, so N scans over T seconds means none was lost)."""
+import json
+import re
+import sys
+
+out = sys.argv[1]
+s = json.load(open(f"{out}/asf/summary.json"))
+problems = []
+if not s.get("finished"):
+    problems.append(f"not finished: {s.get('stop_reason')}")
+cov = s.get("coverage")
+if cov is None or cov < 0.99:
+    problems.append(f"coverage {cov} < 0.99")
+ate = s.get("ate_rmse_m")
+if ate is None or ate > 0.15:
+    problems.append(f"keyframe ATE {ate} > 0.15 m")
+log = open(f"{out}/asf/run.log").read()
+m = re.search(r"(\d+) scans received, (\d+) passed to the pipeline, (\d+) dropped \(queue full\), "
+              r"(\d+) out of order; stamps ([0-9.]+) to ([0-9.]+) s", log)
+if not m:
+    problems.append("run.log has no scan count line")
+else:
+    received, passed, dropped, disorder = map(int, m.groups()[:4])
+    first, last = float(m.group(5)), float(m.group(6))
+    expected = round((last - first) / 0.1) + 1
+    if passed != expected or dropped or disorder:
+        problems.append(f"scans: {passed} passed between {first} and {last} s, expected {expected}; "
+                        f"{dropped} dropped, {disorder} out of order")
+print(json.dumps({"finished": s.get("finished"), "stop_reason": s.get("stop_reason"), "coverage": cov,
+                  "ate_m": ate, "distance_m": s.get("distance_m"), "scans": m.groups() if m else None}))
+if problems:
+    print("FAILED: " + "; ".join(problems))
+    sys.exit(1)

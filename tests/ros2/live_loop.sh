@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# A live exploration over DDS between two processes on loopback (docs/ROS2.md): asf sim-robot
+# (Fast DDS) simulates the robot of configs/default.ini; asf run configs/ros2_nav2.ini (the
+# ros2 source, Cyclone DDS) explores it by sending nav2-style goals. Checks that the run
+# finished, covered the world, kept its pose error small and lost no scan.
+# Usage: live_loop.sh ASF SOURCE_DIR OUT_DIR DOMAIN_ID RATE [asf run --set ...]
+set -euo pipefail
+asf=$1 src=$2 out=$3 domain=$4 rate=$5
+shift 5
+rm -rf "$out"
+mkdir -p "$out"
+"$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate "$rate" \
+  --out "$out/robot" >"$out/robot.log" 2>&1 &
+robot=$!
+trap 'kill -TERM $robot 2>/dev/null || true' EXIT
+rc=0
+timeout 900 "$asf" run "$src/configs/ros2_nav2.ini" --set ros2.discovery=loopback \
+  --set ros2.domain_id="$domain" "$@" --out "$out/asf" >"$out/asf.log" 2>&1 || rc=$?
+kill -TERM $robot 2>/dev/null || true
+wait $robot || true
+trap - EXIT
+if [[ $rc -ne 0 ]]; then
+  echo "asf run exited with $rc"; tail -30 "$out/asf.log"; tail -5 "$out/robot.log"; exit 1
+fi
+python3 "$src/tests/ros2/check_live_run.py" "$out"
