@@ -5,6 +5,8 @@
 #include <dds/dds.h>
 
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 #include "action_msgs.h"
@@ -70,16 +72,44 @@ dds_qos_t* makeQos(Qos qos, int depth) {
 
 }  // namespace
 
-CycloneLink::CycloneLink(const LinkOptions& o) {
-  // A domain of our own configuration, or Cyclone's defaults (and CYCLONEDDS_URI).
-  if (o.loopback) {
-    domain_ = dds_create_domain(static_cast<dds_domainid_t>(o.domain_id),
-                                ros2::cycloneLoopbackXml(20).c_str());
-    if (domain_ < 0) throw ddsError("cannot create the DDS domain " + std::to_string(o.domain_id), domain_);
+namespace {
+// A process creates a configured domain once: the instances of the plugin in one process
+// (the conformance kit makes several at once) share it, the last one deletes it.
+std::mutex g_domains_mu;
+std::map<int, std::pair<dds_entity_t, int>> g_domains;  // domain id -> (handle, users)
+
+void acquireLoopbackDomain(int id) {
+  std::lock_guard<std::mutex> lock(g_domains_mu);
+  auto it = g_domains.find(id);
+  if (it != g_domains.end()) {
+    ++it->second.second;
+    return;
   }
+  const dds_entity_t d =
+      dds_create_domain(static_cast<dds_domainid_t>(id), ros2::cycloneLoopbackXml(20).c_str());
+  if (d < 0)
+    throw ddsError("cannot create the DDS domain " + std::to_string(id) +
+                       " (a participant of this process already uses it with another "
+                       "configuration?)",
+                   d);
+  g_domains[id] = {d, 1};
+}
+
+void releaseLoopbackDomain(int id) {
+  std::lock_guard<std::mutex> lock(g_domains_mu);
+  auto it = g_domains.find(id);
+  if (it == g_domains.end() || --it->second.second > 0) return;
+  dds_delete(it->second.first);
+  g_domains.erase(it);
+}
+}  // namespace
+
+CycloneLink::CycloneLink(const LinkOptions& o) : domain_id_(o.domain_id), loopback_(o.loopback) {
+  // A domain of our own configuration, or Cyclone's defaults (and CYCLONEDDS_URI).
+  if (loopback_) acquireLoopbackDomain(domain_id_);
   participant_ = dds_create_participant(static_cast<dds_domainid_t>(o.domain_id), nullptr, nullptr);
   if (participant_ < 0) {
-    if (domain_ > 0) dds_delete(domain_);
+    if (loopback_) releaseLoopbackDomain(domain_id_);
     throw ddsError("cannot create a DDS participant in domain " + std::to_string(o.domain_id),
                    participant_);
   }
@@ -90,7 +120,7 @@ CycloneLink::CycloneLink(const LinkOptions& o) {
 CycloneLink::~CycloneLink() {
   // Deleting the participant waits for listeners in progress; the callbacks outlive it.
   dds_delete(participant_);
-  if (domain_ > 0) dds_delete(domain_);
+  if (loopback_) releaseLoopbackDomain(domain_id_);
 }
 
 int CycloneLink::topic(const void* descriptor, const std::string& ros_topic) {

@@ -67,7 +67,9 @@ class CycloneLink {
   int writer(const void* descriptor, const std::string& ros_topic, Qos qos, int depth);
   int topic(const void* descriptor, const std::string& ros_topic);
 
-  int domain_ = 0, participant_ = 0, publications_ = 0, subscriptions_ = 0;
+  int domain_id_ = 0;
+  bool loopback_ = false;
+  int participant_ = 0, publications_ = 0, subscriptions_ = 0;
   std::list<std::function<void(int)>> callbacks_;  // stable addresses for the listeners
 };
 

@@ -3,7 +3,7 @@
 # bounded time with a non-zero exit and an error naming the topic or frame, and, once the run
 # had started, with its outputs written.
 # Usage: bad_peer.sh ASF SOURCE_DIR OUT_DIR DOMAIN_ID CASE
-#   no_robot: nobody publishes; vanishes: the robot stops after 20 simulated seconds;
+#   no_robot: nobody publishes; vanishes: the robot stops after 30 simulated seconds;
 #   no_odometry: the odometry topic asf reads has no publisher.
 set -euo pipefail
 asf=$1 src=$2 out=$3 domain=$4 case=$5
@@ -14,7 +14,7 @@ common=(--set ros2.discovery=loopback --set ros2.domain_id="$domain" --set ros2.
 robot=""
 case $case in
   no_robot)
-    args=(--set ros2.startup_timeout_s=2); expect='topic /world_map: .*no publisher of it was discovered'
+    args=(--set ros2.startup_timeout_s=2); expect='topic /scan: .*no publisher of it was discovered'
     written="" ;;
   vanishes)
     args=(); expect='topic /scan: no sensor_msgs/LaserScan for 2 s'; written="summary.json map.pgm ros2.rawlog" ;;
@@ -25,8 +25,9 @@ case $case in
   *) echo "unknown case $case"; exit 2 ;;
 esac
 if [[ $case != no_robot ]]; then
-  duration=0; [[ $case == vanishes ]] && duration=20
-  "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate 8 \
+  # The vanishing robot lives 15 s of wall time (30 simulated at 2x): asf has started by then.
+  duration=0 rate=8; [[ $case == vanishes ]] && duration=30 rate=2
+  "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate "$rate" \
     --duration "$duration" >"$out/robot.log" 2>&1 &
   robot=$!
   trap 'kill -TERM $robot 2>/dev/null || true' EXIT
