@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Checks a live run made by live_loop.sh: finished by the policy, coverage, pose error, and
-every scan between the first and the last one asf took was received (the robot publishes one
-per simulated step of [sim2d] dt, so N scans over T seconds means none was lost)."""
+the scans between the first and the last one asf took were received (the robot publishes one
+per simulated step of [sim2d] dt, so N scans over T seconds means none was lost): at most 1 %
+lost on the wire, none dropped by asf."""
 import json
 import re
 import sys
@@ -26,7 +27,11 @@ else:
     received, passed, dropped, disorder = map(int, m.groups()[:4])
     first, last = float(m.group(5)), float(m.group(6))
     expected = round((last - first) / 0.1) + 1
-    if passed != expected or dropped or disorder:
+    # The robot publishes /scan best effort (as ROS 2 drivers do): on a loaded machine the
+    # kernel may drop a datagram. Losses are reported; more than 1 % fails.
+    lost = expected - passed
+    print(f"scans lost on the wire: {lost} of {expected}")
+    if lost < 0 or lost > 0.01 * expected or dropped or disorder:
         problems.append(f"scans: {passed} passed between {first} and {last} s, expected {expected}; "
                         f"{dropped} dropped, {disorder} out of order")
 print(json.dumps({"finished": s.get("finished"), "stop_reason": s.get("stop_reason"), "coverage": cov,
