@@ -27,11 +27,13 @@
 
 #include "action_msgsPubSubTypes.h"
 #include "fastdds_node.h"
+#include "received_log.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
 #include "tf2_msgsPubSubTypes.h"
+#include "visualization_msgsPubSubTypes.h"
 
 namespace {
 
@@ -154,6 +156,10 @@ struct Inbox {
   std::uint64_t map_version = 0;
   CPose2D map_to_odom;
   std::size_t goals_received = 0;
+  // What asf published, kept for --out (received/): the last map, markers and map -> odom.
+  std::optional<ros2::OccupancyGrid> last_map;
+  std::vector<visualization_msgs::msg::dds_::Marker_> last_markers;
+  std::size_t maps = 0, marker_arrays = 0, map_to_odom_count = 0;
 };
 
 }  // namespace
@@ -166,6 +172,7 @@ class SimRobot {
     loadSource();
     advertise();
     subscribe();
+    subscribeMarkers();
   }
 
   /// Steps the simulator at the real-time factor until stopped; returns the exit code.
@@ -262,11 +269,15 @@ class SimRobot {
           g.width = m.info().width(), g.height = m.info().height();
           g.origin = fromRos(m.info().origin());
           g.data = m.data();
+          g.stamp = {m.header().stamp().sec(), m.header().stamp().nanosec()};
+          g.frame_id = m.header().frame_id();
           try {
             auto grid = ros2::mrptFromOccupancy(g);
             std::lock_guard<std::mutex> lock(inbox_.mu);
             inbox_.map = std::move(grid);
             ++inbox_.map_version;
+            inbox_.last_map = std::move(g);
+            ++inbox_.maps;
           } catch (const std::exception& e) {
             std::fprintf(stderr, "asf sim-robot: topic /map: %s (ignored)\n", e.what());
           }
@@ -277,9 +288,20 @@ class SimRobot {
             if (t.header().frame_id() != "map" || t.child_frame_id() != "odom") continue;
             const auto& r = t.transform().rotation();
             std::lock_guard<std::mutex> lock(inbox_.mu);
+            ++inbox_.map_to_odom_count;
             inbox_.map_to_odom = CPose2D(t.transform().translation().x(), t.transform().translation().y(),
                                          ros2::yawFromQuaternion(r.x(), r.y(), r.z(), r.w()));
           }
+        });
+  }
+
+  void subscribeMarkers() {
+    node_.reader<visualization_msgs::msg::dds_::MarkerArray_, visualization_msgs::msg::dds_::MarkerArray_PubSubType>(
+        "/asf/markers", asf::simrobot::Qos::Reliable, 5,
+        [this](const visualization_msgs::msg::dds_::MarkerArray_& m) {
+          std::lock_guard<std::mutex> lock(inbox_.mu);
+          inbox_.last_markers = m.markers();
+          ++inbox_.marker_arrays;
         });
   }
 
@@ -389,9 +411,16 @@ class SimRobot {
 
   void writeSummary(double t) {
     if (o_.out.empty()) return;
+    {
+      std::lock_guard<std::mutex> lock(inbox_.mu);
+      asf::simrobot::writeReceived(o_.out + "/received", inbox_.last_map, inbox_.last_markers,
+                                   inbox_.map_to_odom);
+    }
     std::ofstream f(o_.out + "/sim_robot.json");
     f << "{\"scans_published\": " << scans_ << ", \"goals_received\": " << inbox_.goals_received
       << ", \"goals_reached\": " << reached_ << ", \"goals_failed\": " << failed_
+      << ", \"maps_received\": " << inbox_.maps << ", \"marker_arrays_received\": "
+      << inbox_.marker_arrays << ", \"map_to_odom_received\": " << inbox_.map_to_odom_count
       << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false") << "}\n";
   }
 

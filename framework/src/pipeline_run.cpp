@@ -36,6 +36,7 @@ RunSummary RunState::run() {
       step(*frame);
     }
     finalOptimization();
+    if (sum_.steps > 0) observe(t0_ + now_t_, true);
   } catch (const std::exception& e) {
     sum_.stop_reason = std::string("error: ") + e.what();
     if (m_.log) m_.log->endProgress();
@@ -175,6 +176,20 @@ void RunState::step(const SensorFrame& frame) {
     seg_log_.add(m_.seg, ms);
   }
   track(frame, map_changed);
+  observe(frame.timestamp, false);
+}
+
+void RunState::observe(double timestamp, bool final) {
+  RunView v;
+  v.timestamp = timestamp;
+  v.robot = m_.frontend->currentPose(m_.graph);
+  v.map = &m_.navMap();
+  v.segmentation = m_.seg.regions.empty() ? nullptr : &m_.seg;
+  v.topo = &m_.topo.graph();
+  v.graph = &m_.graph;
+  v.goal = have_goal_ ? &last_goal_ : nullptr;  // the last goal given
+  v.final = final;
+  m_.source->observe(v);
 }
 
 bool RunState::sense(const SensorFrame& frame) {

@@ -105,6 +105,8 @@ class RunState {
   double segment();
   /// Poses, distance, pose error, the recorder's rows and snapshots.
   void track(const SensorFrame& frame, bool map_changed);
+  /// Hands the source the run's estimate (Source::observe).
+  void observe(double timestamp, bool final);
   /// Keyframes added since the last optimization are optimized once more at the end, so the
   /// outputs (graph, map, ATE) are those of the whole graph, not of an earlier state of it.
   void finalOptimization();

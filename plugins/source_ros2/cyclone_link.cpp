@@ -16,6 +16,7 @@
 #include "sensor_msgs.h"
 #include "std_msgs.h"
 #include "tf2_msgs.h"
+#include "visualization_msgs.h"
 
 namespace asf::ros2live {
 
@@ -245,6 +246,9 @@ int CycloneLink::advertiseTransforms(const std::string& ros_topic, Qos qos) {
 int CycloneLink::advertisePose(const std::string& ros_topic) {
   return writer(&geometry_msgs_msg_dds__PoseStamped__desc, ros_topic, Qos::Reliable, 10);
 }
+int CycloneLink::advertiseMarkers(const std::string& ros_topic) {
+  return writer(&visualization_msgs_msg_dds__MarkerArray__desc, ros_topic, Qos::Reliable, 5);
+}
 int CycloneLink::advertiseString(const std::string& ros_topic) {
   return writer(&std_msgs_msg_dds__String__desc, ros_topic, Qos::ReliableLatched, 1);
 }
@@ -294,6 +298,40 @@ bool CycloneLink::publishString(int writer, const std::string& text) {
   std_msgs_msg_dds__String_ s{};
   s.data = const_cast<char*>(text.c_str());
   return dds_write(writer, &s) == DDS_RETCODE_OK;
+}
+
+bool CycloneLink::publish(int writer, const std::vector<ros2::Marker>& markers) {
+  // The samples point into these; every string is set (Cyclone's serializer reads them all).
+  static char empty[] = "";
+  std::vector<visualization_msgs_msg_dds__Marker_> ms(markers.size());
+  std::vector<std::vector<geometry_msgs_msg_dds__Point_>> points(markers.size());
+  std::vector<std::vector<std_msgs_msg_dds__ColorRGBA_>> colors(markers.size());
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    const ros2::Marker& m = markers[i];
+    auto& s = ms[i];
+    s = visualization_msgs_msg_dds__Marker_{};
+    s.header.stamp = timeOf(m.stamp);
+    s.header.frame_id = const_cast<char*>(m.frame_id.c_str());
+    s.ns = const_cast<char*>(m.ns.c_str());
+    s.id = m.id, s.type = m.type, s.action = m.action;
+    s.pose = toPose(m.pose);
+    s.scale = {m.scale[0], m.scale[1], m.scale[2]};
+    s.color = {m.color[0], m.color[1], m.color[2], m.color[3]};
+    for (const auto& p : m.points) points[i].push_back({p[0], p[1], p[2]});
+    for (const auto& c : m.colors) colors[i].push_back({c[0], c[1], c[2], c[3]});
+    s.points._buffer = points[i].data();
+    s.points._length = s.points._maximum = static_cast<std::uint32_t>(points[i].size());
+    s.colors._buffer = colors[i].data();
+    s.colors._length = s.colors._maximum = static_cast<std::uint32_t>(colors[i].size());
+    s.text = const_cast<char*>(m.text.c_str());
+    s.texture_resource = s.mesh_resource = empty;
+    s.texture.header.frame_id = s.texture.format = empty;
+    s.mesh_file.filename = empty;
+  }
+  visualization_msgs_msg_dds__MarkerArray_ a{};
+  a.markers._buffer = ms.data();
+  a.markers._length = a.markers._maximum = static_cast<std::uint32_t>(ms.size());
+  return dds_write(writer, &a) == DDS_RETCODE_OK;
 }
 
 namespace {

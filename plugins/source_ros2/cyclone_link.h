@@ -49,11 +49,14 @@ class CycloneLink {
   int advertiseTransforms(const std::string& ros_topic, Qos qos);
   int advertisePose(const std::string& ros_topic);
   int advertiseString(const std::string& ros_topic);
+  int advertiseMarkers(const std::string& ros_topic);
   bool publish(int writer, const ros2::OccupancyGrid& m);
   bool publish(int writer, const std::vector<ros2::TransformStamped>& m);
   bool publishPose(int writer, const ros2::Stamp& stamp, const std::string& frame,
                    const ros2::Transform& pose);
   bool publishString(int writer, const std::string& text);
+  /// One visualization_msgs/MarkerArray.
+  bool publish(int writer, const std::vector<ros2::Marker>& markers);
 
   /// The types of the writers discovered on a ROS 2 topic (other participants and ours), for
   /// saying why nothing arrives.

@@ -23,6 +23,7 @@
 
 #include "cyclone_link.h"
 #include "live_core.h"
+#include "run_markers.h"
 
 namespace {
 
@@ -49,7 +50,8 @@ class Ros2Source final : public asf::Source {
                                     << frames_ << " passed to the pipeline, " << scans_.dropped()
                                     << " dropped (queue full), " << out_of_order_
                                     << " out of order; stamps " << std::fixed << first_t_ << " to "
-                                    << last_t_ << " s");
+                                    << last_t_ << " s; " << maps_sent_ << " maps published on "
+                                    << map_topic_);
     if (writer_)
       MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to " << rawlog_path_);
   }
@@ -82,7 +84,6 @@ class Ros2Source final : public asf::Source {
 
   asf::NavStatus navigate(const asf::Goal& goal, const asf::NavigationContext& ctx) override {
     if (!nav2_) return asf::NavStatus::Unreachable;
-    publishMapAndPose(ctx);
     if (!std::isfinite(goal.x) || !std::isfinite(goal.y)) return asf::NavStatus::Unreachable;
     const CPose2D& r = ctx.robot_estimate;
     if (std::hypot(goal.x - r.x(), goal.y - r.y()) <= goal.tolerance) {
@@ -98,6 +99,29 @@ class Ros2Source final : public asf::Source {
     ++goals_sent_;
     publishStatus(goal);
     return asf::NavStatus::Moving;
+  }
+
+  // The run's estimate after each step: map -> odom every time, /map and the markers at most
+  // every map_period_s / marker_period_s of the robot's clock, and all of them at the end.
+  void observe(const asf::RunView& v) override {
+    if (frames_ == 0) return;
+    const ros2::Stamp stamp = use_sim_time_ ? now() : ros2::toStamp(v.timestamp);
+    const CPose2D map_to_odom = v.robot + (CPose2D() - last_odom_);
+    link_->publish(tf_wr_, std::vector<ros2::TransformStamped>{
+                               {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}});
+    const bool map_due = v.map && v.map->grid && v.map->version &&
+                         (v.final || (v.map->version != map_version_ &&
+                                      v.timestamp - map_sent_ >= map_period_));
+    if (map_due) {
+      link_->publish(map_wr_, ros2::occupancyFromMrpt(*v.map->grid, stamp, map_frame_));
+      map_version_ = v.map->version;
+      map_sent_ = v.timestamp;
+      ++maps_sent_;
+    }
+    if (v.final || v.timestamp - markers_sent_ >= marker_period_) {
+      link_->publish(markers_wr_, asf::ros2live::runMarkers(v, stamp, map_frame_));
+      markers_sent_ = v.timestamp;
+    }
   }
 
   asf::NavStatus status() const override {
@@ -129,6 +153,8 @@ class Ros2Source final : public asf::Source {
     goal_topic_ = p.getString("goal_topic");
     nav_status_topic_ = p.getString("nav_status_topic");
     map_topic_ = p.getString("map_topic");
+    marker_topic_ = p.getString("marker_topic");
+    marker_period_ = p.getDouble("marker_period_s");
     status_topic_ = p.getString("status_topic");
     startup_timeout_ = p.getDouble("startup_timeout_s");
     message_timeout_ = p.getDouble("message_timeout_s");
@@ -144,7 +170,7 @@ class Ros2Source final : public asf::Source {
     model_.min_std_xy = p.getDouble("odo_min_std_xy");
     model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
     for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
-                          "goal_topic", "nav_status_topic", "map_topic", "status_topic",
+                          "goal_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
                           "ground_truth_topic", "world_map_topic"}) {
       const std::string v = p.getString(k);
       if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic"))
@@ -178,10 +204,11 @@ class Ros2Source final : public asf::Source {
     try {
       link_ = std::make_unique<asf::ros2live::CycloneLink>(o);
       subscribe(p);
+      map_wr_ = link_->advertiseOccupancy(map_topic_);
+      tf_wr_ = link_->advertiseTransforms(tf_topic_, Qos::Reliable);
+      markers_wr_ = link_->advertiseMarkers(marker_topic_);
       if (nav2_) {
         goal_wr_ = link_->advertisePose(goal_topic_);
-        map_wr_ = link_->advertiseOccupancy(map_topic_);
-        tf_wr_ = link_->advertiseTransforms(tf_topic_, Qos::Reliable);
         link_->onGoalStatus(nav_status_topic_, [this](std::vector<asf::ros2live::GoalStatusEntry> l) {
           std::lock_guard<std::mutex> lock(mu_);
           tracker_.statusArrived(l, scans_.arrived());
@@ -364,20 +391,6 @@ class Ros2Source final : public asf::Source {
     return ros2::toStamp(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
   }
 
-  // /map (at most every map_period_s, when it changed) and map -> odom for the navigator.
-  void publishMapAndPose(const asf::NavigationContext& ctx) {
-    const ros2::Stamp stamp = use_sim_time_ ? now() : ros2::toStamp(last_t_);
-    const double t = wallSeconds();
-    if (ctx.map && ctx.map->grid && ctx.map->version != map_version_ && t - map_sent_ >= map_period_) {
-      link_->publish(map_wr_, ros2::occupancyFromMrpt(*ctx.map->grid, stamp, map_frame_));
-      map_version_ = ctx.map->version;
-      map_sent_ = t;
-    }
-    const CPose2D map_to_odom = ctx.robot_estimate + (CPose2D() - last_odom_);
-    link_->publish(tf_wr_, std::vector<ros2::TransformStamped>{
-                               {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}});
-  }
-
   void publishStatus(const asf::Goal& g) {
     std::ostringstream os;
     os << "{\"frames\": " << frames_ << ", \"scans_received\": " << scans_.arrived()
@@ -387,11 +400,11 @@ class Ros2Source final : public asf::Source {
   }
 
   std::string scan_topic_, odom_topic_, tf_topic_, tf_static_topic_, clock_topic_, gt_topic_,
-      world_topic_, goal_topic_, nav_status_topic_, map_topic_, status_topic_;
+      world_topic_, goal_topic_, nav_status_topic_, map_topic_, marker_topic_, status_topic_;
   std::string map_frame_, odom_frame_, base_frame_, robot_frame_, rawlog_path_;
   bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false;
   double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
-         goal_timeout_ = 0, map_period_ = 1, radius_ = 0.2;
+         goal_timeout_ = 0, map_period_ = 1, marker_period_ = 1, radius_ = 0.2;
   asf::OdometryNoiseModel model_;
   std::unique_ptr<asf::RawlogWriter> writer_;
   std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
@@ -409,10 +422,10 @@ class Ros2Source final : public asf::Source {
 
   std::map<std::string, CPose3D> mounts_;
   std::optional<asf::ros2live::ArrivedScan> first_;
-  std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0;
-  double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300;
+  std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0, maps_sent_ = 0;
+  double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300, markers_sent_ = -1e300;
   CPose2D last_odom_;
-  int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0;
+  int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0, markers_wr_ = 0;
   std::unique_ptr<asf::ros2live::CycloneLink> link_;  // last: destroyed first
 };
 
@@ -465,9 +478,15 @@ const asf::KeySpec kKeys[] = {
     asf::keyDouble("goal_timeout_s", "0",
                    "A goal running longer than this is a failed goal; 0: no limit [s]", 0, 1e9),
     asf::keyString("map_topic", "/map",
-                   "nav_msgs/OccupancyGrid asf publishes (reliable, transient local; drive = nav2)"),
+                   "nav_msgs/OccupancyGrid of asf's map (reliable, transient local)"),
     asf::keyDouble("map_period_s", "1.0",
-                   "Publish the map at most this often, and only when it changed [s]", 0, 1e6),
+                   "Publish the map at most this often (robot clock), and only when it changed [s]",
+                   0, 1e6),
+    asf::keyString("marker_topic", "/asf/markers",
+                   "visualization_msgs/MarkerArray: robot, goal, pose graph, regions, topological "
+                   "graph, frontier edges"),
+    asf::keyDouble("marker_period_s", "1.0", "Publish the markers at most this often (robot clock) [s]",
+                   0, 1e6),
     asf::keyString("status_topic", "/asf/status", "std_msgs/String (JSON) with the run's counters"),
     asf::keyString("ground_truth_topic", "",
                    "nav_msgs/Odometry of the true pose (a simulator's); empty: none"),

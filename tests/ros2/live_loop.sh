@@ -2,7 +2,8 @@
 # A live exploration over DDS between two processes on loopback (docs/ROS2.md): asf sim-robot
 # (Fast DDS) simulates the robot of configs/default.ini; asf run configs/ros2_nav2.ini (the
 # ros2 source, Cyclone DDS) explores it by sending nav2-style goals. Checks that the run
-# finished, covered the world, kept its pose error small and lost no scan.
+# finished, covered the world, kept its pose error small and lost (almost) no scan, and that
+# what the robot decoded on its vendor (/map, markers, map -> odom) is what the run wrote.
 # Usage: live_loop.sh ASF SOURCE_DIR OUT_DIR DOMAIN_ID RATE [asf run --set ...]
 set -euo pipefail
 asf=$1 src=$2 out=$3 domain=$4 rate=$5
@@ -23,3 +24,4 @@ if [[ $rc -ne 0 ]]; then
   echo "asf run exited with $rc"; tail -30 "$out/asf.log"; tail -5 "$out/robot.log"; exit 1
 fi
 python3 "$src/tests/ros2/check_live_run.py" "$out"
+python3 "$src/tests/ros2/check_received.py" "$out/asf" "$out/robot"

@@ -10,6 +10,10 @@
 ///   each next(); status() says how that goes. A passive source returns
 ///   NavStatus::Unreachable from navigate() and ignores the goal.
 /// - All randomness comes from PluginContext::seed.
+/// - observe() is called after every step with what the run estimated, and once more at the
+///   end (RunView::final) after the final optimization; a source that ignores it (the default)
+///   is unaffected. It must not block the run: a source that shows the view somewhere (a live
+///   robot's /map, transforms, markers) limits its own rate.
 #include <asf/goal.h>
 #include <asf/grid_map.h>
 #include <asf/plugin.h>
@@ -38,6 +42,23 @@ struct NavigationContext {
   const GridMap* map = nullptr;         ///< current estimated map (may be null)
 };
 
+class PoseGraph;
+struct Segmentation;
+struct TopoGraph;
+
+/// What the run estimated after a step, for a source that shows it on the robot's side. The
+/// pointers are valid during the call only; null where the run has none yet.
+struct RunView {
+  double timestamp = 0;          ///< of the frame just processed (the source's clock)
+  mrpt::poses::CPose2D robot;    ///< the robot's estimate in the map frame at that frame
+  const GridMap* map = nullptr;  ///< the navigation map (version 0: none yet)
+  const Segmentation* segmentation = nullptr;
+  const TopoGraph* topo = nullptr;
+  const PoseGraph* graph = nullptr;
+  const Goal* goal = nullptr;  ///< the goal the robot is driving to, if any
+  bool final = false;          ///< the run's last view (after its final optimization)
+};
+
 class Source : public Plugin {
  public:
   static constexpr PluginKind kStaticKind = PluginKind::Source;
@@ -54,6 +75,8 @@ class Source : public Plugin {
   /// The true world, or null when the source does not know it (logs). Valid after
   /// configure(); the host reads it once, before the first next().
   virtual std::shared_ptr<const WorldTruth> worldTruth() const { return nullptr; }
+  /// The run's estimate after a step (see the contract above); the default ignores it.
+  virtual void observe(const RunView& view) {}
 };
 
 }  // namespace asf

@@ -118,6 +118,24 @@ OccupancyGrid occupancyFromMrpt(const mrpt::maps::COccupancyGridMap2D& grid, con
 /// height, a resolution <= 0, a rotated origin).
 std::shared_ptr<mrpt::maps::COccupancyGridMap2D> mrptFromOccupancy(const OccupancyGrid& msg);
 
+/// visualization_msgs/Marker, the fields asf fills (no texture, mesh or lifetime: they go out
+/// empty, which rviz reads as none and forever).
+struct Marker {
+  enum Type : std::int32_t {
+    Arrow = 0, Cube = 1, Sphere = 2, LineStrip = 4, LineList = 5, SphereList = 7, Points = 8,
+    Text = 9
+  };
+  enum Action : std::int32_t { Add = 0, Delete = 2, DeleteAll = 3 };
+  Stamp stamp;
+  std::string frame_id, ns, text;
+  std::int32_t id = 0, type = Points, action = Add;
+  Transform pose;
+  std::array<double, 3> scale{1, 1, 1};
+  std::array<float, 4> color{1, 1, 1, 1};  ///< r, g, b, a
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::array<float, 4>> colors;  ///< per point, or empty
+};
+
 /// action_msgs/GoalStatus values.
 enum class GoalState : std::int8_t {
   Unknown = 0,
