@@ -14,6 +14,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -32,6 +33,7 @@
 #include "nav_msgsPubSubTypes.h"
 #include "rosgraph_msgsPubSubTypes.h"
 #include "sensor_msgsPubSubTypes.h"
+#include "std_msgsPubSubTypes.h"
 #include "tf2_msgsPubSubTypes.h"
 #include "visualization_msgsPubSubTypes.h"
 
@@ -60,16 +62,22 @@ struct Options {
   double rate = 1.0;       // real-time factor
   double duration = 0;     // simulated seconds; 0: until stopped
   double clock_start = 1;  // ROS tools read a zero stamp as "latest": start the clock here
+  std::string fault;       // a bad peer on purpose (kFaults), for testing what talks to it
 };
+
+// The ways --fault makes the robot a bad peer.
+const char* kFaults[] = {"scan_as_string", "no_tf_static", "stuck"};
 
 const char* kUsage =
     "usage: asf sim-robot CONFIG.ini [--set section.key=value]... [--domain N] [--loopback]\n"
-    "                     [--rate FACTOR] [--duration SECONDS] [--out DIR]\n"
+    "                     [--rate FACTOR] [--duration SECONDS] [--out DIR] [--fault NAME]\n"
     "The [pipeline] source of CONFIG.ini (sim2d) as a ROS 2 robot on Fast DDS: publishes\n"
     "/clock /scan /odom /tf /tf_static /ground_truth /world_map, takes /goal_pose with /map and\n"
     "map -> odom, reports goals on /navigate_to_pose/_action/status. --rate: real-time factor\n"
     "(default 1); --loopback: discovery on 127.0.0.1 only; --out: the simulator's recording and\n"
-    "sim_robot.json. Stops on SIGINT or SIGTERM, after --duration, or when the source ends.\n";
+    "sim_robot.json. Stops on SIGINT or SIGTERM, after --duration, or when the source ends.\n"
+    "--fault makes it a bad peer, to test what talks to it: scan_as_string (/scan carries\n"
+    "std_msgs/String), no_tf_static (no laser mounting), stuck (goals accepted, never driven).\n";
 
 Options parseArgs(int argc, char** argv) {
   Options o;
@@ -95,6 +103,12 @@ Options parseArgs(int argc, char** argv) {
     else if (a == "--rate") o.rate = number(1e-3, 1e4);
     else if (a == "--duration") o.duration = number(0, 1e9);
     else if (a == "--out") o.out = value();
+    else if (a == "--fault") {
+      o.fault = value();
+      if (std::find(std::begin(kFaults), std::end(kFaults), o.fault) == std::end(kFaults))
+        throw asf::ConfigError("asf sim-robot: --fault " + o.fault +
+                               ": not one of scan_as_string, no_tf_static, stuck");
+    }
     else if (a == "-h" || a == "--help") { std::fputs(kUsage, stdout); std::exit(0); }
     else if (o.config.empty() && a[0] != '-') o.config = a;
     else throw asf::ConfigError("asf sim-robot: unknown argument '" + a + "'\n" + kUsage);
@@ -234,8 +248,12 @@ class SimRobot {
     using asf::simrobot::Qos;
     clock_ = node_.writer<rosgraph_msgs::msg::dds_::Clock_, rosgraph_msgs::msg::dds_::Clock_PubSubType>(
         "/clock", Qos::SensorData, 1);
-    scan_ = node_.writer<sensor_msgs::msg::dds_::LaserScan_, sensor_msgs::msg::dds_::LaserScan_PubSubType>(
-        "/scan", Qos::SensorData, 5);
+    if (o_.fault == "scan_as_string")
+      scan_ = node_.writer<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
+          "/scan", Qos::SensorData, 5);
+    else
+      scan_ = node_.writer<sensor_msgs::msg::dds_::LaserScan_, sensor_msgs::msg::dds_::LaserScan_PubSubType>(
+          "/scan", Qos::SensorData, 5);
     odom_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
         "/odom", Qos::Reliable, 50);
     gt_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
@@ -309,7 +327,7 @@ class SimRobot {
   void publishStatic() {
     tf2_msgs::msg::dds_::TFMessage_ m;
     m.transforms().push_back(rosTransform(o_.clock_start, "base_link", "laser", ros2::transformFromPose(mount_)));
-    tf_static_->write(&m);
+    if (o_.fault != "no_tf_static") tf_static_->write(&m);
     if (const auto truth = source_->worldTruth()) {
       nav_msgs::msg::dds_::OccupancyGrid_ g =
           rosGrid(ros2::occupancyFromMrpt(*truth->grid, ros2::toStamp(o_.clock_start), "world"));
@@ -340,7 +358,12 @@ class SimRobot {
       g.pose().pose(rosPose(ros2::transformFromPose(*f.ground_truth)));
       gt_->write(&g);
     }
-    if (f.scan) {
+    if (f.scan && o_.fault == "scan_as_string") {
+      std_msgs::msg::dds_::String_ text;
+      text.data("not a scan");
+      scan_->write(&text);
+      ++scans_;
+    } else if (f.scan) {
       const ros2::LaserScan s = ros2::laserScanFromMrpt(*f.scan, ros2::toStamp(t), "laser");
       sensor_msgs::msg::dds_::LaserScan_ m;
       m.header().stamp(rosTime(t));
@@ -374,11 +397,12 @@ class SimRobot {
     goals_.push_back({newUuid(), 0});
     active_ = true;
     setState(ros2::GoalState::Executing);
+    if (o_.fault == "stuck") return;  // accepted and executing, forever
     settle(source_->navigate(g, ctx));
   }
 
   void followGoal() {
-    if (active_) settle(source_->status());
+    if (active_ && o_.fault != "stuck") settle(source_->status());
   }
 
   void settle(asf::NavStatus st) {

@@ -304,10 +304,12 @@ class Ros2Source final : public asf::Source {
             "network?)";
       return os.str();
     }
+    // "pkg/Type" is "pkg::msg::dds_::Type_" on the wire.
+    const std::size_t slash = type.find('/');
+    const std::string wire = type.substr(0, slash) + "::msg::dds_::" + type.substr(slash + 1) + "_";
     for (const std::string& t : types)
-      if (t.find("::msg::dds_::") != std::string::npos &&
-          type.find(t.substr(0, t.find("::msg::"))) == std::string::npos) {
-        os << "it is published with type " << t << ", not " << type;
+      if (t != wire) {
+        os << "it is published with type " << t << ", not " << wire << " (" << type << ")";
         return os.str();
       }
     os << types.size() << " publisher(s) of it were discovered but sent nothing asf received "
