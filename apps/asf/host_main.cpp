@@ -75,6 +75,9 @@ void usage(std::ostream& os) {
         "Commands:\n";
   for (const auto& c : kCommands)
     os << "  " << std::left << std::setw(17) << c.name << c.summary << "\n";
+  // Loaded by the launcher from its own module (apps/sim_robot), not one of this table's.
+  os << "  " << std::left << std::setw(17) << "sim-robot"
+     << "A simulated robot behind ROS 2 topics on Fast DDS (the optional ROS 2 component)\n";
   os << "\nPlugins are searched in <asf>/../lib/asf/plugins, $ASF_PLUGIN_PATH and the INI's "
         "[pipeline] plugin_path.\n";
 }

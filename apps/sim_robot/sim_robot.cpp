@@ -21,6 +21,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -307,6 +309,7 @@ class SimRobot {
             const auto& r = t.transform().rotation();
             std::lock_guard<std::mutex> lock(inbox_.mu);
             ++inbox_.map_to_odom_count;
+            scanToTf(t.header().stamp());
             inbox_.map_to_odom = CPose2D(t.transform().translation().x(), t.transform().translation().y(),
                                          ros2::yawFromQuaternion(r.x(), r.y(), r.z(), r.w()));
           }
@@ -372,6 +375,12 @@ class SimRobot {
       m.range_min(s.range_min), m.range_max(s.range_max);
       m.ranges(s.ranges);
       m.intensities(s.intensities);
+      {
+        std::lock_guard<std::mutex> lock(inbox_.mu);
+        scan_sent_[m.header().stamp().sec() * 1000000000LL + m.header().stamp().nanosec()] =
+            std::chrono::steady_clock::now();
+        while (scan_sent_.size() > 4000) scan_sent_.erase(scan_sent_.begin());
+      }
       scan_->write(&m);
       ++scans_;
     }
@@ -433,6 +442,30 @@ class SimRobot {
     status_->write(&m);
   }
 
+  // Scan-to-tf latency: from publishing a scan to receiving the map -> odom asf stamped with
+  // it (under inbox_.mu).
+  void scanToTf(const builtin_interfaces::msg::dds_::Time_& stamp) {
+    const auto it = scan_sent_.find(stamp.sec() * 1000000000LL + stamp.nanosec());
+    if (it == scan_sent_.end()) return;
+    latency_ms_.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - it->second).count());
+  }
+
+  std::string latencyJson() {
+    std::vector<double> v;
+    {
+      std::lock_guard<std::mutex> lock(inbox_.mu);
+      v = latency_ms_;
+    }
+    if (v.empty()) return "null";
+    std::sort(v.begin(), v.end());
+    auto q = [&](double f) { return v[static_cast<std::size_t>(f * (v.size() - 1))]; };
+    std::ostringstream os;
+    os << "{\"count\": " << v.size() << ", \"median_ms\": " << q(0.5) << ", \"p95_ms\": " << q(0.95)
+       << ", \"max_ms\": " << v.back() << "}";
+    return os.str();
+  }
+
   void writeSummary(double t) {
     if (o_.out.empty()) return;
     {
@@ -445,6 +478,7 @@ class SimRobot {
       << ", \"goals_reached\": " << reached_ << ", \"goals_failed\": " << failed_
       << ", \"maps_received\": " << inbox_.maps << ", \"marker_arrays_received\": "
       << inbox_.marker_arrays << ", \"map_to_odom_received\": " << inbox_.map_to_odom_count
+      << ", \"scan_to_tf_latency\": " << latencyJson()
       << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false") << "}\n";
   }
 
@@ -461,6 +495,8 @@ class SimRobot {
   bool active_ = false;
   std::size_t scans_ = 0, reached_ = 0, failed_ = 0;
   std::mt19937_64 uuid_rng_;
+  std::map<long long, std::chrono::steady_clock::time_point> scan_sent_;  // stamp ns -> sent
+  std::vector<double> latency_ms_;
   eprosima::fastdds::dds::DataWriter *clock_ = nullptr, *scan_ = nullptr, *odom_ = nullptr,
                                      *gt_ = nullptr, *tf_ = nullptr, *tf_static_ = nullptr,
                                      *world_ = nullptr, *status_ = nullptr;

@@ -1,4 +1,5 @@
 #include <asf/odometry_noise.h>
+#include <asf/params.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 
@@ -6,6 +7,17 @@ namespace asf {
 
 using mrpt::obs::CActionRobotMovement2D;
 using mrpt::poses::CPose2D;
+
+OdometryNoiseModel OdometryNoiseModel::fromParams(const Params& p) {
+  OdometryNoiseModel m;
+  m.a1 = p.getDouble("odo_a1");
+  m.a2 = p.getDouble("odo_a2");
+  m.a3 = p.getDouble("odo_a3");
+  m.a4 = p.getDouble("odo_a4");
+  m.min_std_xy = p.getDouble("odo_min_std_xy");
+  m.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+  return m;
+}
 
 Eigen::Matrix3d OdometryNoiseModel::covariance(const CPose2D& delta) const {
   CActionRobotMovement2D::TMotionModelOptions o;

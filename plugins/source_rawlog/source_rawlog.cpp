@@ -22,12 +22,7 @@ class RawlogSource final : public asf::Source {
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
     asf::RawlogReaderOptions o;
     o.laser_label = p.getString("laser_label");
-    o.odometry_model.a1 = p.getDouble("odo_a1");
-    o.odometry_model.a2 = p.getDouble("odo_a2");
-    o.odometry_model.a3 = p.getDouble("odo_a3");
-    o.odometry_model.a4 = p.getDouble("odo_a4");
-    o.odometry_model.min_std_xy = p.getDouble("odo_min_std_xy");
-    o.odometry_model.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    o.odometry_model = asf::OdometryNoiseModel::fromParams(p);
     o.observations3d = p.getBool("observations3d");
     o.scan_from_3d = p.getBool("scan_from_3d");
     o.label_3d = p.getString("label_3d");

@@ -139,6 +139,8 @@ int CycloneLink::reader(const void* descriptor, const std::string& ros_topic, Qo
   dds_listener_t* l = dds_create_listener(&callbacks_.back());
   dds_lset_data_available(l, onDataAvailable);
   dds_qos_t* q = makeQos(qos, depth);
+  // Not our own writers' samples (the map -> odom we publish on the /tf we read).
+  dds_qset_ignorelocal(q, DDS_IGNORELOCAL_PARTICIPANT);
   const dds_entity_t rd = dds_create_reader(participant_, t, q, l);
   dds_delete_qos(q);
   dds_delete_listener(l);

@@ -1,6 +1,13 @@
 // The live source's state, independent of DDS (live_core.h).
 #include "live_core.h"
 
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <ctime>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace asf::ros2live {
@@ -159,6 +166,42 @@ std::uint64_t ScanQueue::arrived() const {
 std::uint64_t ScanQueue::dropped() const {
   std::lock_guard<std::mutex> lock(mu_);
   return dropped_;
+}
+
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double otherThreadsCpuSeconds() {
+  namespace fs = std::filesystem;
+  const double tick = static_cast<double>(sysconf(_SC_CLK_TCK));
+  const std::string self = std::to_string(static_cast<long>(syscall(SYS_gettid)));
+  double sum = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc/self/task", ec)) {
+    if (e.path().filename() == self) continue;
+    std::ifstream f(e.path() / "stat");
+    std::string line;
+    if (!std::getline(f, line)) continue;
+    // After the command name in parentheses: state (field 3) ... utime (14), stime (15).
+    const std::size_t rp = line.rfind(')');
+    if (rp == std::string::npos) continue;
+    std::istringstream is(line.substr(rp + 1));
+    std::string skip;
+    for (int field = 3; field <= 13; ++field) is >> skip;
+    long ut = 0, st = 0;
+    if (is >> ut >> st) sum += static_cast<double>(ut + st) / tick;
+  }
+  return sum;
+}
+
+double processCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 }  // namespace asf::ros2live

@@ -32,6 +32,7 @@ class PoseHistory {
   std::optional<mrpt::poses::CPose2D> at(double t, double tolerance) const;
   bool empty() const { return poses_.empty(); }
   double newest() const { return poses_.empty() ? -1e300 : poses_.back().first; }
+  double oldest() const { return poses_.empty() ? 1e300 : poses_.front().first; }
 
  private:
   std::size_t capacity_;
@@ -119,5 +120,14 @@ class ScanQueue {
   std::size_t capacity_;
   std::uint64_t arrived_ = 0, dropped_ = 0;
 };
+
+/// CPU seconds the calling thread has used so far.
+double threadCpuSeconds();
+/// CPU seconds of this process's threads other than the calling one, from /proc/self/task
+/// (Linux; 0 elsewhere): for the ros2 source, the DDS implementation's threads and any other
+/// the run has, so an upper bound of what DDS costs in the background.
+double otherThreadsCpuSeconds();
+/// CPU seconds of the whole process.
+double processCpuSeconds();
 
 }  // namespace asf::ros2live

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "cyclone_link.h"
+#include "live_bag.h"
 #include "live_core.h"
 #include "run_markers.h"
 
@@ -44,12 +45,25 @@ CPose2D planar(const ros2::Transform& t) {
 class Ros2Source final : public asf::Source {
  public:
   ~Ros2Source() override {
+    const double others = asf::ros2live::otherThreadsCpuSeconds();
     link_.reset();  // no callback after this
+    if (frames_ > 0)
+      MRPT_LOG_INFO_STREAM("bridge CPU: " << bridge_cpu_ << " s on the run's thread (conversions, "
+                           "publishing, the bag; the rawlog's " << recording_cpu_ << " s apart), " << others << " s on the process's other threads (DDS's, "
+                           "an upper bound), of " << asf::ros2live::processCpuSeconds()
+                           << " s for the whole run");
+    try {
+      if (const std::uint64_t n = bag_.close())
+        MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
+    } catch (const std::exception& e) {
+      MRPT_LOG_ERROR_STREAM("the bag " << bag_.folder() << ": " << e.what());
+    }
     if (frames_ > 0 || scans_.arrived() > 0)
       MRPT_LOG_INFO_STREAM("topic " << scan_topic_ << ": " << scans_.arrived() << " scans received, "
                                     << frames_ << " passed to the pipeline, " << scans_.dropped()
                                     << " dropped (queue full), " << out_of_order_
-                                    << " out of order; stamps " << std::fixed << first_t_ << " to "
+                                    << " out of order, " << before_odometry_
+                                    << " before the first odometry; stamps " << std::fixed << first_t_ << " to "
                                     << last_t_ << " s; " << maps_sent_ << " maps published on "
                                     << map_topic_);
     if (writer_)
@@ -78,7 +92,12 @@ class Ros2Source final : public asf::Source {
         ++out_of_order_;  // the contract: timestamps never go back
         continue;
       }
-      return frame(*s, t);
+      const std::optional<CPose2D> odom = odometryAt(t);
+      if (!odom) {
+        ++before_odometry_;  // the odometry subscription matched after this scan was sent
+        continue;
+      }
+      return frame(*s, t, *odom);
     }
   }
 
@@ -95,7 +114,10 @@ class Ros2Source final : public asf::Source {
       std::lock_guard<std::mutex> lock(mu_);
       tracker_.sent(wallSeconds());
     }
-    link_->publishPose(goal_wr_, now(), map_frame_, ros2::transformFromPose(CPose2D(goal.x, goal.y, yaw)));
+    const ros2::Stamp stamp = now();
+    const ros2::Transform pose = ros2::transformFromPose(CPose2D(goal.x, goal.y, yaw));
+    link_->publishPose(goal_wr_, stamp, map_frame_, pose);
+    bag_.goal(stamp, map_frame_, pose);
     ++goals_sent_;
     publishStatus(goal);
     return asf::NavStatus::Moving;
@@ -105,25 +127,41 @@ class Ros2Source final : public asf::Source {
   // every map_period_s / marker_period_s of the robot's clock, and all of them at the end.
   void observe(const asf::RunView& v) override {
     if (frames_ == 0) return;
-    const ros2::Stamp stamp = use_sim_time_ ? now() : ros2::toStamp(v.timestamp);
+    const double cpu0 = asf::ros2live::threadCpuSeconds();
+    publishView(v);
+    bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0;
+  }
+
+ private:
+  void publishView(const asf::RunView& v) {
+    // Stamped with the frame's (its scan's) time: map -> odom holds at that instant, and tf
+    // users look it up there beside odom -> base_link.
+    const ros2::Stamp stamp = ros2::toStamp(v.timestamp);
     const CPose2D map_to_odom = v.robot + (CPose2D() - last_odom_);
-    link_->publish(tf_wr_, std::vector<ros2::TransformStamped>{
-                               {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}});
+    const std::vector<ros2::TransformStamped> tf{
+        {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}};
+    link_->publish(tf_wr_, tf);
+    bag_.transforms(tf, false);
     const bool map_due = v.map && v.map->grid && v.map->version &&
                          (v.final || (v.map->version != map_version_ &&
                                       v.timestamp - map_sent_ >= map_period_));
     if (map_due) {
-      link_->publish(map_wr_, ros2::occupancyFromMrpt(*v.map->grid, stamp, map_frame_));
+      const ros2::OccupancyGrid grid = ros2::occupancyFromMrpt(*v.map->grid, stamp, map_frame_);
+      link_->publish(map_wr_, grid);
+      bag_.map(grid);
       map_version_ = v.map->version;
       map_sent_ = v.timestamp;
       ++maps_sent_;
     }
     if (v.final || v.timestamp - markers_sent_ >= marker_period_) {
-      link_->publish(markers_wr_, asf::ros2live::runMarkers(v, stamp, map_frame_));
+      const auto markers = asf::ros2live::runMarkers(v, stamp, map_frame_);
+      link_->publish(markers_wr_, markers);
+      bag_.markers(markers);
       markers_sent_ = v.timestamp;
     }
   }
 
+ public:
   asf::NavStatus status() const override {
     if (!nav2_) return asf::NavStatus::Idle;
     std::lock_guard<std::mutex> lock(mu_);
@@ -163,12 +201,7 @@ class Ros2Source final : public asf::Source {
     goal_timeout_ = p.getDouble("goal_timeout_s");
     map_period_ = p.getDouble("map_period_s");
     radius_ = p.getDouble("robot_radius");
-    model_.a1 = p.getDouble("odo_a1");
-    model_.a2 = p.getDouble("odo_a2");
-    model_.a3 = p.getDouble("odo_a3");
-    model_.a4 = p.getDouble("odo_a4");
-    model_.min_std_xy = p.getDouble("odo_min_std_xy");
-    model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    model_ = asf::OdometryNoiseModel::fromParams(p);
     for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
                           "goal_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
                           "ground_truth_topic", "world_map_topic"}) {
@@ -186,11 +219,24 @@ class Ros2Source final : public asf::Source {
   }
 
   void configureRecording(const asf::Params& p, const asf::PluginContext& ctx) {
-    if (!p.getBool("record") || ctx.output_dir.empty()) return;
+    if (ctx.output_dir.empty()) return;
     const std::string base = (std::filesystem::path(ctx.output_dir) / p.getString("record_name")).string();
-    rawlog_path_ = base + ".rawlog";
-    writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
-    if (!gt_topic_.empty()) gt_writer_ = std::make_unique<asf::GroundTruthWriter>(base + ".gt.txt");
+    if (p.getBool("record")) {
+      rawlog_path_ = base + ".rawlog";
+      writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
+      if (!gt_topic_.empty()) gt_writer_ = std::make_unique<asf::GroundTruthWriter>(base + ".gt.txt");
+    }
+    if (!p.getBool("bag")) return;
+    asf::ros2live::LiveBagTopics t;
+    t.scan = scan_topic_, t.tf = tf_topic_, t.tf_static = tf_static_topic_;
+    t.odom = odom_from_tf_ ? "" : odom_topic_;
+    t.ground_truth = gt_topic_, t.map = map_topic_, t.markers = marker_topic_;
+    t.goal = nav2_ ? goal_topic_ : "";
+    try {
+      bag_.open(base + "_bag", t);
+    } catch (const std::runtime_error& e) {
+      p.fail("bag", e.what());
+    }
   }
 
   void connect(const asf::Params& p) {
@@ -222,10 +268,14 @@ class Ros2Source final : public asf::Source {
 
   void subscribe(const asf::Params& p) {
     const Qos scan_qos = p.getString("scan_qos") == "reliable" ? Qos::Reliable : Qos::SensorData;
-    link_->onScan(scan_topic_, scan_qos, 64, [this](ros2::LaserScan m) { scans_.push(std::move(m)); });
+    link_->onScan(scan_topic_, scan_qos, 64, [this](ros2::LaserScan m) {
+      bag_.scan(m);
+      scans_.push(std::move(m));
+    });
     const Qos odom_qos = p.getString("odom_qos") == "reliable" ? Qos::Reliable : Qos::SensorData;
     if (!odom_from_tf_)
       link_->onOdometry(odom_topic_, odom_qos, [this](ros2::Odometry m) {
+        bag_.odometry(m);
         std::lock_guard<std::mutex> lock(mu_);
         if (robot_frame_.empty()) robot_frame_ = m.child_frame_id;
         odom_.add(ros2::toSeconds(m.stamp), planar(m.pose));
@@ -234,6 +284,7 @@ class Ros2Source final : public asf::Source {
     else
       robot_frame_ = base_frame_;
     auto onTf = [this](bool is_static, const std::vector<ros2::TransformStamped>& l) {
+      bag_.transforms(l, is_static);
       std::lock_guard<std::mutex> lock(mu_);
       for (const auto& t : l) {
         if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_)
@@ -254,6 +305,7 @@ class Ros2Source final : public asf::Source {
       });
     if (!gt_topic_.empty())
       link_->onOdometry(gt_topic_, Qos::Reliable, [this](ros2::Odometry m) {
+        bag_.groundTruth(m);
         std::lock_guard<std::mutex> lock(mu_);
         gt_.add(ros2::toSeconds(m.stamp), planar(m.pose));
         cv_.notify_all();
@@ -268,9 +320,19 @@ class Ros2Source final : public asf::Source {
 
   // The true world from world_map_topic, placed by the true pose at the first scan.
   void waitForWorld(const asf::Params& p) {
-    first_ = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)));
-    if (!first_) p.fail("world_map_topic", silence(scan_topic_, "sensor_msgs/LaserScan", startup_timeout_));
-    const double t = ros2::toSeconds(first_->msg.stamp);
+    // The first scan the odometry covers: the map frame's origin, whose true pose places the
+    // world (the frames before it are dropped by next() too).
+    double t = 0;
+    for (;;) {
+      first_ = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)));
+      if (!first_) p.fail("world_map_topic", silence(scan_topic_, "sensor_msgs/LaserScan", startup_timeout_));
+      t = ros2::toSeconds(first_->msg.stamp);
+      std::unique_lock<std::mutex> lock(mu_);
+      cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * message_timeout_)),
+                   [&] { return odom_.newest() >= t; });  // next() says why when it does not
+      if (odom_.empty() || t >= odom_.oldest() - odom_tolerance_) break;
+      ++before_odometry_;
+    }
     std::unique_lock<std::mutex> lock(mu_);
     const bool ok = cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)),
                                  [&] { return world_ && gt_.newest() >= t; });
@@ -317,12 +379,15 @@ class Ros2Source final : public asf::Source {
     return os.str();
   }
 
-  // The odometry at t, waiting for it up to message_timeout_s.
-  CPose2D odometryAt(double t) {
+  // The odometry at t, waiting for it up to message_timeout_s; nullopt for a scan older than
+  // the first odometry received (its subscription matched later than the scans': a start-up
+  // race, not a fault).
+  std::optional<CPose2D> odometryAt(double t) {
     std::unique_lock<std::mutex> lock(mu_);
     const auto deadline = SteadyClock::now() + std::chrono::milliseconds(static_cast<long>(1000 * message_timeout_));
     cv_.wait_until(lock, deadline, [&] { return odom_.newest() >= t; });
     if (auto p = odom_.at(t, odom_tolerance_)) return *p;
+    if (frames_ == 0 && !odom_.empty() && t < odom_.oldest()) return std::nullopt;
     std::ostringstream os;
     os << "[ros2] " << (odom_from_tf_ ? "topic " + tf_topic_ + ": no transform " + odom_frame_ + " -> " + base_frame_
                                       : "topic " + odom_topic_ + ": no odometry")
@@ -355,8 +420,9 @@ class Ros2Source final : public asf::Source {
     return *m;
   }
 
-  asf::SensorFrame frame(const asf::ros2live::ArrivedScan& s, double t) {
-    const CPose2D odom = odometryAt(t);
+  asf::SensorFrame frame(const asf::ros2live::ArrivedScan& s, double t, const CPose2D& odom) {
+    const double rec_before = recording_cpu_;
+    const double cpu0 = asf::ros2live::threadCpuSeconds();
     asf::SensorFrame f;
     f.timestamp = t;
     if (frames_ > 0) {
@@ -373,11 +439,14 @@ class Ros2Source final : public asf::Source {
       std::lock_guard<std::mutex> lock(mu_);
       f.ground_truth = gt_.at(t, odom_tolerance_);
     }
+    const double rec0 = asf::ros2live::threadCpuSeconds();
     if (writer_) writer_->write(f);
     if (gt_writer_ && f.ground_truth) gt_writer_->write(t, *f.ground_truth);
+    recording_cpu_ += asf::ros2live::threadCpuSeconds() - rec0;  // what every run records
     last_odom_ = odom;
     if (frames_ == 0) first_t_ = t;
     last_t_ = t;
+    bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0 - (recording_cpu_ - rec_before);
     {
       std::lock_guard<std::mutex> lock(mu_);
       ++frames_;
@@ -410,6 +479,7 @@ class Ros2Source final : public asf::Source {
   asf::OdometryNoiseModel model_;
   std::unique_ptr<asf::RawlogWriter> writer_;
   std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
+  asf::ros2live::LiveBag bag_;  // written from the receive thread too
   std::shared_ptr<const asf::WorldTruth> truth_;
 
   // Filled by the receive thread, under mu_.
@@ -424,7 +494,10 @@ class Ros2Source final : public asf::Source {
 
   std::map<std::string, CPose3D> mounts_;
   std::optional<asf::ros2live::ArrivedScan> first_;
+  std::uint64_t before_odometry_ = 0;  // scans dropped: sent before the first odometry arrived
   std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0, maps_sent_ = 0;
+  double bridge_cpu_ = 0;  // CPU seconds of the run's thread in this source's own work
+  double recording_cpu_ = 0;  // of which not counted: the rawlog every run records
   double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300, markers_sent_ = -1e300;
   CPose2D last_odom_;
   int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0, markers_wr_ = 0;
@@ -505,6 +578,10 @@ const asf::KeySpec kKeys[] = {
     asf::keyBool("record", "true",
                  "Record the run to <output>/<record_name>.rawlog (and .gt.txt with ground truth)"),
     asf::keyString("record_name", "ros2", "Base name of the recorded files"),
+    asf::keyBool("bag", "false",
+                 "Also write the run as a rosbag2 bag with MCAP storage, <output>/<record_name>_bag/: "
+                 "the scans, odometry, tf, tf_static and ground truth received, the map -> odom, "
+                 "/map, markers and goals published"),
 };
 
 }  // namespace

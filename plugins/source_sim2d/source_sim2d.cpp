@@ -234,12 +234,7 @@ class Sim2dSource final : public asf::Source {
     step_length_ = p.getDouble("step_length");
     turn_step_ = p.getDouble("turn_step_deg") * kDeg;
     heading_tol_ = p.getDouble("heading_tolerance_deg") * kDeg;
-    model_.a1 = p.getDouble("odo_a1");
-    model_.a2 = p.getDouble("odo_a2");
-    model_.a3 = p.getDouble("odo_a3");
-    model_.a4 = p.getDouble("odo_a4");
-    model_.min_std_xy = p.getDouble("odo_min_std_xy");
-    model_.min_std_phi_deg = p.getDouble("odo_min_std_phi_deg");
+    model_ = asf::OdometryNoiseModel::fromParams(p);
     // Plans keep a margin beyond the true radius: obstacles are known to a cell, and a path
     // that grazes the lethal boundary touches the true wall.
     nav_.robot_radius = radius_ + p.getDouble("nav_safety_margin");

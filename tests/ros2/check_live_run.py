@@ -20,7 +20,7 @@ if ate is None or ate > 0.15:
     problems.append(f"keyframe ATE {ate} > 0.15 m")
 log = open(f"{out}/asf/run.log").read()
 m = re.search(r"(\d+) scans received, (\d+) passed to the pipeline, (\d+) dropped \(queue full\), "
-              r"(\d+) out of order; stamps ([0-9.]+) to ([0-9.]+) s", log)
+              r"(\d+) out of order, \d+ before the first odometry; stamps ([0-9.]+) to ([0-9.]+) s", log)
 if not m:
     problems.append("run.log has no scan count line")
 else:

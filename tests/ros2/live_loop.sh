@@ -3,7 +3,8 @@
 # (Fast DDS) simulates the robot of configs/default.ini; asf run configs/ros2_nav2.ini (the
 # ros2 source, Cyclone DDS) explores it by sending nav2-style goals. Checks that the run
 # finished, covered the world, kept its pose error small and lost (almost) no scan, and that
-# what the robot decoded on its vendor (/map, markers, map -> odom) is what the run wrote.
+# what the robot decoded on its vendor (/map, markers, map -> odom) is what the run wrote; the
+# run's rosbag2 bag read back by asf's bag reader and by Foxglove's libraries (check_bag.sh).
 # Usage: live_loop.sh ASF SOURCE_DIR OUT_DIR DOMAIN_ID RATE [asf run --set ...]
 set -euo pipefail
 asf=$1 src=$2 out=$3 domain=$4 rate=$5
@@ -16,7 +17,7 @@ robot=$!
 trap 'kill -TERM $robot 2>/dev/null || true' EXIT
 rc=0
 timeout 900 "$asf" run "$src/configs/ros2_nav2.ini" --set ros2.discovery=loopback \
-  --set ros2.domain_id="$domain" "$@" --out "$out/asf" >"$out/asf.log" 2>&1 || rc=$?
+  --set ros2.domain_id="$domain" --set ros2.bag="${LIVE_BAG:-true}" "$@" --out "$out/asf" >"$out/asf.log" 2>&1 || rc=$?
 kill -TERM $robot 2>/dev/null || true
 wait $robot || true
 trap - EXIT
@@ -25,3 +26,4 @@ if [[ $rc -ne 0 ]]; then
 fi
 python3 "$src/tests/ros2/check_live_run.py" "$out"
 python3 "$src/tests/ros2/check_received.py" "$out/asf" "$out/robot"
+bash "$src/tests/ros2/check_bag.sh" "$asf" "$src" "$out/asf"

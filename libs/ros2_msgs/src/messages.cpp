@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace asf::ros2 {
 
@@ -143,11 +144,19 @@ OccupancyGrid occupancyFromMrpt(const mrpt::maps::COccupancyGridMap2D& grid, con
   m.height = static_cast<std::uint32_t>(grid.getSizeY());
   m.origin.tx = grid.getXMin();
   m.origin.ty = grid.getYMin();
-  m.data.resize(static_cast<std::size_t>(m.width) * m.height);
-  for (std::uint32_t cy = 0; cy < m.height; ++cy)
-    for (std::uint32_t cx = 0; cx < m.width; ++cx)
-      m.data[static_cast<std::size_t>(cy) * m.width + cx] =
-          occupancyValue(1.0f - grid.getCell(static_cast<int>(cx), static_cast<int>(cy)));
+  // MRPT stores each cell as a small log-odds integer (row-major, cy * width + cx as ROS):
+  // one table from every stored value to its ROS value, then a pass over the raw cells.
+  using Cell = mrpt::maps::COccupancyGridMap2D::cellType;
+  static_assert(sizeof(Cell) <= 2, "MRPT's occupancy cells are 8 or 16 bit");
+  std::vector<std::int8_t> lut(std::size_t(1) << (8 * sizeof(Cell)));
+  for (std::size_t i = 0; i < lut.size(); ++i) {
+    const auto v = static_cast<Cell>(static_cast<std::make_unsigned_t<Cell>>(i));
+    lut[i] = occupancyValue(1.0f - mrpt::maps::COccupancyGridMap2D::l2p(v));
+  }
+  const std::vector<Cell>& raw = grid.getRawMap();
+  m.data.resize(raw.size());
+  for (std::size_t i = 0; i < raw.size(); ++i)
+    m.data[i] = lut[static_cast<std::make_unsigned_t<Cell>>(raw[i])];
   return m;
 }
 
@@ -201,7 +210,9 @@ std::string cycloneLoopbackXml(int max_participants) {
   std::ostringstream os;
   os << "<CycloneDDS><Domain Id=\"any\"><General>"
         "<Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
-        "<AllowMulticast>false</AllowMulticast></General>"
+        "<AllowMulticast>false</AllowMulticast>"
+        // Loopback carries 64 kB datagrams: a map goes out in a few of them, not hundreds.
+        "<MaxMessageSize>65000B</MaxMessageSize><FragmentSize>60000B</FragmentSize></General>"
         "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
         "<MaxAutoParticipantIndex>"
      << max_participants

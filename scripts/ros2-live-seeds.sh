@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The default cave explored live over DDS (asf sim-robot on Fast DDS, asf run
+# configs/ros2_nav2.ini on Cyclone DDS, loopback) against the same seeds in process
+# (asf run configs/default.ini), alternated seed by seed on the same machine. Prints one row per
+# run and the min / median / max of keyframe ATE, coverage and distance per mode.
+# Usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS (default 10)] [RATE (default 8)]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:?usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS] [RATE]}
+seeds=${2:-10} rate=${3:-8}
+asf=build/bin/asf
+domain=73
+mkdir -p "$out"
+rows="$out/runs.csv"
+echo "mode,seed,finished,coverage,ate_rmse_m,distance_m,steps,wall_s,scans_lost" >"$rows"
+row() {  # mode seed run_dir [lost]
+  python3 - "$1" "$2" "$3" "${4:-}" >>"$rows" <<'PY'
+import json, sys
+mode, seed, d, lost = sys.argv[1:5]
+s = json.load(open(f"{d}/summary.json"))
+print(",".join(str(x) for x in [mode, seed, s.get("finished"), s.get("coverage"), s.get("ate_rmse_m"),
+                                 s.get("distance_m"), s.get("steps"), s.get("wall_time_s"), lost]))
+PY
+}
+for seed in $(seq 1 "$seeds"); do
+  echo "seed $seed: in process" >&2
+  "$asf" run configs/default.ini --set pipeline.seed="$seed" --out "$out/inproc_$seed" >/dev/null 2>&1 || true
+  row inproc "$seed" "$out/inproc_$seed"
+  echo "seed $seed: live over DDS" >&2
+  live="$out/live_$seed"
+  rm -rf "$live"
+  mkdir -p "$live"
+  "$asf" sim-robot configs/default.ini --set pipeline.seed="$seed" --loopback --domain "$domain" \
+    --rate "$rate" --out "$live/robot" >"$live/robot.log" 2>&1 &
+  robot=$!
+  timeout 900 "$asf" run configs/ros2_nav2.ini --set pipeline.seed="$seed" \
+    --set ros2.discovery=loopback --set ros2.domain_id="$domain" --out "$live/asf" \
+    >"$live/asf.log" 2>&1 || true
+  kill -TERM "$robot" 2>/dev/null || true
+  wait "$robot" || true
+  lost=$(python3 tests/ros2/check_live_run.py "$live" 2>/dev/null | sed -n 's/scans lost on the wire: \([0-9-]*\) of.*/\1/p')
+  row live "$seed" "$live/asf" "$lost"
+done
+python3 - "$rows" <<'PY'
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+print(open(sys.argv[1]).read())
+for mode in ("inproc", "live"):
+    r = [x for x in rows if x["mode"] == mode]
+    for k in ("ate_rmse_m", "coverage", "distance_m"):
+        v = sorted(float(x[k]) for x in r if x[k] not in ("", "None"))
+        if v:
+            print(f"{mode:7s} {k:11s} min {v[0]:.4f}  median {statistics.median(v):.4f}  max {v[-1]:.4f}  (n={len(v)})")
+    print(f"{mode:7s} finished {sum(x['finished'] == 'True' for x in r)} of {len(r)}")
+PY
