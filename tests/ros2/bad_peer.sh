@@ -9,6 +9,7 @@
 #   wrong_type   the robot publishes std_msgs/String on /scan (asf sim-robot --fault)
 #   no_laser_tf  the robot publishes no /tf_static (the laser's mounting)
 #   stuck        the robot accepts goals and never drives: every goal times out
+#   interrupted  Ctrl-C (SIGINT) in the middle of a live run: exit 130, every output written
 set -euo pipefail
 asf=$1 src=$2 out=$3 domain=$4 case=$5
 rm -rf "$out"
@@ -39,6 +40,8 @@ case $case in
     args=(--set ros2.goal_timeout_s=3 --set pipeline.max_failed_goals=2); robot_args=(--fault stuck)
     expect='goal_timeout_s = 3 s.*|goals failed; giving up'; written="summary.json map.pgm"
     fail_exit=0 ;;
+  interrupted)
+    expect='interrupted after [0-9]+ steps'; written="summary.json map.pgm ros2.rawlog report.html" ;;
   *) echo "unknown case $case"; exit 2 ;;
 esac
 robot=""
@@ -50,12 +53,18 @@ if [[ $case != no_robot ]]; then
 fi
 rc=0
 start=$(date +%s)
-timeout 120 "$asf" run "$src/configs/ros2_nav2.ini" "${common[@]}" ${args[@]+"${args[@]}"} \
+limit=(120) && [[ $case == interrupted ]] && limit=(--preserve-status -s INT 12)
+timeout "${limit[@]}" "$asf" run "$src/configs/ros2_nav2.ini" "${common[@]}" ${args[@]+"${args[@]}"} \
   >"$out/asf.log" 2>&1 || rc=$?
 took=$(( $(date +%s) - start ))
 [[ -n "$robot" ]] && { kill -TERM "$robot" 2>/dev/null || true; wait "$robot" || true; }
 fail() { echo "FAILED ($case): $*"; tail -20 "$out/asf.log"; exit 1; }
-[[ $rc -ne 124 ]] || fail "asf run did not end within 120 s"
+if [[ $case == interrupted ]]; then
+  [[ $rc -eq 130 ]] || fail "exit code $rc after SIGINT (expected 130)"
+  grep -q '"stop_reason": "interrupted"' "$out/asf/summary.json" || fail "summary.json does not say interrupted"
+else
+  [[ $rc -ne 124 ]] || fail "asf run did not end within 120 s"
+fi
 if [[ $fail_exit -eq 1 ]]; then
   [[ $rc -ne 0 ]] || fail "exit code 0 (expected an error)"
 fi
