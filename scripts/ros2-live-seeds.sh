@@ -6,6 +6,7 @@
 # Usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS (default 10)] [RATE (default 8)]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source tests/ros2/stop_robot.sh
 out=${1:?usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS] [RATE]}
 seeds=${2:-10} rate=${3:-8}
 asf=build/bin/asf
@@ -36,8 +37,7 @@ for seed in $(seq 1 "$seeds"); do
   timeout 900 "$asf" run configs/ros2_nav2.ini --set pipeline.seed="$seed" \
     --set ros2.discovery=loopback --set ros2.domain_id="$domain" --out "$live/asf" \
     >"$live/asf.log" 2>&1 || true
-  kill -TERM "$robot" 2>/dev/null || true
-  wait "$robot" || true
+  stop_robot "$robot"
   lost=$(python3 tests/ros2/check_live_run.py "$live" 2>/dev/null | sed -n 's/scans lost on the wire: \([0-9-]*\) of.*/\1/p')
   row live "$seed" "$live/asf" "$lost"
 done

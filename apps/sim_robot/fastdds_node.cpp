@@ -36,10 +36,13 @@ FastNode::FastNode(int domain_id, bool loopback) {
   subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
 }
 
-FastNode::~FastNode() {
+FastNode::~FastNode() { close(); }
+
+void FastNode::close() {
   if (!participant_) return;
   participant_->delete_contained_entities();
   DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  participant_ = nullptr;
 }
 
 Topic* FastNode::topic(const std::string& ros_topic, const std::function<TopicDataType*()>& make) {

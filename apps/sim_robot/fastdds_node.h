@@ -28,7 +28,10 @@ class FastNode {
  public:
   /// Throws std::runtime_error when the participant cannot be made.
   FastNode(int domain_id, bool loopback);
-  ~FastNode();
+  ~FastNode();  ///< close()
+  /// Deletes every reader, writer and the participant: no listener runs after it returns.
+  /// Call it before what the listeners use goes away. Idempotent.
+  void close();
   FastNode(const FastNode&) = delete;
   FastNode& operator=(const FastNode&) = delete;
 

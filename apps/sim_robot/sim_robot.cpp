@@ -184,6 +184,9 @@ namespace {
 
 class SimRobot {
  public:
+  // The listeners use inbox_ and the writers' members: the participant goes first.
+  ~SimRobot() { node_.close(); }
+
   explicit SimRobot(const Options& o) : o_(o), node_(o.domain, o.loopback) {
     loadSource();
     advertise();

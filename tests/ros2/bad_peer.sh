@@ -11,6 +11,7 @@
 #   stuck        the robot accepts goals and never drives: every goal times out
 #   interrupted  Ctrl-C (SIGINT) in the middle of a live run: exit 130, every output written
 set -euo pipefail
+source "$(dirname "$0")/stop_robot.sh"
 asf=$1 src=$2 out=$3 domain=$4 case=$5
 rm -rf "$out"
 mkdir -p "$out"
@@ -49,7 +50,7 @@ if [[ $case != no_robot ]]; then
   "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate "$rate" \
     --duration "$duration" ${robot_args[@]+"${robot_args[@]}"} >"$out/robot.log" 2>&1 &
   robot=$!
-  trap 'kill -TERM $robot 2>/dev/null || true' EXIT
+  trap 'stop_robot $robot' EXIT
 fi
 rc=0
 start=$(date +%s)
@@ -57,7 +58,8 @@ limit=(120) && [[ $case == interrupted ]] && limit=(--preserve-status -s INT 12)
 timeout "${limit[@]}" "$asf" run "$src/configs/ros2_nav2.ini" "${common[@]}" ${args[@]+"${args[@]}"} \
   >"$out/asf.log" 2>&1 || rc=$?
 took=$(( $(date +%s) - start ))
-[[ -n "$robot" ]] && { kill -TERM "$robot" 2>/dev/null || true; wait "$robot" || true; }
+stop_robot "$robot"
+trap - EXIT
 fail() { echo "FAILED ($case): $*"; tail -20 "$out/asf.log"; exit 1; }
 if [[ $case == interrupted ]]; then
   [[ $rc -eq 130 ]] || fail "exit code $rc after SIGINT (expected 130)"

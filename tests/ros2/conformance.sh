@@ -3,12 +3,13 @@
 # source tests need frames: a live source has them only with a robot on the other side).
 # Usage: conformance.sh ASF SOURCE_DIR PLUGIN_SO DOMAIN_ID OUT_DIR
 set -euo pipefail
+source "$(dirname "$0")/stop_robot.sh"
 asf=$1 src=$2 plugin=$3 domain=$4 out=$5
 rm -rf "$out"
 mkdir -p "$out"
 "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate 4 >"$out/robot.log" 2>&1 &
 robot=$!
-trap 'kill -TERM $robot 2>/dev/null || true; wait $robot 2>/dev/null || true' EXIT
+trap 'stop_robot $robot' EXIT
 cat >"$out/conformance.ini" <<INI
 [ros2]
 discovery = loopback

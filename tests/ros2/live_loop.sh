@@ -7,6 +7,7 @@
 # run's rosbag2 bag read back by asf's bag reader and by Foxglove's libraries (check_bag.sh).
 # Usage: live_loop.sh ASF SOURCE_DIR OUT_DIR DOMAIN_ID RATE [asf run --set ...]
 set -euo pipefail
+source "$(dirname "$0")/stop_robot.sh"
 asf=$1 src=$2 out=$3 domain=$4 rate=$5
 shift 5
 rm -rf "$out"
@@ -14,12 +15,11 @@ mkdir -p "$out"
 "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" --rate "$rate" \
   --out "$out/robot" >"$out/robot.log" 2>&1 &
 robot=$!
-trap 'kill -TERM $robot 2>/dev/null || true' EXIT
+trap 'stop_robot $robot' EXIT
 rc=0
 timeout 900 "$asf" run "$src/configs/ros2_nav2.ini" --set ros2.discovery=loopback \
   --set ros2.domain_id="$domain" --set ros2.bag="${LIVE_BAG:-true}" "$@" --out "$out/asf" >"$out/asf.log" 2>&1 || rc=$?
-kill -TERM $robot 2>/dev/null || true
-wait $robot || true
+stop_robot $robot
 trap - EXIT
 if [[ $rc -ne 0 ]]; then
   echo "asf run exited with $rc"; tail -30 "$out/asf.log"; tail -5 "$out/robot.log"; exit 1
