@@ -81,24 +81,9 @@ class Ros2Source final : public asf::Source {
   std::shared_ptr<const asf::WorldTruth> worldTruth() const override { return truth_; }
 
   std::optional<asf::SensorFrame> next() override {
-    for (;;) {
-      std::optional<asf::ros2live::ArrivedScan> s = std::move(first_);
-      first_.reset();
-      const double wait = frames_ == 0 ? startup_timeout_ : message_timeout_;
-      if (!s) s = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * wait)));
-      if (!s) throw asf::InputError(silence(scan_topic_, "sensor_msgs/LaserScan", wait));
-      const double t = ros2::toSeconds(s->msg.stamp);
-      if (frames_ > 0 && t < last_t_) {
-        ++out_of_order_;  // the contract: timestamps never go back
-        continue;
-      }
-      const std::optional<CPose2D> odom = odometryAt(t);
-      if (!odom) {
-        ++before_odometry_;  // the odometry subscription matched after this scan was sent
-        continue;
-      }
-      return frame(*s, t, *odom);
-    }
+    UsableScan u = first_ ? std::move(*first_) : nextUsableScan();
+    first_.reset();
+    return frame(u.scan, ros2::toSeconds(u.scan.msg.stamp), u.odom);
   }
 
   asf::NavStatus navigate(const asf::Goal& goal, const asf::NavigationContext& ctx) override {
@@ -322,17 +307,8 @@ class Ros2Source final : public asf::Source {
   void waitForWorld(const asf::Params& p) {
     // The first scan the odometry covers: the map frame's origin, whose true pose places the
     // world (the frames before it are dropped by next() too).
-    double t = 0;
-    for (;;) {
-      first_ = scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)));
-      if (!first_) p.fail("world_map_topic", silence(scan_topic_, "sensor_msgs/LaserScan", startup_timeout_));
-      t = ros2::toSeconds(first_->msg.stamp);
-      std::unique_lock<std::mutex> lock(mu_);
-      cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * message_timeout_)),
-                   [&] { return odom_.newest() >= t; });  // next() says why when it does not
-      if (odom_.empty() || t >= odom_.oldest() - odom_tolerance_) break;
-      ++before_odometry_;
-    }
+    first_ = nextUsableScan();  // its InputError names the topic that stayed silent
+    const double t = ros2::toSeconds(first_->scan.msg.stamp);
     std::unique_lock<std::mutex> lock(mu_);
     const bool ok = cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)),
                                  [&] { return world_ && gt_.newest() >= t; });
@@ -354,6 +330,35 @@ class Ros2Source final : public asf::Source {
     truth->map_origin = *gt_.at(t, odom_tolerance_ + 1e9);
     truth->robot_radius = radius_;
     truth_ = std::move(truth);
+  }
+
+  struct UsableScan {
+    asf::ros2live::ArrivedScan scan;
+    CPose2D odom;  ///< the odometry at its stamp
+  };
+
+  // The next scan the pipeline can take, with the odometry at its stamp. Scans stamped before
+  // the previous frame, or before the first odometry received (its subscription matched later
+  // than the scans': a start-up race, not a fault), are dropped and counted. Throws
+  // asf::InputError naming the topic when no scan comes, or no odometry for one.
+  UsableScan nextUsableScan() {
+    for (;;) {
+      const double wait = frames_ == 0 ? startup_timeout_ : message_timeout_;
+      std::optional<asf::ros2live::ArrivedScan> s =
+          scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * wait)));
+      if (!s) throw asf::InputError(silence(scan_topic_, "sensor_msgs/LaserScan", wait));
+      const double t = ros2::toSeconds(s->msg.stamp);
+      if (frames_ > 0 && t < last_t_) {
+        ++out_of_order_;  // the contract: timestamps never go back
+        continue;
+      }
+      const std::optional<CPose2D> odom = odometryAt(t);
+      if (!odom) {
+        ++before_odometry_;
+        continue;
+      }
+      return {std::move(*s), *odom};
+    }
   }
 
   // Why nothing came on a topic: no publisher, or publishers of another type.
@@ -380,8 +385,7 @@ class Ros2Source final : public asf::Source {
   }
 
   // The odometry at t, waiting for it up to message_timeout_s; nullopt for a scan older than
-  // the first odometry received (its subscription matched later than the scans': a start-up
-  // race, not a fault).
+  // the first odometry received.
   std::optional<CPose2D> odometryAt(double t) {
     std::unique_lock<std::mutex> lock(mu_);
     const auto deadline = SteadyClock::now() + std::chrono::milliseconds(static_cast<long>(1000 * message_timeout_));
@@ -493,7 +497,7 @@ class Ros2Source final : public asf::Source {
   asf::ros2live::ScanQueue scans_{20000};
 
   std::map<std::string, CPose3D> mounts_;
-  std::optional<asf::ros2live::ArrivedScan> first_;
+  std::optional<UsableScan> first_;  // taken by configure() (the world's origin), not yet returned
   std::uint64_t before_odometry_ = 0;  // scans dropped: sent before the first odometry arrived
   std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0, maps_sent_ = 0;
   double bridge_cpu_ = 0;  // CPU seconds of the run's thread in this source's own work

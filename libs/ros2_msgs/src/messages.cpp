@@ -184,12 +184,19 @@ std::shared_ptr<mrpt::maps::COccupancyGridMap2D> mrptFromOccupancy(const Occupan
        << msg.width << " x " << msg.height;
     throw std::logic_error(os.str());
   }
-  for (std::uint32_t cy = 0; cy < msg.height; ++cy)
-    for (std::uint32_t cx = 0; cx < msg.width; ++cx) {
-      const std::int8_t v = msg.data[static_cast<std::size_t>(cy) * msg.width + cx];
-      const float p_occ = (v < 0 || v > 100) ? 0.5f : 0.01f * v;
-      grid->setCell(static_cast<int>(cx), static_cast<int>(cy), 1.0f - p_occ);
-    }
+  // One table from the 256 ROS values to MRPT's stored log-odds, then a pass over the cells
+  // (both row-major from the lowest y): a map arrives every second.
+  using Cell = mrpt::maps::COccupancyGridMap2D::cellType;
+  std::array<Cell, 256> lut{};
+  for (int v = -128; v < 128; ++v) {
+    const float p_occ = (v < 0 || v > 100) ? 0.5f : 0.01f * static_cast<float>(v);
+    lut[static_cast<std::uint8_t>(v)] = mrpt::maps::COccupancyGridMap2D::p2l(1.0f - p_occ);
+  }
+  for (std::uint32_t cy = 0; cy < msg.height; ++cy) {
+    Cell* row = grid->getRow(static_cast<int>(cy));
+    const std::int8_t* in = msg.data.data() + static_cast<std::size_t>(cy) * msg.width;
+    for (std::uint32_t cx = 0; cx < msg.width; ++cx) row[cx] = lut[static_cast<std::uint8_t>(in[cx])];
+  }
   return grid;
 }
 
