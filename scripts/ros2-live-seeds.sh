@@ -3,11 +3,12 @@
 # configs/ros2_nav2.ini on Cyclone DDS, loopback) against the same seeds in process
 # (asf run configs/default.ini), alternated seed by seed on the same machine. Prints one row per
 # run and the min / median / max of keyframe ATE, coverage and distance per mode.
-# Usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS (default 10)] [RATE (default 8)]
+# Usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS (default 10)] [RATE (default 8)] [CONFIG]
+# CONFIG: asf's side (default configs/ros2_nav2.ini; configs/ros2_cmd_vel.ini drives by velocity).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:?usage: scripts/ros2-live-seeds.sh OUT_DIR [SEEDS] [RATE]}
-seeds=${2:-10} rate=${3:-8}
+seeds=${2:-10} rate=${3:-8} config=${4:-configs/ros2_nav2.ini}
 asf=build/bin/asf
 domain=73
 mkdir -p "$out"
@@ -29,7 +30,7 @@ for seed in $(seq 1 "$seeds"); do
   echo "seed $seed: live over DDS" >&2
   live="$out/live_$seed"
   # The live test's own loop, without its bag; its checks may fail (a run is a measurement here).
-  LIVE_SEED=$seed LIVE_BAG=false bash tests/ros2/live_loop.sh "$asf" . "$live" "$domain" "$rate" \
+  LIVE_SEED=$seed LIVE_BAG=false LIVE_CONFIG=$config bash tests/ros2/live_loop.sh "$asf" . "$live" "$domain" "$rate" \
     >"$out/live_$seed.log" 2>&1 || true
   lost=$(sed -n 's/scans lost on the wire: \([0-9-]*\) of.*/\1/p' "$out/live_$seed.log")
   row live "$seed" "$live/asf" "$lost"

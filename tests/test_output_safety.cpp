@@ -240,6 +240,53 @@ TEST(RunExit, SigusrPausesAndResumesARunThatEndsAsIfNeverPaused) {
 
 // Issue 20, item 8: after kill -9 every file already written is readable: the CSVs' rows
 // whole, progress.json a valid summary of what was done ("running", steps and distance).
+// SIGUSR2 sends the robot back to its start (the first keyframe) and ends the run there,
+// with every output: an operator's "return home" (asf run's help; docs/ROS2.md).
+TEST(RunExit, Sigusr2DrivesTheRobotHomeAndEndsTheRunThere) {
+  const fs::path d = tempDir("home");
+  std::string route;
+  for (int i = 0; i < 40; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
+  route += "0 0";
+  const std::string log = (d / "home.log").string();
+  const pid_t pid = asf_test::spawnHost({"run", ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini",
+                                         "--set", "waypoints.waypoints=" + route, "--set",
+                                         "pipeline.backend=sparse_lm", "--out", (d / "run").string()},
+                                        log);
+  ASSERT_GT(pid, 0);
+  std::error_code ec;
+  const fs::path traj = d / "run" / "trajectory.csv";
+  const auto t0 = std::chrono::steady_clock::now();  // synchronisation only, not a speed limit
+  while (!(fs::file_size(traj, ec) >= 20000 && !ec) &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  kill(pid, SIGUSR2);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  const std::string out = readText(log);
+  ASSERT_TRUE(WIFEXITED(st)) << out;
+  EXPECT_EQ(WEXITSTATUS(st), 0) << out;
+  const auto j = nlohmann::json::parse(readText(d / "run" / "summary.json"));
+  const std::string why = j["stop_reason"];
+  EXPECT_EQ(why.rfind("the operator asked to return home (SIGUSR2); back at the start (", 0), 0u) << why;
+  EXPECT_FALSE(j["finished"].get<bool>());
+  // Ended within the goal tolerance (0.3 m) of the start, plus the estimate's error.
+  std::ifstream csv(traj);
+  std::string header, line, first, last;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  for (last = first; std::getline(csv, line);) last = line;
+  auto truth = [](const std::string& row) {
+    std::vector<double> v;
+    std::stringstream ss(row);
+    for (std::string c; std::getline(ss, c, ',');) v.push_back(std::stod(c));
+    return std::make_pair(v.at(5), v.at(6));  // gt_x, gt_y
+  };
+  const auto [x0, y0] = truth(first);
+  const auto [x1, y1] = truth(last);
+  EXPECT_LT(std::hypot(x1 - x0, y1 - y0), 0.5) << last;
+  EXPECT_GT(j["steps"].get<int>(), 100);
+}
+
 TEST(RunExit, AfterSigkillTheFilesWrittenAreReadable) {
   const fs::path d = tempDir("sigkill");
   std::string route;

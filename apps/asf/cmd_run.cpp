@@ -17,13 +17,14 @@
 namespace asf::app {
 
 namespace {
-std::atomic<bool> g_stop{false}, g_pause{false};
+std::atomic<bool> g_stop{false}, g_pause{false}, g_home{false};
 std::atomic<int> g_signal{0};
 extern "C" void onSignal(int signo) {
   g_signal = signo;
   g_stop = true;
 }
 extern "C" void onPauseSignal(int) { g_pause = !g_pause.load(); }
+extern "C" void onHomeSignal(int) { g_home = true; }
 /// The live view's window, from libasf_live_window.so beside this library (MRPT's GUI, wx and
 /// GTK are loaded only for --gui).
 class LiveWindow {
@@ -113,7 +114,8 @@ int cmdRun(int argc, char** argv) {
       "Runs the pipeline of CONFIG: source -> front-end -> back-end -> map -> segmenter -> "
       "topological graph -> policy, until the source ends, the policy is done or a budget is "
       "spent. Ctrl-C stops the run and still writes its outputs; SIGUSR1 (kill -USR1 PID) pauses "
-      "it and a second SIGUSR1 resumes it.",
+      "it and a second SIGUSR1 resumes it (a live robot is stopped meanwhile); SIGUSR2 sends "
+      "the robot back to its start and ends the run there.",
       ' ', ASF_VERSION_STRING);
   TCLAP::UnlabeledValueArg<std::string> config(
       "config", "Pipeline INI file (with --resume: the run's own config.ini by default)", false, "",
@@ -186,10 +188,12 @@ int cmdRun(int argc, char** argv) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   std::signal(SIGUSR1, onPauseSignal);
-  const RunSummary s = pipeline.run(&g_stop, &g_pause);
+  std::signal(SIGUSR2, onHomeSignal);
+  const RunSummary s = pipeline.run(&g_stop, &g_pause, &g_home);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   std::signal(SIGUSR1, SIG_DFL);
+  std::signal(SIGUSR2, SIG_DFL);
 
   printOutcome(s, dir);
   if (window) window->hold(gui_hold.getValue(), g_stop);

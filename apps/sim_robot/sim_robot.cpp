@@ -3,7 +3,8 @@
 // /tf odom -> base_link, /tf_static base_link -> laser) plus its truth (/ground_truth,
 // /world_map), and drives as nav2 would: a geometry_msgs/PoseStamped on /goal_pose is planned
 // on the latest /map and map -> odom, its outcome published on the NavigateToPose action's
-// status topic. Loaded by the launcher (`asf sim-robot`) from libasf_sim_robot.so.
+// status topic. Its base also takes geometry_msgs/Twist on /cmd_vel, as a robot's driver does.
+// Loaded by the launcher (`asf sim-robot`) from libasf_sim_robot.so.
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
@@ -30,6 +31,7 @@
 
 #include "action_msgsPubSubTypes.h"
 #include "fastdds_node.h"
+#include "sim_robot_options.h"
 #include "received_log.h"
 #include "geometry_msgsPubSubTypes.h"
 #include "nav_msgsPubSubTypes.h"
@@ -42,6 +44,8 @@
 namespace {
 
 namespace ros2 = asf::ros2;
+using asf::simrobot::Options;
+using asf::simrobot::parseArgs;
 namespace bi = builtin_interfaces::msg::dds_;
 namespace gm = geometry_msgs::msg::dds_;
 using mrpt::poses::CPose2D;
@@ -55,69 +59,6 @@ std::uint64_t splitmix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 extern "C" void onSignal(int) { g_stop = true; }
-
-struct Options {
-  std::string config, out;
-  std::vector<std::string> sets;
-  int domain = 0;
-  bool loopback = false;
-  double rate = 1.0;       // real-time factor
-  double duration = 0;     // simulated seconds; 0: until stopped
-  double clock_start = 1;  // ROS tools read a zero stamp as "latest": start the clock here
-  std::string fault;       // a bad peer on purpose (kFaults), for testing what talks to it
-};
-
-// The ways --fault makes the robot a bad peer.
-const char* kFaults[] = {"scan_as_string", "no_tf_static", "stuck"};
-
-const char* kUsage =
-    "usage: asf sim-robot CONFIG.ini [--set section.key=value]... [--domain N] [--loopback]\n"
-    "                     [--rate FACTOR] [--duration SECONDS] [--out DIR] [--fault NAME]\n"
-    "The [pipeline] source of CONFIG.ini (sim2d) as a ROS 2 robot on Fast DDS: publishes\n"
-    "/clock /scan /odom /tf /tf_static /ground_truth /world_map, takes /goal_pose with /map and\n"
-    "map -> odom, reports goals on /navigate_to_pose/_action/status. --rate: real-time factor\n"
-    "(default 1); --loopback: discovery on 127.0.0.1 only; --out: the simulator's recording and\n"
-    "sim_robot.json. Stops on SIGINT or SIGTERM, after --duration, or when the source ends.\n"
-    "--fault makes it a bad peer, to test what talks to it: scan_as_string (/scan carries\n"
-    "std_msgs/String), no_tf_static (no laser mounting), stuck (goals accepted, never driven).\n";
-
-Options parseArgs(int argc, char** argv) {
-  Options o;
-  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env && *env) o.domain = std::atoi(env);
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw asf::ConfigError("asf sim-robot: " + a + " needs a value");
-      return argv[++i];
-    };
-    auto number = [&](double lo, double hi) {
-      const std::string v = value();
-      char* end = nullptr;
-      const double d = std::strtod(v.c_str(), &end);
-      if (end == v.c_str() || *end || !(d >= lo && d <= hi))
-        throw asf::ConfigError("asf sim-robot: " + a + " " + v + ": not a number in [" +
-                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
-      return d;
-    };
-    if (a == "--set" || a == "-s") o.sets.push_back(value());
-    else if (a == "--domain") o.domain = static_cast<int>(number(0, 232));
-    else if (a == "--loopback") o.loopback = true;
-    else if (a == "--rate") o.rate = number(1e-3, 1e4);
-    else if (a == "--duration") o.duration = number(0, 1e9);
-    else if (a == "--out") o.out = value();
-    else if (a == "--fault") {
-      o.fault = value();
-      if (std::find(std::begin(kFaults), std::end(kFaults), o.fault) == std::end(kFaults))
-        throw asf::ConfigError("asf sim-robot: --fault " + o.fault +
-                               ": not one of scan_as_string, no_tf_static, stuck");
-    }
-    else if (a == "-h" || a == "--help") { std::fputs(kUsage, stdout); std::exit(0); }
-    else if (o.config.empty() && a[0] != '-') o.config = a;
-    else throw asf::ConfigError("asf sim-robot: unknown argument '" + a + "'\n" + kUsage);
-  }
-  if (o.config.empty()) throw asf::ConfigError(std::string("asf sim-robot: no CONFIG.ini\n") + kUsage);
-  return o;
-}
 
 bi::Time_ rosTime(double t) {
   const ros2::Stamp s = ros2::toStamp(t);
@@ -172,10 +113,13 @@ struct Inbox {
   std::uint64_t map_version = 0;
   CPose2D map_to_odom;
   std::size_t goals_received = 0;
+  std::optional<asf::BaseVelocity> velocity;  // a new /cmd_vel not yet given to the base
+  std::size_t velocities_received = 0;
   // What asf published, kept for --out (received/): the last map, markers and map -> odom.
   std::optional<ros2::OccupancyGrid> last_map;
   std::vector<visualization_msgs::msg::dds_::Marker_> last_markers;
   std::size_t maps = 0, marker_arrays = 0, map_to_odom_count = 0;
+  std::vector<std::string> run_states;  // the "state" of asf's /asf/status, as it changed
 };
 
 }  // namespace
@@ -192,6 +136,7 @@ class SimRobot {
     advertise();
     subscribe();
     subscribeMarkers();
+    subscribeVelocity();
   }
 
   /// Steps the simulator at the real-time factor until stopped; returns the exit code.
@@ -199,7 +144,16 @@ class SimRobot {
     publishStatic();
     const auto start = std::chrono::steady_clock::now();
     double t = 0;
+    std::sort(o_.commands.begin(), o_.commands.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::size_t next_command = 0;
     while (!g_stop) {
+      for (; next_command < o_.commands.size() && o_.commands[next_command].first <= t; ++next_command) {
+        std_msgs::msg::dds_::String_ m;
+        m.data(o_.commands[next_command].second);
+        command_->write(&m);
+      }
+      takeVelocity(t);
       takeGoal();
       std::optional<asf::SensorFrame> f = source_->next();
       if (!f) break;
@@ -212,8 +166,9 @@ class SimRobot {
       std::this_thread::sleep_until(due);
     }
     writeSummary(t);
-    std::fprintf(stderr, "asf sim-robot: %zu scans published, %zu goals (%zu reached, %zu failed), %.1f s simulated\n",
-                 scans_, inbox_.goals_received, reached_, failed_, t);
+    std::fprintf(stderr, "asf sim-robot: %zu scans published, %zu goals (%zu reached, %zu failed), "
+                 "%zu velocity commands, %.1f s simulated\n",
+                 scans_, inbox_.goals_received, reached_, failed_, inbox_.velocities_received, t);
     return 0;
   }
 
@@ -269,6 +224,8 @@ class SimRobot {
         "/tf_static", Qos::ReliableLatched, 1);
     world_ = node_.writer<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
         "/world_map", Qos::ReliableLatched, 1);
+    command_ = node_.writer<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
+        "/asf/command", Qos::Reliable, 10);
     status_ = node_.writer<action_msgs::msg::dds_::GoalStatusArray_, action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
         "/navigate_to_pose/_action/status", Qos::ReliableLatched, 1);
   }
@@ -319,6 +276,17 @@ class SimRobot {
         });
   }
 
+  // /cmd_vel: best effort, so that reliable and best-effort publishers (teleop, controllers)
+  // both match.
+  void subscribeVelocity() {
+    node_.reader<gm::Twist_, gm::Twist_PubSubType>(
+        "/cmd_vel", asf::simrobot::Qos::SensorData, 1, [this](const gm::Twist_& m) {
+          std::lock_guard<std::mutex> lock(inbox_.mu);
+          inbox_.velocity = asf::BaseVelocity{m.linear().x(), m.angular().z()};
+          ++inbox_.velocities_received;
+        });
+  }
+
   void subscribeMarkers() {
     node_.reader<visualization_msgs::msg::dds_::MarkerArray_, visualization_msgs::msg::dds_::MarkerArray_PubSubType>(
         "/asf/markers", asf::simrobot::Qos::Reliable, 5,
@@ -326,6 +294,16 @@ class SimRobot {
           std::lock_guard<std::mutex> lock(inbox_.mu);
           inbox_.last_markers = m.markers();
           ++inbox_.marker_arrays;
+        });
+    node_.reader<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
+        "/asf/status", asf::simrobot::Qos::ReliableLatched, 1, [this](const std_msgs::msg::dds_::String_& m) {
+          const std::string key = "\"state\": \"";
+          const std::size_t at = m.data().find(key);
+          if (at == std::string::npos) return;
+          const std::size_t from = at + key.size(), to = m.data().find('"', from);
+          const std::string state = m.data().substr(from, to - from);
+          std::lock_guard<std::mutex> lock(inbox_.mu);
+          if (inbox_.run_states.empty() || inbox_.run_states.back() != state) inbox_.run_states.push_back(state);
         });
   }
 
@@ -389,6 +367,23 @@ class SimRobot {
     }
   }
 
+  // The newest /cmd_vel drives the base for cmd_vel_timeout of simulated time, then the base
+  // stops (as robot drivers do when commands stop); the first one preempts a goal.
+  void takeVelocity(double t) {
+    std::optional<asf::BaseVelocity> v;
+    {
+      std::lock_guard<std::mutex> lock(inbox_.mu);
+      v.swap(inbox_.velocity);
+    }
+    if (!v && (!by_velocity_ || t <= velocity_until_)) return;
+    if (!v) v = asf::BaseVelocity{};  // timed out
+    if (active_) setState(ros2::GoalState::Canceled), ++failed_, active_ = false;
+    if (!source_->driveVelocity(*v))
+      throw asf::ConfigError(o_.config + ": the source does not take velocities (/cmd_vel)");
+    by_velocity_ = v->forward != 0 || v->turn != 0;
+    velocity_until_ = t + o_.cmd_vel_timeout;
+  }
+
   // A new goal from /goal_pose: planned on the latest /map from where map -> odom puts the
   // robot (nav2 plans on the SLAM map and pose); the goal before it is canceled (preempted).
   void takeGoal() {
@@ -403,8 +398,11 @@ class SimRobot {
       map.grid = inbox_.map;
       map.version = inbox_.map ? inbox_.map_version : 0;
       ctx.robot_estimate = inbox_.map_to_odom + odom_pose_;
+      planned_with_ = inbox_.map_to_odom;
     }
     ctx.map = map.version ? &map : nullptr;
+    goal_ = g;
+    by_velocity_ = false;  // navigate() takes the base back
     if (active_) setState(ros2::GoalState::Canceled), ++failed_;
     goals_.push_back({newUuid(), 0});
     active_ = true;
@@ -413,8 +411,29 @@ class SimRobot {
     settle(source_->navigate(g, ctx));
   }
 
+  // As nav2 follows the latest map -> odom: when asf's estimate moved the robot (a loop
+  // closure) by more than 5 cm or 2 degrees since the goal was planned, it is planned again
+  // from where the new estimate puts the robot.
   void followGoal() {
-    if (active_ && o_.fault != "stuck") settle(source_->status());
+    if (!active_ || o_.fault == "stuck") return;
+    asf::NavigationContext ctx;
+    asf::GridMap map;
+    bool replan = false;
+    {
+      std::lock_guard<std::mutex> lock(inbox_.mu);
+      const CPose2D moved = planned_with_ - inbox_.map_to_odom;
+      replan = std::hypot(moved.x(), moved.y()) > 0.05 || std::abs(moved.phi()) > 2 * M_PI / 180;
+      if (replan) {
+        planned_with_ = inbox_.map_to_odom;
+        map.grid = inbox_.map;
+        map.version = inbox_.map ? inbox_.map_version : 0;
+        ctx.robot_estimate = inbox_.map_to_odom + odom_pose_;
+      }
+    }
+    if (!replan) return settle(source_->status());
+    ctx.map = map.version ? &map : nullptr;
+    ++replans_;
+    settle(source_->navigate(goal_, ctx));
   }
 
   void settle(asf::NavStatus st) {
@@ -469,6 +488,13 @@ class SimRobot {
     return os.str();
   }
 
+  std::string statesJson() {
+    std::lock_guard<std::mutex> lock(inbox_.mu);
+    std::string j = "[";
+    for (const auto& s : inbox_.run_states) j += (j.size() > 1 ? ", \"" : "\"") + s + "\"";
+    return j + "]";
+  }
+
   void writeSummary(double t) {
     if (o_.out.empty()) return;
     {
@@ -478,10 +504,11 @@ class SimRobot {
     }
     std::ofstream f(o_.out + "/sim_robot.json");
     f << "{\"scans_published\": " << scans_ << ", \"goals_received\": " << inbox_.goals_received
-      << ", \"goals_reached\": " << reached_ << ", \"goals_failed\": " << failed_
+      << ", \"velocities_received\": " << inbox_.velocities_received
+      << ", \"goals_reached\": " << reached_ << ", \"replans_after_map_to_odom\": " << replans_ << ", \"goals_failed\": " << failed_
       << ", \"maps_received\": " << inbox_.maps << ", \"marker_arrays_received\": "
       << inbox_.marker_arrays << ", \"map_to_odom_received\": " << inbox_.map_to_odom_count
-      << ", \"scan_to_tf_latency\": " << latencyJson()
+      << ", \"scan_to_tf_latency\": " << latencyJson() << ", \"asf_states\": " << statesJson()
       << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false") << "}\n";
   }
 
@@ -496,13 +523,18 @@ class SimRobot {
   Inbox inbox_;
   std::vector<std::pair<std::array<std::uint8_t, 16>, std::int8_t>> goals_;
   bool active_ = false;
+  bool by_velocity_ = false;  // the base moves at a /cmd_vel until velocity_until_
+  asf::Goal goal_;             // the active goal
+  CPose2D planned_with_;       // the map -> odom it was last planned with
+  std::size_t replans_ = 0;    // goals planned again after a map -> odom correction
+  double velocity_until_ = 0;
   std::size_t scans_ = 0, reached_ = 0, failed_ = 0;
   std::mt19937_64 uuid_rng_;
   std::map<long long, std::chrono::steady_clock::time_point> scan_sent_;  // stamp ns -> sent
   std::vector<double> latency_ms_;
   eprosima::fastdds::dds::DataWriter *clock_ = nullptr, *scan_ = nullptr, *odom_ = nullptr,
                                      *gt_ = nullptr, *tf_ = nullptr, *tf_static_ = nullptr,
-                                     *world_ = nullptr, *status_ = nullptr;
+                                     *world_ = nullptr, *status_ = nullptr, *command_ = nullptr;
 };
 
 }  // namespace

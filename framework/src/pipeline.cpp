@@ -135,8 +135,9 @@ void Pipeline::setLiveView(std::function<void(const ViewImage&)> show, double pe
   impl_->live_max_side = max_side;
 }
 
-RunSummary Pipeline::run(const std::atomic<bool>* stop, const std::atomic<bool>* pause) {
-  return runPipeline(*impl_, stop, pause);
+RunSummary Pipeline::run(const std::atomic<bool>* stop, const std::atomic<bool>* pause,
+                         const std::atomic<bool>* home) {
+  return runPipeline(*impl_, stop, pause, home);
 }
 
 }  // namespace asf

@@ -66,6 +66,6 @@ struct PipelineParts : public mrpt::system::COutputLogger {
 
 /// Runs the pipeline once (Pipeline::run).
 RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
-                       const std::atomic<bool>* pause = nullptr);
+                       const std::atomic<bool>* pause = nullptr, const std::atomic<bool>* home = nullptr);
 
 }  // namespace asf

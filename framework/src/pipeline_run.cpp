@@ -22,11 +22,15 @@ RunSummary RunState::run() {
   try {
     const bool go_on = limits_.resume.empty() || replayRecorded();
     while (go_on && !budgetSpent()) {
-      if (pause_ && pause_->load()) {
-        waitWhilePaused();
-        continue;  // the stop flag first
+      if (!operatorTurn()) break;  // an operator's stop
+      if (paused_) {
+        if (!m_.source->isLive()) {
+          waitWhilePaused();
+          continue;  // the stop flag first
+        }
+      } else if (exploring_ && m_.source->status() != NavStatus::Moving && !decide()) {
+        break;
       }
-      if (exploring_ && m_.source->status() != NavStatus::Moving && !decide()) break;
       std::optional<SensorFrame> frame = m_.source->next();
       if (!frame) {
         sum_.finished = !exploring_;
@@ -53,7 +57,7 @@ RunSummary RunState::run() {
 bool RunState::budgetSpent() {
   // A timeout over `limit` of distance or time since the explored area last grew.
   auto noProgress = [&](double since, double limit, const char* unit, const char* key) {
-    if (returning_home_ || limit <= 0 || since < limit) return false;
+    if (returning_home_ || paused_ || limit <= 0 || since < limit) return false;
     sum_.stop_reason = "no progress: the explored area grew by less than " +
                        formatSignificant(limits_.progress_min_area, 3) + " m^2 over the last " +
                        formatSignificant(limit, 4) + " " + unit + " (" + key + ")";
@@ -73,9 +77,8 @@ bool RunState::budgetSpent() {
   } else {
     return false;
   }
-  if (returning_home_)  // the exploration itself was done
-    sum_.stop_reason = "policy done: " + done_reason_ +
-                       "; stopped on the way back to the start: " + sum_.stop_reason;
+  if (returning_home_)  // the exploration itself was done, or the operator called it off
+    sum_.stop_reason = home_reason_ + "; stopped on the way back to the start: " + sum_.stop_reason;
   return true;
 }
 
@@ -157,7 +160,8 @@ bool RunState::decide() {
   if (giveUp(st)) return false;
   const ExplorationState s = explorationState(st);
   const Decision d = policyDecision(s);
-  if (d.type == Decision::Type::Done) return limits_.return_home && goHome(d.reason, s.robot);
+  if (d.type == Decision::Type::Done)
+    return limits_.return_home && goHome("policy done: " + d.reason, true, s.robot);
   navigateTo(d.goal, s.robot);
   return true;
 }
@@ -189,6 +193,8 @@ void RunState::observe(double timestamp, bool final) {
   v.graph = &m_.graph;
   v.goal = have_goal_ ? &last_goal_ : nullptr;  // the last goal given
   v.final = final;
+  v.paused = paused_;
+  v.returning_home = returning_home_;
   m_.source->observe(v);
 }
 
@@ -450,45 +456,6 @@ void RunState::finish() {
   writeOutputs();
 }
 
-bool RunState::goHome(const std::string& reason, const mrpt::poses::CPose2D& robot) {
-  if (m_.graph.empty()) return false;
-  Goal g;
-  g.x = m_.graph.nodes.front().pose.x();
-  g.y = m_.graph.nodes.front().pose.y();
-  done_reason_ = reason;
-  returning_home_ = true;
-  home_from_distance_ = sum_.distance_m;
-  m_.logStr(mrpt::system::LVL_INFO, "policy done (" + reason + "): returning to the start (" +
-                                        formatSignificant(g.x, 4) + ", " +
-                                        formatSignificant(g.y, 4) + ")");
-  last_goal_ = g;
-  have_goal_ = true;
-  const NavStatus st = navigateTo(g, robot);
-  if (st == NavStatus::Unreachable || st == NavStatus::Blocked) return arrivedHome(st);
-  return true;
-}
-
-bool RunState::arrivedHome(NavStatus st) {
-  const double d = sum_.distance_m - home_from_distance_;
-  sum_.finished = true;
-  sum_.stop_reason = "policy done: " + done_reason_ +
-                     (st == NavStatus::Reached ? "; back at the start ("
-                                               : std::string("; did not get back to the start (") +
-                                                     navStatusName(st) + ", ") +
-                     formatSignificant(d, 4) + " m driven to it)";
-  return false;
-}
-
-void RunState::waitWhilePaused() {
-  m_.logStr(mrpt::system::LVL_INFO, "paused at step " + std::to_string(sum_.steps));
-  rec_.status("paused");
-  while (pause_->load() && !(stop_ && stop_->load()))
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  if (stop_ && stop_->load()) return;
-  m_.logStr(mrpt::system::LVL_INFO, "resumed at step " + std::to_string(sum_.steps));
-  rec_.status("running");
-}
-
 void RunState::checkPathHome() {
   if (!m_.planner || m_.graph.size() <= 1 || (stop_ && stop_->load())) return;
   PlanRequest req;
@@ -512,8 +479,8 @@ void RunState::checkPathHome() {
 namespace asf {
 
 RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
-                       const std::atomic<bool>* pause) {
-  return run::RunState(parts, stop, pause).run();
+                       const std::atomic<bool>* pause, const std::atomic<bool>* home) {
+  return run::RunState(parts, stop, pause, home).run();
 }
 
 }  // namespace asf

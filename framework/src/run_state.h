@@ -59,10 +59,12 @@ struct RunLimits {
 
 class RunState {
  public:
-  RunState(PipelineParts& m, const std::atomic<bool>* stop, const std::atomic<bool>* pause)
+  RunState(PipelineParts& m, const std::atomic<bool>* stop, const std::atomic<bool>* pause,
+           const std::atomic<bool>* home)
       : m_(m),
         stop_(stop),
         pause_(pause),
+        home_(home),
         limits_(m.cfg.pipeline),
         exploring_(m.policy && m.source->isActive()),
         t_start_(Clock::now()),
@@ -86,11 +88,20 @@ class RunState {
   /// retaken by the policy on the states they were taken on, then the source sent where the
   /// recorded run was going. False when the recorded run ended within its log.
   bool replayRecorded();
-  /// Holds the run (no step, no decision) while pause_ is set or until stop_ is.
+  /// The operator's turn (run_operator.cpp): requests from the source, pausing (the robot
+  /// halted) and resuming as they and pause_ say, the way home when asked; false on a stop.
+  bool operatorTurn();
+  /// Takes the source's operator requests; false on Stop (the stop reason set).
+  bool takeRequests();
+  void enterPause();
+  void leavePause();
+  /// Holds the run (no step, no decision) while paused, until resumed or stopped (a source
+  /// that is not live: nothing comes meanwhile).
   void waitWhilePaused();
-  /// return_home: sends the robot to the start; false when that failed at once (then the
-  /// run stops, finished, saying so).
-  bool goHome(const std::string& reason, const mrpt::poses::CPose2D& robot);
+  /// Sends the robot to the start, `why` (the stop reason's start); `finishes`: the run is
+  /// finished when it gets there. False when that failed at once (then the run stops, saying
+  /// so).
+  bool goHome(const std::string& why, bool finishes, const mrpt::poses::CPose2D& robot);
   /// The robot stopped on its way home: the stop reason says whether it got there.
   bool arrivedHome(NavStatus st);
   bool giveUp(NavStatus status);
@@ -126,6 +137,7 @@ class RunState {
   PipelineParts& m_;
   const std::atomic<bool>* stop_;
   const std::atomic<bool>* pause_;
+  const std::atomic<bool>* home_;  ///< set: drive back to the start (once)
   const RunLimits limits_;
   const bool exploring_;
   const Clock::time_point t_start_;
@@ -142,9 +154,17 @@ class RunState {
   double idle_since_distance_ = 0;
   /// The last time the explored area grew by progress_min_area: its area, distance, time.
   double progress_area_ = 0, progress_distance_ = 0, progress_time_ = 0;
-  bool returning_home_ = false;  ///< the policy said done; the robot drives to the start
+  bool returning_home_ = false;  ///< the robot drives to the start (policy done, or asked to)
+  bool home_finishes_ = false;   ///< arriving there finishes the run (the policy was done)
   double home_from_distance_ = 0;
-  std::string done_reason_;  ///< the policy's reason, for the stop reason at home
+  std::string home_reason_;  ///< why it drives home, for the stop reason at home
+  // The operator's side (run_operator.cpp).
+  bool paused_ = false;           ///< no decision: pause_ or an operator's request
+  bool operator_paused_ = false;  ///< an operator's Pause not yet resumed
+  bool operator_stop_ = false;    ///< an operator's Stop
+  double paused_at_ = 0;          ///< now_t_ when the pause began
+  std::string home_request_;      ///< an operator's ReturnHome not yet acted on (its origin)
+  bool home_signal_taken_ = false;  ///< home_ was acted on
   Goal last_goal_;
   bool have_goal_ = false;
   // Compute time per stage since the last timeseries row, and per call for the summary.

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 
 #include "action_msgs.h"
@@ -239,6 +240,12 @@ void CycloneLink::onOccupancy(const std::string& ros_topic, std::function<void(r
   });
 }
 
+void CycloneLink::onString(const std::string& ros_topic, std::function<void(std::string)> fn) {
+  reader(&std_msgs_msg_dds__String__desc, ros_topic, Qos::Reliable, 10, [fn](int rd) {
+    takeAll<std_msgs_msg_dds__String_>(rd, [&](const std_msgs_msg_dds__String_& s) { fn(str(s.data)); });
+  });
+}
+
 int CycloneLink::advertiseOccupancy(const std::string& ros_topic) {
   return writer(&nav_msgs_msg_dds__OccupancyGrid__desc, ros_topic, Qos::ReliableLatched, 1);
 }
@@ -250,6 +257,9 @@ int CycloneLink::advertisePose(const std::string& ros_topic) {
 }
 int CycloneLink::advertiseMarkers(const std::string& ros_topic) {
   return writer(&visualization_msgs_msg_dds__MarkerArray__desc, ros_topic, Qos::Reliable, 5);
+}
+int CycloneLink::advertiseTwist(const std::string& ros_topic) {
+  return writer(&geometry_msgs_msg_dds__Twist__desc, ros_topic, Qos::Reliable, 10);
 }
 int CycloneLink::advertiseString(const std::string& ros_topic) {
   return writer(&std_msgs_msg_dds__String__desc, ros_topic, Qos::ReliableLatched, 1);
@@ -299,6 +309,13 @@ bool CycloneLink::publishPose(int writer, const ros2::Stamp& stamp, const std::s
 bool CycloneLink::publishString(int writer, const std::string& text) {
   std_msgs_msg_dds__String_ s{};
   s.data = const_cast<char*>(text.c_str());
+  return dds_write(writer, &s) == DDS_RETCODE_OK;
+}
+
+bool CycloneLink::publishTwist(int writer, double forward, double turn) {
+  geometry_msgs_msg_dds__Twist_ s{};
+  s.linear.x = forward;
+  s.angular.z = turn;
   return dds_write(writer, &s) == DDS_RETCODE_OK;
 }
 
@@ -361,6 +378,32 @@ std::vector<std::string> CycloneLink::publisherTypes(const std::string& ros_topi
 
 std::size_t CycloneLink::subscriberCount(const std::string& ros_topic) const {
   return endpointTypes(subscriptions_, ros2::ddsTopic(ros_topic)).size();
+}
+
+}  // namespace asf::ros2live
+
+namespace asf::ros2live {
+
+std::string CycloneLink::whySilent(const std::string& topic, const std::string& type, double waited) const {
+  std::ostringstream os;
+  os << "[ros2] topic " << topic << ": no " << type << " for " << waited << " s; ";
+  const auto types = publisherTypes(topic);
+  if (types.empty()) {
+    os << "no publisher of it was discovered (is the robot running, on the same domain id and "
+          "network?)";
+    return os.str();
+  }
+  // "pkg/Type" is "pkg::msg::dds_::Type_" on the wire.
+  const std::size_t slash = type.find('/');
+  const std::string wire = type.substr(0, slash) + "::msg::dds_::" + type.substr(slash + 1) + "_";
+  for (const std::string& t : types)
+    if (t != wire) {
+      os << "it is published with type " << t << ", not " << wire << " (" << type << ")";
+      return os.str();
+    }
+  os << types.size() << " publisher(s) of it were discovered but sent nothing asf received "
+     << "(stopped, or QoS that does not match: a best-effort publisher and a reliable reader)";
+  return os.str();
 }
 
 }  // namespace asf::ros2live

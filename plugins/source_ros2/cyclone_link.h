@@ -43,6 +43,8 @@ class CycloneLink {
   void onClock(const std::string& ros_topic, std::function<void(ros2::Stamp)> fn);
   void onGoalStatus(const std::string& ros_topic, std::function<void(std::vector<GoalStatusEntry>)> fn);
   void onOccupancy(const std::string& ros_topic, std::function<void(ros2::OccupancyGrid)> fn);
+  /// std_msgs/String, reliable (what `ros2 topic pub` sends by default).
+  void onString(const std::string& ros_topic, std::function<void(std::string)> fn);
 
   // Writers: advertise once, then publish. Each returns false when Cyclone refused the sample.
   int advertiseOccupancy(const std::string& ros_topic);
@@ -50,17 +52,25 @@ class CycloneLink {
   int advertisePose(const std::string& ros_topic);
   int advertiseString(const std::string& ros_topic);
   int advertiseMarkers(const std::string& ros_topic);
+  /// geometry_msgs/Twist, reliable (what teleop and nav2's controller publish on /cmd_vel).
+  int advertiseTwist(const std::string& ros_topic);
   bool publish(int writer, const ros2::OccupancyGrid& m);
   bool publish(int writer, const std::vector<ros2::TransformStamped>& m);
   bool publishPose(int writer, const ros2::Stamp& stamp, const std::string& frame,
                    const ros2::Transform& pose);
   bool publishString(int writer, const std::string& text);
+  /// A planar velocity: linear.x [m/s] and angular.z [rad/s], the rest zero.
+  bool publishTwist(int writer, double forward, double turn);
   /// One visualization_msgs/MarkerArray.
   bool publish(int writer, const std::vector<ros2::Marker>& markers);
 
   /// The types of the writers discovered on a ROS 2 topic (other participants and ours), for
   /// saying why nothing arrives.
   std::vector<std::string> publisherTypes(const std::string& ros_topic) const;
+  /// Why nothing of `type` ("sensor_msgs/LaserScan") came on a ROS 2 topic for `waited` s:
+  /// no publisher discovered, publishers of another type, or publishers that sent nothing
+  /// we received (stopped, or QoS that does not match). Starts "[ros2] topic T: ".
+  std::string whySilent(const std::string& ros_topic, const std::string& type, double waited) const;
   /// Readers of a ROS 2 topic this participant writes, discovered anywhere.
   std::size_t subscriberCount(const std::string& ros_topic) const;
 

@@ -5,10 +5,12 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace asf::ros2live {
 
@@ -136,6 +138,45 @@ NavStatus GoalTracker::status(std::uint64_t scans_returned, double wall_time,
   pending_ = false;
   why_ = why.str();
   return last_;
+}
+
+OperatorRequest::Kind parseOperatorCommand(const std::string& text) {
+  std::string t;
+  for (char c : text)
+    if (!std::isspace(static_cast<unsigned char>(c))) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  using Kind = OperatorRequest::Kind;
+  if (t == "start" || t == "resume") return Kind::Resume;
+  if (t == "pause") return Kind::Pause;
+  if (t == "stop") return Kind::Stop;
+  if (t == "return_home") return Kind::ReturnHome;
+  return Kind::None;
+}
+
+void OperatorInbox::arrived(const std::string& topic, const std::string& text) {
+  const OperatorRequest::Kind k = parseOperatorCommand(text);
+  std::lock_guard<std::mutex> lock(mu_);
+  if (k == OperatorRequest::Kind::None)
+    unknown_.push_back(text);
+  else
+    requests_.push_back({k, "topic " + topic + ": '" + text + "'"});
+}
+
+void OperatorInbox::push(OperatorRequest r) {
+  std::lock_guard<std::mutex> lock(mu_);
+  requests_.push_back(std::move(r));
+}
+
+OperatorRequest OperatorInbox::take() {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (requests_.empty()) return {};
+  OperatorRequest r = std::move(requests_.front());
+  requests_.pop_front();
+  return r;
+}
+
+std::vector<std::string> OperatorInbox::takeUnknown() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return std::exchange(unknown_, {});
 }
 
 void ScanQueue::push(ros2::LaserScan msg) {

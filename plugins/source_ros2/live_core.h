@@ -3,6 +3,7 @@
 // transforms, goal outcomes) and the rules that turn it into SensorFrames and navigation
 // states. The DDS side (cyclone_link) feeds it from its receive thread; the plugin reads it.
 #include <asf/goal.h>
+#include <asf/source.h>
 #include <asf/ros2/messages.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
@@ -84,6 +85,11 @@ class GoalTracker {
   /// Why the last goal ended the way it did (for the log): "" while it runs.
   const std::string& why() const { return why_; }
   void cancel() { pending_ = false; }
+  /// The robot was stopped (the run paused): no goal, status Idle.
+  void halt() {
+    pending_ = false;
+    last_ = NavStatus::Idle;
+  }
 
  private:
   std::set<Uuid> seen_;
@@ -119,6 +125,27 @@ class ScanQueue {
   std::deque<ArrivedScan> q_;
   std::size_t capacity_;
   std::uint64_t arrived_ = 0, dropped_ = 0;
+};
+
+/// An operator's command as text (std_msgs/String on the command topic): start or resume,
+/// pause, stop, return_home (blanks and case ignored). Kind::None for anything else.
+OperatorRequest::Kind parseOperatorCommand(const std::string& text);
+
+/// Operator requests as they arrive on the command topic (receive thread), taken by the run.
+class OperatorInbox {
+ public:
+  /// A text from `topic`: a request when it is a command, else kept to be reported.
+  void arrived(const std::string& topic, const std::string& text);
+  void push(OperatorRequest r);
+  /// The oldest request not taken yet (Kind::None: none).
+  OperatorRequest take();
+  /// The texts that were not commands since the last call.
+  std::vector<std::string> takeUnknown();
+
+ private:
+  std::mutex mu_;
+  std::deque<OperatorRequest> requests_;
+  std::vector<std::string> unknown_;
 };
 
 /// CPU seconds the calling thread has used so far.

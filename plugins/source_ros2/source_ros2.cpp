@@ -3,7 +3,10 @@
 // and the laser's mounting from /tf_static. With drive = nav2 it is an active source: goals go
 // out as geometry_msgs/PoseStamped on /goal_pose (what nav2's BT navigator takes from rviz),
 // their outcome comes back on the NavigateToPose action's status topic, and /map and
-// map -> odom go out for the navigator to plan on. Every run is recorded as a rawlog.
+// map -> odom go out for the navigator to plan on. With drive = cmd_vel asf navigates itself:
+// a path on its map, followed with geometry_msgs/Twist on /cmd_vel (velocity_drive.h). An
+// operator starts, pauses, stops or sends the robot home with std_msgs/String on /asf/command.
+// Every run is recorded as a rawlog.
 #include <asf/errors.h>
 #include <asf/ground_truth.h>
 #include <asf/odometry_noise.h>
@@ -25,6 +28,8 @@
 #include "live_bag.h"
 #include "live_core.h"
 #include "run_markers.h"
+#include "source_ros2_keys.h"
+#include "velocity_drive.h"
 
 namespace {
 
@@ -46,6 +51,10 @@ class Ros2Source final : public asf::Source {
  public:
   ~Ros2Source() override {
     const double others = asf::ros2live::otherThreadsCpuSeconds();
+    if (velocity_) {
+      velocity_->halt();  // the robot stops before asf leaves
+      MRPT_LOG_INFO_STREAM(velocity_->commandsSent() << " velocity commands sent on " << cmd_vel_topic_);
+    }
     link_.reset();  // no callback after this
     if (frames_ > 0)
       MRPT_LOG_INFO_STREAM("bridge CPU: " << bridge_cpu_ << " s on the run's thread (conversions, "
@@ -77,7 +86,33 @@ class Ros2Source final : public asf::Source {
     if (!world_topic_.empty()) waitForWorld(p);
   }
 
-  bool isActive() const override { return nav2_; }
+  bool isActive() const override { return nav2_ || velocity_; }
+  bool isLive() const override { return true; }
+
+  asf::OperatorRequest takeOperatorRequest() override {
+    for (const std::string& text : commands_.takeUnknown())
+      MRPT_LOG_WARN_STREAM("topic " << command_topic_ << ": '" << text
+                                    << "' is not a command (start, pause, resume, stop, return_home); ignored");
+    return commands_.take();
+  }
+
+  // The robot stops where it is: nav2 gets a goal at the robot's pose (its navigator preempts
+  // the running goal with it, as a new goal from rviz does); cmd_vel a zero velocity.
+  void halt() override {
+    if (velocity_) velocity_->halt();
+    if (!nav2_) return;
+    bool was_moving = false;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      was_moving = tracker_.active();
+      tracker_.halt();
+    }
+    if (!was_moving) return;
+    const ros2::Stamp stamp = now();
+    const ros2::Transform pose = ros2::transformFromPose(last_robot_);
+    link_->publishPose(goal_wr_, stamp, map_frame_, pose);
+    bag_.goal(stamp, map_frame_, pose);
+  }
   std::shared_ptr<const asf::WorldTruth> worldTruth() const override { return truth_; }
 
   std::optional<asf::SensorFrame> next() override {
@@ -87,6 +122,7 @@ class Ros2Source final : public asf::Source {
   }
 
   asf::NavStatus navigate(const asf::Goal& goal, const asf::NavigationContext& ctx) override {
+    if (velocity_) return navigateByVelocity(goal, ctx);
     if (!nav2_) return asf::NavStatus::Unreachable;
     if (!std::isfinite(goal.x) || !std::isfinite(goal.y)) return asf::NavStatus::Unreachable;
     const CPose2D& r = ctx.robot_estimate;
@@ -104,7 +140,7 @@ class Ros2Source final : public asf::Source {
     link_->publishPose(goal_wr_, stamp, map_frame_, pose);
     bag_.goal(stamp, map_frame_, pose);
     ++goals_sent_;
-    publishStatus(goal);
+    publishStatus(&goal, run_state_);
     return asf::NavStatus::Moving;
   }
 
@@ -114,10 +150,30 @@ class Ros2Source final : public asf::Source {
     if (frames_ == 0) return;
     const double cpu0 = asf::ros2live::threadCpuSeconds();
     publishView(v);
+    last_robot_ = v.robot;
+    const std::string state = v.final ? "ended" : v.paused ? "paused" : v.returning_home ? "returning_home" : "exploring";
+    if (state != run_state_) publishStatus(v.goal, run_state_ = state);
     bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0;
+    if (velocity_ && v.final) velocity_->halt();
+    else if (velocity_) velocity_->observe(driveView(v.map, v.robot, v.timestamp));
   }
 
  private:
+  asf::ros2live::VelocityDrive::View driveView(const asf::GridMap* map, const CPose2D& robot, double t) const {
+    return {map && map->version ? map->grid : nullptr, robot, last_odom_, last_scan_, t};
+  }
+
+  asf::NavStatus navigateByVelocity(const asf::Goal& goal, const asf::NavigationContext& ctx) {
+    const asf::NavStatus st = velocity_->navigate(goal, driveView(ctx.map, ctx.robot_estimate, last_t_));
+    ++goals_sent_;
+    if (st == asf::NavStatus::Unreachable)
+      MRPT_LOG_INFO_STREAM("goal " << goals_sent_ << " (" << goal.x << ", " << goal.y
+                                   << "): unreachable (" << velocity_->why() << ")");
+    publishStatus(&goal, run_state_);
+    velocity_moving_ = st == asf::NavStatus::Moving;
+    return st;
+  }
+
   void publishView(const asf::RunView& v) {
     // Stamped with the frame's (its scan's) time: map -> odom holds at that instant, and tf
     // users look it up there beside odom -> base_link.
@@ -148,6 +204,14 @@ class Ros2Source final : public asf::Source {
 
  public:
   asf::NavStatus status() const override {
+    if (velocity_) {
+      const asf::NavStatus st = velocity_->status(last_t_);
+      if (velocity_moving_ && st != asf::NavStatus::Moving)
+        MRPT_LOG_INFO_STREAM("goal " << goals_sent_ << " by " << cmd_vel_topic_ << ": "
+                                     << asf::navStatusName(st) << " (" << velocity_->why() << ")");
+      velocity_moving_ = st == asf::NavStatus::Moving;
+      return st;
+    }
     if (!nav2_) return asf::NavStatus::Idle;
     std::lock_guard<std::mutex> lock(mu_);
     const bool was_active = tracker_.active();
@@ -173,6 +237,8 @@ class Ros2Source final : public asf::Source {
     gt_topic_ = p.getString("ground_truth_topic");
     world_topic_ = p.getString("world_map_topic");
     nav2_ = p.getString("drive") == "nav2";
+    command_topic_ = p.getString("command_topic");
+    cmd_vel_topic_ = p.getString("cmd_vel_topic");
     goal_topic_ = p.getString("goal_topic");
     nav_status_topic_ = p.getString("nav_status_topic");
     map_topic_ = p.getString("map_topic");
@@ -188,7 +254,7 @@ class Ros2Source final : public asf::Source {
     radius_ = p.getDouble("robot_radius");
     model_ = asf::OdometryNoiseModel::fromParams(p);
     for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
-                          "goal_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
+                          "goal_topic", "cmd_vel_topic", "command_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
                           "ground_truth_topic", "world_map_topic"}) {
       const std::string v = p.getString(k);
       if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic"))
@@ -245,10 +311,34 @@ class Ros2Source final : public asf::Source {
           tracker_.statusArrived(l, scans_.arrived());
         });
       }
+      if (p.getString("drive") == "cmd_vel") {
+        const int wr = link_->advertiseTwist(cmd_vel_topic_);
+        velocity_ = std::make_unique<asf::ros2live::VelocityDrive>(
+            velocityOptions(p), [this, wr](const asf::navigation::Velocity& v) {
+              link_->publishTwist(wr, v.forward, v.turn);
+            });
+      }
       status_wr_ = link_->advertiseString(status_topic_);
     } catch (const std::runtime_error& e) {
       p.fail("domain_id", std::string("DDS: ") + e.what());
     }
+  }
+
+  // drive = cmd_vel: the planner keeps the simulator's margins (nav_*), the follower the
+  // robot's speeds.
+  asf::ros2live::VelocityDriveOptions velocityOptions(const asf::Params& p) const {
+    asf::ros2live::VelocityDriveOptions o;
+    o.nav.robot_radius = radius_ + p.getDouble("nav_safety_margin");
+    o.nav.inflation_margin = p.getDouble("nav_inflation_margin");
+    o.nav.unknown_cost = p.getDouble("nav_unknown_cost");
+    o.follow.max_forward = p.getDouble("max_speed");
+    o.follow.max_turn = p.getDouble("max_turn_rate_deg") * M_PI / 180;
+    o.follow.heading_tolerance = p.getDouble("heading_tolerance_deg") * M_PI / 180;
+    o.follow.lookahead = p.getDouble("lookahead");
+    o.follow.stuck_time = p.getDouble("stuck_timeout_s");
+    o.replan_period = p.getDouble("replan_period_s");
+    o.goal_timeout = goal_timeout_;
+    return o;
   }
 
   void subscribe(const asf::Params& p) {
@@ -261,28 +351,41 @@ class Ros2Source final : public asf::Source {
     if (!odom_from_tf_)
       link_->onOdometry(odom_topic_, odom_qos, [this](ros2::Odometry m) {
         bag_.odometry(m);
-        std::lock_guard<std::mutex> lock(mu_);
-        if (robot_frame_.empty()) robot_frame_ = m.child_frame_id;
-        odom_.add(ros2::toSeconds(m.stamp), planar(m.pose));
-        cv_.notify_all();
+        const double t = ros2::toSeconds(m.stamp);
+        {
+          std::lock_guard<std::mutex> lock(mu_);
+          if (robot_frame_.empty()) robot_frame_ = m.child_frame_id;
+          odom_.add(t, planar(m.pose));
+          cv_.notify_all();
+        }
+        if (velocity_) velocity_->odometry(planar(m.pose), t);  // the controller's tick
       });
     else
       robot_frame_ = base_frame_;
     auto onTf = [this](bool is_static, const std::vector<ros2::TransformStamped>& l) {
       bag_.transforms(l, is_static);
-      std::lock_guard<std::mutex> lock(mu_);
-      for (const auto& t : l) {
-        if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_)
-          odom_.add(ros2::toSeconds(t.stamp), planar(t.transform));
-        else if (t.parent != map_frame_)  // map -> odom is ours (or another SLAM's)
-          tree_.set(t.parent, t.child, ros2::poseFromTransform(t.transform));
+      std::optional<std::pair<double, CPose2D>> odom;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        for (const auto& t : l) {
+          if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_) {
+            odom = {ros2::toSeconds(t.stamp), planar(t.transform)};
+            odom_.add(odom->first, odom->second);
+          } else if (t.parent != map_frame_) {  // map -> odom is ours (or another SLAM's)
+            tree_.set(t.parent, t.child, ros2::poseFromTransform(t.transform));
+          }
+        }
+        cv_.notify_all();
       }
-      cv_.notify_all();
+      if (velocity_ && odom) velocity_->odometry(odom->second, odom->first);
     };
     link_->onTransforms(tf_static_topic_, Qos::ReliableLatched,
                         [onTf](std::vector<ros2::TransformStamped> l) { onTf(true, l); });
     link_->onTransforms(tf_topic_, Qos::Reliable,
                         [onTf](std::vector<ros2::TransformStamped> l) { onTf(false, l); });
+    link_->onString(command_topic_, [this](std::string text) { commands_.arrived(command_topic_, text); });
+    if (p.getBool("wait_for_start"))
+      commands_.push({asf::OperatorRequest::Kind::Pause, "wait_for_start: waiting for 'start' on " + command_topic_});
     if (use_sim_time_)
       link_->onClock(clock_topic_, [this](ros2::Stamp s) {
         std::lock_guard<std::mutex> lock(mu_);
@@ -314,11 +417,11 @@ class Ros2Source final : public asf::Source {
                                  [&] { return world_ && gt_.newest() >= t; });
     if (!world_) {
       lock.unlock();
-      p.fail("world_map_topic", silence(world_topic_, "nav_msgs/OccupancyGrid", startup_timeout_));
+      p.fail("world_map_topic", link_->whySilent(world_topic_, "nav_msgs/OccupancyGrid", startup_timeout_));
     }
     if (!ok) {
       lock.unlock();
-      p.fail("ground_truth_topic", silence(gt_topic_, "nav_msgs/Odometry", startup_timeout_));
+      p.fail("ground_truth_topic", link_->whySilent(gt_topic_, "nav_msgs/Odometry", startup_timeout_));
     }
     auto truth = std::make_shared<asf::WorldTruth>();
     try {
@@ -346,7 +449,7 @@ class Ros2Source final : public asf::Source {
       const double wait = frames_ == 0 ? startup_timeout_ : message_timeout_;
       std::optional<asf::ros2live::ArrivedScan> s =
           scans_.pop(std::chrono::milliseconds(static_cast<long>(1000 * wait)));
-      if (!s) throw asf::InputError(silence(scan_topic_, "sensor_msgs/LaserScan", wait));
+      if (!s) throw asf::InputError(link_->whySilent(scan_topic_, "sensor_msgs/LaserScan", wait));
       const double t = ros2::toSeconds(s->msg.stamp);
       if (frames_ > 0 && t < last_t_) {
         ++out_of_order_;  // the contract: timestamps never go back
@@ -359,29 +462,6 @@ class Ros2Source final : public asf::Source {
       }
       return {std::move(*s), *odom};
     }
-  }
-
-  // Why nothing came on a topic: no publisher, or publishers of another type.
-  std::string silence(const std::string& topic, const std::string& type, double waited) const {
-    std::ostringstream os;
-    os << "[ros2] topic " << topic << ": no " << type << " for " << waited << " s; ";
-    const auto types = link_->publisherTypes(topic);
-    if (types.empty()) {
-      os << "no publisher of it was discovered (is the robot running, on the same domain id and "
-            "network?)";
-      return os.str();
-    }
-    // "pkg/Type" is "pkg::msg::dds_::Type_" on the wire.
-    const std::size_t slash = type.find('/');
-    const std::string wire = type.substr(0, slash) + "::msg::dds_::" + type.substr(slash + 1) + "_";
-    for (const std::string& t : types)
-      if (t != wire) {
-        os << "it is published with type " << t << ", not " << wire << " (" << type << ")";
-        return os.str();
-      }
-    os << types.size() << " publisher(s) of it were discovered but sent nothing asf received "
-       << "(stopped, or QoS that does not match: a best-effort publisher and a reliable reader)";
-    return os.str();
   }
 
   // The odometry at t, waiting for it up to message_timeout_s; nullopt for a scan older than
@@ -448,6 +528,7 @@ class Ros2Source final : public asf::Source {
     if (gt_writer_ && f.ground_truth) gt_writer_->write(t, *f.ground_truth);
     recording_cpu_ += asf::ros2live::threadCpuSeconds() - rec0;  // what every run records
     last_odom_ = odom;
+    last_scan_ = f.scan;
     if (frames_ == 0) first_t_ = t;
     last_t_ = t;
     bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0 - (recording_cpu_ - rec_before);
@@ -466,16 +547,18 @@ class Ros2Source final : public asf::Source {
     return ros2::toStamp(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
   }
 
-  void publishStatus(const asf::Goal& g) {
+  void publishStatus(const asf::Goal* g, const std::string& state) {
     std::ostringstream os;
-    os << "{\"frames\": " << frames_ << ", \"scans_received\": " << scans_.arrived()
-       << ", \"scans_dropped\": " << scans_.dropped() << ", \"goals_sent\": " << goals_sent_
-       << ", \"goal\": [" << g.x << ", " << g.y << "]}";
+    os << "{\"state\": \"" << state << "\", \"frames\": " << frames_ << ", \"scans_received\": " << scans_.arrived()
+       << ", \"scans_dropped\": " << scans_.dropped() << ", \"goals_sent\": " << goals_sent_;
+    if (g) os << ", \"goal\": [" << g->x << ", " << g->y << "]";
+    os << "}";
     link_->publishString(status_wr_, os.str());
   }
 
   std::string scan_topic_, odom_topic_, tf_topic_, tf_static_topic_, clock_topic_, gt_topic_,
-      world_topic_, goal_topic_, nav_status_topic_, map_topic_, marker_topic_, status_topic_;
+      world_topic_, goal_topic_, nav_status_topic_, map_topic_, marker_topic_, status_topic_,
+      cmd_vel_topic_, command_topic_;
   std::string map_frame_, odom_frame_, base_frame_, robot_frame_, rawlog_path_;
   bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false;
   double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
@@ -503,94 +586,19 @@ class Ros2Source final : public asf::Source {
   double bridge_cpu_ = 0;  // CPU seconds of the run's thread in this source's own work
   double recording_cpu_ = 0;  // of which not counted: the rawlog every run records
   double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300, markers_sent_ = -1e300;
-  CPose2D last_odom_;
+  CPose2D last_odom_, last_robot_;  // odometry and estimate at the last frame
+  std::string run_state_ = "exploring";  // as the status topic last said
+  asf::ros2live::OperatorInbox commands_;  // from command_topic
+  std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> last_scan_;
+  mutable bool velocity_moving_ = false;  // the last status() of drive = cmd_vel was Moving
   int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0, markers_wr_ = 0;
+  std::unique_ptr<asf::ros2live::VelocityDrive> velocity_;  // drive = cmd_vel
   std::unique_ptr<asf::ros2live::CycloneLink> link_;  // last: destroyed first
-};
-
-const asf::KeySpec kKeys[] = {
-    asf::keyInt("domain_id", "-1", "DDS domain (ROS_DOMAIN_ID); -1: $ROS_DOMAIN_ID, else 0", -1, 232),
-    asf::keyEnum("discovery", "default", "default|loopback",
-                 "default: DDS discovery as ROS 2 does it (multicast, or CYCLONEDDS_URI); loopback: "
-                 "unicast to 127.0.0.1 on the loopback interface only, no multicast (tests)"),
-    asf::keyString("scan_topic", "/scan", "sensor_msgs/LaserScan topic"),
-    asf::keyEnum("scan_qos", "sensor_data", "sensor_data|reliable",
-                 "QoS of the scan subscription: sensor_data (best effort; matches every "
-                 "publisher) or reliable (matches reliable publishers only)"),
-    asf::keyEnum("odometry", "topic", "topic|tf",
-                 "Where the odometry comes from: odom_topic (nav_msgs/Odometry), or the transform "
-                 "odom_frame -> base_frame on tf_topic"),
-    asf::keyString("odom_topic", "/odom", "nav_msgs/Odometry topic (odometry = topic)"),
-    asf::keyEnum("odom_qos", "reliable", "reliable|sensor_data",
-                 "QoS of the odometry subscription (sensor_data: best effort)"),
-    asf::keyString("tf_topic", "/tf", "tf2_msgs/TFMessage topic of the moving transforms"),
-    asf::keyString("tf_static_topic", "/tf_static",
-                   "tf2_msgs/TFMessage topic of the fixed transforms (the laser's mounting)"),
-    asf::keyString("map_frame", "map", "REP 105 map frame (asf publishes map -> odom)"),
-    asf::keyString("odom_frame", "odom", "REP 105 odometry frame"),
-    asf::keyString("base_frame", "base_link",
-                   "Robot frame of odometry = tf (with odometry = topic, the odometry's child "
-                   "frame is the robot frame)"),
-    asf::keyBool("use_sim_time", "false",
-                 "Stamp what asf publishes with the time of clock_topic (a simulator's), not the "
-                 "system clock"),
-    asf::keyString("clock_topic", "/clock", "rosgraph_msgs/Clock topic (use_sim_time)"),
-    asf::keyDouble("odom_tolerance_s", "0.1",
-                   "A scan needs odometry within this of its stamp (interpolated between two "
-                   "around it) [s]",
-                   0, 100),
-    asf::keyDouble("startup_timeout_s", "30",
-                   "Wait this long for the first scan, the laser's transform and the world map [s]",
-                   0.1, 1e6),
-    asf::keyDouble("message_timeout_s", "5",
-                   "A run stops with an error naming the topic when no scan (or no odometry for "
-                   "one) came for this long [s]",
-                   0.1, 1e6),
-    asf::keyEnum("drive", "none", "none|nav2",
-                 "none: asf maps while something else drives (a passive source); nav2: asf's "
-                 "policy explores by sending goals to a navigator"),
-    asf::keyString("goal_topic", "/goal_pose", "geometry_msgs/PoseStamped goal topic (drive = nav2)"),
-    asf::keyString("nav_status_topic", "/navigate_to_pose/_action/status",
-                   "action_msgs/GoalStatusArray topic of the navigator's action (drive = nav2)"),
-    asf::keyDouble("goal_accept_timeout_s", "5",
-                   "A goal no navigator accepted within this is a failed goal [s]", 0.1, 1e6),
-    asf::keyDouble("goal_timeout_s", "0",
-                   "A goal running longer than this is a failed goal; 0: no limit [s]", 0, 1e9),
-    asf::keyString("map_topic", "/map",
-                   "nav_msgs/OccupancyGrid of asf's map (reliable, transient local)"),
-    asf::keyDouble("map_period_s", "1.0",
-                   "Publish the map at most this often (robot clock), and only when it changed [s]",
-                   0, 1e6),
-    asf::keyString("marker_topic", "/asf/markers",
-                   "visualization_msgs/MarkerArray: robot, goal, pose graph, regions, topological "
-                   "graph, frontier edges"),
-    asf::keyDouble("marker_period_s", "1.0", "Publish the markers at most this often (robot clock) [s]",
-                   0, 1e6),
-    asf::keyString("status_topic", "/asf/status", "std_msgs/String (JSON) with the run's counters"),
-    asf::keyString("ground_truth_topic", "",
-                   "nav_msgs/Odometry of the true pose (a simulator's); empty: none"),
-    asf::keyString("world_map_topic", "",
-                   "nav_msgs/OccupancyGrid of the true world (a simulator's), for coverage; empty: none"),
-    asf::keyDouble("robot_radius", "0.2", "Robot radius, for the coverage of the true world [m]",
-                   0.01, 100),
-    asf::keyDouble("odo_a1", "0.01", "Odometry covariance (MRPT Gaussian): xy std per metre [m/m]", 0, 10),
-    asf::keyDouble("odo_a2", "0.001", "Odometry covariance: xy std per degree [m/deg]", 0, 10),
-    asf::keyDouble("odo_a3", "1.0", "Odometry covariance: heading std per metre [deg/m]", 0, 1000),
-    asf::keyDouble("odo_a4", "0.05", "Odometry covariance: heading std per degree [deg/deg]", 0, 10),
-    asf::keyDouble("odo_min_std_xy", "0.001", "Odometry covariance: minimum xy std [m]", 0, 10),
-    asf::keyDouble("odo_min_std_phi_deg", "0.05", "Odometry covariance: minimum heading std [deg]", 0, 360),
-    asf::keyBool("record", "true",
-                 "Record the run to <output>/<record_name>.rawlog (and .gt.txt with ground truth)"),
-    asf::keyString("record_name", "ros2", "Base name of the recorded files"),
-    asf::keyBool("bag", "false",
-                 "Also write the run as a rosbag2 bag with MCAP storage, <output>/<record_name>_bag/: "
-                 "the scans, odometry, tf, tf_static and ground truth received, the map -> odom, "
-                 "/map, markers and goals published"),
 };
 
 }  // namespace
 
 ASF_PLUGIN(Ros2Source, asf::PluginKind::Source, "ros2", "0.1.0",
            "A live robot over ROS 2 (DDS, no ROS installation): LaserScan, odometry and tf in; "
-           "goals to nav2, /map and map -> odom out; recorded as a rawlog",
+           "goals to nav2 or velocities to the base, /map and map -> odom out; recorded as a rawlog",
            asf::ThreadSafety::ThreadCompatible, kKeys)

@@ -36,8 +36,12 @@ class Pipeline {
   /// Writes the outputs as it goes; on an exception the outputs of what happened so far
   /// are still written before it propagates. While `pause` is set the run waits between
   /// two steps (no source step, no decision; progress.json says "paused") and goes on as if
-  /// nothing happened when it is cleared; `stop` still ends it.
-  RunSummary run(const std::atomic<bool>* stop = nullptr, const std::atomic<bool>* pause = nullptr);
+  /// nothing happened when it is cleared; `stop` still ends it. A live source (a robot) is
+  /// halted instead and the run goes on mapping without decisions (source.h). Once `home`
+  /// is set the robot drives back to the start and the run ends there. An operator can ask
+  /// the same through the source (Source::takeOperatorRequest).
+  RunSummary run(const std::atomic<bool>* stop = nullptr, const std::atomic<bool>* pause = nullptr,
+                 const std::atomic<bool>* home = nullptr);
 
   /// A live view (`asf run --gui`): during run(), `show` gets the picture of the run
   /// (renderLiveView: map, regions, topological graph, pose graph, path, robot, goal; at most

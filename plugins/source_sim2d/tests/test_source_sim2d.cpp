@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "../sim2d_nav.h"
+#include <asf/navigation/grid_path.h>
 #include "../sim2d_world.h"
 
 namespace {
@@ -324,7 +324,7 @@ mrpt::maps::COccupancyGridMap2D wallMap(double gap_from, double gap_to) {
 
 // Minimum over the plan's segments of the distance of sample points to wall cells.
 double planClearance(const mrpt::maps::COccupancyGridMap2D& g, asf::Point2 from,
-                     const asf::sim2d::NavPlan& plan) {
+                     const asf::navigation::NavPlan& plan) {
   double worst = 1e9;
   for (const auto& w : plan.waypoints) {
     for (int s = 0; s <= 50; ++s) {
@@ -341,9 +341,9 @@ double planClearance(const mrpt::maps::COccupancyGridMap2D& g, asf::Point2 from,
 
 TEST(Sim2dNav, PathGoesThroughTheGapAndKeepsClear) {
   const auto g = wallMap(2.5, 3.5);
-  asf::sim2d::NavOptions o;
+  asf::navigation::NavOptions o;
   o.robot_radius = 0.2;
-  const auto plan = asf::sim2d::planPath(&g, {1, 1}, {5, 1}, 0.1, o);
+  const auto plan = asf::navigation::planPath(&g, {1, 1}, {5, 1}, 0.1, o);
   ASSERT_TRUE(plan.found) << plan.reason;
   // It must detour through the gap: longer than the straight 4 m, and some waypoint up in
   // the gap.
@@ -357,16 +357,16 @@ TEST(Sim2dNav, PathGoesThroughTheGapAndKeepsClear) {
 }
 
 TEST(Sim2dNav, UnreachableWhenClosedOrTooNarrowOrInsideAWall) {
-  asf::sim2d::NavOptions o;
+  asf::navigation::NavOptions o;
   o.robot_radius = 0.2;
   const auto closed = wallMap(0, 0);
-  EXPECT_FALSE(asf::sim2d::planPath(&closed, {1, 1}, {5, 1}, 0.1, o).found);
+  EXPECT_FALSE(asf::navigation::planPath(&closed, {1, 1}, {5, 1}, 0.1, o).found);
   const auto narrow = wallMap(2.0, 2.3);  // 0.3 m gap, robot 0.4 m wide
-  EXPECT_FALSE(asf::sim2d::planPath(&narrow, {1, 1}, {5, 1}, 0.1, o).found);
+  EXPECT_FALSE(asf::navigation::planPath(&narrow, {1, 1}, {5, 1}, 0.1, o).found);
   o.robot_radius = 0.1;
-  EXPECT_TRUE(asf::sim2d::planPath(&narrow, {1, 1}, {5, 1}, 0.1, o).found);
+  EXPECT_TRUE(asf::navigation::planPath(&narrow, {1, 1}, {5, 1}, 0.1, o).found);
   const auto open = wallMap(2.5, 3.5);
-  const auto in_wall = asf::sim2d::planPath(&open, {1, 1}, {3.0, 1}, 0.05, o);
+  const auto in_wall = asf::navigation::planPath(&open, {1, 1}, {3.0, 1}, 0.05, o);
   EXPECT_FALSE(in_wall.found);
   EXPECT_NE(in_wall.reason.find("no free cell"), std::string::npos) << in_wall.reason;
 }
@@ -377,15 +377,15 @@ TEST(Sim2dNav, UnknownSpaceBlockedOrCostly) {
   for (unsigned cy = 0; cy < g.getSizeY(); ++cy)
     for (unsigned cx = 0; cx < g.getSizeX(); ++cx)
       if (g.idx2x(cx) < 3) g.setCell(static_cast<int>(cx), static_cast<int>(cy), 1.0f);
-  asf::sim2d::NavOptions o;
+  asf::navigation::NavOptions o;
   o.unknown_blocked = true;
-  EXPECT_FALSE(asf::sim2d::planPath(&g, {1, 2}, {5, 2}, 0.1, o).found);
+  EXPECT_FALSE(asf::navigation::planPath(&g, {1, 2}, {5, 2}, 0.1, o).found);
   o.unknown_blocked = false;
-  const auto plan = asf::sim2d::planPath(&g, {1, 2}, {5, 2}, 0.1, o);
+  const auto plan = asf::navigation::planPath(&g, {1, 2}, {5, 2}, 0.1, o);
   ASSERT_TRUE(plan.found) << plan.reason;
   EXPECT_NEAR(plan.length, 4.0, 0.1);
   // No map at all: everything unknown, a straight line when costly.
-  const auto none = asf::sim2d::planPath(nullptr, {0, 0}, {3, 4}, 0.1, o);
+  const auto none = asf::navigation::planPath(nullptr, {0, 0}, {3, 4}, 0.1, o);
   ASSERT_TRUE(none.found);
   EXPECT_NEAR(none.length, 5.0, 0.1);
 }
@@ -439,6 +439,58 @@ TEST(Sim2dSource, WallsStopTheRobot) {
   ASSERT_GE(forward.size(), 3u);
   EXPECT_NEAR(forward[0], -0.05, 1e-9);
   EXPECT_NEAR(forward[2], -0.05, 1e-9);
+}
+
+// A velocity-driven base (driveVelocity, what asf sim-robot's /cmd_vel gives it): exact
+// unicycle arcs of the true pose, the base's limits, a wall that stops it, a goal taking over.
+TEST(Sim2dSource, VelocityDrivesTheBaseWithinItsLimits) {
+  // dt 0.1, step_length 0.05, turn_step 10 deg: at most 0.5 m/s and 100 deg/s.
+  auto src = make({{"room_width", "8"}, {"room_height", "6"}, {"start_x", "1"},
+                   {"start_y", "3"}, {"laser_rays", "10"}});
+  const CPose2D start = *src->next()->ground_truth;
+  ASSERT_TRUE(src->driveVelocity({0.3, 0}));
+  CPose2D p = start;
+  for (int i = 0; i < 10; ++i) p = *src->next()->ground_truth;
+  EXPECT_NEAR(p.x() - start.x(), 0.3, 1e-9);  // 1 s at 0.3 m/s
+  EXPECT_NEAR(p.y(), start.y(), 1e-9);
+  // An arc: a quarter turn of radius 1 m in pi/2 / 0.5 = pi s (31.4 steps: 31 of them).
+  ASSERT_TRUE(src->driveVelocity({0.5, 0.5}));
+  const CPose2D a = p;
+  for (int i = 0; i < 31; ++i) p = *src->next()->ground_truth;
+  const double th = 31 * 0.1 * 0.5;
+  EXPECT_NEAR(p.x(), a.x() + std::sin(th), 1e-6);
+  EXPECT_NEAR(p.y(), a.y() + 1 - std::cos(th), 1e-6);
+  EXPECT_NEAR(p.phi(), th, 1e-9);
+  // Beyond the limits: clamped to 0.5 m/s and 100 deg/s; not a number: zero.
+  ASSERT_TRUE(src->driveVelocity({0, -10}));
+  const CPose2D b = *src->next()->ground_truth;
+  EXPECT_NEAR(mrpt::math::wrapToPi(b.phi() - p.phi()), -10 * M_PI / 180, 1e-9);
+  ASSERT_TRUE(src->driveVelocity({NAN, 0}));
+  EXPECT_EQ(*src->next()->ground_truth, b);
+  // Odometry reads the motion with noise; at rest exactly zero.
+  EXPECT_EQ(src->next()->odometry, CPose2D());
+  // Towards a wall: the base stops at it and stays clear of it.
+  ASSERT_TRUE(src->driveVelocity({5, 0}));
+  const auto w = asf::sim2d::World::room(8, 6, 0.04);
+  double moved_at_end = 1;
+  CPose2D prev = b;
+  for (int i = 0; i < 200; ++i) {
+    const CPose2D q = *src->next()->ground_truth;
+    EXPECT_GE(w.clearance(q.x(), q.y()), 0.2 - 0.04);
+    moved_at_end = std::hypot(q.x() - prev.x(), q.y() - prev.y());
+    prev = q;
+  }
+  EXPECT_EQ(moved_at_end, 0);
+  // A goal replaces the velocity: the robot drives to it (the estimate: the true pose).
+  asf::NavigationContext ctx;
+  ctx.robot_estimate = prev;
+  asf::NavStatus st = src->navigate({4, 3, 0.1}, ctx);
+  for (int i = 0; i < 3000 && st == asf::NavStatus::Moving; ++i) {
+    prev = *src->next()->ground_truth;
+    st = src->status();
+  }
+  EXPECT_EQ(st, asf::NavStatus::Reached);
+  EXPECT_LT(std::hypot(prev.x() - 4, prev.y() - 3), 0.3);  // up to the odometry's drift
 }
 
 TEST(Sim2dSource, DeterministicForASeed) {

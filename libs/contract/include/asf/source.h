@@ -14,6 +14,15 @@
 ///   end (RunView::final) after the final optimization; a source that ignores it (the default)
 ///   is unaffected. It must not block the run: a source that shows the view somewhere (a live
 ///   robot's /map, transforms, markers) limits its own rate.
+/// - driveVelocity() is for a source with a velocity-driven base (a simulator behind a robot's
+///   /cmd_vel): the base moves at the last velocity given, within its own limits, until
+///   another velocity or a navigate() replaces it; a source without one returns false.
+/// - An operator may steer a run through its source (a live robot's command topic):
+///   takeOperatorRequest() hands each request once, the run polls it after every step and
+///   while paused. A live source (isLive(): frames come in real time whether or not the run
+///   takes them) is halted when the run pauses (halt(): the robot stops, status() is Idle)
+///   and stepped on meanwhile (the run maps, decides nothing); any other source is held
+///   between two steps and goes on afterwards as if it had not been paused.
 #include <asf/goal.h>
 #include <asf/grid_map.h>
 #include <asf/plugin.h>
@@ -21,6 +30,7 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 namespace asf {
 
@@ -57,6 +67,27 @@ struct RunView {
   const PoseGraph* graph = nullptr;
   const Goal* goal = nullptr;  ///< the goal the robot is driving to, if any
   bool final = false;          ///< the run's last view (after its final optimization)
+  bool paused = false;         ///< the run is paused (no decision)
+  bool returning_home = false; ///< the robot is driving back to the start
+};
+
+/// A velocity command for a robot's base (REP 103: m/s ahead, rad/s counter-clockwise).
+struct BaseVelocity {
+  double forward = 0;
+  double turn = 0;
+};
+
+/// What an operator asks of a run through its source.
+struct OperatorRequest {
+  enum class Kind {
+    None,        ///< nothing (more) to do
+    Pause,       ///< stop the robot and decide nothing until Resume
+    Resume,      ///< go on exploring (also: start, for a run that waits for it)
+    Stop,        ///< end the run, writing every output
+    ReturnHome,  ///< drive back to the start, then end the run
+  };
+  Kind kind = Kind::None;
+  std::string from;  ///< where it came from, for the log and the stop reason
 };
 
 class Source : public Plugin {
@@ -75,6 +106,15 @@ class Source : public Plugin {
   /// The true world, or null when the source does not know it (logs). Valid after
   /// configure(); the host reads it once, before the first next().
   virtual std::shared_ptr<const WorldTruth> worldTruth() const { return nullptr; }
+  /// Drives the base at `v` from the next frame on (see the contract above): true when the
+  /// source has such a base, false (the default) otherwise.
+  virtual bool driveVelocity(const BaseVelocity& v) { return false; }
+  /// The next operator request (see the contract above); the default has none.
+  virtual OperatorRequest takeOperatorRequest() { return {}; }
+  /// Stops the robot now, forgetting its goal (the run pauses); the default does nothing.
+  virtual void halt() {}
+  /// Frames come in real time whether or not the run takes them (see the contract above).
+  virtual bool isLive() const { return false; }
   /// The run's estimate after a step (see the contract above); the default ignores it.
   virtual void observe(const RunView& view) {}
 };

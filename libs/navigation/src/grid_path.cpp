@@ -1,4 +1,4 @@
-#include "sim2d_nav.h"
+#include <asf/navigation/grid_path.h>
 
 #include <asf/grid_map.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <queue>
 
-namespace asf::sim2d {
+namespace asf::navigation {
 
 namespace {
 
@@ -296,4 +296,4 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
   return plan;
 }
 
-}  // namespace asf::sim2d
+}  // namespace asf::navigation

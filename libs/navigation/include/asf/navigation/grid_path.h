@@ -1,5 +1,6 @@
 #pragma once
-// Path planning for the simulated robot on the *estimated* occupancy grid: A* over an
+// Path planning for a driving robot on the *estimated* occupancy grid (the simulator's own
+// navigation, and asf's when it drives a robot with velocity commands): A* over an
 // 8-connected grid, obstacles inflated by the robot radius, unknown space blocked or costly.
 // Cells are classified by asf::cellStateOf (grid_map.h), the definition the policies'
 // reachability uses too. What differs on purpose: this planner samples the map onto its own
@@ -15,7 +16,7 @@ namespace mrpt::maps {
 class COccupancyGridMap2D;
 }
 
-namespace asf::sim2d {
+namespace asf::navigation {
 
 struct NavOptions {
   double robot_radius = 0.2;      ///< cells closer than this to an obstacle are lethal [m]
@@ -46,4 +47,4 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
                  const Point2& goal, double tolerance, const NavOptions& options,
                  const std::vector<Point2>& obstacles = {});
 
-}  // namespace asf::sim2d
+}  // namespace asf::navigation
