@@ -215,11 +215,11 @@ double threadCpuSeconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-double otherThreadsCpuSeconds() {
+std::map<std::string, double> otherThreadsCpuByName() {
   namespace fs = std::filesystem;
   const double tick = static_cast<double>(sysconf(_SC_CLK_TCK));
   const std::string self = std::to_string(static_cast<long>(syscall(SYS_gettid)));
-  double sum = 0;
+  std::map<std::string, double> by_name;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator("/proc/self/task", ec)) {
     if (e.path().filename() == self) continue;
@@ -227,15 +227,21 @@ double otherThreadsCpuSeconds() {
     std::string line;
     if (!std::getline(f, line)) continue;
     // After the command name in parentheses: state (field 3) ... utime (14), stime (15).
-    const std::size_t rp = line.rfind(')');
-    if (rp == std::string::npos) continue;
+    const std::size_t lp = line.find('('), rp = line.rfind(')');
+    if (lp == std::string::npos || rp == std::string::npos || rp < lp) continue;
     std::istringstream is(line.substr(rp + 1));
     std::string skip;
     for (int field = 3; field <= 13; ++field) is >> skip;
     long ut = 0, st = 0;
-    if (is >> ut >> st) sum += static_cast<double>(ut + st) / tick;
+    if (is >> ut >> st) by_name[line.substr(lp + 1, rp - lp - 1)] += static_cast<double>(ut + st) / tick;
   }
-  return sum;
+  return by_name;
+}
+
+bool isCycloneThread(const std::string& n) {
+  for (const char* p : {"recv", "tev", "dq.", "gc", "lease", "xmit", "dds_"})
+    if (n.rfind(p, 0) == 0) return true;
+  return false;
 }
 
 double processCpuSeconds() {

@@ -150,10 +150,12 @@ class OperatorInbox {
 
 /// CPU seconds the calling thread has used so far.
 double threadCpuSeconds();
-/// CPU seconds of this process's threads other than the calling one, from /proc/self/task
-/// (Linux; 0 elsewhere): for the ros2 source, the DDS implementation's threads and any other
-/// the run has, so an upper bound of what DDS costs in the background.
-double otherThreadsCpuSeconds();
+/// CPU seconds of this process's threads other than the calling one, by thread name, from
+/// /proc/self/task (Linux; empty elsewhere). Threads of one name are summed.
+std::map<std::string, double> otherThreadsCpuByName();
+/// Whether a thread name is one of Cyclone DDS's (recv, recvUC, recvMC, tev, dq.builtins,
+/// dq.user, gc, lease, xmit.*, dds_*).
+bool isCycloneThread(const std::string& name);
 /// CPU seconds of the whole process.
 double processCpuSeconds();
 

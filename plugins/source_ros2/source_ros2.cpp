@@ -50,17 +50,13 @@ CPose2D planar(const ros2::Transform& t) {
 class Ros2Source final : public asf::Source {
  public:
   ~Ros2Source() override {
-    const double others = asf::ros2live::otherThreadsCpuSeconds();
+    const auto threads = asf::ros2live::otherThreadsCpuByName();  // before Cyclone's threads go
     if (velocity_) {
       velocity_->halt();  // the robot stops before asf leaves
       MRPT_LOG_INFO_STREAM(velocity_->commandsSent() << " velocity commands sent on " << cmd_vel_topic_);
     }
     link_.reset();  // no callback after this
-    if (frames_ > 0)
-      MRPT_LOG_INFO_STREAM("bridge CPU: " << bridge_cpu_ << " s on the run's thread (conversions, "
-                           "publishing, the bag; the rawlog's " << recording_cpu_ << " s apart), " << others << " s on the process's other threads (DDS's, "
-                           "an upper bound), of " << asf::ros2live::processCpuSeconds()
-                           << " s for the whole run");
+    if (frames_ > 0) logCpu(threads);
     try {
       if (const std::uint64_t n = bag_.close())
         MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
@@ -84,6 +80,26 @@ class Ros2Source final : public asf::Source {
     configureRecording(p, ctx);
     connect(p);
     if (!world_topic_.empty()) waitForWorld(p);
+  }
+
+  // The bridge's CPU: its part of the run's thread, and Cyclone DDS's threads (receiving and
+  // delivering to the callbacks, timed events), by name; the other threads are the pipeline's.
+  void logCpu(const std::map<std::string, double>& threads) {
+    double dds = 0, other = 0;
+    std::ostringstream names;
+    for (const auto& [name, s] : threads) {
+      if (!asf::ros2live::isCycloneThread(name)) {
+        other += s;
+        continue;
+      }
+      names << (names.tellp() > 0 ? ", " : "") << name << " " << s;
+      dds += s;
+    }
+    MRPT_LOG_INFO_STREAM("bridge CPU: " << bridge_cpu_ << " s on the run's thread (conversions, publishing, "
+                         "the bag; the rawlog's " << recording_cpu_ << " s apart), " << dds
+                         << " s on Cyclone DDS's threads (" << names.str() << "), of "
+                         << asf::ros2live::processCpuSeconds() << " s for the whole run (" << other
+                         << " s on its other threads)");
   }
 
   bool isActive() const override { return nav2_ || velocity_; }
