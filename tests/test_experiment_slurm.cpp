@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sstream>
 
 #include "process_launcher.h"
 #include "test_util.h"
@@ -162,6 +163,63 @@ TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
   o = {};
   o.sbatch_args = {"mem=2G"};
   EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+}
+
+// Issue 51: a line break in the output folder or in the experiment's INI path must not become
+// a line of the array script (it would run on the cluster), nor end the #SBATCH directives
+// early (sbatch stops reading them at the first line that is not a comment).
+TEST(ExperimentSlurm, NoLineOfTheScriptComesFromAPath) {
+  const fs::path dir = tempDir("inject");
+  asf::ExperimentConfig cfg = config(dir);
+  cfg.out_dir = (dir / "out\ntouch X\n#").string();
+  try {
+    asf::writeSlurmBatch(cfg, {}, "/bin/true");
+    ADD_FAILURE() << "an output folder with a line break was accepted";
+  } catch (const asf::ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("--out"), std::string::npos) << m;
+    EXPECT_NE(m.find("out\\ntouch X\\n#"), std::string::npos) << m;  // shown, not broken
+  }
+  EXPECT_FALSE(fs::exists(dir / "out\ntouch X\n#")) << "nothing written";
+  cfg.out_dir = (dir / "two words").string();
+  EXPECT_THROW(asf::writeSlurmBatch(cfg, {}, "/bin/true"), asf::ConfigError);
+
+  // The INI in a folder whose name has line breaks: in the comment it is escaped, in the
+  // task's command line it is one quoted argument; every #SBATCH line comes before it, and
+  // the task run by bash does not run the line.
+  const fs::path injected = dir / "INJECTED";
+  const fs::path odd = dir / ("e\ntouch '" + injected.string() + "'\n#");
+  fs::create_directories(odd);
+  cfg = config(dir);
+  cfg.pipeline_ini = (odd / "pipe.ini").string();
+  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, fakeAsf(dir));
+  const std::string script = read(b.script);
+  std::istringstream lines(script);
+  std::string line;
+  bool directives = true;
+  for (int n = 1; std::getline(lines, line); ++n) {
+    if (n == 1) continue;  // #!/bin/bash
+    if (line.rfind("#SBATCH", 0) == 0)
+      EXPECT_TRUE(directives) << "an #SBATCH line after other lines: " << line << "\n" << script;
+    else
+      directives = false;
+  }
+  EXPECT_NE(script.find("runs of " + dir.string() + "/e\\ntouch '"), std::string::npos) << script;
+  ASSERT_EQ(runTask(b, 0), 0);
+  EXPECT_FALSE(fs::exists(injected)) << script;
+  const asf::ExperimentRun& run = b.runs[b.tasks[0]];
+  std::string expected;
+  for (const auto& arg : asf::runArguments(cfg, run)) expected += arg + "\n";
+  EXPECT_EQ(read(fs::path(run.dir) / "args.txt"), expected);
+}
+
+// The job name is a label: a folder name's symbols become '_' (one per byte: α is two).
+TEST(ExperimentSlurm, TheJobNameIsOneWord) {
+  const fs::path dir = tempDir("jobname");
+  asf::ExperimentConfig cfg = config(dir);
+  cfg.out_dir = (dir / "cave(α)").string();
+  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, "/bin/true");
+  EXPECT_NE(read(b.script).find("#SBATCH --job-name=asf-cave____\n"), std::string::npos) << read(b.script);
 }
 
 }  // namespace

@@ -23,6 +23,41 @@ void requireToken(const std::string& what, const std::string& value) {
       throw ConfigError(what + " '" + value + "': no spaces or quotes allowed");
 }
 
+// A value as it can be shown in a message: control characters as \n, \t or \xNN.
+std::string printable(const std::string& value) {
+  std::string out;
+  for (char c : value) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (u < 0x20 || u == 0x7f) {
+      const char* hex = "0123456789abcdef";
+      out += std::string("\\x") + hex[u >> 4] + hex[u & 15];
+    } else out += c;
+  }
+  return out;
+}
+
+// sbatch reads the #SBATCH lines itself, up to the first line that is not a comment: what goes
+// into one must be a single word on a single line, or it would end the directives early or
+// become a line of the script.
+void requireDirectiveWord(const std::string& what, const std::string& value) {
+  for (char c : value) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f || std::isspace(u) || c == '\'' || c == '"')
+      throw ConfigError(what + " '" + printable(value) +
+                        "': the Slurm backend writes it into #SBATCH lines, which allow no blanks, "
+                        "quotes or control characters");
+  }
+}
+
+// A Slurm job name from a folder name: letters, digits, '.', '_' and '-' kept, the rest '_'.
+std::string jobName(const std::string& folder) {
+  std::string n = "asf-";
+  for (char c : folder) n += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' ? c : '_';
+  return n;
+}
+
 std::string exitCodeFile(const ExperimentRun& run) {
   return (fs::path(run.dir) / "exit_code").string();
 }
@@ -30,10 +65,9 @@ std::string exitCodeFile(const ExperimentRun& run) {
 std::string scriptText(const ExperimentConfig& cfg, const SlurmOptions& o, const SlurmBatch& b,
                        const std::string& asf_exe) {
   std::ostringstream s;
+  // The directives first: sbatch stops reading them at the first line that is not a comment.
   s << "#!/bin/bash\n"
-    << "# asf experiment --backend slurm: " << b.tasks.size() << " runs of " << cfg.pipeline_ini
-    << "\n"
-    << "#SBATCH --job-name=asf-" << fs::path(cfg.out_dir).filename().string() << "\n"
+    << "#SBATCH --job-name=" << jobName(fs::path(cfg.out_dir).filename().string()) << "\n"
     << "#SBATCH --array=0-" << b.tasks.size() - 1;
   if (o.max_parallel > 0) s << "%" << o.max_parallel;
   s << "\n#SBATCH --output=" << b.dir << "/logs/task_%a.log\n"
@@ -41,6 +75,8 @@ std::string scriptText(const ExperimentConfig& cfg, const SlurmOptions& o, const
   if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << "\n";
   if (!o.time_limit.empty()) s << "#SBATCH --time=" << o.time_limit << "\n";
   for (const auto& a : o.sbatch_args) s << "#SBATCH " << a << "\n";
+  s << "# asf experiment --backend slurm: " << b.tasks.size() << " runs of "
+    << printable(cfg.pipeline_ini) << "\n";  // escaped: never a line break
   s << "set -u\ncase \"${SLURM_ARRAY_TASK_ID:?not run as a Slurm array task}\" in\n";
   for (std::size_t i = 0; i < b.tasks.size(); ++i) {
     const ExperimentRun& run = b.runs[b.tasks[i]];
@@ -81,6 +117,7 @@ SlurmBatch writeSlurmBatch(const ExperimentConfig& cfg_in, const SlurmOptions& o
   cfg.out_dir = fs::absolute(cfg.out_dir).lexically_normal().string();
   SlurmBatch b;
   b.dir = (fs::path(cfg.out_dir) / "slurm").string();
+  requireDirectiveWord("--out", cfg.out_dir);  // in #SBATCH --output
   b.runs = detail::plannedRuns(cfg);
   for (std::size_t i = 0; i < b.runs.size(); ++i) {
     if (runFinished(b.runs[i].dir)) {
