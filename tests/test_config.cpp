@@ -106,6 +106,21 @@ TEST(IniConfig, SyntaxErrorsNameTheLine) {
                   "/nonexistent/asf.ini: cannot open"));
 }
 
+// Issue 51, items 6 and 7: a file that never ends is refused after 16 MiB, naming it; a UTF-8
+// byte order mark (Windows editors) is no syntax error.
+TEST(IniConfig, HugeFilesAreRefusedUnreadAndAByteOrderMarkIsSkipped) {
+  const std::string e = errorOf([] { IniConfig::fromFile("/dev/zero"); });
+  EXPECT_TRUE(has(e, "/dev/zero: larger than 16 MiB")) << e;
+  const std::string text = "[pipeline]\nseed = 7\n[sim2d]\nrays = 5\n";
+  const IniConfig plain = IniConfig::fromText(text, "plain.ini");
+  const IniConfig bom = IniConfig::fromText("\xEF\xBB\xBF" + text, "bom.ini");
+  EXPECT_EQ(bom.get("pipeline", "seed"), "7");
+  EXPECT_EQ(bom.get("sim2d", "rays"), plain.get("sim2d", "rays"));
+  const auto dir = asf_test::freshTempDir("asf_test_config_bom");
+  asf_test::writeFile(dir / "bom.ini", "\xEF\xBB\xBF" + text);
+  EXPECT_EQ(IniConfig::fromFile((dir / "bom.ini").string()).get("pipeline", "seed"), "7");
+}
+
 // Issue 20, item 3: what MRPT would drop or overwrite silently is an error naming the line.
 TEST(IniConfig, NulBytesRepeatedKeysAndUnknownDirectivesAreErrors) {
   // A NUL byte: MRPT stops reading there, so `seed` and every later key would be defaults.

@@ -61,16 +61,23 @@ std::string didYouMean(const std::string& word, const std::vector<std::string>& 
 }
 
 IniConfig IniConfig::fromFile(const std::string& path) {
-  std::ifstream f(path);
+  std::ifstream f(path, std::ios::binary);
   if (!f) throw ConfigError(path + ": cannot open the configuration file");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  IniConfig c = fromText(ss.str(), path);
+  // Read at most kMaxBytes + 1: a device or a huge file is refused without reading it all.
+  std::string text(kMaxBytes + 1, '\0');
+  f.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(f.gcount()));
+  if (text.size() > kMaxBytes)
+    throw ConfigError(path + ": larger than " + std::to_string(kMaxBytes >> 20) +
+                      " MiB: not a configuration file");
+  IniConfig c = fromText(text, path);
   c.base_dir_ = fs::absolute(fs::path(path)).parent_path().string();
   return c;
 }
 
 IniConfig IniConfig::fromText(const std::string& text, const std::string& name) {
+  // A UTF-8 byte order mark (editors on Windows write one) is not part of the first line.
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) return fromText(text.substr(3), name);
   IniConfig c;
   c.name_ = name;
 

@@ -17,8 +17,12 @@ namespace asf {
 class IniConfig {
  public:
   IniConfig() = default;
-  /// Throws ConfigError naming the file (and line for syntax errors).
+  /// The largest configuration file read (16 MiB): anything larger is refused unread.
+  static constexpr std::size_t kMaxBytes = std::size_t{16} << 20;
+  /// Throws ConfigError naming the file (and line for syntax errors); a file over kMaxBytes
+  /// (or a device that never ends) is refused after reading kMaxBytes + 1 bytes.
   static IniConfig fromFile(const std::string& path);
+  /// A leading UTF-8 byte order mark is skipped.
   static IniConfig fromText(const std::string& text, const std::string& name = "<text>");
 
   /// Applies one "section.key=value" override (the key is created if absent).
