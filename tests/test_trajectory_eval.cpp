@@ -190,4 +190,11 @@ TEST(TrajectoryEval, AteCommandAlignsAndWritesPerPoseErrors) {
   const auto bad = asf_test::runHost("ate /nonexistent.txt " + gf.string());
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(has(bad.out, "/nonexistent.txt: cannot open trajectory")) << bad.out;
+  // Issue 51, item 7: coordinates whose squares overflow give no "ATE RMSE inf m" and exit 0.
+  const auto huge = tempFile("huge.txt", "10 0 0 0\n11 1e200 0 0\n12 2 0 0\n");
+  const auto inf = asf_test::runHost("ate " + huge.string() + " " + gf.string());
+  EXPECT_EQ(inf.code, 1) << inf.out;
+  EXPECT_TRUE(has(inf.out, "huge.txt against")) << inf.out;
+  EXPECT_TRUE(has(inf.out, "not a finite number")) << inf.out;
+  EXPECT_FALSE(has(inf.out, "inf m")) << inf.out;
 }

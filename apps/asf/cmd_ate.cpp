@@ -65,6 +65,12 @@ int cmdAte(int argc, char** argv) {
   }
   const auto truth = readGroundTruth(gt.getValue());
   const TrajectoryError r = evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
+  // Finite inputs can still overflow (coordinates near 1e200 m): no figure rather than "inf".
+  for (const double v : {r.ate_rmse_m, r.ate_mean_m, r.ate_max_m, r.rot_rmse_deg})
+    if (!std::isfinite(v))
+      throw InputError(est.getValue() + " against " + gt.getValue() +
+                       ": the error is not a finite number (coordinates too large to square: "
+                       "not a robot's trajectory in metres?)");
   if (!per_pose.getValue().empty()) {
     std::ofstream f(per_pose.getValue());
     f << "# t error_m (after " << (r.aligned ? "SE(2) alignment" : "no alignment") << ")\n"
