@@ -85,6 +85,9 @@ TEST(G2o, MalformedInputNamesTheLine) {
   EXPECT_TRUE(has(errorOf([] { asf::parseG2o("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 1 0 0\n", "f.g2o"); }),
                   "f.g2o:2: vertex 0 defined twice (first at line 1)"));
   EXPECT_TRUE(has(errorOf([] { asf::readG2o("/nonexistent.g2o"); }), "/nonexistent.g2o: cannot open"));
+  // Issue 51, item 7: a self-loop is no constraint (it "converged" before).
+  EXPECT_TRUE(has(errorOf([] { asf::parseG2o("VERTEX_SE2 0 0 0 0\nEDGE_SE2 0 0 1 0 0 1 0 0 1 0 1\n", "f.g2o"); }),
+                  "f.g2o:2: edge 0 -> 0 joins a vertex to itself"));
 }
 
 TEST(G2o, SharedBenchmarksParse) {

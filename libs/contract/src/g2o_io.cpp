@@ -81,6 +81,8 @@ class G2oRecords {
       fail("malformed EDGE_SE2 (expected: from to dx dy dtheta I11 I12 I13 I22 I23 I33)");
     requireEnd(ls, "EDGE_SE2");
     const std::string which = std::to_string(r.from) + " -> " + std::to_string(r.to);
+    if (r.from == r.to)  // it constrains nothing; an optimizer would report it "converged"
+      fail("edge " + which + " joins a vertex to itself");
     if (!std::isfinite(dx) || !std::isfinite(dy) || !std::isfinite(dth))
       fail("edge " + which + " has a non-finite measurement");
     Eigen::Matrix3d I;
