@@ -11,7 +11,7 @@ namespace asf::run {
 
 bool RunState::operatorTurn() {
   if (!takeRequests()) return false;
-  if (home_ && home_->load() && !home_signal_taken_) {
+  if (homeSignalPending()) {
     home_signal_taken_ = true;
     home_request_ = "SIGUSR2";
   }
@@ -82,8 +82,7 @@ void RunState::leavePause() {
 
 void RunState::waitWhilePaused() {
   while (!(stop_ && stop_->load()) && takeRequests()) {
-    if (!operator_paused_ && !(pause_ && pause_->load()) && home_request_.empty() &&
-        !(home_ && home_->load() && !home_signal_taken_))
+    if (!operator_paused_ && !(pause_ && pause_->load()) && home_request_.empty() && !homeSignalPending())
       return;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

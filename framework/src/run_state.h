@@ -93,6 +93,7 @@ class RunState {
   bool operatorTurn();
   /// Takes the source's operator requests; false on Stop (the stop reason set).
   bool takeRequests();
+  bool homeSignalPending() const { return home_ && home_->load() && !home_signal_taken_; }
   void enterPause();
   void leavePause();
   /// Holds the run (no step, no decision) while paused, until resumed or stopped (a source

@@ -9,17 +9,8 @@ namespace asf::ros2live {
 using mrpt::poses::CPose2D;
 
 navigation::NavPlan VelocityDrive::plan(const View& v) const {
-  std::vector<Point2> obstacles;
-  if (v.scan) {
-    const CPose2D laser = v.robot + CPose2D(v.scan->sensorPose);
-    for (std::size_t i = 0; i < v.scan->getScanSize(); ++i) {
-      if (!v.scan->getScanRangeValidity(i)) continue;
-      const double r = v.scan->getScanRange(i), a = v.scan->getScanAngle(i);
-      double x = 0, y = 0;
-      laser.composePoint(r * std::cos(a), r * std::sin(a), x, y);
-      obstacles.push_back({x, y});
-    }
-  }
+  const std::vector<Point2> obstacles =
+      v.scan ? navigation::scanEndpoints(*v.scan, v.robot) : std::vector<Point2>{};
   return navigation::planPath(v.map.get(), {v.robot.x(), v.robot.y()}, {goal_.x, goal_.y},
                               goal_.tolerance, o_.nav, obstacles);
 }

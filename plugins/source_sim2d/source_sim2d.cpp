@@ -386,21 +386,9 @@ class Sim2dSource final : public asf::Source {
     return mrpt::math::wrapToPi(heading);
   }
 
-  // Endpoints of the latest scan in the map frame (placed with the believed pose): the
-  // obstacles around the robot as it senses them now, right relative to it even when the
-  // estimated map has drifted (a local obstacle layer, as navigation stacks have).
+  // The latest scan's endpoints placed with the believed pose (asf::navigation::scanEndpoints).
   std::vector<asf::Point2> scanObstacles() const {
-    std::vector<asf::Point2> pts;
-    if (!last_scan_) return pts;
-    const CPose2D laser = believed_ + CPose2D(last_scan_->sensorPose);
-    for (std::size_t i = 0; i < last_scan_->getScanSize(); ++i) {
-      if (!last_scan_->getScanRangeValidity(i)) continue;
-      const double r = last_scan_->getScanRange(i), a = last_scan_->getScanAngle(i);
-      double gx = 0, gy = 0;
-      laser.composePoint(r * std::cos(a), r * std::sin(a), gx, gy);
-      pts.push_back({gx, gy});
-    }
-    return pts;
+    return last_scan_ ? asf::navigation::scanEndpoints(*last_scan_, believed_) : std::vector<asf::Point2>{};
   }
 
   // The next command (forward, turn) from the believed pose towards the current waypoint.

@@ -2,6 +2,8 @@
 
 #include <asf/grid_map.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
 
 #include <algorithm>
 #include <cmath>
@@ -294,6 +296,20 @@ NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start
   pullString(g, cells, plan);
   plan.found = true;
   return plan;
+}
+
+std::vector<Point2> scanEndpoints(const mrpt::obs::CObservation2DRangeScan& scan,
+                                  const mrpt::poses::CPose2D& robot) {
+  std::vector<Point2> pts;
+  const mrpt::poses::CPose2D laser = robot + mrpt::poses::CPose2D(scan.sensorPose);
+  for (std::size_t i = 0; i < scan.getScanSize(); ++i) {
+    if (!scan.getScanRangeValidity(i)) continue;
+    const double r = scan.getScanRange(i), a = scan.getScanAngle(i);
+    double gx = 0, gy = 0;
+    laser.composePoint(r * std::cos(a), r * std::sin(a), gx, gy);
+    pts.push_back({gx, gy});
+  }
+  return pts;
 }
 
 }  // namespace asf::navigation

@@ -1,4 +1,5 @@
 #include <asf/navigation/path_follower.h>
+#include <mrpt/math/wrap2pi.h>
 
 #include <algorithm>
 #include <cmath>
@@ -6,12 +7,6 @@
 namespace asf::navigation {
 
 namespace {
-
-double wrapToPi(double a) {
-  a = std::fmod(a + M_PI, 2 * M_PI);
-  if (a < 0) a += 2 * M_PI;
-  return a - M_PI;
-}
 
 double dist(const Point2& a, const Point2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
@@ -86,7 +81,7 @@ Velocity PathFollower::update(const mrpt::poses::CPose2D& pose, double t) {
     state_ = FollowState::Stuck;
     return {};
   }
-  const double err = wrapToPi(std::atan2(target.y - p.y, target.x - p.x) - pose.phi());
+  const double err = mrpt::math::wrapToPi(std::atan2(target.y - p.y, target.x - p.x) - pose.phi());
   Velocity v;
   v.turn = std::clamp(o_.turn_gain * err, -o_.max_turn, o_.max_turn);
   if (std::abs(err) > o_.heading_tolerance) return v;  // turn in place first

@@ -15,6 +15,12 @@
 namespace mrpt::maps {
 class COccupancyGridMap2D;
 }
+namespace mrpt::obs {
+class CObservation2DRangeScan;
+}
+namespace mrpt::poses {
+class CPose2D;
+}
 
 namespace asf::navigation {
 
@@ -46,5 +52,11 @@ struct NavPlan {
 NavPlan planPath(const mrpt::maps::COccupancyGridMap2D* map, const Point2& start,
                  const Point2& goal, double tolerance, const NavOptions& options,
                  const std::vector<Point2>& obstacles = {});
+
+/// The valid rays' endpoints of `scan` taken by a robot at `robot` (map frame): the obstacles
+/// around it as it senses them now, right relative to it even where the estimated map has
+/// drifted (a local obstacle layer, as navigation stacks have), for planPath's `obstacles`.
+std::vector<Point2> scanEndpoints(const mrpt::obs::CObservation2DRangeScan& scan,
+                                  const mrpt::poses::CPose2D& robot);
 
 }  // namespace asf::navigation
