@@ -311,7 +311,7 @@ class SimRobot {
   void publishStatic() {
     tf2_msgs::msg::dds_::TFMessage_ m;
     m.transforms().push_back(rosTransform(o_.clock_start, "base_link", "laser", ros2::transformFromPose(mount_)));
-    if (o_.fault != "no_tf_static") tf_static_->write(&m);
+    if (o_.fault != "no_tf_static" && !o_.mount_on_tf) tf_static_->write(&m);
     if (const auto truth = source_->worldTruth()) {
       nav_msgs::msg::dds_::OccupancyGrid_ g =
           rosGrid(ros2::occupancyFromMrpt(*truth->grid, ros2::toStamp(o_.clock_start), "world"));
@@ -335,6 +335,7 @@ class SimRobot {
     odom_->write(&o);
     tf2_msgs::msg::dds_::TFMessage_ tf;
     tf.transforms().push_back(rosTransform(t, "odom", "base_link", tr));
+    if (o_.mount_on_tf) tf.transforms().push_back(rosTransform(t, "base_link", "laser", ros2::transformFromPose(mount_)));
     tf_->write(&tf);
     if (f.ground_truth) {
       nav_msgs::msg::dds_::Odometry_ g = o;

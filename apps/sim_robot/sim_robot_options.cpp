@@ -18,7 +18,7 @@ const char* kFaults[] = {"scan_as_string", "no_tf_static", "stuck"};
 const char* kUsage =
     "usage: asf sim-robot CONFIG.ini [--set section.key=value]... [--domain N] [--loopback]\n"
     "                     [--rate FACTOR] [--duration SECONDS] [--out DIR] [--fault NAME]\n"
-    "                     [--cmd-vel-timeout SECONDS] [--command SECONDS:TEXT]...\n"
+    "                     [--cmd-vel-timeout SECONDS] [--command SECONDS:TEXT]... [--mount-on-tf]\n"
     "The [pipeline] source of CONFIG.ini (sim2d) as a ROS 2 robot on Fast DDS: publishes\n"
     "/clock /scan /odom /tf /tf_static /ground_truth /world_map, takes /goal_pose with /map and\n"
     "map -> odom, reports goals on /navigate_to_pose/_action/status; its base takes /cmd_vel\n"
@@ -28,7 +28,9 @@ const char* kUsage =
     "--fault makes it a bad peer, to test what talks to it: scan_as_string (/scan carries\n"
     "std_msgs/String), no_tf_static (no laser mounting), stuck (goals accepted, never driven).\n"
     "--command T:TEXT publishes TEXT (std_msgs/String) on /asf/command at simulated time T: an\n"
-    "operator's script (start, pause, resume, stop, return_home).\n";
+    "operator's script (start, pause, resume, stop, return_home). --mount-on-tf: the laser's\n"
+    "mounting goes on /tf with every frame (as robot_state_publisher sends a moving joint), not\n"
+    "on /tf_static.\n";
 
 }  // namespace
 
@@ -66,6 +68,7 @@ Options parseArgs(int argc, char** argv) {
       o.commands.emplace_back(t, v.substr(colon + 1));
     }
     else if (a == "--out") o.out = value();
+    else if (a == "--mount-on-tf") o.mount_on_tf = true;
     else if (a == "--fault") {
       o.fault = value();
       if (std::find(std::begin(kFaults), std::end(kFaults), o.fault) == std::end(kFaults))

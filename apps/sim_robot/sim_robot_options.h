@@ -11,6 +11,7 @@ struct Options {
   std::vector<std::string> sets;
   int domain = 0;
   bool loopback = false;
+  bool mount_on_tf = false;  // the laser's mounting on /tf with every frame, not on /tf_static
   double rate = 1.0;       // real-time factor
   double duration = 0;     // simulated seconds; 0: until stopped
   double clock_start = 1;  // ROS tools read a zero stamp as "latest": start the clock here

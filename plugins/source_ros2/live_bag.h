@@ -30,6 +30,7 @@ class LiveBag {
   /// Writes metadata.yaml; returns the messages written (0 without a bag).
   std::uint64_t close();
   const std::string& folder() const { return folder_; }
+  bool isOpen() const { return w_ != nullptr; }
 
  private:
   std::unique_ptr<ros2::BagWriter> w_;

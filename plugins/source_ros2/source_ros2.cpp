@@ -27,7 +27,7 @@
 #include "cyclone_link.h"
 #include "live_bag.h"
 #include "live_core.h"
-#include "run_markers.h"
+#include "run_publisher.h"
 #include "source_ros2_keys.h"
 #include "velocity_drive.h"
 
@@ -69,7 +69,7 @@ class Ros2Source final : public asf::Source {
                                     << " dropped (queue full), " << out_of_order_
                                     << " out of order, " << before_odometry_
                                     << " before the first odometry; stamps " << std::fixed << first_t_ << " to "
-                                    << last_t_ << " s; " << maps_sent_ << " maps published on "
+                                    << last_t_ << " s; " << (publisher_ ? publisher_->mapsSent() : 0) << " maps published on "
                                     << map_topic_);
     if (writer_)
       MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to " << rawlog_path_);
@@ -165,7 +165,7 @@ class Ros2Source final : public asf::Source {
   void observe(const asf::RunView& v) override {
     if (frames_ == 0) return;
     const double cpu0 = asf::ros2live::threadCpuSeconds();
-    publishView(v);
+    publisher_->publish(v, last_odom_);
     last_robot_ = v.robot;
     const std::string state = v.final ? "ended" : v.paused ? "paused" : v.returning_home ? "returning_home" : "exploring";
     if (state != run_state_) publishStatus(v.goal, run_state_ = state);
@@ -188,34 +188,6 @@ class Ros2Source final : public asf::Source {
     publishStatus(&goal, run_state_);
     velocity_moving_ = st == asf::NavStatus::Moving;
     return st;
-  }
-
-  void publishView(const asf::RunView& v) {
-    // Stamped with the frame's (its scan's) time: map -> odom holds at that instant, and tf
-    // users look it up there beside odom -> base_link.
-    const ros2::Stamp stamp = ros2::toStamp(v.timestamp);
-    const CPose2D map_to_odom = v.robot + (CPose2D() - last_odom_);
-    const std::vector<ros2::TransformStamped> tf{
-        {stamp, map_frame_, odom_frame_, ros2::transformFromPose(map_to_odom)}};
-    link_->publish(tf_wr_, tf);
-    bag_.transforms(tf, false);
-    const bool map_due = v.map && v.map->grid && v.map->version &&
-                         (v.final || (v.map->version != map_version_ &&
-                                      v.timestamp - map_sent_ >= map_period_));
-    if (map_due) {
-      const ros2::OccupancyGrid grid = ros2::occupancyFromMrpt(*v.map->grid, stamp, map_frame_);
-      link_->publish(map_wr_, grid);
-      bag_.map(grid);
-      map_version_ = v.map->version;
-      map_sent_ = v.timestamp;
-      ++maps_sent_;
-    }
-    if (v.final || v.timestamp - markers_sent_ >= marker_period_) {
-      const auto markers = asf::ros2live::runMarkers(v, stamp, map_frame_);
-      link_->publish(markers_wr_, markers);
-      bag_.markers(markers);
-      markers_sent_ = v.timestamp;
-    }
   }
 
  public:
@@ -259,21 +231,20 @@ class Ros2Source final : public asf::Source {
     nav_status_topic_ = p.getString("nav_status_topic");
     map_topic_ = p.getString("map_topic");
     marker_topic_ = p.getString("marker_topic");
-    marker_period_ = p.getDouble("marker_period_s");
     status_topic_ = p.getString("status_topic");
     startup_timeout_ = p.getDouble("startup_timeout_s");
     message_timeout_ = p.getDouble("message_timeout_s");
     odom_tolerance_ = p.getDouble("odom_tolerance_s");
     accept_timeout_ = p.getDouble("goal_accept_timeout_s");
     goal_timeout_ = p.getDouble("goal_timeout_s");
-    map_period_ = p.getDouble("map_period_s");
     radius_ = p.getDouble("robot_radius");
     model_ = asf::OdometryNoiseModel::fromParams(p);
     for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
                           "goal_topic", "cmd_vel_topic", "command_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
                           "ground_truth_topic", "world_map_topic"}) {
       const std::string v = p.getString(k);
-      if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic"))
+      if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic" ||
+                        std::string(k) == "clock_topic"))
         continue;
       try {
         ros2::ddsTopic(v);
@@ -317,9 +288,7 @@ class Ros2Source final : public asf::Source {
     try {
       link_ = std::make_unique<asf::ros2live::CycloneLink>(o);
       subscribe(p);
-      map_wr_ = link_->advertiseOccupancy(map_topic_);
-      tf_wr_ = link_->advertiseTransforms(tf_topic_, Qos::Reliable);
-      markers_wr_ = link_->advertiseMarkers(marker_topic_);
+      publisher_ = std::make_unique<asf::ros2live::RunPublisher>(*link_, bag_, publisherOptions(p));
       if (nav2_) {
         goal_wr_ = link_->advertisePose(goal_topic_);
         link_->onGoalStatus(nav_status_topic_, [this](std::vector<asf::ros2live::GoalStatusEntry> l) {
@@ -338,6 +307,14 @@ class Ros2Source final : public asf::Source {
     } catch (const std::runtime_error& e) {
       p.fail("domain_id", std::string("DDS: ") + e.what());
     }
+  }
+
+  asf::ros2live::RunPublisherOptions publisherOptions(const asf::Params& p) const {
+    asf::ros2live::RunPublisherOptions o;
+    o.tf_topic = tf_topic_, o.map_topic = map_topic_, o.marker_topic = marker_topic_;
+    o.map_frame = map_frame_, o.odom_frame = odom_frame_;
+    o.map_period = p.getDouble("map_period_s"), o.marker_period = p.getDouble("marker_period_s");
+    return o;
   }
 
   // drive = cmd_vel: the planner keeps the simulator's margins (nav_*), the follower the
@@ -378,37 +355,23 @@ class Ros2Source final : public asf::Source {
       });
     else
       robot_frame_ = base_frame_;
-    auto onTf = [this](bool is_static, const std::vector<ros2::TransformStamped>& l) {
-      bag_.transforms(l, is_static);
-      std::optional<std::pair<double, CPose2D>> odom;
-      {
-        std::lock_guard<std::mutex> lock(mu_);
-        for (const auto& t : l) {
-          if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_) {
-            odom = {ros2::toSeconds(t.stamp), planar(t.transform)};
-            odom_.add(odom->first, odom->second);
-          } else if (t.parent != map_frame_) {  // map -> odom is ours (or another SLAM's)
-            tree_.set(t.parent, t.child, ros2::poseFromTransform(t.transform));
-          }
-        }
-        cv_.notify_all();
-      }
-      if (velocity_ && odom) velocity_->odometry(odom->second, odom->first);
-    };
     link_->onTransforms(tf_static_topic_, Qos::ReliableLatched,
-                        [onTf](std::vector<ros2::TransformStamped> l) { onTf(true, l); });
-    link_->onTransforms(tf_topic_, Qos::Reliable,
-                        [onTf](std::vector<ros2::TransformStamped> l) { onTf(false, l); });
+                        [this](std::vector<ros2::TransformStamped> l) { transformsArrived(true, l); });
+    // /tf is read only when something needs it: odometry from tf, the bag, or a laser whose
+    // mounting is not on /tf_static (mounting() subscribes then). A robot's /tf carries
+    // odom -> base_link and its joints at tens of Hz, each message costing the bridge as much
+    // as a scan.
+    if (odom_from_tf_ || bag_.isOpen()) subscribeTf();
     link_->onString(command_topic_, [this](std::string text) { commands_.arrived(command_topic_, text); });
     if (p.getBool("wait_for_start"))
       commands_.push({asf::OperatorRequest::Kind::Pause, "wait_for_start: waiting for 'start' on " + command_topic_});
-    if (use_sim_time_)
+    if (use_sim_time_ && !clock_topic_.empty())
       link_->onClock(clock_topic_, [this](ros2::Stamp s) {
         std::lock_guard<std::mutex> lock(mu_);
         clock_ = s;
       });
     if (!gt_topic_.empty())
-      link_->onOdometry(gt_topic_, Qos::Reliable, [this](ros2::Odometry m) {
+      link_->onOdometry(gt_topic_, Qos::SensorData, [this](ros2::Odometry m) {
         bag_.groundTruth(m);
         std::lock_guard<std::mutex> lock(mu_);
         gt_.add(ros2::toSeconds(m.stamp), planar(m.pose));
@@ -423,6 +386,33 @@ class Ros2Source final : public asf::Source {
   }
 
   // The true world from world_map_topic, placed by the true pose at the first scan.
+  void transformsArrived(bool is_static, const std::vector<ros2::TransformStamped>& l) {
+    bag_.transforms(l, is_static);
+    std::optional<std::pair<double, CPose2D>> odom;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (const auto& t : l) {
+        if (odom_from_tf_ && !is_static && t.parent == odom_frame_ && t.child == base_frame_) {
+          odom = {ros2::toSeconds(t.stamp), planar(t.transform)};
+          odom_.add(odom->first, odom->second);
+        } else if (t.parent != map_frame_) {  // map -> odom is ours (or another SLAM's)
+          tree_.set(t.parent, t.child, ros2::poseFromTransform(t.transform));
+        }
+      }
+      cv_.notify_all();
+    }
+    if (velocity_ && odom) velocity_->odometry(odom->second, odom->first);
+  }
+
+  // Best effort: asf needs the newest transforms, not every one; a reliable reader would
+  // acknowledge each of the publisher's heartbeats.
+  void subscribeTf() {
+    if (tf_subscribed_) return;
+    tf_subscribed_ = true;
+    link_->onTransforms(tf_topic_, Qos::SensorData,
+                        [this](std::vector<ros2::TransformStamped> l) { transformsArrived(false, l); });
+  }
+
   void waitForWorld(const asf::Params& p) {
     // The first scan the odometry covers: the map frame's origin, whose true pose places the
     // world (the frames before it are dropped by next() too).
@@ -508,10 +498,21 @@ class Ros2Source final : public asf::Source {
     const auto it = mounts_.find(laser_frame);
     if (it != mounts_.end()) return it->second;
     std::optional<CPose3D> m;
-    cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * startup_timeout_)), [&] {
+    const auto known = [&] {
       m = laser_frame == robot_frame_ ? CPose3D() : tree_.lookup(robot_frame_, laser_frame);
       return m.has_value();
-    });
+    };
+    // /tf_static (transient local) arrives with discovery; else read /tf for the rest.
+    const double static_wait = tf_subscribed_ ? startup_timeout_ : std::min(1.0, startup_timeout_);
+    if (!cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * static_wait)), known) &&
+        !tf_subscribed_) {
+      lock.unlock();
+      MRPT_LOG_INFO_STREAM("no transform " << robot_frame_ << " -> " << laser_frame << " on " << tf_static_topic_
+                           << " after " << static_wait << " s: reading " << tf_topic_ << " for the laser's mounting");
+      subscribeTf();
+      lock.lock();
+      cv_.wait_for(lock, std::chrono::milliseconds(static_cast<long>(1000 * (startup_timeout_ - static_wait))), known);
+    }
     if (!m)
       throw asf::InputError("[ros2] topic " + scan_topic_ + ": no transform " + robot_frame_ + " -> " +
                             laser_frame + " (the scan's frame) on " + tf_static_topic_ + " or " + tf_topic_ +
@@ -558,7 +559,7 @@ class Ros2Source final : public asf::Source {
   ros2::Stamp now() const {
     if (use_sim_time_) {
       std::lock_guard<std::mutex> lock(mu_);
-      return clock_;
+      return clock_topic_.empty() ? ros2::toStamp(odom_.empty() ? 0.0 : odom_.newest()) : clock_;
     }
     return ros2::toStamp(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
   }
@@ -576,9 +577,9 @@ class Ros2Source final : public asf::Source {
       world_topic_, goal_topic_, nav_status_topic_, map_topic_, marker_topic_, status_topic_,
       cmd_vel_topic_, command_topic_;
   std::string map_frame_, odom_frame_, base_frame_, robot_frame_, rawlog_path_;
-  bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false;
+  bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false, tf_subscribed_ = false;
   double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
-         goal_timeout_ = 0, map_period_ = 1, marker_period_ = 1, radius_ = 0.2;
+         goal_timeout_ = 0, radius_ = 0.2;
   asf::OdometryNoiseModel model_;
   std::unique_ptr<asf::RawlogWriter> writer_;
   std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
@@ -598,16 +599,17 @@ class Ros2Source final : public asf::Source {
   std::map<std::string, CPose3D> mounts_;
   std::optional<UsableScan> first_;  // taken by configure() (the world's origin), not yet returned
   std::uint64_t before_odometry_ = 0;  // scans dropped: sent before the first odometry arrived
-  std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0, map_version_ = 0, maps_sent_ = 0;
+  std::uint64_t frames_ = 0, out_of_order_ = 0, goals_sent_ = 0;
   double bridge_cpu_ = 0;  // CPU seconds of the run's thread in this source's own work
   double recording_cpu_ = 0;  // of which not counted: the rawlog every run records
-  double first_t_ = 0, last_t_ = 0, map_sent_ = -1e300, markers_sent_ = -1e300;
+  double first_t_ = 0, last_t_ = 0;
   CPose2D last_odom_, last_robot_;  // odometry and estimate at the last frame
   std::string run_state_ = "exploring";  // as the status topic last said
   asf::ros2live::OperatorInbox commands_;  // from command_topic
   std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> last_scan_;
   mutable bool velocity_moving_ = false;  // the last status() of drive = cmd_vel was Moving
-  int goal_wr_ = 0, map_wr_ = 0, tf_wr_ = 0, status_wr_ = 0, markers_wr_ = 0;
+  int goal_wr_ = 0, status_wr_ = 0;
+  std::unique_ptr<asf::ros2live::RunPublisher> publisher_;  // map -> odom, /map, the markers
   std::unique_ptr<asf::ros2live::VelocityDrive> velocity_;  // drive = cmd_vel
   std::unique_ptr<asf::ros2live::CycloneLink> link_;  // last: destroyed first
 };

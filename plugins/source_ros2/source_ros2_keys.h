@@ -18,8 +18,9 @@ const asf::KeySpec kKeys[] = {
                  "Where the odometry comes from: odom_topic (nav_msgs/Odometry), or the transform "
                  "odom_frame -> base_frame on tf_topic"),
     asf::keyString("odom_topic", "/odom", "nav_msgs/Odometry topic (odometry = topic)"),
-    asf::keyEnum("odom_qos", "reliable", "reliable|sensor_data",
-                 "QoS of the odometry subscription (sensor_data: best effort)"),
+    asf::keyEnum("odom_qos", "sensor_data", "sensor_data|reliable",
+                 "QoS of the odometry subscription: sensor_data (best effort: matches every "
+                 "publisher, and acknowledges no message) or reliable"),
     asf::keyString("tf_topic", "/tf", "tf2_msgs/TFMessage topic of the moving transforms"),
     asf::keyString("tf_static_topic", "/tf_static",
                    "tf2_msgs/TFMessage topic of the fixed transforms (the laser's mounting)"),
@@ -29,9 +30,12 @@ const asf::KeySpec kKeys[] = {
                    "Robot frame of odometry = tf (with odometry = topic, the odometry's child "
                    "frame is the robot frame)"),
     asf::keyBool("use_sim_time", "false",
-                 "Stamp what asf publishes with the time of clock_topic (a simulator's), not the "
-                 "system clock"),
-    asf::keyString("clock_topic", "/clock", "rosgraph_msgs/Clock topic (use_sim_time)"),
+                 "Stamp goals with the robot's clock (a simulator's), not the system "
+                 "clock: the time on clock_topic, or without one the newest odometry stamp"),
+    asf::keyString("clock_topic", "",
+                   "rosgraph_msgs/Clock topic read with use_sim_time (e.g. /clock); empty: the "
+                   "odometry's stamps are the robot's clock (a simulator's /clock can come at "
+                   "1 kHz, each message costing the bridge as much as a scan)"),
     asf::keyDouble("odom_tolerance_s", "0.1",
                    "A scan needs odometry within this of its stamp (interpolated between two "
                    "around it) [s]",

@@ -10,6 +10,7 @@
 #   no_laser_tf  the robot publishes no /tf_static (the laser's mounting)
 #   stuck        the robot accepts goals and never drives: every goal times out
 #   interrupted  Ctrl-C (SIGINT) in the middle of a live run: exit 130, every output written
+#   mount_on_tf  not a fault: the laser's mounting only on /tf (asf reads /tf then), 60 steps
 set -euo pipefail
 source "$(dirname "$0")/stop_robot.sh"
 asf=$1 src=$2 out=$3 domain=$4 case=$5
@@ -40,6 +41,10 @@ case $case in
   stuck)
     args=(--set ros2.goal_timeout_s=3 --set pipeline.max_failed_goals=2); robot_args=(--fault stuck)
     expect='goal_timeout_s = 3 s.*|goals failed; giving up'; written="summary.json map.pgm"
+    fail_exit=0 ;;
+  mount_on_tf)
+    args=(--set ros2.world_map_topic= --set pipeline.max_steps=60); robot_args=(--mount-on-tf)
+    expect='reading /tf for the laser.s mounting'; written="summary.json map.pgm ros2.rawlog"
     fail_exit=0 ;;
   interrupted)
     expect='interrupted after [0-9]+ steps'; written="summary.json map.pgm ros2.rawlog report.html" ;;
@@ -72,6 +77,10 @@ if [[ $fail_exit -eq 1 ]]; then
 fi
 grep -Eq "$expect" "$out/asf.log" "$out/asf/run.log" 2>/dev/null || fail "no error matching '$expect'"
 for f in $written; do [[ -s "$out/asf/$f" ]] || fail "$f was not written"; done
+if [[ $case == mount_on_tf ]]; then
+  [[ $rc -eq 0 ]] || fail "exit code $rc (expected 0)"
+  grep -q '"steps": 60' "$out/asf/summary.json" || fail "summary.json does not have 60 steps"
+fi
 if [[ $case == stuck ]]; then
   grep -q '"stop_reason": "the policy.s last 2 goals failed; giving up"' "$out/asf/summary.json" ||
     fail "summary.json does not say the goals failed"

@@ -6,6 +6,7 @@
 #include <mrpt/math/CQuaternion.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -134,30 +135,63 @@ std::int8_t occupancyValue(float p_occupied, float unknown_band) {
   return static_cast<std::int8_t>(std::clamp<long>(v, 0, 100));
 }
 
+namespace {
+using Cell = mrpt::maps::COccupancyGridMap2D::cellType;
+using CellBits = std::make_unsigned_t<Cell>;
+static_assert(sizeof(Cell) <= 2, "MRPT's occupancy cells are 8 or 16 bit");
+
+// MRPT stores each cell as a small log-odds integer: one table from every stored value to its
+// ROS value, then a pass over the raw cells (row-major, cy * width + cx, as ROS).
+const std::vector<std::int8_t>& rosValueOfCell() {
+  static const std::vector<std::int8_t> lut = [] {
+    std::vector<std::int8_t> t(std::size_t(1) << (8 * sizeof(Cell)));
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const auto v = static_cast<Cell>(static_cast<CellBits>(i));
+      t[i] = occupancyValue(1.0f - mrpt::maps::COccupancyGridMap2D::l2p(v));
+    }
+    return t;
+  }();
+  return lut;
+}
+}  // namespace
+
 OccupancyGrid occupancyFromMrpt(const mrpt::maps::COccupancyGridMap2D& grid, const Stamp& stamp,
                                 const std::string& frame_id) {
-  OccupancyGrid m;
-  m.stamp = stamp;
-  m.frame_id = frame_id;
-  m.resolution = grid.getResolution();
-  m.width = static_cast<std::uint32_t>(grid.getSizeX());
-  m.height = static_cast<std::uint32_t>(grid.getSizeY());
-  m.origin.tx = grid.getXMin();
-  m.origin.ty = grid.getYMin();
-  // MRPT stores each cell as a small log-odds integer (row-major, cy * width + cx as ROS):
-  // one table from every stored value to its ROS value, then a pass over the raw cells.
-  using Cell = mrpt::maps::COccupancyGridMap2D::cellType;
-  static_assert(sizeof(Cell) <= 2, "MRPT's occupancy cells are 8 or 16 bit");
-  std::vector<std::int8_t> lut(std::size_t(1) << (8 * sizeof(Cell)));
-  for (std::size_t i = 0; i < lut.size(); ++i) {
-    const auto v = static_cast<Cell>(static_cast<std::make_unsigned_t<Cell>>(i));
-    lut[i] = occupancyValue(1.0f - mrpt::maps::COccupancyGridMap2D::l2p(v));
-  }
+  return OccupancyConverter().convert(grid, stamp, frame_id);
+}
+
+const OccupancyGrid& OccupancyConverter::convert(const mrpt::maps::COccupancyGridMap2D& grid,
+                                                 const Stamp& stamp, const std::string& frame_id) {
+  const auto width = static_cast<std::uint32_t>(grid.getSizeX());
+  const auto height = static_cast<std::uint32_t>(grid.getSizeY());
   const std::vector<Cell>& raw = grid.getRawMap();
-  m.data.resize(raw.size());
-  for (std::size_t i = 0; i < raw.size(); ++i)
-    m.data[i] = lut[static_cast<std::make_unsigned_t<Cell>>(raw[i])];
-  return m;
+  const std::size_t row_bytes = std::size_t(width) * sizeof(Cell);
+  const bool same_shape = out_.width == width && out_.height == height &&
+                          out_.resolution == grid.getResolution() && out_.origin.tx == grid.getXMin() &&
+                          out_.origin.ty == grid.getYMin() && previous_.size() == row_bytes * height;
+  out_.stamp = stamp;
+  out_.frame_id = frame_id;
+  out_.resolution = grid.getResolution();
+  out_.width = width;
+  out_.height = height;
+  out_.origin = Transform{};
+  out_.origin.tx = grid.getXMin();
+  out_.origin.ty = grid.getYMin();
+  out_.data.resize(raw.size());
+  if (!same_shape) previous_.assign(row_bytes * height, 0);
+  const auto* bytes = reinterpret_cast<const unsigned char*>(raw.data());
+  const std::vector<std::int8_t>& lut = rosValueOfCell();
+  rows_converted_ = 0;
+  for (std::size_t y = 0; y < height; ++y) {
+    unsigned char* seen = previous_.data() + y * row_bytes;
+    if (same_shape && std::memcmp(seen, bytes + y * row_bytes, row_bytes) == 0) continue;
+    std::memcpy(seen, bytes + y * row_bytes, row_bytes);
+    const Cell* in = raw.data() + y * width;
+    std::int8_t* out = out_.data.data() + y * width;
+    for (std::size_t x = 0; x < width; ++x) out[x] = lut[static_cast<CellBits>(in[x])];
+    ++rows_converted_;
+  }
+  return out_;
 }
 
 std::shared_ptr<mrpt::maps::COccupancyGridMap2D> mrptFromOccupancy(const OccupancyGrid& msg) {

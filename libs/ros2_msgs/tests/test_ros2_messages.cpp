@@ -136,6 +136,48 @@ TEST(Ros2Messages, OccupancyRoundTripCellByCell) {
   EXPECT_THROW(mrptFromOccupancy(bad), std::invalid_argument);
 }
 
+// Every cell of m against the grid read cell by cell through MRPT's own getCell (p(free)).
+void expectSameCells(const OccupancyGrid& m, const mrpt::maps::COccupancyGridMap2D& g) {
+  ASSERT_EQ(m.width, g.getSizeX());
+  ASSERT_EQ(m.height, g.getSizeY());
+  ASSERT_EQ(m.data.size(), std::size_t(m.width) * m.height);
+  EXPECT_NEAR(m.origin.tx, g.getXMin(), 1e-6);
+  EXPECT_NEAR(m.origin.ty, g.getYMin(), 1e-6);
+  int wrong = 0;
+  for (int cy = 0; cy < static_cast<int>(g.getSizeY()); ++cy)
+    for (int cx = 0; cx < static_cast<int>(g.getSizeX()); ++cx)
+      wrong += m.data[cy * m.width + cx] != occupancyValue(1.0f - g.getCell(cx, cy));
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(Ros2Messages, OccupancyConverterRedoesChangedRowsOnly) {
+  mrpt::maps::COccupancyGridMap2D g(-1.0f, 2.0f, -0.5f, 1.5f, 0.1f);
+  OccupancyConverter c;
+  expectSameCells(c.convert(g, toStamp(1), "map"), g);
+  EXPECT_EQ(c.rowsConverted(), g.getSizeY());
+  EXPECT_EQ(c.convert(g, toStamp(2), "map").stamp.sec, 2);
+  EXPECT_EQ(c.rowsConverted(), 0u);
+  // Cells of rows 3 and 7 change: those two rows are converted again, the rest kept.
+  g.setCell(4, 3, 0.1f);
+  g.setCell(0, 7, 0.9f);
+  g.setCell(5, 7, 0.3f);
+  expectSameCells(c.convert(g, toStamp(3), "map"), g);
+  EXPECT_EQ(c.rowsConverted(), 2u);
+  // Many changes, then a grid grown on every side (a new shape: every row again).
+  unsigned state = 7;
+  for (int k = 0; k < 200; ++k) {
+    state = state * 1103515245u + 12345u;
+    g.setCell(state % g.getSizeX(), (state >> 8) % g.getSizeY(), ((state >> 16) % 100) / 100.0f);
+  }
+  expectSameCells(c.convert(g, toStamp(4), "map"), g);
+  g.resizeGrid(-2.0f, 3.0f, -1.5f, 2.5f, 0.5f, false);
+  expectSameCells(c.convert(g, toStamp(5), "map"), g);
+  EXPECT_EQ(c.rowsConverted(), g.getSizeY());
+  g.setCell(1, 1, 0.05f);
+  expectSameCells(c.convert(g, toStamp(6), "map"), g);
+  EXPECT_EQ(c.rowsConverted(), 1u);
+}
+
 TEST(Ros2Messages, LoopbackConfigNamesLoopbackOnly) {
   const std::string xml = cycloneLoopbackXml(12);
   EXPECT_NE(xml.find("name=\"lo\""), std::string::npos);

@@ -113,6 +113,21 @@ std::int8_t occupancyValue(float p_occupied, float unknown_band = 0.02f);
 /// An MRPT grid as an OccupancyGrid (origin at (x_min, y_min), no rotation).
 OccupancyGrid occupancyFromMrpt(const mrpt::maps::COccupancyGridMap2D& grid, const Stamp& stamp,
                                 const std::string& frame_id);
+/// Successive versions of one MRPT grid as OccupancyGrids, the same as occupancyFromMrpt, but
+/// only the rows whose cells changed since the previous call are converted again (a map grows
+/// and changes around the robot; /map goes out whole).
+class OccupancyConverter {
+ public:
+  const OccupancyGrid& convert(const mrpt::maps::COccupancyGridMap2D& grid, const Stamp& stamp,
+                               const std::string& frame_id);
+  /// Rows converted by the last call (all of them when the grid's shape changed).
+  std::size_t rowsConverted() const { return rows_converted_; }
+
+ private:
+  OccupancyGrid out_;
+  std::vector<unsigned char> previous_;  ///< the raw cells the last call converted, as bytes
+  std::size_t rows_converted_ = 0;
+};
 /// An OccupancyGrid as an MRPT grid: unknown cells 0.5, the others value / 100. Throws
 /// std::invalid_argument for a grid MRPT cannot hold (data of another size than width x
 /// height, a resolution <= 0, a rotated origin).

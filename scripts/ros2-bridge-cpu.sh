@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The ROS 2 bridge's share of a live run's CPU (docs/ROS2.md, "The bridge's CPU"): asf sim-robot
+# on Fast DDS against asf run on Cyclone DDS over loopback (tests/ros2/live_loop.sh, no bag), one
+# run per seed; from each run.log's "bridge CPU" line, the CPU per frame of the run's thread in
+# the bridge's own work (conversions, publishing; the rawlog every run records apart), of
+# Cyclone DDS's receive thread (recvUC: receiving, delivering to asf's callbacks) and timed
+# events thread (tev), of the whole run, and the bridge's share. A run's checks may fail (with
+# the truth topics switched off there is no coverage to check): it is a measurement here.
+# Usage: scripts/ros2-bridge-cpu.sh OUT_DIR [SEEDS (default 3)] [RATE (default 4: 40 scans/s)]
+#        [CONFIG (default configs/ros2_nav2.ini)] [asf run --set ...]
+# e.g. a robot without a simulator's topics: ... OUT 3 4 configs/ros2_nav2.ini \
+#        --set ros2.ground_truth_topic= --set ros2.world_map_topic= --set ros2.use_sim_time=false
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:?usage: scripts/ros2-bridge-cpu.sh OUT_DIR [SEEDS] [RATE] [CONFIG] [--set ...]}
+seeds=${2:-3} rate=${3:-4} config=${4:-configs/ros2_nav2.ini}
+shift $(( $# < 4 ? $# : 4 ))
+mkdir -p "$out"
+for seed in $(seq 1 "$seeds"); do
+  echo "seed $seed" >&2
+  LIVE_SEED=$seed LIVE_BAG=false LIVE_CONFIG=$config bash tests/ros2/live_loop.sh build/bin/asf . \
+    "$out/run_$seed" 72 "$rate" "$@" >"$out/run_$seed.log" 2>&1 || true
+done
+python3 - "$out" "$seeds" <<'PY'
+import re, statistics, sys
+out, seeds = sys.argv[1], int(sys.argv[2])
+line = re.compile(r"bridge CPU: ([\d.e-]+) s on the run's thread .*?, ([\d.e-]+) s on Cyclone DDS's "
+                  r"threads \((.*?)\), of ([\d.e-]+) s for the whole run")
+print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share")
+shares = []
+for seed in range(1, seeds + 1):
+    d = f"{out}/run_{seed}/asf"
+    try:
+        m = line.search(open(f"{d}/run.log").read())
+        frames = sum(1 for _ in open(f"{d}/trajectory.csv")) - 1
+    except OSError:
+        m = None
+    if not m or frames <= 0:
+        print(f"{seed:4d}  no measurement (see {out}/run_{seed}.log)")
+        continue
+    run, dds, total = float(m.group(1)), float(m.group(2)), float(m.group(4))
+    threads = {k: float(v) for k, v in (t.rsplit(" ", 1) for t in m.group(3).split(", "))}
+    us = lambda s: 1e6 * s / frames
+    share = (run + dds) / total
+    shares.append(share)
+    print(f"{seed:4d}  {frames:6d}  {us(run):19.0f}  {us(threads.get('recvUC', 0)):6.0f}  "
+          f"{us(threads.get('tev', 0)):3.0f}  {us(total):9.0f}  {100 * share:11.1f} %")
+if shares:
+    print(f"bridge share min {100 * min(shares):.1f} %  median {100 * statistics.median(shares):.1f} %  "
+          f"max {100 * max(shares):.1f} %  (n={len(shares)})")
+PY
