@@ -4,7 +4,9 @@
 # run per seed; from each run.log's "bridge CPU" line, the CPU per frame of the run's thread in
 # the bridge's own work (conversions, publishing; the rawlog every run records apart), of
 # Cyclone DDS's receive thread (recvUC: receiving, delivering to asf's callbacks) and timed
-# events thread (tev), of the whole run, and the bridge's share. A run's checks may fail (with
+# events thread (tev), of the whole run, and the bridge's share; and the scan-to-tf latency the
+# robot measured (sim_robot.json: publishing a scan to receiving the map -> odom asf stamped
+# with it), median and 95th percentile. A run's checks may fail (with
 # the truth topics switched off there is no coverage to check): it is a measurement here.
 # Usage: scripts/ros2-bridge-cpu.sh OUT_DIR [SEEDS (default 3)] [RATE (default 4: 40 scans/s)]
 #        [CONFIG (default configs/ros2_nav2.ini)] [asf run --set ...]
@@ -22,11 +24,11 @@ for seed in $(seq 1 "$seeds"); do
     "$out/run_$seed" 72 "$rate" "$@" >"$out/run_$seed.log" 2>&1 || true
 done
 python3 - "$out" "$seeds" <<'PY'
-import re, statistics, sys
+import json, re, statistics, sys
 out, seeds = sys.argv[1], int(sys.argv[2])
 line = re.compile(r"bridge CPU: ([\d.e-]+) s on the run's thread .*?, ([\d.e-]+) s on Cyclone DDS's "
                   r"threads \((.*?)\), of ([\d.e-]+) s for the whole run")
-print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share")
+print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share  scan-to-tf ms: median  p95")
 shares = []
 for seed in range(1, seeds + 1):
     d = f"{out}/run_{seed}/asf"
@@ -43,8 +45,13 @@ for seed in range(1, seeds + 1):
     us = lambda s: 1e6 * s / frames
     share = (run + dds) / total
     shares.append(share)
+    try:
+        lat = json.load(open(f"{out}/run_{seed}/robot/sim_robot.json"))["scan_to_tf_latency"]
+        lat = f"{lat['median_ms']:21.2f}  {lat['p95_ms']:4.1f}"
+    except (OSError, KeyError, ValueError):
+        lat = ""
     print(f"{seed:4d}  {frames:6d}  {us(run):19.0f}  {us(threads.get('recvUC', 0)):6.0f}  "
-          f"{us(threads.get('tev', 0)):3.0f}  {us(total):9.0f}  {100 * share:11.1f} %")
+          f"{us(threads.get('tev', 0)):3.0f}  {us(total):9.0f}  {100 * share:11.1f} %  {lat}")
 if shares:
     print(f"bridge share min {100 * min(shares):.1f} %  median {100 * statistics.median(shares):.1f} %  "
           f"max {100 * max(shares):.1f} %  (n={len(shares)})")
