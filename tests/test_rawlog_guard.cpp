@@ -6,9 +6,15 @@
 // - an action collection holding an object that is not an action or a null one, and an
 //   odometry action whose pose change is not a pose PDF (MRPT clones the null result of its
 //   cast: SIGSEGV); the well-formed actions MRPT writes read as before.
+// - a 3D range scan of MRPT's own sample claiming a 0x7fffffff-row range image (SIGSEGV in
+//   rangeImage_setSize), through RawlogReader and through asf map3d's reader; the sample
+//   itself reads as before.
 #include <asf/errors.h>
+#include <asf/map3d.h>
+#include <asf/map3d_from_log.h>
 #include <asf/rawlog_io.h>
 #include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/io/CMemoryStream.h>
@@ -473,5 +479,38 @@ TEST(RawlogGuard, ALongDamagedClassNameIsResolvedAsMrptDoes) {
   const std::string path = logWith("long_name.rawlog", record);
   const std::string e = readError(path);
   EXPECT_TRUE(asf_test::has(e, "record 1: an action collection claims 1922318624 objects")) << e;
+  fs::remove(path);
+}
+
+TEST(RawlogGuard, A3DScanClaimingAHugeRangeImageIsRefused) {
+  const std::string sample = "/usr/share/mrpt/datasets/tests_rgbd.rawlog";
+  if (!fs::exists(sample)) GTEST_SKIP() << "needs MRPT's sample " << sample << " (Debian: mrpt-common)";
+  std::string bytes;
+  {
+    mrpt::io::CFileGZInputStream in(sample);
+    char buf[65536];
+    for (std::size_t got; (got = in.Read(buf, sizeof buf)) > 0 && got <= sizeof buf;) bytes.append(buf, got);
+  }
+  const std::string path = tempPath("rgbd.rawlog");
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  EXPECT_EQ(framesIn(path), 0u) << "3D scans are no 2D frames, and no error";
+  // The range image's rows (480) and columns (640) of one of its 3D scans (version 9).
+  const std::size_t at = 4371769;
+  ASSERT_LT(at + 8, bytes.size());
+  ASSERT_EQ(bytes.substr(at, 8), std::string("\xe0\x01\x00\x00\x80\x02\x00\x00", 8))
+      << "not the sample this test was written for";
+  bytes.replace(at, 4, "\xff\xff\xff\x7f");
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  asf::RawlogReader r(path);
+  const std::string e = asf_test::errorOf<asf::InputError>([&] {
+    while (r.next()) {
+    }
+  });
+  EXPECT_TRUE(asf_test::has(e, "a 3D range scan claims a range image of 2147483647 x 640 pixels"))
+      << "[" << e << "]";
+  asf::Map3d map;
+  const asf::Map3dFromLogReport rep = asf::insertRawlog3d(path, {}, map, {});
+  EXPECT_TRUE(asf_test::has(rep.error, "a 3D range scan claims a range image of 2147483647 x 640"))
+      << "[" << rep.error << "]";
   fs::remove(path);
 }

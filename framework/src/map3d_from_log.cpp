@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "rawlog_guard.h"
+
 namespace asf {
 
 namespace {
@@ -110,24 +112,26 @@ Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOpt
     // MRPT throws for a missing file instead of returning false.
   }
   if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
-  auto ar = mrpt::serialization::archiveUniquePtrFrom(in);
+  RawlogGuard guard(in);  // refuses records MRPT would crash on, as RawlogReader does
+  auto ar = mrpt::serialization::archiveUniquePtrFrom(guard);
   LogInserter ins(o, map, progress);
   Map3dFromLogReport& r = ins.r;
   try {
     for (;;) {
       mrpt::serialization::CSerializable::Ptr obj;
       const auto t0 = Clock::now();
-      const std::uint64_t record_start = in.getPosition();
+      const std::uint64_t record_start = guard.getPosition();
       try {
         obj = ar->ReadObject();
       } catch (const mrpt::serialization::CExceptionEOF&) {
-        if (in.getPosition() == record_start) break;  // a clean end: between records
+        if (guard.getPosition() == record_start) break;  // a clean end: between records
         throw InputError(path + ": record " + std::to_string(r.records) +
                          ": the file ends inside this record (cut at byte " +
-                         std::to_string(in.getPosition()) + ")");
+                         std::to_string(guard.getPosition()) + ")");
       } catch (const std::exception& e) {
+        // MRPT wraps what the guard throws: its refusal says why.
         throw InputError(path + ": record " + std::to_string(r.records) + ": " +
-                         mrptExceptionCause(e.what()));
+                         (guard.refusal().empty() ? mrptExceptionCause(e.what()) : guard.refusal()));
       }
       r.read_s += secondsSince(t0);
       ++r.records;

@@ -73,6 +73,7 @@ void RawlogGuard::onHeader(const std::string& name) {
   const mrpt::rtti::TRuntimeClassId* cls = resolve(name, null);
   if (!null && !cls) return;  // not an object header, or a class MRPT refuses itself
   const Kind kind = is(cls, "mrpt::obs::CObservation2DRangeScan")  ? Kind::Scan
+                    : is(cls, "mrpt::obs::CObservation3DRangeScan") ? Kind::Scan3D
                     : is(cls, "mrpt::obs::CObservationOdometry")   ? Kind::Odometry
                     : is(cls, "mrpt::obs::CSensoryFrame")          ? Kind::SensoryFrame
                     : is(cls, "mrpt::obs::CActionCollection")      ? Kind::ActionCollection
@@ -110,6 +111,7 @@ void RawlogGuard::onHeader(const std::string& name) {
 
 void RawlogGuard::onVersion(Kind kind, std::uint8_t version) {
   if (kind == Kind::Scan) checkScan(version);
+  if (kind == Kind::Scan3D) checkScan3D(version);
   if (kind == Kind::Odometry) checkOdometry(version);
   if (kind == Kind::Movement2D) checkMovement2D(version);
   if (kind == Kind::Movement3D) checkMovement3D(version);
@@ -236,8 +238,8 @@ std::uint32_t RawlogGuard::u32At(std::size_t i) const {  // MRPT writes little e
 }
 
 bool RawlogGuard::peek(std::size_t n) {
+  std::uint8_t chunk[65536];  // a 3D scan's points are looked past: megabytes
   while (ahead_.size() < n) {
-    std::uint8_t chunk[128];
     const std::size_t want = std::min(sizeof chunk, n - ahead_.size());
     std::size_t got = 0;
     try {
@@ -282,6 +284,31 @@ void RawlogGuard::checkScan(std::uint8_t version) {
   // Then the ranges (float each), the validity bytes, stdError (float), the timestamp
   // (uint64), beamAperture (float) and the sensor label (uint32 length, its bytes).
   checkLabel(at + 4 + 5 * std::size_t{rays} + 4 + 8 + 4, "a 2D scan's");
+}
+
+// CObservation3DRangeScan versions 9 and 10 (MRPT 2.5's serializeFrom): maxRange (float), the
+// sensor pose as a nested CPose3D, hasPoints3D (bool); with points their count N (uint32) and
+// N floats x, y, z and N uint16 pixel columns and rows; hasRangeImage (bool), rangeUnits
+// (float); with an image its rows and columns (uint32 each), which MRPT allocates at once.
+void RawlogGuard::checkScan3D(std::uint8_t version) {
+  if (version < 9 || version > 10) return;
+  std::size_t at = nestedPose3DEnd(4);
+  if (at == 0 || !peek(at + 1)) return;
+  const bool has_points = ahead_[at++] != 0;
+  if (has_points) {
+    if (!peek(at + 4)) return;
+    const std::uint32_t n = u32At(at);
+    if (n > kMaxPixels)
+      refuse("a 3D range scan claims " + std::to_string(n) + " points (more than " +
+             std::to_string(kMaxPixels) + ": a damaged count)");
+    at += 4 + std::size_t{n} * (3 * sizeof(float) + 2 * sizeof(std::uint16_t));
+  }
+  if (!peek(at + 1 + 4 + 8) || ahead_[at] == 0) return;  // no range image
+  const std::uint64_t rows = u32At(at + 5), cols = u32At(at + 9);
+  if (rows * cols > kMaxPixels)
+    refuse("a 3D range scan claims a range image of " + std::to_string(rows) + " x " +
+           std::to_string(cols) + " pixels (more than " + std::to_string(kMaxPixels) +
+           ": a damaged size)");
 }
 
 // CObservationOdometry version 2 (MRPT 2.5): the odometry as a nested CPose2D, then the

@@ -8,6 +8,9 @@
 // - an odometry action whose motion model claims more than 2^20 particles (MRPT draws them
 //   when it reads the action: 996 million took 24 GB);
 // - a 3D odometry action whose velocity vectors claim more than 1024 elements;
+// - a 3D range scan (versions 9 and 10) whose points or range image claim more than 2^24
+//   elements (a 0x7fffffff-row image: SIGSEGV in rangeImage_setSize); its intensity and
+//   confidence images and the extra layers of version 10 are not checked;
 // - a scan or odometry reading whose sensor label claims more than 64 KB (MRPT fills a string
 //   of the length read, up to 4 GB, before finding the bytes missing);
 // - an action collection holding something that is not an action (or a null object), and an
@@ -48,6 +51,8 @@ class RawlogGuard : public mrpt::io::CStream {
   static constexpr std::uint32_t kMaxParticles = 1u << 20;
   /// More elements than a small vector of an action holds (velocities: 6).
   static constexpr std::uint32_t kMaxVector = 1u << 10;
+  /// More points (pixels) than a 3D camera or lidar gives (4096 x 4096).
+  static constexpr std::uint64_t kMaxPixels = std::uint64_t{1} << 24;
 
   explicit RawlogGuard(mrpt::io::CStream& in) : in_(in) {}
 
@@ -64,6 +69,7 @@ class RawlogGuard : public mrpt::io::CStream {
   enum class Kind {
     None,
     Scan,
+    Scan3D,
     Odometry,
     SensoryFrame,
     ActionCollection,
@@ -89,6 +95,7 @@ class RawlogGuard : public mrpt::io::CStream {
   void onEndFlag();
   void checkCount(Kind kind, std::uint8_t version);
   void checkScan(std::uint8_t version);
+  void checkScan3D(std::uint8_t version);
   void checkOdometry(std::uint8_t version);
   void checkMovement2D(std::uint8_t version);
   void checkMovement3D(std::uint8_t version);
