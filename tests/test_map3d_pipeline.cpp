@@ -292,6 +292,46 @@ TEST(Map3dPipeline, ObservationOnlyLogFramesFromThe3dSensor) {
   EXPECT_EQ(n, 4);
 }
 
+// A log the rawlog source gets no frame from is an error saying what the log holds, not an
+// empty run: 3D observations only (the hint: scan_from_3d), or scans under another label.
+TEST(Map3dPipeline, ALogWithoutAFrameSaysWhatItHolds) {
+  const fs::path dir = tempDir("noframe");
+  const Scene scene;
+  const std::string clouds = (dir / "clouds.rawlog").string(), hokuyo = (dir / "hokuyo.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(clouds);
+    auto ar = mrpt::serialization::archiveFrom(out);
+    for (int k = 0; k < 4; ++k) ar << *scene.cloud(CPose2D(1 + 0.4 * k, -1, 0), CPose3D(0, 0, 0.5, 0, 0, 0), k);
+  }
+  {  // the observation-only layout: scans as records of their own
+    mrpt::io::CFileGZOutputStream out(hokuyo);
+    auto ar = mrpt::serialization::archiveFrom(out);
+    for (int k = 0; k < 3; ++k) {
+      mrpt::obs::CObservation2DRangeScan scan;
+      scan.sensorLabel = "HOKUYO";
+      scan.timestamp = mrpt::Clock::fromDouble(k);
+      scan.resizeScan(3);
+      for (int i = 0; i < 3; ++i) scan.setScanRange(i, 1.0f), scan.setScanRangeValidity(i, true);
+      ar << scan;
+    }
+  }
+  auto run = [&](const std::string& log, const std::string& extra) {
+    const std::string ini = "[pipeline]\nsource = rawlog\nfrontend = odometry\nprogress_interval = 0\n"
+                            "[rawlog]\nfile = " + log + "\n" + extra;
+    asf::Registry reg;
+    const auto rc = asf::resolveConfig(asf::IniConfig::fromText(ini, (dir / "r.ini").string()), reg);
+    asf::Pipeline p(rc, (dir / "out").string());
+    return asf_test::errorOf<asf::InputError>([&] { p.run(); });
+  };
+  const std::string e = run(clouds, "");
+  EXPECT_TRUE(asf_test::has(e, "[rawlog] file = '" + clouds + "': no frame: it has no 2D laser scan; it "
+                               "holds 3D observations (4): scan_from_3d = true"))
+      << e;
+  const std::string e2 = run(hokuyo, "laser_label = LASER\n");
+  EXPECT_TRUE(asf_test::has(e2, "no 2D laser scan labelled 'LASER' (laser_label; labels in the file: 'HOKUYO')"))
+      << e2;
+}
+
 TEST(Map3dPipeline, NavigationMapNeedsTheMap3d) {
   asf::Registry reg;
   const auto ini = asf::IniConfig::fromText(

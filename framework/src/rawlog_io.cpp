@@ -111,6 +111,7 @@ struct RawlogReader::Impl {
   std::optional<std::string> label;  // chosen laser label (set on the first scan if not given)
   std::vector<std::string> labels_seen;
   std::size_t skipped = 0;
+  std::size_t unused_3d = 0;
   std::size_t frames = 0;
   double last_t = 0;
 
@@ -331,8 +332,8 @@ std::optional<SensorFrame> RawlogReader::next() {
         m.pending_3d.push_back(scan);
       else if (m.opt.scan_from_3d)
         ++m.skipped;
-    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj);
-               o && is3dClass(*o) && (m.opt.observations3d || m.opt.scan_from_3d)) {
+    } else if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj); o && is3dClass(*o)) {
+      if (!m.opt.observations3d && !m.opt.scan_from_3d) ++m.unused_3d;
       if (m.opt.observations3d) m.pending_3d.push_back(o);
       if (m.opt.scan_from_3d && m.chosen3d(*o)) return m.finish(m.frameFromScan(m.slice(*o)));
     }
@@ -348,6 +349,8 @@ std::size_t RawlogReader::recordIndex() const {
 std::vector<std::string> RawlogReader::laserLabels() const { return impl_->labels_seen; }
 
 std::size_t RawlogReader::skippedScans() const { return impl_->skipped; }
+
+std::size_t RawlogReader::unused3dObservations() const { return impl_->unused_3d; }
 
 // ---------------------------------------------------------------- writer
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -54,6 +55,8 @@ class RawlogSource final : public asf::Source {
       if (gt_.empty()) p.fail("ground_truth", "the file has no poses");
     }
 
+    file_ = file;
+    laser_label_ = o.laser_label;
     try {
       reader_ = std::make_unique<asf::RawlogReader>(file, o);
     } catch (const asf::InputError& e) {
@@ -72,6 +75,7 @@ class RawlogSource final : public asf::Source {
     for (; skipped_ < start_frame_; ++skipped_)
       if (!reader_->next()) return end();
     std::optional<asf::SensorFrame> f = reader_->next();
+    if (!f && skipped_ + delivered_ == 0) throw asf::InputError(noFrame());
     if (!f) return end();
     if (delivered_ == 0) {
       // Nothing was delivered before this frame: no increment to report.
@@ -134,6 +138,22 @@ class RawlogSource final : public asf::Source {
     return o.output;
   }
 
+  // A log that gives no frame at all is not an empty run: say what it holds instead.
+  std::string noFrame() const {
+    std::ostringstream os;
+    os << "[rawlog] file = '" << file_ << "': no frame: it has no 2D laser scan";
+    if (!laser_label_.empty()) os << " labelled '" << laser_label_ << "'";
+    const std::vector<std::string> labels = reader_->laserLabels();
+    if (!labels.empty()) {
+      os << " (laser_label; labels in the file:";
+      for (const auto& l : labels) os << " '" << l << "'";
+      os << ")";
+    }
+    if (const std::size_t n = reader_->unused3dObservations())
+      os << "; it holds 3D observations (" << n << "): scan_from_3d = true slices a 2D scan from them";
+    return os.str();
+  }
+
   std::nullopt_t end() {
     ended_ = true;
     return std::nullopt;
@@ -145,6 +165,7 @@ class RawlogSource final : public asf::Source {
   std::int64_t max_frames_ = 0, start_frame_ = 0, delivered_ = 0, skipped_ = 0;
   std::size_t clamped_ = 0;
   bool ended_ = false;
+  std::string file_, laser_label_;
   std::string temp_, temp_gt_;  ///< a converted bag without an output folder (and its GT)
 
  public:

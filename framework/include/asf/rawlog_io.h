@@ -94,6 +94,9 @@ class RawlogReader {
   /// Laser labels seen so far and scans skipped because of their label.
   std::vector<std::string> laserLabels() const;
   std::size_t skippedScans() const;
+  /// 3D observations (range scans, point clouds, velodyne scans) read but not used: neither
+  /// observations3d nor scan_from_3d was asked for.
+  std::size_t unused3dObservations() const;
 
  private:
   struct Impl;
