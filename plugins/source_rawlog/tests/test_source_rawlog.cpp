@@ -192,7 +192,16 @@ TEST(SourceRawlog, LaserLabelSelectsAmongLasers) {
   auto first = drain(*make({{"file", path}}));
   ASSERT_EQ(first.size(), 4u);
   EXPECT_EQ(first[0].scan->sensorLabel, "FRONT");
-  EXPECT_EQ(drain(*make({{"file", path}, {"laser_label", "SIDE"}})).size(), 0u);
+  // A label no scan has gives no frame: an error naming the labels there are.
+  try {
+    drain(*make({{"file", path}, {"laser_label", "SIDE"}}));
+    ADD_FAILURE() << "no error for laser_label = SIDE";
+  } catch (const asf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no 2D laser scan labelled 'SIDE' (laser_label; labels in the "
+                                         "file: 'FRONT' 'REAR')"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SourceRawlog, GroundTruthFileAndItsErrors) {
