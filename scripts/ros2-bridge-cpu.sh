@@ -24,26 +24,24 @@ for seed in $(seq 1 "$seeds"); do
     "$out/run_$seed" 72 "$rate" "$@" >"$out/run_$seed.log" 2>&1 || true
 done
 python3 - "$out" "$seeds" <<'PY'
-import json, re, statistics, sys
+import json, statistics, sys
+sys.path.insert(0, "scripts")
+from bridge_cpu import bridge_cpu
 out, seeds = sys.argv[1], int(sys.argv[2])
-line = re.compile(r"bridge CPU: ([\d.e-]+) s on the run's thread .*?, ([\d.e-]+) s on Cyclone DDS's "
-                  r"threads \((.*?)\), of ([\d.e-]+) s for the whole run")
 print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share  scan-to-tf ms: median  p95")
 shares = []
 for seed in range(1, seeds + 1):
     d = f"{out}/run_{seed}/asf"
+    b = bridge_cpu(f"{d}/run.log")
     try:
-        m = line.search(open(f"{d}/run.log").read())
         frames = sum(1 for _ in open(f"{d}/trajectory.csv")) - 1
     except OSError:
-        m = None
-    if not m or frames <= 0:
+        frames = 0
+    if not b or b["share"] is None or frames <= 0:
         print(f"{seed:4d}  no measurement (see {out}/run_{seed}.log)")
         continue
-    run, dds, total = float(m.group(1)), float(m.group(2)), float(m.group(4))
-    threads = {k: float(v) for k, v in (t.rsplit(" ", 1) for t in m.group(3).split(", "))}
+    run, threads, total, share = b["run"], b["threads"], b["total"], b["share"]
     us = lambda s: 1e6 * s / frames
-    share = (run + dds) / total
     shares.append(share)
     try:
         lat = json.load(open(f"{out}/run_{seed}/robot/sim_robot.json"))["scan_to_tf_latency"]

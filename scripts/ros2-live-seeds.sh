@@ -18,16 +18,13 @@ rows="$out/runs.csv"
 echo "mode,seed,finished,coverage,ate_rmse_m,distance_m,steps,wall_s,scans_lost,bridge_cpu_share" >"$rows"
 row() {  # mode seed run_dir [lost]
   python3 - "$1" "$2" "$3" "${4:-}" >>"$rows" <<'PY'
-import json, re, sys
+import json, sys
+sys.path.insert(0, "scripts")
+from bridge_cpu import bridge_cpu
 mode, seed, d, lost = sys.argv[1:5]
 s = json.load(open(f"{d}/summary.json"))
-share = ""
-try:  # the run's thread + Cyclone DDS's threads, of the whole run's CPU
-    m = re.search(r"bridge CPU: ([\d.e-]+) s on the run's thread .*?, ([\d.e-]+) s on Cyclone DDS's "
-                  r"threads .*?of ([\d.e-]+) s for the whole run", open(f"{d}/run.log").read())
-    share = (float(m.group(1)) + float(m.group(2))) / float(m.group(3)) if m else ""
-except OSError:
-    pass
+b = bridge_cpu(f"{d}/run.log")  # the run's thread + Cyclone DDS's threads, of the whole run's CPU
+share = b["share"] if b and b["share"] is not None else ""
 print(",".join(str(x) for x in [mode, seed, s.get("finished"), s.get("coverage"), s.get("ate_rmse_m"),
                                  s.get("distance_m"), s.get("steps"), s.get("wall_time_s"), lost, share]))
 PY
