@@ -6,7 +6,8 @@
 # Cyclone DDS's receive thread (recvUC: receiving, delivering to asf's callbacks) and timed
 # events thread (tev), of the whole run, and the bridge's share; and the scan-to-tf latency the
 # robot measured (sim_robot.json: publishing a scan to receiving the map -> odom asf stamped
-# with it), median and 95th percentile. A run's checks may fail (with
+# with it), median, 95th percentile and maximum, beside the part of it inside asf (the scan queued
+# by asf's receive thread to its map -> odom published: run.log). A run's checks may fail (with
 # the truth topics switched off there is no coverage to check): it is a measurement here.
 # Usage: scripts/ros2-bridge-cpu.sh OUT_DIR [SEEDS (default 3)] [RATE (default 4: 40 scans/s)]
 #        [CONFIG (default configs/ros2_nav2.ini)] [asf run --set ...]
@@ -26,9 +27,10 @@ done
 python3 - "$out" "$seeds" <<'PY'
 import json, statistics, sys
 sys.path.insert(0, "scripts")
-from bridge_cpu import bridge_cpu
+from bridge_cpu import asf_latency, bridge_cpu
 out, seeds = sys.argv[1], int(sys.argv[2])
-print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share  scan-to-tf ms: median  p95")
+print("seed  frames  us/frame: run thread  recvUC  tev  whole run  bridge share  "
+      "scan-to-tf ms (robot: median p95 max | in asf: median p95 max)")
 shares = []
 for seed in range(1, seeds + 1):
     d = f"{out}/run_{seed}/asf"
@@ -45,9 +47,11 @@ for seed in range(1, seeds + 1):
     shares.append(share)
     try:
         lat = json.load(open(f"{out}/run_{seed}/robot/sim_robot.json"))["scan_to_tf_latency"]
-        lat = f"{lat['median_ms']:21.2f}  {lat['p95_ms']:4.1f}"
-    except (OSError, KeyError, ValueError):
-        lat = ""
+        lat = f"{lat['median_ms']:6.2f} {lat['p95_ms']:5.1f} {lat['max_ms']:7.1f}"
+    except (OSError, KeyError, ValueError, TypeError):
+        lat = "-"
+    a = asf_latency(f"{d}/run.log")
+    lat += f" | {a['median_ms']:6.2f} {a['p95_ms']:5.1f} {a['max_ms']:7.1f}" if a else " | -"
     print(f"{seed:4d}  {frames:6d}  {us(run):19.0f}  {us(threads.get('recvUC', 0)):6.0f}  "
           f"{us(threads.get('tev', 0)):3.0f}  {us(total):9.0f}  {100 * share:11.1f} %  {lat}")
 if shares:

@@ -5,6 +5,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <ctime>
 #include <filesystem>
@@ -182,7 +183,7 @@ std::vector<std::string> OperatorInbox::takeUnknown() {
 void ScanQueue::push(ros2::LaserScan msg) {
   {
     std::lock_guard<std::mutex> lock(mu_);
-    q_.push_back({std::move(msg), ++arrived_});
+    q_.push_back({std::move(msg), ++arrived_, std::chrono::steady_clock::now()});
     while (q_.size() > capacity_) {
       q_.pop_front();
       ++dropped_;
@@ -207,6 +208,15 @@ std::uint64_t ScanQueue::arrived() const {
 std::uint64_t ScanQueue::dropped() const {
   std::lock_guard<std::mutex> lock(mu_);
   return dropped_;
+}
+
+std::string latencySummary(std::vector<double> ms) {
+  if (ms.empty()) return "none";
+  std::sort(ms.begin(), ms.end());
+  const auto q = [&](double f) { return ms[static_cast<std::size_t>(f * static_cast<double>(ms.size() - 1))]; };
+  std::ostringstream os;
+  os << "median " << q(0.5) << " ms, p95 " << q(0.95) << " ms, max " << ms.back() << " ms over " << ms.size();
+  return os.str();
 }
 
 double threadCpuSeconds() {

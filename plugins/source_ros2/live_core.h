@@ -106,7 +106,13 @@ class GoalTracker {
 struct ArrivedScan {
   ros2::LaserScan msg;
   std::uint64_t seq = 0;
+  std::chrono::steady_clock::time_point arrived_at;  ///< when the receive thread queued it
 };
+
+/// Latencies in milliseconds, summarised as "median M ms, p95 P ms, max X ms over N": the
+/// quantile q is the sorted values' element at floor(q * (N - 1)), as sim-robot reports its
+/// end-to-end figure. "none" for no value.
+std::string latencySummary(std::vector<double> ms);
 
 /// Scans waiting for the pipeline, filled by the receive thread. At most `capacity` wait;
 /// the oldest is dropped beyond (counted).

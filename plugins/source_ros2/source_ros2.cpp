@@ -100,6 +100,8 @@ class Ros2Source final : public asf::Source {
                          << " s on Cyclone DDS's threads (" << names.str() << "), of "
                          << asf::ros2live::processCpuSeconds() << " s for the whole run (" << other
                          << " s on its other threads)");
+    MRPT_LOG_INFO_STREAM("scan-to-tf in asf (a scan queued by the receive thread to the map -> odom stamped "
+                         "with it published): " << asf::ros2live::latencySummary(tf_latency_ms_));
   }
 
   bool isActive() const override { return nav2_ || velocity_; }
@@ -166,6 +168,11 @@ class Ros2Source final : public asf::Source {
     if (frames_ == 0) return;
     const double cpu0 = asf::ros2live::threadCpuSeconds();
     publisher_->publish(v, last_odom_);
+    if (pending_arrival_) {  // the frame's scan, queued by the receive thread, is now on /tf
+      tf_latency_ms_.push_back(
+          std::chrono::duration<double, std::milli>(SteadyClock::now() - *pending_arrival_).count());
+      pending_arrival_.reset();
+    }
     last_robot_ = v.robot;
     const std::string state = v.final ? "ended" : v.paused ? "paused" : v.returning_home ? "returning_home" : "exploring";
     if (state != run_state_) publishStatus(v.goal, run_state_ = state);
@@ -546,6 +553,7 @@ class Ros2Source final : public asf::Source {
     recording_cpu_ += asf::ros2live::threadCpuSeconds() - rec0;  // what every run records
     last_odom_ = odom;
     last_scan_ = f.scan;
+    pending_arrival_ = s.arrived_at;
     if (frames_ == 0) first_t_ = t;
     last_t_ = t;
     bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0 - (recording_cpu_ - rec_before);
@@ -603,6 +611,8 @@ class Ros2Source final : public asf::Source {
   double bridge_cpu_ = 0;  // CPU seconds of the run's thread in this source's own work
   double recording_cpu_ = 0;  // of which not counted: the rawlog every run records
   double first_t_ = 0, last_t_ = 0;
+  std::optional<SteadyClock::time_point> pending_arrival_;  // of the frame not yet on /tf
+  std::vector<double> tf_latency_ms_;  // per frame: its scan queued to its map -> odom published
   CPose2D last_odom_, last_robot_;  // odometry and estimate at the last frame
   std::string run_state_ = "exploring";  // as the status topic last said
   asf::ros2live::OperatorInbox commands_;  // from command_topic

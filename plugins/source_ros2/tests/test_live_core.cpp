@@ -107,3 +107,29 @@ TEST(LiveCore, ScanQueueKeepsOrderAndCountsDrops) {
   q.pop(std::chrono::milliseconds(1));
   EXPECT_FALSE(q.pop(std::chrono::milliseconds(5)).has_value());
 }
+
+TEST(LiveCore, ScanQueueStampsWhenEachScanArrived) {
+  ScanQueue q(4);
+  const auto before = std::chrono::steady_clock::now();
+  q.push(asf::ros2::LaserScan{});
+  const auto between = std::chrono::steady_clock::now();
+  q.push(asf::ros2::LaserScan{});
+  const auto after = std::chrono::steady_clock::now();
+  const auto a = q.pop(std::chrono::milliseconds(1));
+  const auto b = q.pop(std::chrono::milliseconds(1));
+  ASSERT_TRUE(a && b);
+  EXPECT_GE(a->arrived_at, before);
+  EXPECT_LE(a->arrived_at, between);
+  EXPECT_GE(b->arrived_at, between);
+  EXPECT_LE(b->arrived_at, after);
+}
+
+TEST(LiveCore, LatencySummaryTakesTheSortedElementAtTheQuantile) {
+  EXPECT_EQ(latencySummary({}), "none");
+  EXPECT_EQ(latencySummary({7}), "median 7 ms, p95 7 ms, max 7 ms over 1");
+  // 1..21 shuffled: floor(0.5 * 20) = 10 -> 11; floor(0.95 * 20) = 19 -> 20; max 21.
+  std::vector<double> v;
+  for (int i = 21; i >= 1; i -= 2) v.push_back(i);
+  for (int i = 2; i <= 20; i += 2) v.push_back(i);
+  EXPECT_EQ(latencySummary(v), "median 11 ms, p95 20 ms, max 21 ms over 21");
+}
