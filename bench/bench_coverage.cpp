@@ -1,8 +1,8 @@
-// Coverage bookkeeping per map version: asf::freeArea (a scan of the whole grid, what a run
-// did for every time-series row) against asf::MapAreaTracker::update (the cells in the
+// Coverage bookkeeping per map version: asf::mapping::freeArea (a scan of the whole grid, what a run
+// did for every time-series row) against asf::mapping::MapAreaTracker::update (the cells in the
 // version's change box, old and new grid), on a grid of infinite-corridor's size (~25 million
 // cells at 5 cm) with one keyframe's box (15 m insertion range: a 30 m square).
-#include <asf/coverage.h>
+#include <asf/mapping/coverage.h>
 #include <benchmark/benchmark.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -33,14 +33,14 @@ asf::GridMap version(std::shared_ptr<const Grid> g, std::uint64_t v, double box_
 void BM_FreeAreaFullScan(benchmark::State& state) {
   const auto g = grid(static_cast<double>(state.range(0)));
   const asf::GridMap m = version(g, 1, 15);
-  for (auto _ : state) benchmark::DoNotOptimize(asf::freeArea(m));
+  for (auto _ : state) benchmark::DoNotOptimize(asf::mapping::freeArea(m));
   state.counters["cells"] = static_cast<double>(g->getSizeX()) * g->getSizeY();
 }
 
 void BM_TrackerUpdate(benchmark::State& state) {
   const auto a = grid(static_cast<double>(state.range(0)));
   const auto b = std::make_shared<Grid>(*a);  // the next version: another object
-  asf::MapAreaTracker t;
+  asf::mapping::MapAreaTracker t;
   std::uint64_t v = 1;
   t.update(version(a, v, 15));
   for (auto _ : state) {

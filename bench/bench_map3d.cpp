@@ -1,5 +1,5 @@
-// The 3D map layer (framework/include/asf/map3d.h, issue 9): insertion rate and memory of
-// asf::Map3d against the plain OctoMap calls a user would write (octomap::OcTree::
+// The 3D map layer (libs/mapping/include/asf/mapping/map3d.h, issue 9): insertion rate and memory of
+// asf::mapping::Map3d against the plain OctoMap calls a user would write (octomap::OcTree::
 // insertPointCloud(cloud, origin), the cloud already in the map frame), on the same clouds,
 // at 5 cm and 10 cm voxels.
 //
@@ -12,7 +12,7 @@
 // and filtering; the baseline gets the map-frame cloud ready made.
 //
 //   build/bench/bench_map3d --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <benchmark/benchmark.h>
 #include <octomap/OcTree.h>
 
@@ -118,15 +118,15 @@ void report(benchmark::State& state, std::size_t points, std::size_t bytes, doub
 void BM_Map3d(benchmark::State& state, const char* flag) {
   const Scene& sc = scene();
   std::size_t n = 0;
-  const asf::KeySpec* keys = asf::Map3d::keys(n);
+  const asf::KeySpec* keys = asf::mapping::Map3d::keys(n);
   const double res = resolutionOf(state);
   const asf::Params p = asf::Params::fromSpecs(
       "map3d", keys, n,
       flag ? std::map<std::string, std::string>{{"resolution", std::to_string(res)}, {flag, "true"}}
            : std::map<std::string, std::string>{{"resolution", std::to_string(res)}});
-  asf::Map3dStats s;
+  asf::mapping::Map3dStats s;
   for (auto _ : state) {
-    asf::Map3d map;
+    asf::mapping::Map3d map;
     map.configure(p);
     for (std::size_t k = 0; k < sc.local.size(); ++k) map.insertPoints(sc.local[k], sc.sensors[k]);
     state.PauseTiming();

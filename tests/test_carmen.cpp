@@ -430,7 +430,7 @@ TEST(CarmenRealData, IntelCorrectedWithSyntheticOdometryFollowsTheModel) {
 
   // Noise of each increment, whitened with the model's covariance of the true increment:
   // N(0, I) if the synthesis follows the model.
-  const auto whitenedMoments = [&](const asf::OdometryNoiseModel& m) {
+  const auto whitenedMoments = [&](const asf::mapping::OdometryNoiseModel& m) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
     for (std::size_t k = 1; k < frames.size(); ++k) {
@@ -454,7 +454,7 @@ TEST(CarmenRealData, IntelCorrectedWithSyntheticOdometryFollowsTheModel) {
     for (int j = 0; j < i; ++j) EXPECT_LT(std::abs(cov(i, j)), 4 / std::sqrt(n)) << i << j;
   }
   // The check has power: a model with twice the spread sees a quarter of the variance.
-  asf::OdometryNoiseModel wide = o.model;
+  asf::mapping::OdometryNoiseModel wide = o.model;
   wide.a1 *= 2;
   wide.a2 *= 2;
   wide.a3 *= 2;

@@ -2,9 +2,9 @@
 // from the change box of each version; after every step of a run it must equal the full
 // recount (freeArea, CoverageMeter::coverage), through grid growth, rebuilds and skipped
 // versions.
-#include <asf/coverage.h>
-#include <asf/map_builder.h>
-#include <asf/segment_world.h>
+#include <asf/mapping/coverage.h>
+#include <asf/mapping/map_builder.h>
+#include <asf/mapping/segment_world.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -16,7 +16,7 @@
 namespace {
 
 /// A 360-ray scan from `pose` (world frame), exact ranges up to `range`; farther: no echo.
-std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWorld& w,
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::mapping::SegmentWorld& w,
                                                            const mrpt::poses::CPose2D& pose,
                                                            double range) {
   const double kRange = range;
@@ -36,7 +36,7 @@ std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWor
 }
 
 /// The world as a grid: free inside [0, 12] x [0, 4] away from the walls, occupied elsewhere.
-asf::WorldTruth worldTruth(const asf::SegmentWorld& w, const mrpt::poses::CPose2D& start) {
+asf::WorldTruth worldTruth(const asf::mapping::SegmentWorld& w, const mrpt::poses::CPose2D& start) {
   auto g = std::make_shared<mrpt::maps::COccupancyGridMap2D>(-0.5f, 12.5f, -0.5f, 4.5f, 0.05f);
   for (unsigned y = 0; y < g->getSizeY(); ++y)
     for (unsigned x = 0; x < g->getSizeX(); ++x) {
@@ -51,18 +51,18 @@ asf::WorldTruth worldTruth(const asf::SegmentWorld& w, const mrpt::poses::CPose2
 }
 
 struct MappingRun {
-  asf::SegmentWorld world = asf::SegmentWorld::twoRooms(6, 4, 1);
+  asf::mapping::SegmentWorld world = asf::mapping::SegmentWorld::twoRooms(6, 4, 1);
   mrpt::poses::CPose2D start{11, 2, 0.3};
   asf::WorldTruth truth = worldTruth(world, start);
-  asf::CoverageMeter meter{truth};
+  asf::mapping::CoverageMeter meter{truth};
   asf::PoseGraph graph;
-  asf::MapBuilder builder;
+  asf::mapping::MapBuilder builder;
 
   double range = 6;  ///< of the scans
 
   explicit MappingRun(const char* max_insertion_range = "5") {
     std::size_t n;
-    const asf::KeySpec* k = asf::MapBuilder::keys(n);
+    const asf::KeySpec* k = asf::mapping::MapBuilder::keys(n);
     // A small first grid so that the run grows it several times; change boxes (5.1 m
     // around the sensor) smaller than the world.
     builder.configure(asf::Params::fromSpecs("map", k, n,
@@ -78,11 +78,11 @@ struct MappingRun {
   }
 };
 
-void expectSameAsRecount(const asf::MapAreaTracker& t, const asf::GridMap& map,
-                         const asf::CoverageMeter& meter, const std::string& when) {
-  EXPECT_DOUBLE_EQ(t.freeArea(), asf::freeArea(map)) << when;
+void expectSameAsRecount(const asf::mapping::MapAreaTracker& t, const asf::GridMap& map,
+                         const asf::mapping::CoverageMeter& meter, const std::string& when) {
+  EXPECT_DOUBLE_EQ(t.freeArea(), asf::mapping::freeArea(map)) << when;
   EXPECT_DOUBLE_EQ(t.coverage(), meter.coverage(map)) << when;
-  EXPECT_EQ(t.informationBits(), asf::mapInformationBits(map))
+  EXPECT_EQ(t.informationBits(), asf::mapping::mapInformationBits(map))
       << when << ": the running total is exact";
 }
 
@@ -186,7 +186,7 @@ TEST(MapBuilder, ARebuildHoldsWhatAFreshBuilderWould) {
 
 TEST(MapAreaTracker, EqualsTheFullRecountAfterEveryStepOfARun) {
   MappingRun run;
-  asf::MapAreaTracker tracker(&run.meter);
+  asf::mapping::MapAreaTracker tracker(&run.meter);
   std::size_t updates = 0;
   // From the second room through the door (x = 6, y in [1.5, 2.5]) into the first, and
   // back: the grid grows towards -x (its origin moves) and +-y.
@@ -230,20 +230,20 @@ TEST(MapEntropy, BitsByHand) {
   asf::GridMap m;
   m.grid = g;
   m.version = 1;
-  EXPECT_EQ(asf::mapEntropyBits(m), 200.0);
+  EXPECT_EQ(asf::mapping::mapEntropyBits(m), 200.0);
   g->setCell(3, 4, 0.95f);
   const double p = g->getCell(3, 4);
   const double h = -(p * std::log2(p) + (1 - p) * std::log2(1 - p));
-  EXPECT_NEAR(asf::mapEntropyBits(m), 199.0 + h, 1e-9);
-  EXPECT_NEAR(asf::mapInformationBits(m), 1.0 - h, 1e-9) << "unknown cells say nothing";
+  EXPECT_NEAR(asf::mapping::mapEntropyBits(m), 199.0 + h, 1e-9);
+  EXPECT_NEAR(asf::mapping::mapInformationBits(m), 1.0 - h, 1e-9) << "unknown cells say nothing";
   EXPECT_LT(h, 0.35) << "a nearly certain cell: far below 1 bit";
-  EXPECT_EQ(asf::mapEntropyBits(asf::GridMap{}), 0.0) << "no map";
-  EXPECT_EQ(asf::mapInformationBits(asf::GridMap{}), 0.0);
+  EXPECT_EQ(asf::mapping::mapEntropyBits(asf::GridMap{}), 0.0) << "no map";
+  EXPECT_EQ(asf::mapping::mapInformationBits(asf::GridMap{}), 0.0);
 }
 
 TEST(MapAreaTracker, UntrustedBoxesAreRecounted) {
   MappingRun run;
-  asf::MapAreaTracker tracker(&run.meter);
+  asf::mapping::MapAreaTracker tracker(&run.meter);
   ASSERT_TRUE(run.step({11, 2, 0}));
   tracker.update(run.builder.map());
   ASSERT_TRUE(run.step({10, 2, 0}));
@@ -263,12 +263,12 @@ TEST(MapAreaTracker, UntrustedBoxesAreRecounted) {
   lying.changed.extend(-5, -5);
   lying.changed.extend(-4.9, -4.9);
   tracker.update(lying);
-  EXPECT_NE(tracker.freeArea(), asf::freeArea(lying));
+  EXPECT_NE(tracker.freeArea(), asf::mapping::freeArea(lying));
 
-  asf::MapAreaTracker no_meter;
+  asf::mapping::MapAreaTracker no_meter;
   no_meter.update(run.builder.map());
   EXPECT_EQ(no_meter.coverage(), 0.0);
-  EXPECT_DOUBLE_EQ(no_meter.freeArea(), asf::freeArea(run.builder.map()));
+  EXPECT_DOUBLE_EQ(no_meter.freeArea(), asf::mapping::freeArea(run.builder.map()));
   no_meter.update(asf::GridMap{});
   EXPECT_EQ(no_meter.freeArea(), 0.0);
 }
@@ -281,7 +281,7 @@ TEST(CoverageMeter, GridIndexCountsEqualTheDirectOnes) {
   ASSERT_TRUE(run.step({11, 2, 0}));
   ASSERT_TRUE(run.step({8, 2.2, 0.4}));
   const auto& g = *run.builder.map().grid;
-  const asf::CoverageMeter::GridIndex index = run.meter.indexFor(g);
+  const asf::mapping::CoverageMeter::GridIndex index = run.meter.indexFor(g);
   ASSERT_TRUE(index.fits(g));
   ASSERT_EQ(index.cell.size(), run.meter.reachableCells());
   const std::size_t seen = run.meter.observedCount(g);
@@ -299,7 +299,7 @@ TEST(CoverageMeter, GridIndexCountsEqualTheDirectOnes) {
       if (g.getCell(x, y) >= 0.5f + 0.02f) ++free_cells;
   EXPECT_GT(free_cells, 100u);
   const double r = g.getResolution();
-  EXPECT_DOUBLE_EQ(asf::freeArea(run.builder.map()), static_cast<double>(free_cells) * r * r);
+  EXPECT_DOUBLE_EQ(asf::mapping::freeArea(run.builder.map()), static_cast<double>(free_cells) * r * r);
 
   // A grid that covers part of the world, its cells set at random: the cells off it count as
   // unobserved both ways.
@@ -309,7 +309,7 @@ TEST(CoverageMeter, GridIndexCountsEqualTheDirectOnes) {
   for (unsigned y = 0; y < small.getSizeY(); ++y)
     for (unsigned x = 0; x < small.getSizeX(); ++x)
       small.setCell(x, y, p(rng) < 0.3 ? 0.5f : p(rng));
-  const asf::CoverageMeter::GridIndex part = run.meter.indexFor(small);
+  const asf::mapping::CoverageMeter::GridIndex part = run.meter.indexFor(small);
   const std::size_t off =
       static_cast<std::size_t>(std::count(part.cell.begin(), part.cell.end(), std::int32_t{-1}));
   EXPECT_GT(off, run.meter.reachableCells() / 2) << "most of the world is off this grid";

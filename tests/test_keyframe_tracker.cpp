@@ -1,6 +1,6 @@
 // KeyframeTracker: the keyframe bookkeeping shared by the front-ends.
 #include <asf/errors.h>
-#include <asf/keyframe_tracker.h>
+#include <asf/mapping/keyframe_tracker.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,16 +18,16 @@ asf::SensorFrame frame(double t, const CPose2D& u, double var = 1e-4) {
 }
 
 TEST(KeyframeTracker, RootThenAKeyframeWhenTheDistanceIsExceeded) {
-  asf::KeyframeTracker kf("test");
+  asf::mapping::KeyframeTracker kf("test");
   kf.setThresholds(1.0, M_PI / 2);
   asf::PoseGraph g;
-  EXPECT_EQ(kf.begin(frame(0, CPose2D(5, 5, 1)), g), asf::KeyframeTracker::Begin::AddedRoot);
+  EXPECT_EQ(kf.begin(frame(0, CPose2D(5, 5, 1)), g), asf::mapping::KeyframeTracker::Begin::AddedRoot);
   ASSERT_EQ(g.size(), 1u);
   EXPECT_EQ(g.revision, 1u);
   // The first frame's odometry is not accumulated: the root is the origin of the map.
   EXPECT_NEAR(kf.currentPose(g).x(), 0, 1e-12);
   for (int k = 1; k <= 3; ++k) {
-    EXPECT_EQ(kf.begin(frame(k, CPose2D(0.3, 0, 0)), g), asf::KeyframeTracker::Begin::NotFirst);
+    EXPECT_EQ(kf.begin(frame(k, CPose2D(0.3, 0, 0)), g), asf::mapping::KeyframeTracker::Begin::NotFirst);
     EXPECT_FALSE(kf.due()) << k;  // 0.9 m after three steps
   }
   EXPECT_NEAR(kf.currentPose(g).x(), 0.9, 1e-12);
@@ -48,7 +48,7 @@ TEST(KeyframeTracker, RootThenAKeyframeWhenTheDistanceIsExceeded) {
 }
 
 TEST(KeyframeTracker, TurningInPlaceIsDueByAngle) {
-  asf::KeyframeTracker kf("test");
+  asf::mapping::KeyframeTracker kf("test");
   kf.setThresholds(1.0, 0.5);
   asf::PoseGraph g;
   kf.begin(frame(0, CPose2D()), g);
@@ -59,11 +59,11 @@ TEST(KeyframeTracker, TurningInPlaceIsDueByAngle) {
 }
 
 TEST(KeyframeTracker, ContinuesAGivenGraphAndRefusesAReplacedOne) {
-  asf::KeyframeTracker kf("my front-end");
+  asf::mapping::KeyframeTracker kf("my front-end");
   asf::PoseGraph g;
   g.addNode(CPose2D());
   g.addNode(CPose2D(2, 0, 0));
-  EXPECT_EQ(kf.begin(frame(0, CPose2D()), g), asf::KeyframeTracker::Begin::Continued);
+  EXPECT_EQ(kf.begin(frame(0, CPose2D()), g), asf::mapping::KeyframeTracker::Begin::Continued);
   EXPECT_EQ(kf.last(), 1u);
   EXPECT_NEAR(kf.currentPose(g).x(), 2, 1e-12);
   asf::PoseGraph smaller;

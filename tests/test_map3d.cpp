@@ -1,7 +1,7 @@
-// The 3D map layer (asf::Map3d): ray-cast insertion into the OctoMap octree, the projection
+// The 3D map layer (asf::mapping::Map3d): ray-cast insertion into the OctoMap octree, the projection
 // to the 2D grid (body band), keyframe rebuilds with a cap, .bt/.ot files, and asf map3d.
 #include <asf/errors.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -21,7 +21,7 @@
 
 namespace {
 
-using asf::Map3d;
+using asf::mapping::Map3d;
 using asf_test::errorOf;
 using asf_test::has;
 using mrpt::poses::CPose2D;
@@ -117,7 +117,7 @@ TEST(Map3d, BoxRoomOccupiedAndFreeVoxels) {
   EXPECT_EQ(map.occupancyAt(2.05, 1.55, -0.55), -1.0);  // under the floor
   EXPECT_NEAR(map.occupancyAt(0.05, 1.55, 1.05), 0.7, 1e-3);  // one hit = prob_hit
 
-  const asf::Map3dStats s = map.stats();
+  const asf::mapping::Map3dStats s = map.stats();
   EXPECT_EQ(s.occupied_voxels, expected.size());
   const std::size_t interior = (X1 - X0 - 1) * (Y1 - Y0 - 1) * (Z1 - Z0 - 1);
   EXPECT_GT(s.free_voxels, interior * 9 / 10);  // dense rays: most of the interior
@@ -221,7 +221,7 @@ TEST(Map3d, TiltedScanOfAFlatFloorIsNoObstacle) {
   const std::size_t n = map.insertObservation(scan, robot);
   EXPECT_GT(n, 100u);
   // The floor hits are in the octree (below the band)...
-  const asf::Map3dStats s = map.stats();
+  const asf::mapping::Map3dStats s = map.stats();
   EXPECT_GT(s.occupied_voxels, 50u);
   // ... the projection has free cells and no obstacle.
   const asf::GridMap g = map.project();
@@ -405,7 +405,7 @@ TEST(Map3d, LazyEvalGivesTheSameTree) {
     b.addKeyframe(i, kf.poses[i], kf.sensor, kf.clouds[i]);
   }
   EXPECT_EQ(a.occupiedVoxelKeys(), b.occupiedVoxelKeys());
-  const asf::Map3dStats sa = a.stats(), sb = b.stats();
+  const asf::mapping::Map3dStats sa = a.stats(), sb = b.stats();
   EXPECT_EQ(sa.free_leaves, sb.free_leaves);
   EXPECT_EQ(sa.occupied_leaves, sb.occupied_leaves);
   EXPECT_EQ(sa.memory_bytes, sb.memory_bytes);  // pruned alike
@@ -455,7 +455,7 @@ TEST(Map3d, BtAndOtRoundTripThroughOctoMap) {
   std::size_t leaves = 0;
   for (auto it = full->begin_leafs(); it != full->end_leafs(); ++it, ++leaves)
     ASSERT_NEAR(it->getOccupancy(), map.occupancyAt(it.getX(), it.getY(), it.getZ()), 1e-6);
-  const asf::Map3dStats s = map.stats();
+  const asf::mapping::Map3dStats s = map.stats();
   EXPECT_EQ(leaves, s.occupied_leaves + s.free_leaves);
   const std::string err = errorOf<asf::Error>([&] { map.writeBt((dir / "no/such/m.bt").string()); });
   EXPECT_TRUE(has(err, "no/such/m.bt")) << err;

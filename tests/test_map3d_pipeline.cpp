@@ -2,8 +2,8 @@
 // observations through rawlogs, the grid merge, and a run whose robot has only a 3D sensor.
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/map3d.h>
-#include <asf/map_builder.h>
+#include <asf/mapping/map3d.h>
+#include <asf/mapping/map_builder.h>
 #include <asf/pipeline.h>
 #include <asf/rawlog_io.h>
 #include <gtest/gtest.h>
@@ -116,12 +116,12 @@ TEST(Map3dPipeline, HorizontalSliceOfABoxRoom) {
   const CPose2D robot(1.0, -1.0, 0.3);
   const CPose3D on_robot(0.1, 0, 0.5, 0, 0, 0);
   const auto obs = scene.cloud(robot, on_robot, 1.0);
-  asf::SliceOptions o;
+  asf::mapping::SliceOptions o;
   o.min_z = 0.3;  // above the 0.15 m box
   o.max_z = 1.0;
   o.rays = 180;
   o.max_range = 8;
-  const auto scan = asf::horizontalSlice(*obs, o);
+  const auto scan = asf::mapping::horizontalSlice(*obs, o);
   ASSERT_TRUE(scan);
   EXPECT_EQ(scan->getScanSize(), 180u);
   EXPECT_EQ(scan->sensorLabel, "LIDAR3D_SLICE");
@@ -149,7 +149,7 @@ TEST(Map3dPipeline, HorizontalSliceOfABoxRoom) {
   // first surface at that height, and the rays towards the box stop at it.
   o.min_z = 0.02;
   o.max_z = 0.14;
-  const auto low = asf::horizontalSlice(*obs, o);
+  const auto low = asf::mapping::horizontalSlice(*obs, o);
   ASSERT_TRUE(low);
   int on_box = 0;
   for (std::size_t i = 0; i < low->getScanSize(); ++i) {
@@ -163,7 +163,7 @@ TEST(Map3dPipeline, HorizontalSliceOfABoxRoom) {
   // An observation without 3D points gives no slice, and says why.
   mrpt::obs::CObservationOdometry odo;
   std::string why;
-  EXPECT_FALSE(asf::horizontalSlice(odo, o, &why));
+  EXPECT_FALSE(asf::mapping::horizontalSlice(odo, o, &why));
   EXPECT_TRUE(asf_test::has(why, "no 3D points")) << why;
 }
 
@@ -181,7 +181,7 @@ TEST(Map3dPipeline, MergeKeepsEveryObstacle) {
   a.setPos(0.15, 0.75, 0.3f);  // occupied in both: the more occupied one
   b.setPos(0.6, 0.75, 0.1f);   // (b's cell spans x in [0.5, 0.7])
   a.setPos(0.65, 0.75, 0.3f);
-  const auto m = asf::mergeOccupancy(a, b);
+  const auto m = asf::mapping::mergeOccupancy(a, b);
   ASSERT_TRUE(m);
   EXPECT_NEAR(m->getResolution(), 0.1, 1e-6);
   EXPECT_LE(m->getXMin(), 0.0f + 1e-4);
@@ -502,7 +502,7 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
   auto ini = asf::IniConfig::fromFile(ASF_TEST_SOURCE_DIR "/configs/low_obstacles.ini");
   ini.set("map3d", "rebuild_threshold", "1e-6");
   asf::Registry reg;
-  asf::Map3d fresh;
+  asf::mapping::Map3d fresh;
   fresh.configure(asf::resolveConfig(ini, reg).map3d);
   asf::RawlogReaderOptions o;
   o.observations3d = true;

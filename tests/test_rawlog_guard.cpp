@@ -10,7 +10,7 @@
 //   rangeImage_setSize), through RawlogReader and through asf map3d's reader; the sample
 //   itself reads as before.
 #include <asf/errors.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <asf/map3d_from_log.h>
 #include <asf/rawlog_io.h>
 #include <gtest/gtest.h>
@@ -508,7 +508,7 @@ TEST(RawlogGuard, A3DScanClaimingAHugeRangeImageIsRefused) {
   });
   EXPECT_TRUE(asf_test::has(e, "a 3D range scan claims a range image of 2147483647 x 640 pixels"))
       << "[" << e << "]";
-  asf::Map3d map;
+  asf::mapping::Map3d map;
   const asf::Map3dFromLogReport rep = asf::insertRawlog3d(path, {}, map, {});
   EXPECT_TRUE(asf_test::has(rep.error, "a 3D range scan claims a range image of 2147483647 x 640"))
       << "[" << rep.error << "]";

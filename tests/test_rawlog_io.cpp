@@ -598,7 +598,7 @@ TEST(RawlogReader, FramesGetInterpolatedGroundTruth) {
 /// in metres and radians, mapped through the Jacobian of the half-angle rotation
 ///   J = [c -s (-s x - c y); s c (c x - s y); 0 0 1],  c, s = cos, sin(dphi / 2).
 /// Our parameters are in MRPT's documented units (a2 m/deg, a3 deg/m, min std deg).
-Eigen::Matrix3d documentedModel(const asf::OdometryNoiseModel& m, double x, double y, double phi) {
+Eigen::Matrix3d documentedModel(const asf::mapping::OdometryNoiseModel& m, double x, double y, double phi) {
   const double deg = M_PI / 180, d = std::hypot(x, y);
   const double sxy = m.min_std_xy + m.a1 * d + (m.a2 / deg) * std::abs(phi);
   const double sphi = m.min_std_phi_deg * deg + m.a3 * deg * d + m.a4 * std::abs(phi);
@@ -609,7 +609,7 @@ Eigen::Matrix3d documentedModel(const asf::OdometryNoiseModel& m, double x, doub
 }
 
 TEST(OdometryNoiseModel, MatchesMrptsDocumentedGaussianModel) {
-  const asf::OdometryNoiseModel def;
+  const asf::mapping::OdometryNoiseModel def;
   // Standing still: the minimum stds alone, 0.01 m and 0.2 deg.
   const double s0 = 0.2 * M_PI / 180;
   Eigen::Matrix3d want = Eigen::Vector3d(1e-4, 1e-4, s0 * s0).asDiagonal();
@@ -621,7 +621,7 @@ TEST(OdometryNoiseModel, MatchesMrptsDocumentedGaussianModel) {
   EXPECT_TRUE(def.covariance(CPose2D(1, 0, 0)).isApprox(want, 1e-12))
       << def.covariance(CPose2D(1, 0, 0));
 
-  asf::OdometryNoiseModel m;
+  asf::mapping::OdometryNoiseModel m;
   m.a1 = 0.03;
   m.a2 = 0.002;
   m.a3 = 2.0;

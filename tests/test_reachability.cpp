@@ -1,6 +1,6 @@
 // Reachability: geodesic distances over known-free cells that keep the robot's radius from
 // obstacles. Analytic cases on hand-made MRPT grids.
-#include <asf/reachability.h>
+#include <asf/mapping/reachability.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -53,20 +53,20 @@ std::shared_ptr<Grid> room(double w, double h) {
 
 TEST(Reachability, NullOrEmptyGridReachesNothing) {
   asf::GridMap none;
-  const auto r = asf::Reachability::compute(none, {0, 0});
+  const auto r = asf::mapping::Reachability::compute(none, {0, 0});
   EXPECT_FALSE(r.reachable({0, 0}));
-  EXPECT_EQ(r.distanceTo({0, 0}), asf::Reachability::kUnreachable);
+  EXPECT_EQ(r.distanceTo({0, 0}), asf::mapping::Reachability::kUnreachable);
   EXPECT_FALSE(r.nearestReachable({0, 0}, 1.0).has_value());
   EXPECT_EQ(r.closest({{0, 0}, {1, 1}}, 1.0), -1);
   EXPECT_EQ(r.width(), 0);
-  EXPECT_EQ(r.cellDistance(0, 0), asf::Reachability::kUnreachable);
+  EXPECT_EQ(r.cellDistance(0, 0), asf::mapping::Reachability::kUnreachable);
 
   // (MRPT cannot make a grid of zero cells.) A grid of unknown cells: only the robot's
   // footprint (cells within robot_radius of it, which it occupies) is reachable.
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.2;
   const asf::Point2 at{1.01, 1.01};
-  const auto u = asf::Reachability::compute(wrap(unknownGrid(2, 2)), at, o);
+  const auto u = asf::mapping::Reachability::compute(wrap(unknownGrid(2, 2)), at, o);
   EXPECT_EQ(u.distanceTo(at), 0.0);
   for (int cy = 0; cy < u.height(); ++cy)
     for (int cx = 0; cx < u.width(); ++cx) {
@@ -80,11 +80,11 @@ TEST(Reachability, NullOrEmptyGridReachesNothing) {
 TEST(Reachability, StartOffTheGridReachesNothing) {
   auto g = unknownGrid(2, 2);
   fill(*g, 0, 0, 2, 2, kFree);
-  const auto r = asf::Reachability::compute(wrap(g), {-1, 1});
+  const auto r = asf::mapping::Reachability::compute(wrap(g), {-1, 1});
   EXPECT_FALSE(r.reachable({1, 1}));
   EXPECT_FALSE(r.reachable({-1, 1}));
   // From inside the same grid is reachable everywhere (the control).
-  EXPECT_TRUE(asf::Reachability::compute(wrap(g), {0.5, 1}).reachable({1.5, 1}));
+  EXPECT_TRUE(asf::mapping::Reachability::compute(wrap(g), {0.5, 1}).reachable({1.5, 1}));
 }
 
 TEST(Reachability, OpenFreeSpaceIsOctileDistanceBetweenEuclideanAndOctile) {
@@ -93,7 +93,7 @@ TEST(Reachability, OpenFreeSpaceIsOctileDistanceBetweenEuclideanAndOctile) {
   auto g = unknownGrid(4, 3);
   fill(*g, 0, 0, 4, 3, kFree);
   const asf::Point2 start{1.03, 0.98};
-  const auto r = asf::Reachability::compute(wrap(g), start);
+  const auto r = asf::mapping::Reachability::compute(wrap(g), start);
   EXPECT_EQ(r.width(), 80);
   EXPECT_EQ(r.height(), 60);
   EXPECT_NEAR(r.resolution(), kRes, 1e-6);
@@ -115,10 +115,10 @@ TEST(Reachability, OpenFreeSpaceIsOctileDistanceBetweenEuclideanAndOctile) {
 
 TEST(Reachability, RoomKeepsTheRobotRadiusFromWalls) {
   auto g = room(4, 3);
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.2;
   const asf::Point2 start{2, 1.5};
-  const auto r = asf::Reachability::compute(wrap(g), start, o);
+  const auto r = asf::mapping::Reachability::compute(wrap(g), start, o);
   // Wall inner face at 0.1: centres 0.3 m + half a cell... Cell centres at >= 0.2 m from the
   // wall's edge are passable, closer ones are not.
   EXPECT_TRUE(r.reachable({0.325, 1.5}));   // centre 0.225 from the face
@@ -133,7 +133,7 @@ TEST(Reachability, RoomKeepsTheRobotRadiusFromWalls) {
   }
   // A bigger radius shrinks the free space further.
   o.robot_radius = 0.5;
-  const auto big = asf::Reachability::compute(wrap(g), start, o);
+  const auto big = asf::mapping::Reachability::compute(wrap(g), start, o);
   EXPECT_FALSE(big.reachable({0.4, 0.4}));
   EXPECT_TRUE(big.reachable({0.7, 1.5}));
 }
@@ -148,19 +148,19 @@ std::shared_ptr<Grid> roomWithDoor(double door) {
 
 TEST(Reachability, DoorNarrowerThanTheRobotBlocksWiderDoorIsGoneAround) {
   const asf::Point2 start{1, 1}, goal{5, 1};
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.2;
   // 0.3 m < 2 * radius: the other side is unreachable although free and connected.
-  const auto narrow = asf::Reachability::compute(wrap(roomWithDoor(0.3)), start, o);
+  const auto narrow = asf::mapping::Reachability::compute(wrap(roomWithDoor(0.3)), start, o);
   EXPECT_TRUE(narrow.reachable({2, 1}));
   EXPECT_FALSE(narrow.reachable(goal));
   EXPECT_FALSE(narrow.reachable({4, 3.2}));
   // The same door is fine for a thinner robot.
   o.robot_radius = 0.1;
-  EXPECT_TRUE(asf::Reachability::compute(wrap(roomWithDoor(0.3)), start, o).reachable(goal));
+  EXPECT_TRUE(asf::mapping::Reachability::compute(wrap(roomWithDoor(0.3)), start, o).reachable(goal));
 
   o.robot_radius = 0.2;
-  const auto wide = asf::Reachability::compute(wrap(roomWithDoor(0.8)), start, o);
+  const auto wide = asf::mapping::Reachability::compute(wrap(roomWithDoor(0.8)), start, o);
   ASSERT_TRUE(wide.reachable(goal));
   // The path must cross the wall line inside the door, y in [3.2, 3.6] once the radius is
   // kept from the jambs: at least the broken line through (3, 3.2).
@@ -173,9 +173,9 @@ TEST(Reachability, DoorNarrowerThanTheRobotBlocksWiderDoorIsGoneAround) {
 
 TEST(Reachability, PathToFollowsTheDistanceFieldThroughTheDoor) {
   const asf::Point2 start{1, 1}, goal{5, 1};
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.2;
-  const auto r = asf::Reachability::compute(wrap(roomWithDoor(0.8)), start, o);
+  const auto r = asf::mapping::Reachability::compute(wrap(roomWithDoor(0.8)), start, o);
   const std::vector<asf::Point2> path = r.pathTo(goal);
   ASSERT_GE(path.size(), 2u);
   EXPECT_LE(std::hypot(path.front().x - start.x, path.front().y - start.y), kRes);
@@ -196,48 +196,48 @@ TEST(Reachability, PathToFollowsTheDistanceFieldThroughTheDoor) {
   EXPECT_TRUE(through_door);
   // Nothing to follow to an unreachable place or off the grid.
   EXPECT_TRUE(r.pathTo({50, 50}).empty());
-  EXPECT_TRUE(asf::Reachability::compute(wrap(roomWithDoor(0.3)), start, o).pathTo(goal).empty());
+  EXPECT_TRUE(asf::mapping::Reachability::compute(wrap(roomWithDoor(0.3)), start, o).pathTo(goal).empty());
 }
 
 TEST(Reachability, UnknownCellsBlock) {
   auto g = unknownGrid(6, 2);
   fill(*g, 0, 0, 2.5, 2, kFree);
   fill(*g, 3.5, 0, 6, 2, kFree);  // [2.5, 3.5] stays unknown
-  const auto r = asf::Reachability::compute(wrap(g), {1, 1});
+  const auto r = asf::mapping::Reachability::compute(wrap(g), {1, 1});
   EXPECT_TRUE(r.reachable({2.4, 1}));
   EXPECT_FALSE(r.reachable({3.0, 1}));
   EXPECT_FALSE(r.reachable({5, 1}));
   // Control: the same band known free joins both sides.
   fill(*g, 2.5, 0, 3.5, 2, kFree);
-  EXPECT_NEAR(asf::Reachability::compute(wrap(g), {1, 1}).distanceTo({5, 1}), 4.0, kRes);
+  EXPECT_NEAR(asf::mapping::Reachability::compute(wrap(g), {1, 1}).distanceTo({5, 1}), 4.0, kRes);
   // Nearly unknown (inside unknown_band) also blocks; just outside it does not. (MRPT
   // stores 0.53 as 0.531.)
   fill(*g, 2.5, 0, 3.5, 2, 0.53f);
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.unknown_band = 0.04;
-  EXPECT_FALSE(asf::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
+  EXPECT_FALSE(asf::mapping::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
   o.unknown_band = 0.02;
-  EXPECT_TRUE(asf::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
+  EXPECT_TRUE(asf::mapping::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
 }
 
 TEST(Reachability, OccupiedThresholdDecidesWhatIsAnObstacle) {
   auto g = unknownGrid(6, 2);
   fill(*g, 0, 0, 6, 2, kFree);
   fill(*g, 2.9, 0, 3.1, 2, 0.3f);  // p(occupied) = 0.7
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.occupied_threshold = 0.65;
-  EXPECT_FALSE(asf::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
+  EXPECT_FALSE(asf::mapping::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
   o.occupied_threshold = 0.75;  // now the band is free, if a little doubtful
-  EXPECT_TRUE(asf::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
+  EXPECT_TRUE(asf::mapping::Reachability::compute(wrap(g), {1, 1}, o).reachable({5, 1}));
 }
 
 TEST(Reachability, StartInsideTheRadiusOfAWallCanLeave) {
   auto g = room(4, 3);
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.3;
   // 0.07 m from the wall's face at x = 0.1: every cell around the start is lethal.
   const asf::Point2 start{0.175, 1.5};
-  const auto r = asf::Reachability::compute(wrap(g), start, o);
+  const auto r = asf::mapping::Reachability::compute(wrap(g), start, o);
   EXPECT_EQ(r.distanceTo(start), 0.0);
   EXPECT_TRUE(r.reachable({0.225, 1.5}));  // inside the escape disk
   EXPECT_TRUE(r.reachable({2, 1.5}));
@@ -249,9 +249,9 @@ TEST(Reachability, StartInsideTheRadiusOfAWallCanLeave) {
 
 TEST(Reachability, NearestReachableSnapsToTheClosestReachableCell) {
   auto g = room(4, 3);
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.2;
-  const auto r = asf::Reachability::compute(wrap(g), {2, 1.5}, o);
+  const auto r = asf::mapping::Reachability::compute(wrap(g), {2, 1.5}, o);
   // A point in the left wall: the nearest reachable cell centres are at x = 0.325.
   const auto q = r.nearestReachable({0.05, 1.51}, 0.5);
   ASSERT_TRUE(q.has_value());
@@ -275,10 +275,10 @@ TEST(Reachability, NearestReachableTieGoesToTheSmallerGeodesicDistance) {
   auto g = unknownGrid(4, 2);
   fill(*g, 0, 0, 4, 2, kFree);
   fill(*g, 1.95, 0, 2.05, 1.8, kOccupied);  // wall with a way round at the top
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = 0.0;
   for (const double sx : {1.0, 3.0}) {
-    const auto r = asf::Reachability::compute(wrap(g), {sx, 0.5}, o);
+    const auto r = asf::mapping::Reachability::compute(wrap(g), {sx, 0.5}, o);
     ASSERT_TRUE(r.reachable({4 - sx, 0.5}));  // round the wall
     const auto q = r.nearestReachable({2.0, 0.525}, 0.2);
     ASSERT_TRUE(q.has_value());
@@ -287,7 +287,7 @@ TEST(Reachability, NearestReachableTieGoesToTheSmallerGeodesicDistance) {
 }
 
 TEST(Reachability, ClosestIsGeodesicNotEuclidean) {
-  const auto r = asf::Reachability::compute(wrap(roomWithDoor(0.8)), {2.5, 1}, {});
+  const auto r = asf::mapping::Reachability::compute(wrap(roomWithDoor(0.8)), {2.5, 1}, {});
   // A is 1 m away through the wall (3.5, 1), B 2.5 m away on the same side.
   const std::vector<asf::Point2> candidates{{3.5, 1}, {0.5, 2.5}, {-5, -5}};
   asf::Point2 snapped;
@@ -320,11 +320,11 @@ TEST(Reachability, CaveFieldIsConsistent) {
       start = {g->idx2x(g->getSizeX() / 2), g->idx2y(cy)};
       break;
     }
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   const auto t0 = std::chrono::steady_clock::now();
   const int reps = 10;
-  asf::Reachability r;
-  for (int i = 0; i < reps; ++i) r = asf::Reachability::compute(map, start, o);
+  asf::mapping::Reachability r;
+  for (int i = 0; i < reps; ++i) r = asf::mapping::Reachability::compute(map, start, o);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
       reps;
@@ -336,14 +336,14 @@ TEST(Reachability, CaveFieldIsConsistent) {
   for (int cy = 0; cy < r.height(); ++cy)
     for (int cx = 0; cx < r.width(); ++cx) {
       const double d = r.cellDistance(cx, cy);
-      if (!(d < asf::Reachability::kUnreachable)) continue;
+      if (!(d < asf::mapping::Reachability::kUnreachable)) continue;
       ++reachable;
       bool has_parent = d == 0;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
           if (!dx && !dy) continue;
           const double dn = r.cellDistance(cx + dx, cy + dy);
-          if (!(dn < asf::Reachability::kUnreachable)) continue;
+          if (!(dn < asf::mapping::Reachability::kUnreachable)) continue;
           const double step = (dx && dy ? M_SQRT2 : 1.0) * res;
           if (!dx || !dy) {
             ASSERT_LE(d, dn + step + 1e-4) << cx << "," << cy;  // no shortcut

@@ -1,7 +1,7 @@
-// asf::regionsFromLabels and its windowed form: the windowed update must give exactly what
+// asf::mapping::regionsFromLabels and its windowed form: the windowed update must give exactly what
 // the whole-image function gives (labels, ids, areas, centroids, outlines, boxes), checked
 // against it on random label images with random local changes.
-#include <asf/region_labels.h>
+#include <asf/mapping/region_labels.h>
 #include <asf/segmentation.h>
 #include <gtest/gtest.h>
 
@@ -68,7 +68,7 @@ TEST(RegionsFromLabels, HandCheckedAreasCentroidsBoxesAndIds) {
   paint(L, {6, 2, 3, 2}, 99);  // 6 cells
   RegionBoxes boxes;
   RegionId issued = 0;
-  const Segmentation s = asf::regionsFromLabels(L, nullptr, &issued, 1, 0, &boxes);
+  const Segmentation s = asf::mapping::regionsFromLabels(L, nullptr, &issued, 1, 0, &boxes);
   ASSERT_EQ(s.regions.size(), 2u);
   EXPECT_EQ(s.regions[0].id, 1);  // fresh ids in order of first appearance
   EXPECT_EQ(s.regions[1].id, 2);
@@ -81,7 +81,7 @@ TEST(RegionsFromLabels, HandCheckedAreasCentroidsBoxesAndIds) {
   EXPECT_EQ(issued, 2);
   // Minimum area drops the small region; its id is not issued.
   RegionId issued2 = 0;
-  const Segmentation t = asf::regionsFromLabels(L, nullptr, &issued2, 1, 10 * 0.0025);
+  const Segmentation t = asf::mapping::regionsFromLabels(L, nullptr, &issued2, 1, 10 * 0.0025);
   ASSERT_EQ(t.regions.size(), 1u);
   EXPECT_EQ(t.labels.labels[2 * 10 + 7], 0);
 }
@@ -98,7 +98,7 @@ TEST(RegionsFromLabels, WindowedUpdateEqualsWholeImageOnRandomChanges) {
     const double min_area = trial % 3 == 0 ? 4 * 0.0025 : 0.0;
     RegionId issued = 0;
     RegionBoxes boxes;
-    Segmentation prev = asf::regionsFromLabels(L, nullptr, &issued, 1, min_area, &boxes);
+    Segmentation prev = asf::mapping::regionsFromLabels(L, nullptr, &issued, 1, min_area, &boxes);
     for (int step = 0; step < 8; ++step) {
       // A change confined to a window: existing ids, fresh labels and erased cells.
       const CellBox win{uni(-2, W - 1), uni(-2, H - 1), uni(1, W / 2 + 1), uni(1, H / 2 + 1)};
@@ -121,8 +121,8 @@ TEST(RegionsFromLabels, WindowedUpdateEqualsWholeImageOnRandomChanges) {
       RegionId issued_full = issued, issued_win = issued;
       RegionBoxes boxes_full, boxes_win = boxes;
       const Segmentation full =
-          asf::regionsFromLabels(next, &prev, &issued_full, 2 + step, min_area, &boxes_full);
-      const Segmentation win_out = asf::regionsFromLabelsInWindow(
+          asf::mapping::regionsFromLabels(next, &prev, &issued_full, 2 + step, min_area, &boxes_full);
+      const Segmentation win_out = asf::mapping::regionsFromLabelsInWindow(
           next, prev, boxes_win, win, &issued_win, 2 + step, min_area);
       ++windowed_calls;
       SCOPED_TRACE("trial " + std::to_string(trial) + " step " + std::to_string(step));
@@ -144,20 +144,20 @@ TEST(RegionsFromLabels, WindowedFallsBackOnAnotherRasterOrMissingBoxes) {
   paint(L, {6, 0, 6, 8}, 2);
   RegionId issued = 0;
   RegionBoxes boxes;
-  const Segmentation prev = asf::regionsFromLabels(L, nullptr, &issued, 1, 0, &boxes);
+  const Segmentation prev = asf::mapping::regionsFromLabels(L, nullptr, &issued, 1, 0, &boxes);
   LabelImage moved = prev.labels;
   moved.origin_x += 0.05;  // another raster: the window says nothing
   RegionBoxes b1 = boxes;
   RegionId i1 = issued, i2 = issued;
-  const Segmentation a = asf::regionsFromLabelsInWindow(moved, prev, b1, {0, 0, 1, 1}, &i1, 2);
-  const Segmentation b = asf::regionsFromLabels(moved, &prev, &i2, 2);
+  const Segmentation a = asf::mapping::regionsFromLabelsInWindow(moved, prev, b1, {0, 0, 1, 1}, &i1, 2);
+  const Segmentation b = asf::mapping::regionsFromLabels(moved, &prev, &i2, 2);
   expectSame(a, b);
   // Boxes that are not the previous segmentation's: whole-image result, boxes rebuilt.
   RegionBoxes wrong;
   LabelImage changed = prev.labels;
   paint(changed, {0, 0, 2, 2}, 0);
-  const Segmentation c = asf::regionsFromLabelsInWindow(changed, prev, wrong, {0, 0, 2, 2}, &i1, 3);
-  const Segmentation d = asf::regionsFromLabels(changed, &prev, &i2, 3);
+  const Segmentation c = asf::mapping::regionsFromLabelsInWindow(changed, prev, wrong, {0, 0, 2, 2}, &i1, 3);
+  const Segmentation d = asf::mapping::regionsFromLabels(changed, &prev, &i2, 3);
   expectSame(c, d);
   EXPECT_EQ(wrong.size(), 2u);
 }

@@ -1,8 +1,8 @@
 // Framework services: the map builder (scans at keyframe poses -> occupancy grid) and the
 // topological graph builder (label image -> regions graph with traversal history).
-#include <asf/map_builder.h>
-#include <asf/segment_world.h>
-#include <asf/topo_builder.h>
+#include <asf/mapping/map_builder.h>
+#include <asf/mapping/segment_world.h>
+#include <asf/mapping/topo_builder.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -15,7 +15,7 @@
 namespace {
 
 /// A 360-ray scan from `pose` in a world, exact ranges.
-std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWorld& w,
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::mapping::SegmentWorld& w,
                                                            const mrpt::poses::CPose2D& pose) {
   auto s = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
   const int n = 360;
@@ -35,14 +35,14 @@ std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scanAt(const asf::SegmentWor
 }  // namespace
 
 TEST(MapBuilder, WallsOccupiedInteriorFreeOutsideUnknown) {
-  const auto world = asf::SegmentWorld::rectangle(-2, -1.5, 3, 2.5);
+  const auto world = asf::mapping::SegmentWorld::rectangle(-2, -1.5, 3, 2.5);
   asf::PoseGraph g;
   g.addNode({0, 0, 0});
   g.nodes[0].scan = scanAt(world, g.nodes[0].pose);
   const asf::KeySpec* k;
   std::size_t n;
-  k = asf::MapBuilder::keys(n);
-  asf::MapBuilder mb;
+  k = asf::mapping::MapBuilder::keys(n);
+  asf::mapping::MapBuilder mb;
   mb.configure(asf::Params::fromSpecs("map", k, n, {{"resolution", "0.05"}}));
   ASSERT_TRUE(mb.update(g));
   EXPECT_FALSE(mb.update(g)) << "nothing new: no new version";
@@ -64,13 +64,13 @@ TEST(MapBuilder, WallsOccupiedInteriorFreeOutsideUnknown) {
 }
 
 TEST(MapBuilder, RebuildsWhenKeyframesMove) {
-  const auto world = asf::SegmentWorld::rectangle(-2, -2, 2, 2);
+  const auto world = asf::mapping::SegmentWorld::rectangle(-2, -2, 2, 2);
   asf::PoseGraph g;
   g.addNode({0, 0, 0});
   g.nodes[0].scan = scanAt(world, g.nodes[0].pose);
   std::size_t n;
-  const asf::KeySpec* k = asf::MapBuilder::keys(n);
-  asf::MapBuilder mb;
+  const asf::KeySpec* k = asf::mapping::MapBuilder::keys(n);
+  asf::mapping::MapBuilder mb;
   mb.configure(asf::Params::fromSpecs("map", k, n));
   ASSERT_TRUE(mb.update(g));
   EXPECT_FALSE(mb.map().rebuilt);
@@ -117,8 +117,8 @@ TEST(TopoBuilder, RegionsBordersFrontiersAndTraversals) {
   map.version = 1;
 
   std::size_t n;
-  const asf::KeySpec* k = asf::TopoBuilder::keys(n);
-  asf::TopoBuilder tb;
+  const asf::KeySpec* k = asf::mapping::TopoBuilder::keys(n);
+  asf::mapping::TopoBuilder tb;
   tb.configure(asf::Params::fromSpecs(
       "topology", k, n, {{"min_border_width", "0.3"}, {"min_frontier_width", "0.3"}}));
   tb.update(seg, map);
@@ -216,8 +216,8 @@ TEST(TopoBuilder, FrontierEdgesNeedAStretchOfAdjacentCells) {
     map.grid = grid;
     map.version = 1;
     std::size_t n;
-    const asf::KeySpec* k = asf::TopoBuilder::keys(n);
-    asf::TopoBuilder tb;
+    const asf::KeySpec* k = asf::mapping::TopoBuilder::keys(n);
+    asf::mapping::TopoBuilder tb;
     tb.configure(asf::Params::fromSpecs("topology", k, n, {{"min_frontier_width", "0.3"}}));
     tb.update(seg, map);
     return tb.graph().edges;
@@ -262,10 +262,10 @@ TEST(TopoBuilder, StripeCacheGivesWhatAFreshBuilderGives) {
   for (int y = 0; y < H; y += 10)  // rooms with unlabelled walls between them
     for (int x = 0; x < W; x += 9) paint(x + 1, y + 1, 8, 9, 1 + (x / 9) + 5 * (y / 10), -1);
   std::size_t n;
-  const asf::KeySpec* k = asf::TopoBuilder::keys(n);
+  const asf::KeySpec* k = asf::mapping::TopoBuilder::keys(n);
   const auto params = asf::Params::fromSpecs(
       "topology", k, n, {{"min_border_width", "0.2"}, {"min_frontier_width", "0.2"}});
-  asf::TopoBuilder incremental;
+  asf::mapping::TopoBuilder incremental;
   incremental.configure(params);
   asf::GridMap map;
   for (int step = 0; step < 60; ++step) {
@@ -285,7 +285,7 @@ TEST(TopoBuilder, StripeCacheGivesWhatAFreshBuilderGives) {
     map.grid = grid;
     ++map.version;
     incremental.update(seg, map);
-    asf::TopoBuilder fresh;
+    asf::mapping::TopoBuilder fresh;
     fresh.configure(params);
     fresh.update(seg, map);
     const auto& a = incremental.graph().edges;
@@ -302,7 +302,7 @@ TEST(TopoBuilder, StripeCacheGivesWhatAFreshBuilderGives) {
         EXPECT_TRUE(a[i].border[j].x == b[i].border[j].x && a[i].border[j].y == b[i].border[j].y);
     }
     if (step == 30) {  // a copy carries the cache and goes on alone
-      asf::TopoBuilder copy = incremental;
+      asf::mapping::TopoBuilder copy = incremental;
       incremental = copy;
     }
   }

@@ -163,7 +163,7 @@ struct TwoCorridors {
     for (int x = 2; x <= 20; ++x) xy.emplace_back(x, 1.6);
     for (int k = 0; k <= 7; ++k) xy.emplace_back(20.4, 1.6 + k);
     for (int x = 20; x >= 2; --x) xy.emplace_back(x, 8.6);
-    const asf::OdometryNoiseModel model;
+    const asf::mapping::OdometryNoiseModel model;
     for (std::size_t i = 0; i < xy.size(); ++i) {
       const std::size_t j = i + 1 < xy.size() ? i + 1 : i;
       const std::size_t k = i + 1 < xy.size() ? i : i - 1;
@@ -205,7 +205,7 @@ TEST(VoronoiEdges, CorridorsJoinedOnlyThroughAMappedRoomGetAVirtualEdge) {
   EXPECT_LE(e.skeleton_length, e.length);
   // The covariance is the odometry model's for that length, turned towards b (north: the
   // forward variance lands on y in a's frame... a heads east, b is at +90 deg).
-  const asf::OdometryNoiseModel model;
+  const asf::mapping::OdometryNoiseModel model;
   CPose2D d = w.g.nodes[e.b].pose - w.g.nodes[e.a].pose;
   d.normalizePhi();
   const Matrix3d c0 = model.covariance(CPose2D(e.length, 0, d.phi()));

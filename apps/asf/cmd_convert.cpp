@@ -208,7 +208,7 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
                          "Synthesize noisy odometry from the logged poses (corrected logs)", cmd);
   TCLAP::SwitchArg odom_lines("", "odom-lines", "Odometry from the ODOM lines", cmd);
   TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed of --synth-odometry", false, 1, "N", cmd);
-  const OdometryNoiseModel def;
+  const mapping::OdometryNoiseModel def;
   TCLAP::ValueArg<double> a1("", "a1", "Odometry model: x/y std per metre [m/m]", false, def.a1,
                              "A", cmd);
   TCLAP::ValueArg<double> a2("", "a2", "Odometry model: x/y std per degree [m/deg]", false, def.a2,

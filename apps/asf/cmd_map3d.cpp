@@ -6,7 +6,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/image_io.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <asf/map3d_from_log.h>
 #include <asf/segmentation_eval.h>
 #include <asf/text.h>
@@ -49,13 +49,13 @@ Params map3dParams(const std::string& config, const std::vector<std::string>& se
     ini.applyOverride(dot != std::string::npos && dot < eq ? a : "map3d." + a);
   }
   std::size_t nkeys = 0;
-  const KeySpec* keys = Map3d::keys(nkeys);
+  const KeySpec* keys = mapping::Map3d::keys(nkeys);
   return ini.resolve("map3d", keys, nkeys);
 }
 
 /// What map3d.json holds besides the timings of projection and writing.
 json reportJson(const std::string& rawlog, const std::string& gt, const Params& params,
-                const Map3dFromLogReport& r, const Map3dStats& s) {
+                const Map3dFromLogReport& r, const mapping::Map3dStats& s) {
   json j;
   j["rawlog"] = rawlog;
   j["poses"] = gt.empty() ? "odometry" : "ground truth " + gt;
@@ -75,7 +75,7 @@ json reportJson(const std::string& rawlog, const std::string& gt, const Params& 
 }
 
 void printSummary(const std::string& rawlog, const std::string& dir, const Params& params,
-                  const Map3dFromLogReport& r, const Map3dStats& s, const GridMap& grid,
+                  const Map3dFromLogReport& r, const mapping::Map3dStats& s, const GridMap& grid,
                   const GrayImage& image) {
   std::cout << rawlog << ": " << r.records << " records, " << r.observations
             << " observations inserted, " << r.points << " points in " << formatFixed(r.insert_s, 3)
@@ -135,7 +135,7 @@ int cmdMap3d(int argc, char** argv) {
   Map3dFromLogOptions o;
   o.sensor_pose = parseSensorPose(sensor_pose.getValue());
   const Params params = map3dParams(config.getValue(), set.getValue());
-  Map3d map;
+  mapping::Map3d map;
   map.configure(params);
   if (!gt.getValue().empty()) o.ground_truth = readGroundTruth(gt.getValue());
 
@@ -153,7 +153,7 @@ int cmdMap3d(int argc, char** argv) {
   const GrayImage image = imageFromGrid(grid);  // empty without a grid
   if (grid.grid) writeGrayImage((fs::path(dir) / "projected.png").string(), image);
   const double t_write = secondsSince(t_write0);
-  const Map3dStats s = map.stats();
+  const mapping::Map3dStats s = map.stats();
 
   json j = reportJson(rawlog.getValue(), gt.getValue(), params, r, s);
   j["timings_s"] = {{"read", r.read_s},     {"extract_points", r.extract_s},

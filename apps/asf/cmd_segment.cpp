@@ -12,7 +12,7 @@
 #include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <asf/text.h>
-#include <asf/topo_builder.h>
+#include <asf/mapping/topo_builder.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -70,7 +70,7 @@ SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::st
       with_topology ? " (topology.key=value for the graph)" : "");
   s.params = ini.resolve(plugin, s.info->descriptor->keys, s.info->descriptor->num_keys);
   std::size_t n = 0;
-  const KeySpec* topo_keys = TopoBuilder::keys(n);
+  const KeySpec* topo_keys = mapping::TopoBuilder::keys(n);
   s.topology = ini.resolve("topology", topo_keys, n);
   return s;
 }
@@ -138,7 +138,7 @@ int cmdSegment(int argc, char** argv) {
   const double ms = msSince(t0);
   writeLabelImage(out.getValue(), segmentationRaster(s, image, map_arg.getValue()));
 
-  TopoBuilder topo;
+  mapping::TopoBuilder topo;
   topo.configure(setup.topology);
   topo.update(s, map);
   if (!graph.getValue().empty()) writeTextAtomically(graph.getValue(), topologyJson(topo.graph()));

@@ -34,7 +34,7 @@ struct PoseSource {
 
 class LogInserter {
  public:
-  LogInserter(const Map3dFromLogOptions& o, Map3d& map,
+  LogInserter(const Map3dFromLogOptions& o, mapping::Map3d& map,
               const std::function<void(const std::string&)>& progress)
       : o_(o), map_(map), progress_(progress), poses_{o.ground_truth, {}, {}} {}
 
@@ -61,7 +61,7 @@ class LogInserter {
     const auto t0 = Clock::now();
     mrpt::poses::CPose3D sensor;
     std::string why;
-    const bool has_points = Map3d::observationPoints(ob, pts_, sensor, &why);
+    const bool has_points = mapping::Map3d::observationPoints(ob, pts_, sensor, &why);
     r.extract_s += secondsSince(t0);
     if (!has_points) {
       ++r.skipped[why];
@@ -93,7 +93,7 @@ class LogInserter {
   }
 
   const Map3dFromLogOptions& o_;
-  Map3d& map_;
+  mapping::Map3d& map_;
   const std::function<void(const std::string&)>& progress_;
   PoseSource poses_;
   std::vector<Eigen::Vector3f> pts_;
@@ -102,7 +102,7 @@ class LogInserter {
 
 }  // namespace
 
-Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOptions& o, Map3d& map,
+Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOptions& o, mapping::Map3d& map,
                                   const std::function<void(const std::string&)>& progress) {
   mrpt::io::CFileGZInputStream in;
   bool ok = false;

@@ -16,7 +16,7 @@ void NavigationMaps::configure(const Params& map_params, bool with_map3d,
                                const Params& map3d_params, const std::string& navigation_map) {
   scan2d_.configure(map_params);
   if (with_map3d) {
-    map3d_ = std::make_unique<Map3d>();
+    map3d_ = std::make_unique<mapping::Map3d>();
     map3d_->configure(map3d_params);
   }
   nav_kind_ = navigation_map;
@@ -32,7 +32,7 @@ void NavigationMaps::addKeyframes3d(const SensorFrame& f, const PoseGraph& graph
   }
   const auto t0 = Clock::now();
   const PoseNode& node = graph.nodes.back();  // the front-end's node for this frame
-  Map3d::KeyframeId k = 0;
+  mapping::Map3d::KeyframeId k = 0;
   for (const auto& o : f.observations3d) {
     if (!o) continue;
     ++counts_.observations;
@@ -43,14 +43,14 @@ void NavigationMaps::addKeyframes3d(const SensorFrame& f, const PoseGraph& graph
     std::vector<Eigen::Vector3f> pts;
     mrpt::poses::CPose3D sensor;
     std::string why;
-    if (!Map3d::observationPoints(*o, pts, sensor, &why)) {
+    if (!mapping::Map3d::observationPoints(*o, pts, sensor, &why)) {
       ++counts_.unsupported;
       if (warned_3d_.insert(why).second)
         log.logStr(mrpt::system::LVL_WARN, "map3d: observation '" + o->sensorLabel +
                                                "' not used: " + why + " (warned once)");
       continue;
     }
-    const Map3d::KeyframeId id = node.id * kObsPerNode + k++;
+    const mapping::Map3d::KeyframeId id = node.id * kObsPerNode + k++;
     map3d_->addKeyframe(id, node.pose, sensor, std::move(pts));
     keyframes3d_.emplace_back(id, node.id);
     ++counts_.keyframes;
@@ -60,7 +60,7 @@ void NavigationMaps::addKeyframes3d(const SensorFrame& f, const PoseGraph& graph
 
 void NavigationMaps::followGraph(const PoseGraph& graph) {
   if (!map3d_ || map3d_->numKeyframes() == 0) return;
-  std::map<Map3d::KeyframeId, mrpt::poses::CPose2D> poses;
+  std::map<mapping::Map3d::KeyframeId, mrpt::poses::CPose2D> poses;
   for (const auto& [id, node] : keyframes3d_)
     poses.emplace_hint(poses.end(), id, graph.nodes[node].pose);
   map3d_->updateKeyframePoses(poses);
@@ -118,7 +118,7 @@ bool NavigationMaps::updateMerged() {
   if (m2.version == merged_2d_ && projected_.version == merged_3d_) return false;
   const bool whole = projected_.version != merged_3d_ || m2.rebuilt;
   GridMap g;
-  g.grid = mergeOccupancy(*m2.grid, *projected_.grid);
+  g.grid = mapping::mergeOccupancy(*m2.grid, *projected_.grid);
   g.version = merged_.version + 1;
   g.rebuilt = whole;
   if (whole)

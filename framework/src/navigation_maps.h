@@ -2,8 +2,8 @@
 // The run's maps: the 2D scans' occupancy grid, the optional 3D map with its keyframes at
 // the pose-graph nodes, and the grid navigation uses ([pipeline] navigation_map). Private to
 // the framework: the pipeline's map stage.
-#include <asf/map3d.h>
-#include <asf/map_builder.h>
+#include <asf/mapping/map3d.h>
+#include <asf/mapping/map_builder.h>
 #include <asf/pose_graph.h>
 #include <asf/source.h>
 #include <mrpt/system/COutputLogger.h>
@@ -50,7 +50,7 @@ class NavigationMaps {
   /// Completes a 3D rebuild under way, so the grids show the final graph's map.
   void completeRebuild();
 
-  const Map3d& map3d() const { return *map3d_; }
+  const mapping::Map3d& map3d() const { return *map3d_; }
   const GridMap& projected() const { return projected_; }
   /// Counts and timings of the 3D map for map3d.json.
   Recorder::Map3dInfo map3dInfo() const;
@@ -60,9 +60,9 @@ class NavigationMaps {
   bool updateMerged();
 
   // Keyframe ids are node * kObsPerNode + index of the observation in the frame.
-  static constexpr Map3d::KeyframeId kObsPerNode = 16;
-  MapBuilder scan2d_;
-  std::unique_ptr<Map3d> map3d_;
+  static constexpr mapping::Map3d::KeyframeId kObsPerNode = 16;
+  mapping::MapBuilder scan2d_;
+  std::unique_ptr<mapping::Map3d> map3d_;
   std::string nav_kind_ = "scan2d";
   GridMap projected_;                            ///< last projection of map3d_
   GridMap merged_;                               ///< navigation_map = merged
@@ -70,7 +70,7 @@ class NavigationMaps {
   std::uint64_t merged_2d_ = 0, merged_3d_ = 0;  ///< input versions of merged_
   Recorder::Map3dInfo counts_;
   std::set<std::string> warned_3d_;
-  std::vector<std::pair<Map3d::KeyframeId, NodeId>> keyframes3d_;  ///< in id order
+  std::vector<std::pair<mapping::Map3d::KeyframeId, NodeId>> keyframes3d_;  ///< in id order
 };
 
 }  // namespace asf

@@ -83,8 +83,8 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
   m.topo.configure(cfg.topology);
   m.world = m.source->worldTruth();
   if (m.world && m.world->grid) {
-    m.coverage = std::make_unique<CoverageMeter>(*m.world);
-    m.area = MapAreaTracker(m.coverage.get());
+    m.coverage = std::make_unique<mapping::CoverageMeter>(*m.world);
+    m.area = mapping::MapAreaTracker(m.coverage.get());
     if (m.policy && m.segmenter) m.segmentWorld();
   }
   if (m.policy && !m.source->isActive())
@@ -101,7 +101,7 @@ void PipelineParts::segmentWorld() {
   wm.grid = world->grid;
   wm.version = 1;
   const Segmentation ws = seg_world->segment(wm, nullptr);
-  TopoBuilder tb;
+  mapping::TopoBuilder tb;
   tb.configure(cfg.topology);
   tb.update(ws, wm);
   // World frame -> map frame, so a baseline's goals are in the frame navigation uses.

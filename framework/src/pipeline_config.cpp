@@ -1,9 +1,9 @@
 #include <asf/errors.h>
-#include <asf/map3d.h>
-#include <asf/map_builder.h>
+#include <asf/mapping/map3d.h>
+#include <asf/mapping/map_builder.h>
 #include <asf/pipeline_config.h>
 #include <asf/plugin.h>
-#include <asf/topo_builder.h>
+#include <asf/mapping/topo_builder.h>
 
 #include <cmath>
 #include <filesystem>
@@ -104,11 +104,11 @@ std::vector<FrameworkSection> frameworkSections() {
   std::size_t n;
   const KeySpec* k = pipelineKeys(n);
   v.push_back({"pipeline", k, n});
-  k = MapBuilder::keys(n);
+  k = mapping::MapBuilder::keys(n);
   v.push_back({"map", k, n});
-  k = TopoBuilder::keys(n);
+  k = mapping::TopoBuilder::keys(n);
   v.push_back({"topology", k, n});
-  k = Map3d::keys(n);
+  k = mapping::Map3d::keys(n);
   v.push_back({"map3d", k, n});
   return v;
 }

@@ -2,14 +2,14 @@
 // The pipeline's plugins and services, shared by its construction (pipeline.cpp) and its run
 // (pipeline_run.cpp). Private to the framework.
 #include <asf/backend.h>
-#include <asf/coverage.h>
+#include <asf/mapping/coverage.h>
 #include <asf/frontend.h>
 #include <asf/pipeline.h>
 #include <asf/planner.h>
 #include <asf/policy.h>
 #include <asf/segmenter.h>
 #include <asf/source.h>
-#include <asf/topo_builder.h>
+#include <asf/mapping/topo_builder.h>
 #include <mrpt/system/COutputLogger.h>
 
 #include <atomic>
@@ -37,16 +37,16 @@ struct PipelineParts : public mrpt::system::COutputLogger {
   PluginHandle<Planner> planner;
   PluginHandle<Policy> policy;
   NavigationMaps maps;
-  TopoBuilder topo;
+  mapping::TopoBuilder topo;
   PoseGraph graph;
   Marginals marginals;
   Segmentation seg;
   std::vector<mrpt::poses::CPose2D> path;
   std::shared_ptr<const WorldTruth> world;
-  std::unique_ptr<CoverageMeter> coverage;
+  std::unique_ptr<mapping::CoverageMeter> coverage;
   /// Free area and coverage of the navigation grid, updated with every version (O(changed
   /// cells)).
-  MapAreaTracker area;
+  mapping::MapAreaTracker area;
   /// Pipeline::setLiveView: the viewer (empty: none), its period [s] and picture size.
   std::function<void(const ViewImage&)> live_view;
   double live_period_s = 0.5;

@@ -385,11 +385,11 @@ void RunState::summarize() {
     sum_.rpe_rot_rmse_deg = rpe.rot_rmse_deg;
   }
   sum_.loop_closures = loopClosures();
-  sum_.explored_area_m2 = freeArea(m_.navMap());
+  sum_.explored_area_m2 = mapping::freeArea(m_.navMap());
   if (const auto& grid = m_.navMap().grid) {
     sum_.map_cells = static_cast<std::size_t>(grid->getSizeX()) * grid->getSizeY();
-    sum_.map_information_bits = mapInformationBits(m_.navMap());
-    sum_.map_entropy_bits = mapEntropyBits(m_.navMap());
+    sum_.map_information_bits = mapping::mapInformationBits(m_.navMap());
+    sum_.map_entropy_bits = mapping::mapEntropyBits(m_.navMap());
   }
   sum_.map_versions = m_.maps.scanMap().version;
   sum_.map_rebuilds = m_.maps.scanMapRebuilds();

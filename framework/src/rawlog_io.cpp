@@ -137,7 +137,7 @@ struct RawlogReader::Impl {
 
   std::shared_ptr<CObservation2DRangeScan> slice(const mrpt::obs::CObservation& o) {
     std::string why;
-    auto scan = horizontalSlice(o, opt.slice, &why);
+    auto scan = mapping::horizontalSlice(o, opt.slice, &why);
     if (!scan) fail(o.sensorLabel + ": no 2D scan from it (scan_from_3d): " + why);
     return scan;
   }

@@ -290,7 +290,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   });
 }
 
-void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Params& params,
+void Recorder::finishMap3d(const mapping::Map3d& map, const GridMap& projected, const Params& params,
                            const Map3dInfo& info, std::string& error) {
   auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
   attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
@@ -299,7 +299,7 @@ void Recorder::finishMap3d(const Map3d& map, const GridMap& projected, const Par
     if (projected.grid) writeGridPng(dir_ + "/map3d_grid.png", projected);
   });
   attempt("map3d.json", [&] {
-    const Map3dStats st = map.stats();
+    const mapping::Map3dStats st = map.stats();
     json j;
     json jp = json::object();
     for (const auto& [k, v] : params.values()) jp[k] = v.text;

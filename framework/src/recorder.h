@@ -1,7 +1,7 @@
 #pragma once
 // Writes a run's outputs. Private to the framework: stages never know about files.
 #include <asf/goal.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <asf/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/segmentation.h>
@@ -76,7 +76,7 @@ class Recorder {
     double insert_ms = 0, project_ms = 0, rebuild_ms = 0;
     std::string navigation_map;
   };
-  void finishMap3d(const Map3d& map, const GridMap& projected, const Params& params,
+  void finishMap3d(const mapping::Map3d& map, const GridMap& projected, const Params& params,
                    const Map3dInfo& info, std::string& error);
 
  private:

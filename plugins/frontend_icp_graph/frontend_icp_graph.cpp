@@ -6,7 +6,7 @@
 // several initial guesses and a chi^2 test against the current estimate.
 #include <asf/errors.h>
 #include <asf/frontend.h>
-#include <asf/keyframe_tracker.h>
+#include <asf/mapping/keyframe_tracker.h>
 #include <asf/pose_covariance.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -114,14 +114,14 @@ class IcpGraphFrontend final : public asf::Frontend {
   bool process(const asf::SensorFrame& f, asf::PoseGraph& g,
                const asf::Marginals& marginals) override {
     switch (kf_.begin(f, g)) {
-      case asf::KeyframeTracker::Begin::AddedRoot:
+      case asf::mapping::KeyframeTracker::Begin::AddedRoot:
         nodeAdded(g, 0, f);
         return true;
-      case asf::KeyframeTracker::Begin::Continued:
+      case asf::mapping::KeyframeTracker::Begin::Continued:
         MRPT_LOG_WARN_STREAM("graph not empty on the first frame: continuing from node "
                              << kf_.last());
         return false;
-      case asf::KeyframeTracker::Begin::NotFirst:
+      case asf::mapping::KeyframeTracker::Begin::NotFirst:
         break;
     }
     if (!kf_.due()) return false;
@@ -506,7 +506,7 @@ class IcpGraphFrontend final : public asf::Frontend {
   std::size_t confirm_span_ = 0;
   double confirm_chi2_ = 11.34;
   // state
-  asf::KeyframeTracker kf_{"icp_graph front-end"};
+  asf::mapping::KeyframeTracker kf_{"icp_graph front-end"};
   std::vector<std::shared_ptr<const Cloud>> clouds_;  ///< per node, robot frame
   std::vector<long> seq_edge_;  ///< per node: index of the edge from its predecessor, or -1
   struct Pending {

@@ -3,7 +3,7 @@
 // odometry edge whose information is the inverse of the first-order propagated covariance.
 #include <asf/errors.h>
 #include <asf/frontend.h>
-#include <asf/keyframe_tracker.h>
+#include <asf/mapping/keyframe_tracker.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Dense>
@@ -23,12 +23,12 @@ class OdometryFrontend final : public asf::Frontend {
 
   bool process(const asf::SensorFrame& f, asf::PoseGraph& g, const asf::Marginals&) override {
     switch (kf_.begin(f, g)) {
-      case asf::KeyframeTracker::Begin::AddedRoot: return true;
-      case asf::KeyframeTracker::Begin::Continued:
+      case asf::mapping::KeyframeTracker::Begin::AddedRoot: return true;
+      case asf::mapping::KeyframeTracker::Begin::Continued:
         MRPT_LOG_WARN_STREAM("graph not empty on the first frame: continuing from node "
                              << kf_.last());
         return false;
-      case asf::KeyframeTracker::Begin::NotFirst: break;
+      case asf::mapping::KeyframeTracker::Begin::NotFirst: break;
     }
     if (!kf_.due()) return false;
 
@@ -50,7 +50,7 @@ class OdometryFrontend final : public asf::Frontend {
   }
 
  private:
-  asf::KeyframeTracker kf_{"odometry front-end"};
+  asf::mapping::KeyframeTracker kf_{"odometry front-end"};
   Eigen::Matrix3d floor_ = Eigen::Matrix3d::Identity();
 };
 

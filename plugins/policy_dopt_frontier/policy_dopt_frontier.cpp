@@ -27,7 +27,7 @@ class DOptFrontierPolicy final : public asf::Policy {
   asf::Decision decide(const asf::ExplorationState& s) override {
     return search_.decide(
         s, [&](const std::vector<asf::FrontierCandidate>& candidates,
-               const asf::Reachability& reach, const std::vector<std::uint8_t>& cells) {
+               const asf::mapping::Reachability& reach, const std::vector<std::uint8_t>& cells) {
           return choose(s, candidates, reach, cells);
         });
   }
@@ -44,7 +44,7 @@ class DOptFrontierPolicy final : public asf::Policy {
   /// edges, before the first keyframes) go to the nearest.
   asf::FrontierChoice choose(const asf::ExplorationState& s,
                              const std::vector<asf::FrontierCandidate>& candidates,
-                             const asf::Reachability& reach,
+                             const asf::mapping::Reachability& reach,
                              const std::vector<std::uint8_t>& cells) const {
     const bool has_edges = s.graph && s.graph->size() >= 2 && !s.graph->edges.empty();
     if (!has_edges || candidates.size() == 1) {
@@ -72,7 +72,7 @@ class DOptFrontierPolicy final : public asf::Policy {
   /// The unknown and occupied shares of the cells (the search's classification, on the grid
   /// of `reach`) whose centres lie within info_radius of a point; cells off the grid count as
   /// unknown: nothing is known there. Valid while `cells` is.
-  asf::AreaFn areaShares(const asf::Reachability& reach,
+  asf::AreaFn areaShares(const asf::mapping::Reachability& reach,
                          const std::vector<std::uint8_t>& cells) const {
     const int W = reach.width(), H = reach.height();
     const double res = reach.resolution(), r = info_radius_;
@@ -106,9 +106,9 @@ class DOptFrontierPolicy final : public asf::Policy {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyRobotRadius("0.2"),
-    asf::keyOccupiedThreshold(),
-    asf::keyUnknownBand(),
+    asf::mapping::keyRobotRadius("0.2"),
+    asf::mapping::keyOccupiedThreshold(),
+    asf::mapping::keyUnknownBand(),
     asf::keyMinFrontierSize(),
     asf::keyFrontierGoalTolerance(),
     asf::keySnapRadius(),

@@ -17,7 +17,7 @@ class FrontierPolicy final : public asf::Policy {
 
   asf::Decision decide(const asf::ExplorationState& s) override {
     return search_.decide(s, [](const std::vector<asf::FrontierCandidate>& candidates,
-                                const asf::Reachability&, const std::vector<std::uint8_t>&) {
+                                const asf::mapping::Reachability&, const std::vector<std::uint8_t>&) {
       const asf::FrontierCandidate& best = candidates.front();  // nearest first
       std::ostringstream why;
       why << std::fixed << std::setprecision(2) << "nearest of " << candidates.size()
@@ -32,7 +32,7 @@ class FrontierPolicy final : public asf::Policy {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyRobotRadius("0.2"), asf::keyOccupiedThreshold(),      asf::keyUnknownBand(),
+    asf::mapping::keyRobotRadius("0.2"), asf::mapping::keyOccupiedThreshold(),      asf::mapping::keyUnknownBand(),
     asf::keyMinFrontierSize(),  asf::keyFrontierGoalTolerance(),  asf::keySnapRadius(),
     asf::keyBlacklistRadius(),  asf::keyMaxFailuresPerFrontier(),
 };

@@ -6,7 +6,7 @@
 // is left untraversed (Fraenkel-style count), frontier edges included.
 #include <asf/graph_routes.h>
 #include <asf/policy.h>
-#include <asf/reachability.h>
+#include <asf/mapping/reachability.h>
 #include <asf/text.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -42,7 +42,7 @@ std::string edgeName(const EdgeKey& k) {
 class TigrePolicy final : public asf::Policy {
  public:
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
-    reach_opt_ = asf::reachabilityOptionsFrom(p);
+    reach_opt_ = asf::mapping::reachabilityOptionsFrom(p);
     tolerance_ = p.getDouble("goal_tolerance");
     region_tolerance_ = p.getDouble("region_tolerance");
     snap_ = p.getDouble("snap_radius");
@@ -73,7 +73,7 @@ class TigrePolicy final : public asf::Policy {
     const asf::TopoGraph& topo = *s.topo;
     const Point2 robot{s.robot.x(), s.robot.y()};
     if (!s.map || !s.map->grid || topo.nodes.size() <= 1) return wait(robot, "no regions yet");
-    const asf::Reachability reach = asf::Reachability::compute(*s.map, robot, reach_opt_);
+    const asf::mapping::Reachability reach = asf::mapping::Reachability::compute(*s.map, robot, reach_opt_);
 
     if (auto d = enterPendingRegion(s, reach)) return *d;
     const RegionId here = topo.current;
@@ -99,7 +99,7 @@ class TigrePolicy final : public asf::Policy {
     int index = -1;
     EdgeKey key;
     Point2 goal;
-    double cost = asf::Reachability::kUnreachable;
+    double cost = asf::mapping::Reachability::kUnreachable;
     bool untraversed = false;
   };
   struct Attempt {
@@ -117,7 +117,7 @@ class TigrePolicy final : public asf::Policy {
 
   /// Phase 2 of an edge crossing: into the next region, unless already there.
   std::optional<asf::Decision> enterPendingRegion(const asf::ExplorationState& s,
-                                                  const asf::Reachability& reach) {
+                                                  const asf::mapping::Reachability& reach) {
     const asf::TopoGraph& topo = *s.topo;
     if (pending_ && s.last_status == asf::NavStatus::Reached && topo.current != pending_->region) {
       const Pending p = *pending_;
@@ -147,9 +147,9 @@ class TigrePolicy final : public asf::Policy {
   }
 
   /// The robot is in no region: to the nearest reachable one.
-  asf::Decision toNearestRegion(const asf::ExplorationState& s, const asf::Reachability& reach,
+  asf::Decision toNearestRegion(const asf::ExplorationState& s, const asf::mapping::Reachability& reach,
                                 const Point2& robot) {
-    double best = asf::Reachability::kUnreachable;
+    double best = asf::mapping::Reachability::kUnreachable;
     std::optional<Point2> goal;
     RegionId target = 0;
     for (const auto& n : s.topo->nodes) {
@@ -169,7 +169,7 @@ class TigrePolicy final : public asf::Policy {
 
   /// Every edge of the graph not given up: where its goal is and whether it is still
   /// untraversed (counted in `untraversed`; the given-up ones in `given_up`).
-  std::vector<Option> edgeOptions(const asf::TopoGraph& topo, const asf::Reachability& reach,
+  std::vector<Option> edgeOptions(const asf::TopoGraph& topo, const asf::mapping::Reachability& reach,
                                   int& untraversed, int& given_up) {
     std::vector<Option> options;
     for (std::size_t i = 0; i < topo.edges.size(); ++i) {
@@ -198,7 +198,7 @@ class TigrePolicy final : public asf::Policy {
 
   /// The nearest reachable cell of a frontier, away from the frontier goals tried; false if
   /// there is none.
-  bool frontierGoal(const asf::TopoEdge& e, const asf::Reachability& reach, Option& o) const {
+  bool frontierGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach, Option& o) const {
     std::vector<Point2> cells;
     for (const Point2& c : e.border)
       if (!blacklisted(c)) cells.push_back(c);
@@ -212,14 +212,14 @@ class TigrePolicy final : public asf::Policy {
   }
 
   /// A reachable cell at the border's midpoint, else on the border; unreachable cost if none.
-  void regionEdgeGoal(const asf::TopoEdge& e, const asf::Reachability& reach, Option& o) const {
+  void regionEdgeGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach, Option& o) const {
     o.untraversed = e.traversals.empty();
     const double half = 0.5 * e.width + snap_;
     std::optional<Point2> g = reach.nearestReachable(e.midpoint, half);
     if (!g) {
       Point2 gc;
       if (reach.closest(e.border, snap_, &gc) < 0) {
-        o.cost = asf::Reachability::kUnreachable;
+        o.cost = asf::mapping::Reachability::kUnreachable;
       } else {
         g = gc;
       }
@@ -369,7 +369,7 @@ class TigrePolicy final : public asf::Policy {
 
   /// A reachable cell of region r near `anchor` (default: its centroid, which may lie outside
   /// a non-convex region or too close to a wall).
-  std::optional<Point2> regionGoal(const asf::ExplorationState& s, const asf::Reachability& reach,
+  std::optional<Point2> regionGoal(const asf::ExplorationState& s, const asf::mapping::Reachability& reach,
                                    RegionId r, std::optional<Point2> anchor = std::nullopt) const {
     const asf::TopoNode* n = s.topo->node(r);
     if (!n) return std::nullopt;
@@ -395,7 +395,7 @@ class TigrePolicy final : public asf::Policy {
     return goal;
   }
 
-  asf::ReachabilityOptions reach_opt_;
+  asf::mapping::ReachabilityOptions reach_opt_;
   asf::graph::TarryOptions options_;
   double tolerance_ = 0.3, region_tolerance_ = 0.1, snap_ = 0.5, blacklist_radius_ = 0.5;
   int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0, failure_streak_ = 0;
@@ -413,9 +413,9 @@ class TigrePolicy final : public asf::Policy {
 };
 
 const asf::KeySpec kKeys[] = {
-    asf::keyRobotRadius("0.25"),
-    asf::keyOccupiedThreshold(),
-    asf::keyUnknownBand(),
+    asf::mapping::keyRobotRadius("0.25"),
+    asf::mapping::keyOccupiedThreshold(),
+    asf::mapping::keyUnknownBand(),
     asf::keyDouble("goal_tolerance", "0.3", "A goal is reached within this distance [m]", 0.01,
                    5.0),
     asf::keyDouble("region_tolerance", "0.1",

@@ -1,6 +1,6 @@
 // segmenter_dude: contour-based topological segmentation (thesis ch. 4). Grid -> free mask
 // -> contours with holes -> polygons in metres -> Dual-Space Decomposition (dude.h) ->
-// pieces rasterized into a label image -> asf::regionsFromLabels.
+// pieces rasterized into a label image -> asf::mapping::regionsFromLabels.
 // Incremental mode (thesis Algorithm 3): only regions touching the changed free space are
 // merged with it and decomposed again; the others keep their cells, and so their ids.
 #include "dude.h"
@@ -8,7 +8,7 @@
 #include "dude_thesis.h"
 
 #include <asf/errors.h>
-#include <asf/region_labels.h>
+#include <asf/mapping/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -139,7 +139,7 @@ class DudeSegmenter final : public asf::Segmenter {
     std::copy(labels.ptr<int>(0), labels.ptr<int>(0) + out.labels.labels.size(),
               out.labels.labels.begin());
     asf::RegionBoxes boxes;
-    out = asf::regionsFromLabels(std::move(out.labels), previous, &max_issued_, map.version,
+    out = asf::mapping::regionsFromLabels(std::move(out.labels), previous, &max_issued_, map.version,
                                  thesis_ ? 0.0 : min_component_area_, &boxes);
     out.mode = asf::Segmentation::Mode::Full;
     out.changed_cells = changed;
@@ -359,7 +359,7 @@ class DudeSegmenter final : public asf::Segmenter {
   /// dilation) are merged with it and decomposed again; the others keep their cells. Every
   /// step works in windows around the change: thresholds (the map's `changed` box when it is
   /// the next version), pre-processing, decomposition, post-processing and the region
-  /// measures (asf::regionsFromLabelsInWindow). False: segment the whole map instead.
+  /// measures (asf::mapping::regionsFromLabelsInWindow). False: segment the whole map instead.
   bool update(const asf::GridMap& map, const Grid& grid, const Frame& f, asf::Segmentation& out) {
     bool moved = false;
     if (!alignState(f, &moved)) return false;
@@ -402,7 +402,7 @@ class DudeSegmenter final : public asf::Segmenter {
     for (int y = 0; y < work.height; ++y)
       std::copy(lab_w.ptr<int>(y), lab_w.ptr<int>(y) + work.width,
                 L.labels.begin() + static_cast<std::size_t>(work.y + y) * f.width + work.x);
-    out = asf::regionsFromLabelsInWindow(std::move(L), state_.last, state_.boxes,
+    out = asf::mapping::regionsFromLabelsInWindow(std::move(L), state_.last, state_.boxes,
                                          {work.x, work.y, work.width, work.height}, &max_issued_,
                                          map.version, thesis_ ? 0.0 : min_component_area_);
     out.mode = asf::Segmentation::Mode::Incremental;

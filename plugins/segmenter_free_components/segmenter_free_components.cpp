@@ -1,7 +1,7 @@
 // segmenter_free_components: one region per connected component of free cells. An honest,
 // trivial segmentation (no rooms, no doors) until a real segmenter (DuDe) lands.
 #include <asf/errors.h>
-#include <asf/region_labels.h>
+#include <asf/mapping/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -47,7 +47,7 @@ class FreeComponentsSegmenter final : public asf::Segmenter {
     for (int cy = 0; cy < H; ++cy)
       for (int cx = 0; cx < W; ++cx)
         L.labels[static_cast<std::size_t>(cy) * W + cx] = comp.at<int>(cy, cx);
-    out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
+    out = asf::mapping::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
     out.mode = asf::Segmentation::Mode::Full;  // always the whole map
     MRPT_LOG_DEBUG_STREAM("free_components: " << out.regions.size() << " regions ("
                                               << (n - 1 - static_cast<int>(out.regions.size()))

@@ -1,7 +1,7 @@
 // segmenter_voronoi: room segmentation on the generalized Voronoi graph of free space (Thrun
 // 1998; Bormann et al., ICRA 2016), the baseline segmenter. Algorithm: voronoi_segmentation.h.
 #include <asf/errors.h>
-#include <asf/region_labels.h>
+#include <asf/mapping/region_labels.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -48,7 +48,7 @@ class VoronoiSegmenter final : public asf::Segmenter {
     L.origin_x = grid.getXMin();
     L.origin_y = grid.getYMin();
     L.labels.assign(static_cast<std::size_t>(W) * H, 0);
-    if (W == 0 || H == 0) return regionsFromLabels(std::move(L), previous, &max_issued_, map.version);
+    if (W == 0 || H == 0) return asf::mapping::regionsFromLabels(std::move(L), previous, &max_issued_, map.version);
 
     cv::Mat free(H, W, CV_8U, cv::Scalar(0));  // row = cy
     int n_free = 0;
@@ -81,7 +81,7 @@ class VoronoiSegmenter final : public asf::Segmenter {
                                                  << st.cuts << " cuts, " << st.components
                                                  << " components, " << st.regions << " regions");
     }
-    out = asf::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
+    out = asf::mapping::regionsFromLabels(std::move(L), previous, &max_issued_, map.version, min_area_);
     out.mode = asf::Segmentation::Mode::Full;  // always the whole map
     return out;
   }

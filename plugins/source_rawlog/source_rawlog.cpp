@@ -23,7 +23,7 @@ class RawlogSource final : public asf::Source {
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
     asf::RawlogReaderOptions o;
     o.laser_label = p.getString("laser_label");
-    o.odometry_model = asf::OdometryNoiseModel::fromParams(p);
+    o.odometry_model = asf::mapping::OdometryNoiseModel::fromParams(p);
     o.observations3d = p.getBool("observations3d");
     o.scan_from_3d = p.getBool("scan_from_3d");
     o.label_3d = p.getString("label_3d");

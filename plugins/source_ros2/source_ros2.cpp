@@ -9,7 +9,7 @@
 // Every run is recorded as a rawlog.
 #include <asf/errors.h>
 #include <asf/ground_truth.h>
-#include <asf/odometry_noise.h>
+#include <asf/mapping/odometry_noise.h>
 #include <asf/rawlog_io.h>
 #include <asf/source.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -245,7 +245,7 @@ class Ros2Source final : public asf::Source {
     accept_timeout_ = p.getDouble("goal_accept_timeout_s");
     goal_timeout_ = p.getDouble("goal_timeout_s");
     radius_ = p.getDouble("robot_radius");
-    model_ = asf::OdometryNoiseModel::fromParams(p);
+    model_ = asf::mapping::OdometryNoiseModel::fromParams(p);
     for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
                           "goal_topic", "cmd_vel_topic", "command_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
                           "ground_truth_topic", "world_map_topic"}) {
@@ -588,7 +588,7 @@ class Ros2Source final : public asf::Source {
   bool odom_from_tf_ = false, use_sim_time_ = false, nav2_ = false, tf_subscribed_ = false;
   double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
          goal_timeout_ = 0, radius_ = 0.2;
-  asf::OdometryNoiseModel model_;
+  asf::mapping::OdometryNoiseModel model_;
   std::unique_ptr<asf::RawlogWriter> writer_;
   std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
   asf::ros2live::LiveBag bag_;  // written from the receive thread too

@@ -1,7 +1,7 @@
-// source_segment_world: a 2D robot simulator on an asf::SegmentWorld (exact ray casting,
+// source_segment_world: a 2D robot simulator on an asf::mapping::SegmentWorld (exact ray casting,
 // noisy odometry, straight-line goal following that never passes through walls).
 #include <asf/errors.h>
-#include <asf/segment_world.h>
+#include <asf/mapping/segment_world.h>
 #include <asf/source.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/math/wrap2pi.h>
@@ -31,13 +31,13 @@ class SegmentWorldSource final : public asf::Source {
       if (door < 2 * radius_)
         MRPT_LOG_WARN_STREAM("door_width " << door << " m is narrower than the robot ("
                                            << 2 * radius_ << " m): the rooms are not connected");
-      world_ = asf::SegmentWorld::twoRooms(w, h, door);
+      world_ = asf::mapping::SegmentWorld::twoRooms(w, h, door);
     } else if (world == "rectangle") {
-      world_ = asf::SegmentWorld::rectangle(0, 0, w, h);
+      world_ = asf::mapping::SegmentWorld::rectangle(0, 0, w, h);
     } else {  // custom
       if (walls.empty()) p.fail("walls", "world = custom needs at least one wall");
       try {
-        world_ = asf::SegmentWorld::parse(walls);
+        world_ = asf::mapping::SegmentWorld::parse(walls);
       } catch (const asf::ConfigError& e) {
         p.fail("walls", e.what());
       }
@@ -175,7 +175,7 @@ class SegmentWorldSource final : public asf::Source {
     return obs;
   }
 
-  asf::SegmentWorld world_;
+  asf::mapping::SegmentWorld world_;
   mrpt::poses::CPose2D true_pose_, believed_;
   std::optional<asf::Goal> goal_;
   asf::NavStatus status_ = asf::NavStatus::Idle;

@@ -236,7 +236,7 @@ class Sim2dSource final : public asf::Source {
     step_length_ = p.getDouble("step_length");
     turn_step_ = p.getDouble("turn_step_deg") * kDeg;
     heading_tol_ = p.getDouble("heading_tolerance_deg") * kDeg;
-    model_ = asf::OdometryNoiseModel::fromParams(p);
+    model_ = asf::mapping::OdometryNoiseModel::fromParams(p);
     // Plans keep a margin beyond the true radius: obstacles are known to a cell, and a path
     // that grazes the lethal boundary touches the true wall.
     nav_.robot_radius = radius_ + p.getDouble("nav_safety_margin");
@@ -562,7 +562,7 @@ class Sim2dSource final : public asf::Source {
   std::mt19937_64 tilted_rng_;
   std::shared_ptr<const asf::WorldTruth> truth_;  // a copy of the world for evaluation
   asf::navigation::NavOptions nav_;
-  asf::OdometryNoiseModel model_;
+  asf::mapping::OdometryNoiseModel model_;
   CPose2D true_pose_, believed_;
   mrpt::poses::CPose3D sensor_pose_;
   std::optional<asf::Goal> goal_;

@@ -21,7 +21,7 @@ constexpr float kMaxRange = 15.0f;
 constexpr double kSensorAhead = 0.1;
 }  // namespace
 
-std::shared_ptr<mrpt::obs::CObservation2DRangeScan> makeScan(const SegmentWorld& world,
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> makeScan(const mapping::SegmentWorld& world,
                                                              const CPose2D& robot) {
   auto scan = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
   scan->sensorLabel = "conformance_laser";
@@ -44,7 +44,7 @@ std::shared_ptr<mrpt::obs::CObservation2DRangeScan> makeScan(const SegmentWorld&
 }
 
 FrameSequence makeFrameSequence(ScanMode mode) {
-  const SegmentWorld world = SegmentWorld::twoRooms(5, 4, 1);
+  const mapping::SegmentWorld world = mapping::SegmentWorld::twoRooms(5, 4, 1);
   std::vector<CPose2D> poses;
   // Turn in place to the left and back (0.1 rad steps)...
   for (int k = 0; k <= 6; ++k) poses.emplace_back(1.0, 2.0, 0.1 * k);
@@ -214,7 +214,7 @@ GridMap rasterize(double x0, double x1, double y0, double y1, F cellValue) {
   return wrapGrid(grid, 1);
 }
 
-double pointSegmentDistance(double px, double py, const Segment& s) {
+double pointSegmentDistance(double px, double py, const mapping::Segment& s) {
   const double ex = s.b.x - s.a.x, ey = s.b.y - s.a.y;
   const double len2 = ex * ex + ey * ey;
   double t = len2 > 0 ? ((px - s.a.x) * ex + (py - s.a.y) * ey) / len2 : 0;
@@ -237,7 +237,7 @@ GridMap makeRoomMap() {
 }
 
 GridMap makeTwoRoomsMap(bool right_known) {
-  const SegmentWorld world = SegmentWorld::twoRooms(5, 4, 1);
+  const mapping::SegmentWorld world = mapping::SegmentWorld::twoRooms(5, 4, 1);
   return rasterize(-0.5, 10.5, -0.5, 4.5, [&](double x, double y) {
     if (!right_known && x > 5.5) return kUnknown;
     double d = 1e9;

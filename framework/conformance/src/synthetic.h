@@ -5,7 +5,7 @@
 /// topological graphs.
 #include <asf/grid_map.h>
 #include <asf/pose_graph.h>
-#include <asf/segment_world.h>
+#include <asf/mapping/segment_world.h>
 #include <asf/sensor_frame.h>
 #include <asf/topo_graph.h>
 
@@ -33,7 +33,7 @@ struct FrameSequence {
 FrameSequence makeFrameSequence(ScanMode mode);
 
 /// An exact scan of `world` from robot pose `robot` (world frame).
-std::shared_ptr<mrpt::obs::CObservation2DRangeScan> makeScan(const SegmentWorld& world,
+std::shared_ptr<mrpt::obs::CObservation2DRangeScan> makeScan(const mapping::SegmentWorld& world,
                                                              const mrpt::poses::CPose2D& robot);
 
 // ---- backend / planner ----------------------------------------------------------------

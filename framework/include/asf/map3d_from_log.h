@@ -1,9 +1,9 @@
 #pragma once
 /// \file map3d_from_log.h
 /// What `asf map3d` does, as a library: every 3D observation of a rawlog inserted into an
-/// asf::Map3d at the robot pose of its time (integrated odometry of the log, or a ground
+/// asf::mapping::Map3d at the robot pose of its time (integrated odometry of the log, or a ground
 /// truth), with counts, skips and timings.
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <asf/rawlog_io.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -40,7 +40,7 @@ struct Map3dFromLogReport {
 /// line every 2 s. Throws InputError when the file cannot be opened; a bad record ends the
 /// reading with Map3dFromLogReport::error set.
 Map3dFromLogReport insertRawlog3d(const std::string& rawlog, const Map3dFromLogOptions& o,
-                                  Map3d& map,
+                                  mapping::Map3d& map,
                                   const std::function<void(const std::string&)>& progress);
 
 }  // namespace asf

@@ -15,8 +15,8 @@
 ///
 /// Ground-truth files: asf/ground_truth.h.
 #include <asf/ground_truth.h>
-#include <asf/map3d.h>
-#include <asf/odometry_noise.h>
+#include <asf/mapping/map3d.h>
+#include <asf/mapping/odometry_noise.h>
 #include <asf/sensor_frame.h>
 
 #include <cstddef>
@@ -38,7 +38,7 @@ struct RawlogReaderOptions {
   /// scans of other labels are skipped (and counted).
   std::string laser_label;
   /// Covariance of odometry increments for logs that carry none (observation-only logs).
-  OdometryNoiseModel odometry_model;
+  mapping::OdometryNoiseModel odometry_model;
   /// Optional ground-truth file: frames get the pose interpolated at their timestamp.
   std::string ground_truth_file;
   double ground_truth_max_gap = 0.5;  ///< seconds, see interpolateGroundTruth
@@ -51,7 +51,7 @@ struct RawlogReaderOptions {
   /// points; 2D laser scans are then not used as frame scans.
   bool scan_from_3d = false;
   std::string label_3d;
-  SliceOptions slice;
+  mapping::SliceOptions slice;
 };
 
 /// Streams a rawlog, one SensorFrame per step:

@@ -33,7 +33,7 @@ struct RunSummary {
   double reachable_area_m2 = -1;  ///< of the true world; -1 when unknown
   double explored_area_m2 = 0;    ///< free area of the final map
   /// The final map: its cells, what it says and its entropy over itself
-  /// (asf::mapInformationBits, mapEntropyBits; -1: no map).
+  /// (asf::mapping::mapInformationBits, mapEntropyBits; -1: no map).
   std::size_t map_cells = 0;
   double map_information_bits = -1, map_entropy_bits = -1;
   /// Versions of the scans' occupancy grid, and how many of them were rebuilt from every

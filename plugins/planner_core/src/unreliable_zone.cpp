@@ -92,7 +92,7 @@ bool sequential(const PoseEdge& e) {
 
 /// The consecutive edge (i-1, i) as the zone leaves it.
 PoseEdge zoneEdge(const PoseEdge& e, const ZoneMaskOptions& o, const KeyframeLog* log) {
-  static const OdometryNoiseModel model;
+  static const mapping::OdometryNoiseModel model;
   const Eigen::Matrix3d floor = 1e-12 * Eigen::Matrix3d::Identity();
   PoseEdge out = e;
   switch (o.covariance) {

@@ -2,7 +2,7 @@
 // blacklisting, Done, goals on reachable cells, the no-map step, loops avoided.
 #include <asf/errors.h>
 #include <asf/policy.h>
-#include <asf/reachability.h>
+#include <asf/mapping/reachability.h>
 #include <asf/registry.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -83,9 +83,9 @@ double distToBox(const asf::Goal& g, double x0, double y0, double x1, double y1)
 
 void expectReachable(const Driver& d, const asf::Decision& dec, double radius = 0.2) {
   ASSERT_EQ(dec.type, Type::GoTo) << dec.reason;
-  asf::ReachabilityOptions o;
+  asf::mapping::ReachabilityOptions o;
   o.robot_radius = radius;
-  const auto r = asf::Reachability::compute(d.map, {d.s.robot.x(), d.s.robot.y()}, o);
+  const auto r = asf::mapping::Reachability::compute(d.map, {d.s.robot.x(), d.s.robot.y()}, o);
   EXPECT_TRUE(r.reachable({dec.goal.x, dec.goal.y}))
       << "goal (" << dec.goal.x << ", " << dec.goal.y << ") " << dec.reason;
 }
@@ -237,7 +237,7 @@ TEST(PolicyFrontier, GoalIsOnAReachableCellWhenTheFrontierHugsAWall) {
   EXPECT_LT(dec.goal.x, 5.85) << dec.reason;
   EXPECT_LE(distToBox(dec.goal, 5.875, 1.875, 5.875, 2.125), 0.5 + 1e-6) << dec.reason;
   // Reachability confirms the frontier cells themselves are not drivable.
-  const auto r = asf::Reachability::compute(d.map, {4.0, 1.0}, {});
+  const auto r = asf::mapping::Reachability::compute(d.map, {4.0, 1.0}, {});
   for (const double y : {1.875, 1.925, 1.975, 2.025, 2.075, 2.125})
     EXPECT_FALSE(r.reachable({5.875, y})) << y;
 }

@@ -20,7 +20,7 @@ double dist2(const Point2& a, const Point2& b) {
   return (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y);
 }
 
-Point2 cellCentre(const Reachability& reach, int cell) {
+Point2 cellCentre(const mapping::Reachability& reach, int cell) {
   return reach.cellCenter(cell % reach.width(), cell / reach.width());
 }
 
@@ -28,7 +28,7 @@ Point2 cellCentre(const Reachability& reach, int cell) {
 
 void FrontierSearch::configure(const Params& p, mrpt::system::COutputLogger& log) {
   log_ = &log;
-  reach_ = reachabilityOptionsFrom(p);
+  reach_ = mapping::reachabilityOptionsFrom(p);
   min_frontier_size_ = p.getDouble("min_frontier_size");
   goal_tolerance_ = p.getDouble("goal_tolerance");
   snap_radius_ = p.getDouble("snap_radius");
@@ -58,8 +58,8 @@ Decision FrontierSearch::decide(const ExplorationState& s, const FrontierChooser
         "no map yet: 0.5 m ahead");
   }
 
-  const Reachability reach = Reachability::compute(*s.map, robot, reach_);
-  const std::vector<std::uint8_t> cells = classifyCells(*grid, reach_);
+  const mapping::Reachability reach = mapping::Reachability::compute(*s.map, robot, reach_);
+  const std::vector<std::uint8_t> cells = mapping::classifyCells(*grid, reach_);
   const std::vector<Frontier> frontiers =
       findFrontiers(cells, static_cast<int>(grid->getSizeX()), static_cast<int>(grid->getSizeY()));
 
@@ -172,7 +172,7 @@ std::vector<FrontierSearch::Frontier> FrontierSearch::findFrontiers(
 }
 
 bool FrontierSearch::nearFrontierCell(const std::vector<Frontier>& frontiers, const Point2& p,
-                                      double radius, const Reachability& reach) const {
+                                      double radius, const mapping::Reachability& reach) const {
   for (const Frontier& f : frontiers)
     for (const int c : f.cells)
       if (dist2(cellCentre(reach, c), p) <= radius * radius) return true;
@@ -180,7 +180,7 @@ bool FrontierSearch::nearFrontierCell(const std::vector<Frontier>& frontiers, co
 }
 
 std::vector<FrontierCandidate> FrontierSearch::candidates(const std::vector<Frontier>& frontiers,
-                                                          const Reachability& reach,
+                                                          const mapping::Reachability& reach,
                                                           const Point2& robot,
                                                           Rejected& rejected) const {
   std::vector<FrontierCandidate> out;
@@ -197,7 +197,7 @@ std::vector<FrontierCandidate> FrontierSearch::candidates(const std::vector<Fron
     std::fill(counted.begin(), counted.end(), 0);
     int failures = 0;
     FrontierCandidate best;
-    best.distance = Reachability::kUnreachable;
+    best.distance = mapping::Reachability::kUnreachable;
     bool any_allowed = false;
     for (const int c : f.cells) {
       const Point2 p = cellCentre(reach, c);

@@ -4,7 +4,7 @@
 #include <asf/errors.h>
 #include <asf/policy.h>
 #include <asf/registry.h>
-#include <asf/topo_builder.h>
+#include <asf/mapping/topo_builder.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -35,7 +35,7 @@ asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv
 struct World {
   asf::GridMap map;
   asf::Segmentation seg;
-  asf::TopoBuilder topo;
+  asf::mapping::TopoBuilder topo;
   double t = 0;
 
   World(double W, double H, const std::function<asf::RegionId(double, double)>& label,
@@ -79,11 +79,11 @@ struct World {
   }
   static const asf::KeySpec* keys() {
     std::size_t n;
-    return asf::TopoBuilder::keys(n);
+    return asf::mapping::TopoBuilder::keys(n);
   }
   static std::size_t nkeys() {
     std::size_t n;
-    asf::TopoBuilder::keys(n);
+    asf::mapping::TopoBuilder::keys(n);
     return n;
   }
   void put(double x, double y) { topo.observeRobot(x, y, t += 1); }
@@ -401,7 +401,7 @@ TEST(PolicyTigre, UnreachableEdgeIsGivenUpAfterMaxFailures) {
 }  // namespace
 
 TEST(PolicyTigre, UnknownBandReachingTheObstacleThresholdIsAnError) {
-  // Shared with the frontier policy (asf::reachabilityOptionsFrom): unknown cells must not
+  // Shared with the frontier policy (asf::mapping::reachabilityOptionsFrom): unknown cells must not
   // count as obstacles.
   try {
     make({{"occupied_threshold", "0.6"}, {"unknown_band", "0.1"}});

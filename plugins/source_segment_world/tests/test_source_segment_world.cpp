@@ -1,7 +1,7 @@
-// Tests of asf::SegmentWorld (exact geometry) and of the segment_world source plugin.
+// Tests of asf::mapping::SegmentWorld (exact geometry) and of the segment_world source plugin.
 #include <asf/errors.h>
 #include <asf/registry.h>
-#include <asf/segment_world.h>
+#include <asf/mapping/segment_world.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
@@ -41,7 +41,7 @@ std::string configError(const std::map<std::string, std::string>& kv) {
 // ---------------------------------------------------------------- SegmentWorld geometry
 
 TEST(SegmentWorld, CastRayInRectangleIsExact) {
-  const auto w = asf::SegmentWorld::rectangle(0, 0, 4, 2);
+  const auto w = asf::mapping::SegmentWorld::rectangle(0, 0, 4, 2);
   EXPECT_DOUBLE_EQ(w.castRay(1, 1, 0, 10), 3);
   EXPECT_DOUBLE_EQ(w.castRay(1, 1, M_PI / 2, 10), 1);
   EXPECT_NEAR(w.castRay(1, 1, M_PI, 10), 1, 1e-12);
@@ -53,7 +53,7 @@ TEST(SegmentWorld, CastRayInRectangleIsExact) {
 }
 
 TEST(SegmentWorld, CastRayMissesAndCollinearWalls) {
-  asf::SegmentWorld w({asf::Segment{{2, 0}, {3, 0}}});
+  asf::mapping::SegmentWorld w({asf::mapping::Segment{{2, 0}, {3, 0}}});
   EXPECT_DOUBLE_EQ(w.castRay(0, 0, 0, 10), 2);      // along the wall: its near end
   EXPECT_DOUBLE_EQ(w.castRay(2.5, 0, 0, 10), 0);    // starting on it
   EXPECT_DOUBLE_EQ(w.castRay(4, 0, 0, 10), 10);     // wall behind
@@ -64,7 +64,7 @@ TEST(SegmentWorld, CastRayMissesAndCollinearWalls) {
 }
 
 TEST(SegmentWorld, TwoRoomsDoorAndBounds) {
-  const auto w = asf::SegmentWorld::twoRooms(5, 4, 1);
+  const auto w = asf::mapping::SegmentWorld::twoRooms(5, 4, 1);
   EXPECT_EQ(w.walls().size(), 6u);
   EXPECT_NEAR(w.castRay(1, 2, 0, 20), 9, 1e-12);    // through the door to the far wall
   EXPECT_NEAR(w.castRay(1, 1, 0, 20), 4, 1e-12);    // shared wall below the door
@@ -74,11 +74,11 @@ TEST(SegmentWorld, TwoRoomsDoorAndBounds) {
   EXPECT_DOUBLE_EQ(b.min_y, 0);
   EXPECT_DOUBLE_EQ(b.max_x, 10);
   EXPECT_DOUBLE_EQ(b.max_y, 4);
-  EXPECT_TRUE(asf::SegmentWorld().bounds().empty());
+  EXPECT_TRUE(asf::mapping::SegmentWorld().bounds().empty());
 }
 
 TEST(SegmentWorld, CollidesIsSegmentDistanceBelowClearance) {
-  const auto w = asf::SegmentWorld::rectangle(0, 0, 4, 2);
+  const auto w = asf::mapping::SegmentWorld::rectangle(0, 0, 4, 2);
   EXPECT_FALSE(w.collides({1, 1}, {1, 1}, 0.5));
   EXPECT_FALSE(w.collides({1, 1}, {3.5, 1}, 0.49));  // 0.5 from the right wall
   EXPECT_TRUE(w.collides({1, 1}, {3.5, 1}, 0.51));
@@ -92,22 +92,22 @@ TEST(SegmentWorld, CollidesIsSegmentDistanceBelowClearance) {
 }
 
 TEST(SegmentWorld, ParseAcceptsListsAndNamesTheBadItem) {
-  const auto w = asf::SegmentWorld::parse(" 0 0 1 0; 1,0, 1,1 ;");
+  const auto w = asf::mapping::SegmentWorld::parse(" 0 0 1 0; 1,0, 1,1 ;");
   ASSERT_EQ(w.walls().size(), 2u);
   EXPECT_DOUBLE_EQ(w.walls()[1].a.x, 1);
   EXPECT_DOUBLE_EQ(w.walls()[1].b.y, 1);
-  EXPECT_TRUE(asf::SegmentWorld::parse("").walls().empty());
+  EXPECT_TRUE(asf::mapping::SegmentWorld::parse("").walls().empty());
   try {
-    asf::SegmentWorld::parse("0 0 1 0; 1 0 x 1");
+    asf::mapping::SegmentWorld::parse("0 0 1 0; 1 0 x 1");
     FAIL() << "no exception";
   } catch (const asf::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("wall 2"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("'x'"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(asf::SegmentWorld::parse("0 0 1"), asf::ConfigError);
-  EXPECT_THROW(asf::SegmentWorld::parse("0 0 1 0 5"), asf::ConfigError);
-  EXPECT_THROW(asf::SegmentWorld::parse("1 1 1 1"), asf::ConfigError);
-  EXPECT_THROW(asf::SegmentWorld::parse("0 0 inf 1"), asf::ConfigError);
+  EXPECT_THROW(asf::mapping::SegmentWorld::parse("0 0 1"), asf::ConfigError);
+  EXPECT_THROW(asf::mapping::SegmentWorld::parse("0 0 1 0 5"), asf::ConfigError);
+  EXPECT_THROW(asf::mapping::SegmentWorld::parse("1 1 1 1"), asf::ConfigError);
+  EXPECT_THROW(asf::mapping::SegmentWorld::parse("0 0 inf 1"), asf::ConfigError);
 }
 
 // ---------------------------------------------------------------- the source plugin
@@ -133,7 +133,7 @@ TEST(SourceSegmentWorld, ScanMatchesExactRayCastingFromTheTruePose) {
   EXPECT_NEAR(sc.sensorPose.x(), 0.1, 1e-12);
   EXPECT_NEAR(f->ground_truth->x(), 1, 1e-12);
   EXPECT_NEAR(f->ground_truth->phi(), M_PI / 6, 1e-12);
-  const auto w = asf::SegmentWorld::rectangle(0, 0, 5, 4);
+  const auto w = asf::mapping::SegmentWorld::rectangle(0, 0, 5, 4);
   const auto laser = *f->ground_truth + mrpt::poses::CPose2D(0.1, 0, 0);
   int valid = 0, invalid = 0;
   for (std::size_t i = 0; i < sc.getScanSize(); ++i) {
@@ -154,7 +154,7 @@ TEST(SourceSegmentWorld, ScanMatchesExactRayCastingFromTheTruePose) {
 TEST(SourceSegmentWorld, RangeNoiseHasTheConfiguredSigma) {
   auto s = make({{"world", "rectangle"}, {"range_sigma", "0.05"}, {"laser_rays", "361"},
                  {"laser_fov_deg", "360"}, {"laser_max_range", "20"}});
-  const auto w = asf::SegmentWorld::rectangle(0, 0, 5, 4);
+  const auto w = asf::mapping::SegmentWorld::rectangle(0, 0, 5, 4);
   double sum = 0, sum2 = 0;
   int n = 0;
   for (int k = 0; k < 10; ++k) {
@@ -261,7 +261,7 @@ TEST(SourceSegmentWorld, BlockedByAWallNeverPassesThrough) {
   mrpt::poses::CPose2D gt = *s->next()->ground_truth;
   std::vector<asf::SensorFrame> frames;
   EXPECT_EQ(driveTo(*s, 8, 0.5, gt, 2000, &frames), asf::NavStatus::Blocked);
-  const auto w = asf::SegmentWorld::twoRooms(5, 4, 1);
+  const auto w = asf::mapping::SegmentWorld::twoRooms(5, 4, 1);
   for (const auto& f : frames) {
     const asf::Point2 p{f.ground_truth->x(), f.ground_truth->y()};
     EXPECT_FALSE(w.collides(p, p, 0.2)) << p.x << " " << p.y;

@@ -2,7 +2,7 @@
 // noise statistics, navigation on the estimated map, collisions, determinism, the recorded
 // rawlog replaying the same stream, and the 2.5D world with its tilted laser.
 #include <asf/errors.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <asf/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/source.h>
@@ -272,7 +272,7 @@ TEST(Sim2dOdometry, NoiseMatchesTheMotionModel) {
     goals.push_back({1, 6, 0.1});
   }
   const auto frames = drive(*src, goals);
-  asf::OdometryNoiseModel model;
+  asf::mapping::OdometryNoiseModel model;
   model.a1 = 0.05, model.a2 = 0.001, model.a3 = 1.0, model.a4 = 0.02;
   model.min_std_xy = 0.002, model.min_std_phi_deg = 0.1;
 
@@ -742,7 +742,7 @@ TEST(Sim2dTilted, FlatFloorGivesPointsAtTheAnalyticDistance) {
   std::vector<Eigen::Vector3f> local;
   mrpt::poses::CPose3D on_robot;
   std::string why;
-  ASSERT_TRUE(asf::Map3d::observationPoints(s, local, on_robot, &why)) << why;
+  ASSERT_TRUE(asf::mapping::Map3d::observationPoints(s, local, on_robot, &why)) << why;
   ASSERT_EQ(local.size(), pts.size());
   const mrpt::poses::CPose3D sensor = mrpt::poses::CPose3D(*f->ground_truth) + on_robot;
   for (std::size_t k = 0; k < local.size(); ++k) {

@@ -25,7 +25,7 @@ struct SensorFrame {
   /// The 2D laser scan of this step, or null when the step has none. Its sensorPose is the
   /// laser's pose on the robot.
   std::shared_ptr<const mrpt::obs::CObservation2DRangeScan> scan;
-  /// Observations of this step for the 3D map (asf/map3d.h): point clouds, Velodyne scans,
+  /// Observations of this step for the 3D map (asf/mapping/map3d.h): point clouds, Velodyne scans,
   /// 3D range scans, tilted 2D scans. Each one's sensorPose is the sensor's pose on the
   /// robot. Empty for a robot without 3D sensors.
   std::vector<std::shared_ptr<const mrpt::obs::CObservation>> observations3d;

@@ -11,7 +11,7 @@
 /// Conventions: grid cells (cx, cy) with cy up (MRPT), index cy * width + cx; metres in the
 /// map frame. Everything here is deterministic.
 #include <asf/grid_map.h>
-#include <asf/odometry_noise.h>
+#include <asf/mapping/odometry_noise.h>
 #include <asf/pose_graph.h>
 
 #include <Eigen/Core>
@@ -76,7 +76,7 @@ struct VirtualEdgeOptions {
   /// edge's length: the virtual edge is then a real shortcut.
   double detour = 1.5;
   /// The virtual edges' odometry covariance: `odometry` of the motion, times this.
-  OdometryNoiseModel odometry;
+  mapping::OdometryNoiseModel odometry;
   double covariance_scale = 1.0;
   /// > 0: the drive is ceil(length / odometry_step) equal increments (the turn spread over
   /// them), each with `odometry`'s covariance, composed to first order; 0: one increment.

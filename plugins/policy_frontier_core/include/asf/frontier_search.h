@@ -6,7 +6,7 @@
 /// one whose expected pose graph is D-optimal. Behaviour and keys: policy_frontier/README.md.
 #include <asf/key_spec.h>
 #include <asf/policy.h>
-#include <asf/reachability.h>
+#include <asf/mapping/reachability.h>
 
 #include <cstdint>
 #include <functional>
@@ -60,7 +60,7 @@ struct FrontierChoice {
 /// given the decision's reachability field and its cells classified (classifyCells: the
 /// grid's cells row-major, free / unknown / occupied), which the search made anyway.
 using FrontierChooser = std::function<FrontierChoice(
-    const std::vector<FrontierCandidate>&, const Reachability&, const std::vector<std::uint8_t>&)>;
+    const std::vector<FrontierCandidate>&, const mapping::Reachability&, const std::vector<std::uint8_t>&)>;
 
 class FrontierSearch {
  public:
@@ -90,13 +90,13 @@ class FrontierSearch {
   /// `state`: the grid's cells classified, W x H row-major.
   std::vector<Frontier> findFrontiers(const std::vector<std::uint8_t>& state, int W, int H) const;
   bool nearFrontierCell(const std::vector<Frontier>& frontiers, const Point2& p, double radius,
-                        const Reachability& reach) const;
+                        const mapping::Reachability& reach) const;
   std::vector<FrontierCandidate> candidates(const std::vector<Frontier>& frontiers,
-                                            const Reachability& reach, const Point2& robot,
+                                            const mapping::Reachability& reach, const Point2& robot,
                                             Rejected& rejected) const;
 
   mrpt::system::COutputLogger* log_ = nullptr;
-  ReachabilityOptions reach_;
+  mapping::ReachabilityOptions reach_;
   double min_frontier_size_ = 0.5, goal_tolerance_ = 0.3, snap_radius_ = 0.5;
   double blacklist_radius_ = 0.5;
   int max_failures_ = 3;

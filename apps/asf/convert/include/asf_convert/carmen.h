@@ -38,7 +38,7 @@ struct CarmenToRawlogOptions {
   /// Synthetic: each increment d between consecutive logged robot poses gets Gaussian noise
   /// with covariance model.covariance(d), drawn from std::mt19937_64(seed); the odometry
   /// starts at the first logged pose.
-  OdometryNoiseModel model;
+  mapping::OdometryNoiseModel model;
   std::uint64_t seed = 1;
 
   /// FLASER field of view [deg]; 0: PARAM laser_front_laser_fov, else n times PARAM

@@ -1,6 +1,6 @@
 // SegmentWorld: walls as line segments, exact ray casting and clearance checks.
 #include <asf/errors.h>
-#include <asf/segment_world.h>
+#include <asf/mapping/segment_world.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-namespace asf {
+namespace asf::mapping {
 namespace {
 
 double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
@@ -165,4 +165,4 @@ Box2 SegmentWorld::bounds() const {
   return b;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -45,7 +45,7 @@ class CObservation;
 class CObservation2DRangeScan;
 }
 
-namespace asf {
+namespace asf::mapping {
 
 struct Map3dStats {
   std::size_t occupied_leaves = 0;  ///< leaves with occupancy >= 0.5 (OctoMap's threshold)
@@ -182,4 +182,4 @@ class Map3d {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

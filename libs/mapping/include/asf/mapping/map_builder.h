@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-namespace asf {
+namespace asf::mapping {
 
 /// Two grids merged cell by cell over the union of their extents, at a's resolution (cell
 /// centres sampled in each). A value is known when |p - 0.5| > unknown_band. Occupied in
@@ -45,4 +45,4 @@ class MapBuilder {
   GridMap map_;
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,4 +1,4 @@
-#include <asf/topo_builder.h>
+#include <asf/mapping/topo_builder.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
@@ -6,7 +6,7 @@
 #include <map>
 #include <unordered_map>
 
-namespace asf {
+namespace asf::mapping {
 
 namespace detail {
 using Key = std::pair<RegionId, RegionId>;  // (a, b), a < b, or (a, kUnexplored)
@@ -420,4 +420,4 @@ void TopoBuilder::observeRobot(double x, double y, double t) {
   graph_.current = r;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

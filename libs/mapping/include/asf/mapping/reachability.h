@@ -18,14 +18,16 @@
 #include <vector>
 
 namespace asf {
+class Params;
+}  // namespace asf
+
+namespace asf::mapping {
 
 struct ReachabilityOptions {
   double robot_radius = 0.2;         ///< cells closer than this to an obstacle are lethal [m]
   double occupied_threshold = 0.65;  ///< p(occupied) above this is an obstacle
   double unknown_band = 0.02;        ///< |p - 0.5| below this is unknown (not passable)
 };
-
-class Params;
 
 /// The keys of a plugin that plans with Reachability, one definition for every policy:
 /// robot_radius (each policy keeps its own default), occupied_threshold, unknown_band.
@@ -101,4 +103,4 @@ class Reachability {
   std::vector<float> dist_;  ///< metres, row-major, +inf = unreachable
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

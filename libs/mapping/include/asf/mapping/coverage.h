@@ -13,7 +13,7 @@
 #include <memory>
 #include <vector>
 
-namespace asf {
+namespace asf::mapping {
 
 class CoverageMeter {
  public:
@@ -88,7 +88,7 @@ class MapAreaTracker {
   MapAreaTracker& operator=(MapAreaTracker&&) noexcept;
   /// Brings the counts up to `map` (a no-op for the version already seen).
   void update(const GridMap& map);
-  double freeArea() const;                               ///< m^2, as asf::freeArea(map)
+  double freeArea() const;                               ///< m^2, as asf::mapping::freeArea(map)
   double coverage() const;                               ///< as CoverageMeter::coverage(map)
   double informationBits() const;                        ///< as mapInformationBits(map), exactly
   std::size_t cellsVisited() const { return visited_; }  ///< grid cells read, all updates
@@ -130,4 +130,4 @@ double mapEntropyBits(const GridMap& map);
 /// whole grid: a run keeps it with MapAreaTracker.
 double freeArea(const GridMap& map, double unknown_band = 0.02);
 
-}  // namespace asf
+}  // namespace asf::mapping

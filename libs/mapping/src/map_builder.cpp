@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/map_builder.h>
+#include <asf/mapping/map_builder.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <map>
 
-namespace asf {
+namespace asf::mapping {
 
 namespace {
 const KeySpec kMapKeys[] = {
@@ -174,4 +174,4 @@ std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> mergeOccupancy(
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

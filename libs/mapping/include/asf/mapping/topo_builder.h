@@ -13,7 +13,7 @@
 
 #include <memory>
 
-namespace asf {
+namespace asf::mapping {
 
 namespace detail {
 struct TopoBorderCache;
@@ -73,4 +73,4 @@ class TopoBuilder {
   detail::TopoBorderCacheHolder borders_;
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::mapping {
 
 struct Segment {
   Point2 a, b;
@@ -41,4 +41,4 @@ class SegmentWorld {
   std::vector<Segment> walls_;
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,6 +1,6 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/map3d.h>
+#include <asf/mapping/map3d.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
@@ -21,7 +21,7 @@
 #include <functional>
 #include <limits>
 
-namespace asf {
+namespace asf::mapping {
 
 namespace {
 
@@ -586,4 +586,4 @@ double Map3d::occupancyAt(double x, double y, double z) const {
   return n ? n->getOccupancy() : -1.0;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

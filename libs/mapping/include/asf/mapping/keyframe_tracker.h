@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace asf {
+namespace asf::mapping {
 
 class KeyframeTracker {
  public:
@@ -55,4 +55,4 @@ class KeyframeTracker {
   Eigen::Matrix3d acc_cov_ = Eigen::Matrix3d::Zero();
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -6,8 +6,10 @@
 #include <Eigen/Core>
 
 namespace asf {
-
 class Params;
+}  // namespace asf
+
+namespace asf::mapping {
 
 /// MRPT's Gaussian odometry model (CActionRobotMovement2D::TMotionModelOptions, mmGaussian):
 /// the covariance of an odometry increment grows with the distance and angle travelled.
@@ -22,4 +24,4 @@ struct OdometryNoiseModel {
   static OdometryNoiseModel fromParams(const Params& p);
 };
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,9 +1,9 @@
 #include <asf/errors.h>
-#include <asf/keyframe_tracker.h>
+#include <asf/mapping/keyframe_tracker.h>
 
 #include <cmath>
 
-namespace asf {
+namespace asf::mapping {
 
 KeyframeTracker::Begin KeyframeTracker::begin(const SensorFrame& f, PoseGraph& g) {
   if (!started_) {
@@ -53,4 +53,4 @@ mrpt::poses::CPose2D KeyframeTracker::currentPose(const PoseGraph& g) const {
   return p;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/region_labels.h>
+#include <asf/mapping/region_labels.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <tuple>
 #include <unordered_map>
 
-namespace asf {
+namespace asf::mapping {
 
 namespace {
 
@@ -356,4 +356,4 @@ Segmentation regionsFromLabelsInWindow(LabelImage L, const Segmentation& previou
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,5 +1,5 @@
 #include <asf/params.h>
-#include <asf/reachability.h>
+#include <asf/mapping/reachability.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <opencv2/imgproc.hpp>
 
-namespace asf {
+namespace asf::mapping {
 
 ReachabilityOptions reachabilityOptionsFrom(const Params& p) {
   ReachabilityOptions o;
@@ -313,4 +313,4 @@ int Reachability::closest(const std::vector<Point2>& candidates, double snap_rad
   return best;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace asf {
+namespace asf::mapping {
 
 /// Turns a label image with provisional labels (any values > 0, 0 = no region) into a
 /// Segmentation, the common last step of raster segmenters:
@@ -35,4 +35,4 @@ Segmentation regionsFromLabelsInWindow(LabelImage labels, const Segmentation& pr
                                        RegionBoxes& boxes, CellBox window, RegionId* max_issued,
                                        std::uint64_t map_version, double min_area = 0);
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,4 +1,4 @@
-#include <asf/coverage.h>
+#include <asf/mapping/coverage.h>
 #include <asf/errors.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 #include <map>
 
-namespace asf {
+namespace asf::mapping {
 
 CoverageMeter::CoverageMeter(const WorldTruth& world, double unknown_band)
     : unknown_band_(unknown_band) {
@@ -423,4 +423,4 @@ double MapAreaTracker::coverage() const {
   return static_cast<double>(observed_) / meter_->reachableCells();
 }
 
-}  // namespace asf
+}  // namespace asf::mapping

@@ -1,9 +1,9 @@
-#include <asf/odometry_noise.h>
+#include <asf/mapping/odometry_noise.h>
 #include <asf/params.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 
-namespace asf {
+namespace asf::mapping {
 
 using mrpt::obs::CActionRobotMovement2D;
 using mrpt::poses::CPose2D;
@@ -42,4 +42,4 @@ Eigen::Matrix3d OdometryNoiseModel::covariance(const CPose2D& delta) const {
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::mapping
