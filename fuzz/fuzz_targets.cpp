@@ -8,11 +8,11 @@
 #include <asf/multigraph.h>
 #include <asf/occupancy_io.h>
 #include <asf/pose_graph.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/segmentation_eval.h>
-#include <asf_convert/carmen.h>
-#include <asf_convert/rawseeds.h>
-#include <asf_convert/rosbag2.h>
+#include <asf/io/carmen.h>
+#include <asf/io/rawseeds.h>
+#include <asf/io/rosbag2.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -122,7 +122,7 @@ bool topologyJson(const std::uint8_t* data, std::size_t size) {
 // Both layouts (action/sensory-frame pairs, observations only) go through one reader.
 bool rawlog(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
-    RawlogReader reader(writeInput("fuzz.rawlog", data, size));
+    io::RawlogReader reader(writeInput("fuzz.rawlog", data, size));
     while (reader.next()) {
     }
   });
@@ -130,11 +130,11 @@ bool rawlog(const std::uint8_t* data, std::size_t size) {
 
 bool carmen(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
-    convert::CarmenToRawlogOptions opt;
+    io::CarmenToRawlogOptions opt;
     opt.input = writeInput("fuzz.log", data, size);
     opt.output = (scratch() / "carmen.rawlog").string();
     opt.gt_output = (scratch() / "carmen.gt.txt").string();
-    convert::carmenToRawlog(opt);
+    io::carmenToRawlog(opt);
   });
 }
 
@@ -158,12 +158,12 @@ bool rawseeds(const std::uint8_t* data, std::size_t size) {
       else
         out << kValid[s];
     }
-    convert::RawseedsToRawlogOptions opt;
+    io::RawseedsToRawlogOptions opt;
     opt.dir = dir.string();
     opt.dataset = "fuzz";
     opt.output = (scratch() / "rawseeds.rawlog").string();
     opt.gt_output = (scratch() / "rawseeds.gt.txt").string();
-    convert::rawseedsToRawlog(opt);
+    io::rawseedsToRawlog(opt);
   });
 }
 
@@ -195,16 +195,16 @@ bool occupancyYaml(const std::uint8_t* data, std::size_t size) {
 bool rosMessage(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
     if (size == 0) return;
-    const convert::Wire wire = (data[0] & 4) ? convert::Wire::Ros1 : convert::Wire::Cdr;
+    const io::Wire wire = (data[0] & 4) ? io::Wire::Ros1 : io::Wire::Cdr;
     switch (data[0] % 3) {
       case 0:
-        (void)convert::decodeLaserScan(data + 1, size - 1, "fuzz", wire);
+        (void)io::decodeLaserScan(data + 1, size - 1, "fuzz", wire);
         break;
       case 1:
-        (void)convert::decodeOdometry(data + 1, size - 1, "fuzz", wire);
+        (void)io::decodeOdometry(data + 1, size - 1, "fuzz", wire);
         break;
       default:
-        (void)convert::decodeTfMessage(data + 1, size - 1, "fuzz", wire);
+        (void)io::decodeTfMessage(data + 1, size - 1, "fuzz", wire);
     }
   });
 }
@@ -212,7 +212,7 @@ bool rosMessage(const std::uint8_t* data, std::size_t size) {
 // An MCAP file: its topics, then every message of every topic.
 bool mcap(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
-    const convert::McapReader r({writeInput("bag.mcap", data, size)});
+    const io::McapReader r({writeInput("bag.mcap", data, size)});
     std::vector<std::string> topics;
     for (const auto& t : r.topics()) topics.push_back(t.name);
     std::size_t bytes = 0;
@@ -231,13 +231,13 @@ const std::vector<Target>& targets() {
       {"graph_list", graphList, "graph::readGraphList (graphs.txt)"},
       {"topology_json", topologyJson, "graph::parseTopologyJson (topology.json)"},
       {"rawlog", rawlog, "RawlogReader over every frame (both layouts)"},
-      {"carmen", carmen, "convert::carmenToRawlog (CARMEN .log/.clf)"},
-      {"rawseeds", rawseeds, "convert::rawseedsToRawlog (Rawseeds CSV streams)"},
+      {"carmen", carmen, "io::carmenToRawlog (CARMEN .log/.clf)"},
+      {"rawseeds", rawseeds, "io::rawseedsToRawlog (Rawseeds CSV streams)"},
       {"map_image", mapImage, "readGrayImage (map PNG)"},
       {"occupancy_yaml", occupancyYaml, "readOccupancyYaml + readOccupancyMap (map_server YAML)"},
       {"ros_message", rosMessage,
-       "convert::decodeLaserScan / decodeOdometry / decodeTfMessage (ROS bags, CDR and ROS 1)"},
-      {"mcap", mcap, "convert::McapReader (MCAP files: records, chunks none / lz4 / zstd)"},
+       "io::decodeLaserScan / decodeOdometry / decodeTfMessage (ROS bags, CDR and ROS 1)"},
+      {"mcap", mcap, "io::McapReader (MCAP files: records, chunks none / lz4 / zstd)"},
   };
   return all;
 }

@@ -9,8 +9,8 @@ and, with --build, on the built plugins. The rules:
   links     no plugin .so depends on libasf_framework, directly or through one of asf's
             libraries (readelf's NEEDED, followed through build/lib).
 
-Units are folders: libs/<L>, framework, framework/conformance, apps/<A>, apps/asf/convert,
-plugins/<P>, each owning the headers under its include/ (and, for quoted includes, beside the
+Units are folders: libs/<L>, framework, framework/conformance, apps/<A>, plugins/<P>, each
+owning the headers under its include/ (and, for quoted includes, beside the
 file). Tests, fuzz/, bench/ and examples/ are users, not checked. Includes are read as text
 (`#include <...>` / `"..."`), so an include inside a comment counts.
 
@@ -32,7 +32,7 @@ import tempfile
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
 SOURCES = (".cpp", ".h", ".hpp")
 # The libraries from the bottom up (docs/ARCHITECTURE.md); equal ranks may not include each other.
-LIB_RANK = {"libs/contract": 0, "libs/graph": 1, "libs/io": 2, "libs/ros2_msgs": 2, "libs/mapping": 3,
+LIB_RANK = {"libs/contract": 0, "libs/graph": 1, "libs/mapping": 2, "libs/io": 3, "libs/ros2_msgs": 3,
             "libs/navigation": 4, "libs/planning": 5, "libs/exploration": 6, "libs/evaluation": 7}
 SKIP_DIRS = {"tests", "fuzz", "bench", "examples", "build", ".git", "datasets", "docs", "configs"}
 
@@ -47,8 +47,6 @@ def unit_of(rel):
     if parts[0] == "framework":
         return "framework/conformance" if len(parts) > 2 and parts[1] == "conformance" else "framework"
     if parts[0] == "apps" and len(parts) > 2:
-        if parts[1] == "asf" and parts[2] == "convert":
-            return "apps/asf/convert"
         return "apps/" + parts[1]
     return None
 

@@ -1,8 +1,8 @@
 #pragma once
 // Helpers of the converter tests (test_convert.cpp, test_carmen.cpp): a temporary folder per
 // test, whole files, rawlog frames.
-#include <asf/rawlog_io.h>
-#include <asf_convert/text_io.h>
+#include <asf/io/rawlog_io.h>
+#include <asf/io/text_io.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -44,7 +44,7 @@ inline std::string readText(const std::string& path) {
 }
 
 inline std::vector<std::string> readLines(const std::string& path) {
-  asf::convert::LineReader r(path);
+  asf::io::LineReader r(path);
   std::vector<std::string> out;
   std::string l;
   while (r.next(l)) out.push_back(l);
@@ -56,8 +56,8 @@ inline void writeText(const std::string& path, const std::string& text) {
 }
 
 inline std::vector<asf::SensorFrame> readFrames(const std::string& rawlog,
-                                                asf::RawlogReaderOptions o = {}) {
-  asf::RawlogReader r(rawlog, std::move(o));
+                                                asf::io::RawlogReaderOptions o = {}) {
+  asf::io::RawlogReader r(rawlog, std::move(o));
   std::vector<asf::SensorFrame> out;
   while (auto f = r.next()) out.push_back(std::move(*f));
   return out;

@@ -1,9 +1,9 @@
-// The CARMEN converter (apps/asf/convert/carmen.cpp): a small exact log, PARAM lines, ODOM
+// The CARMEN converter (libs/io/src/carmen.cpp): a small exact log, PARAM lines, ODOM
 // lines, ROBOTLASER1, bad lines, synthesized odometry, the quirks of real corrected logs
 // (angles in radians, negative and constant timestamps), intel-corrected, the command.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
-#include <asf_convert/carmen.h>
+#include <asf/io/rawlog_io.h>
+#include <asf/io/carmen.h>
 #include <gtest/gtest.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -17,7 +17,7 @@
 #include "test_util.h"
 
 namespace fs = std::filesystem;
-namespace cv = asf::convert;
+namespace cv = asf::io;
 using asf_test::errorOf;
 using asf_test::has;
 using asf_test::readFrames;
@@ -107,7 +107,7 @@ TEST(Carmen, SmallFlaserLogExactValues) {
   EXPECT_NEAR(f[1].odometry.y(), d1.y(), 1e-12);
   EXPECT_NEAR(f[1].odometry.phi(), -0.1, 1e-12);
 
-  const auto gt = asf::readGroundTruth(tmp / "s.gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "s.gt.txt");
   ASSERT_EQ(gt.size(), 3u);
   EXPECT_NEAR(gt[0].t, 10.5, 1e-9);
   EXPECT_DOUBLE_EQ(gt[0].pose.x(), 1.0);
@@ -147,7 +147,7 @@ TEST(Carmen, ParamsApertureOffsetAndRange) {
   EXPECT_FLOAT_EQ(f[0].scan->maxRange, 2.5f);
   EXPECT_TRUE(f[0].scan->getScanRangeValidity(149));   // 2.49 m
   EXPECT_FALSE(f[0].scan->getScanRangeValidity(150));  // 2.50 m
-  const auto gt = asf::readGroundTruth(tmp / "off.gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "off.gt.txt");
   EXPECT_NEAR(gt[0].pose.x(), 1 - 0.2 * std::cos(0.5), 1e-9);
   EXPECT_NEAR(gt[0].pose.y(), 2 - 0.2 * std::sin(0.5), 1e-9);
 }
@@ -211,7 +211,7 @@ TEST(Carmen, RobotLaser1Lines) {
   EXPECT_TRUE(s.getScanRangeValidity(11));
   EXPECT_NEAR(f[1].odometry.x(), 0.2, 1e-9);  // robot moved 0.2 m ahead (heading +y)
   EXPECT_NEAR(f[1].odometry.y(), 0.0, 1e-9);
-  const auto gt = asf::readGroundTruth(tmp / "r.gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "r.gt.txt");
   ASSERT_EQ(gt.size(), 2u);
   EXPECT_NEAR(gt[1].pose.y(), 4.2, 1e-9);
 }
@@ -348,7 +348,7 @@ TEST(CarmenQuirks, NegativeTimestampsAreStampedByOrderOrRejected) {
   const auto f = readFrames(tmp / "a.rawlog");
   ASSERT_EQ(f.size(), 4u);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(f[i].timestamp, i + 1.0, 1e-9);
-  const auto gt = asf::readGroundTruth(tmp / "a.gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "a.gt.txt");
   ASSERT_EQ(gt.size(), 4u);
   EXPECT_NEAR(gt[3].t, 4.0, 1e-9) << "the ground truth carries the same stamps";
 
@@ -417,7 +417,7 @@ TEST(CarmenRealData, IntelCorrectedWithSyntheticOdometryFollowsTheModel) {
   EXPECT_EQ(rep.ignored.at("ODOM"), 14541u);
 
   const auto frames = readFrames(tmp / "intel.rawlog.gz");
-  const auto gt = asf::readGroundTruth(tmp / "intel.gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "intel.gt.txt");
   ASSERT_EQ(frames.size(), 910u);
   ASSERT_EQ(gt.size(), 910u);
   std::size_t invalid = 0;

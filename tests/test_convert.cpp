@@ -1,13 +1,13 @@
-// The log converters (apps/asf/convert): Rawseeds CSV <-> rawlog round trip on a simulated
+// The log converters (libs/io): Rawseeds CSV <-> rawlog round trip on a simulated
 // run, bzip2 input, bad lines, missing streams, the real Rawseeds ground truth, and the host
 // commands. CARMEN logs: test_carmen.cpp.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/source.h>
-#include <asf_convert/carmen.h>
-#include <asf_convert/rawseeds.h>
-#include <asf_convert/text_io.h>
+#include <asf/io/carmen.h>
+#include <asf/io/rawseeds.h>
+#include <asf/io/text_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -30,7 +30,7 @@
 #include "test_util.h"
 
 namespace fs = std::filesystem;
-namespace cv = asf::convert;
+namespace cv = asf::io;
 using asf_test::errorOf;
 using asf_test::has;
 using asf_test::readFrames;
@@ -112,8 +112,8 @@ std::vector<asf::SensorFrame> simulate(int n) {
 
 void writeRun(const std::vector<asf::SensorFrame>& frames, const std::string& rawlog,
               const std::string& gt) {
-  asf::RawlogWriter w(rawlog);
-  asf::GroundTruthWriter g(gt);
+  asf::io::RawlogWriter w(rawlog);
+  asf::io::GroundTruthWriter g(gt);
   for (const auto& f : frames) {
     w.write(f);
     g.write(f.timestamp, *f.ground_truth);
@@ -310,7 +310,7 @@ TEST(Rawseeds, SimulatedRunSurvivesRawlogToCsvToRawlog) {
   // gzip-compressed as the name asks.
   EXPECT_EQ(static_cast<unsigned char>(readText(tmp / "back.rawlog.gz")[0]), 0x1f);
 
-  asf::RawlogReaderOptions ro;
+  asf::io::RawlogReaderOptions ro;
   ro.ground_truth_file = tmp / "back.gt.txt";
   const auto back = readFrames(tmp / "back.rawlog.gz", ro);
   ASSERT_EQ(back.size(), frames.size());
@@ -359,8 +359,8 @@ TEST(Rawseeds, SimulatedRunSurvivesRawlogToCsvToRawlog) {
   EXPECT_GT(valid, 1000u);
   EXPECT_GT(invalid, 100u);
 
-  const auto gt0 = asf::readGroundTruth(tmp / "sim.gt.txt");
-  const auto gt1 = asf::readGroundTruth(tmp / "back.gt.txt");
+  const auto gt0 = asf::io::readGroundTruth(tmp / "sim.gt.txt");
+  const auto gt1 = asf::io::readGroundTruth(tmp / "back.gt.txt");
   ASSERT_EQ(gt1.size(), gt0.size());
   for (std::size_t k = 0; k < gt0.size(); ++k) {
     EXPECT_NEAR(gt1[k].t, gt0[k].t, 1e-6);
@@ -449,7 +449,7 @@ TEST(Rawseeds, MergesStreamsByTimeOdometryFirstWithDocumentedSensorPoses) {
   EXPECT_NEAR(std::abs(rear->sensorPose.yaw()), M_PI, 1e-12);
 
   // The reader picks one laser (the first seen) and pairs it with the odometry.
-  asf::RawlogReader r(tmp / "small.rawlog");
+  asf::io::RawlogReader r(tmp / "small.rawlog");
   std::size_t n = 0;
   while (r.next()) ++n;
   EXPECT_EQ(n, 4u);
@@ -534,7 +534,7 @@ TEST(Rawseeds, Rawlog2RawseedsRefusesScansThatAreNot181RaysOver180Degrees) {
     s->aperture = static_cast<float>(aperture_deg * M_PI / 180);
     auto f = frames;
     f[2].scan = s;
-    asf::RawlogWriter w(tmp / "odd.rawlog");
+    asf::io::RawlogWriter w(tmp / "odd.rawlog");
     for (const auto& x : f) w.write(x);
   };
   cv::RawlogToRawseedsOptions a;
@@ -564,7 +564,7 @@ TEST(RawseedsRealData, BicoccaGroundTruth) {
   EXPECT_EQ(rep.lines, 5829u);
   EXPECT_EQ(rep.records, 5829u);
   EXPECT_EQ(rep.bad_lines, 0u);
-  const auto gt = asf::readGroundTruth(tmp / "gt.txt");
+  const auto gt = asf::io::readGroundTruth(tmp / "gt.txt");
   ASSERT_EQ(gt.size(), 5829u);
   EXPECT_NEAR(gt.front().t, 1235604664.443286, 1e-6);
   EXPECT_NEAR(gt.front().pose.x(), -0.623883, 1e-9);
@@ -593,7 +593,7 @@ TEST(RawseedsRealData, BicoccaGroundTruth) {
   const auto re = cv::rawseedsGroundTruthToFile(ext, tmp / "gtx.txt", false);
   EXPECT_EQ(re.stream, "GT-extended");
   EXPECT_EQ(re.records, 6580u);
-  EXPECT_EQ(asf::readGroundTruth(tmp / "gtx.txt").size(), 6580u);
+  EXPECT_EQ(asf::io::readGroundTruth(tmp / "gtx.txt").size(), 6580u);
 }
 
 // --------------------------------------------------------------------- host commands
@@ -627,7 +627,7 @@ TEST(ConvertCommands, ExitCodesAndMessages) {
              tmp / "small.gt.txt");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "2 ground-truth poses")) << r.out;
-  EXPECT_EQ(asf::readGroundTruth(tmp / "small.gt.txt").size(), 2u);
+  EXPECT_EQ(asf::io::readGroundTruth(tmp / "small.gt.txt").size(), 2u);
   r = runAsf("rawseeds2rawlog --dir " + tmp.str() + " --dataset SMALL --gt-only");
   EXPECT_EQ(r.code, 2) << r.out;
   r = runAsf("rawseeds2rawlog --dir " + tmp.str() + " --dataset SMALL");  // neither -o nor --gt-only

@@ -14,7 +14,7 @@
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
 #include <asf/pose_graph.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/segmentation_eval.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -85,7 +85,7 @@ std::string unreadable(const fs::path& f) {
     } else if (ext == ".ini") {
       asf::IniConfig::fromFile(f.string());
     } else if (name.size() > 7 && name.substr(name.size() - 7) == ".gt.txt") {
-      asf::readGroundTruth(f.string());
+      asf::io::readGroundTruth(f.string());
     } else if (ext == ".txt") {
       return wholeRows(readText(f), ' ');
     } else if (ext == ".svg" || ext == ".html") {
@@ -96,7 +96,7 @@ std::string unreadable(const fs::path& f) {
           t.find_first_not_of(" \n", at + end.size()) != std::string::npos)
         return "does not end with " + end;
     } else if (ext == ".rawlog") {
-      asf::RawlogReader reader(f.string());
+      asf::io::RawlogReader reader(f.string());
       try {
         while (reader.next()) {
         }

@@ -5,7 +5,7 @@
 #include <asf/mapping/map3d.h>
 #include <asf/mapping/map_builder.h>
 #include <asf/pipeline.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -203,7 +203,7 @@ TEST(Map3dPipeline, RawlogCarriesObservations3d) {
   const CPose3D on_robot(0, 0, 0.5, 0, 0, 0);
   const std::string path = (dir / "a.rawlog").string();
   {
-    asf::RawlogWriter w(path);
+    asf::io::RawlogWriter w(path);
     for (int k = 0; k < 3; ++k) {
       asf::SensorFrame f;
       f.timestamp = k;
@@ -218,9 +218,9 @@ TEST(Map3dPipeline, RawlogCarriesObservations3d) {
     }
   }
   {
-    asf::RawlogReaderOptions o;
+    asf::io::RawlogReaderOptions o;
     o.observations3d = true;
-    asf::RawlogReader r(path, o);
+    asf::io::RawlogReader r(path, o);
     int n = 0;
     while (auto f = r.next()) {
       ASSERT_TRUE(f->scan);
@@ -236,16 +236,16 @@ TEST(Map3dPipeline, RawlogCarriesObservations3d) {
     EXPECT_EQ(r.skippedScans(), 0u);
   }
   {
-    asf::RawlogReader r(path);  // default: 3D observations are not read into frames
+    asf::io::RawlogReader r(path);  // default: 3D observations are not read into frames
     while (auto f = r.next()) EXPECT_TRUE(f->observations3d.empty());
   }
   {
     // scan_from_3d: the scan is the cloud's slice; the LASER scans are not frame scans.
-    asf::RawlogReaderOptions o;
+    asf::io::RawlogReaderOptions o;
     o.scan_from_3d = true;
     o.slice.min_z = 0.3;
     o.slice.rays = 90;
-    asf::RawlogReader r(path, o);
+    asf::io::RawlogReader r(path, o);
     int n = 0;
     while (auto f = r.next()) {
       ASSERT_TRUE(f->scan);
@@ -276,11 +276,11 @@ TEST(Map3dPipeline, ObservationOnlyLogFramesFromThe3dSensor) {
       ar << *scene.cloud(CPose2D(1 + 0.4 * k, -1, 0), on_robot, k + 0.01);
     }
   }
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.scan_from_3d = true;
   o.observations3d = true;
   o.slice.min_z = 0.3;
-  asf::RawlogReader r(path, o);
+  asf::io::RawlogReader r(path, o);
   int n = 0;
   while (auto f = r.next()) {
     ASSERT_TRUE(f->scan) << "frame " << n;
@@ -355,7 +355,7 @@ TEST(Map3dPipeline, RobotWithOnlyA3dSensor) {
   const CPose3D on_robot(0, 0, 0.5, 0, 0, 0);
   const std::string log = (dir / "drive.rawlog").string();
   {
-    asf::RawlogWriter w(log);
+    asf::io::RawlogWriter w(log);
     for (int k = 0; k <= 16; ++k) {
       asf::SensorFrame f;
       f.timestamp = 0.5 * k;
@@ -504,10 +504,10 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
   asf::Registry reg;
   asf::mapping::Map3d fresh;
   fresh.configure(asf::resolveConfig(ini, reg).map3d);
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.observations3d = true;
   o.laser_label = "LASER";
-  asf::RawlogReader reader((out / "sim2d.rawlog").string(), o);
+  asf::io::RawlogReader reader((out / "sim2d.rawlog").string(), o);
   std::size_t next = 0;
   while (auto f = reader.next()) {
     if (next < kf.size() && std::abs(f->timestamp - kf[next].first) < 1e-6) {

@@ -4,7 +4,7 @@
 // and, when ../shared is here, a subset of the protocol on the Intel CARMEN log's SLAM graph.
 #include <asf/errors.h>
 #include <asf/expected_uncertainty.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/sensor_frame.h>
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -250,7 +250,7 @@ TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {
 /// `without_scan` get none).
 void writeBuildingRun(const fs::path& dir, const std::vector<int>& without_scan = {}) {
   std::ofstream kf(dir / "keyframes.txt");
-  asf::RawlogWriter w((dir / "building.rawlog").string());
+  asf::io::RawlogWriter w((dir / "building.rawlog").string());
   for (int i = 0; i < 47; ++i) {
     kf << 10 + i << " 0 0 0\n";
     asf::SensorFrame f;

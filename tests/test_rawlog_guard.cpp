@@ -12,7 +12,7 @@
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
 #include <asf/map3d_from_log.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -92,7 +92,7 @@ std::size_t countOffset(const std::string& bytes, int k) {
 }
 
 std::size_t framesIn(const std::string& path) {
-  asf::RawlogReader r(path);
+  asf::io::RawlogReader r(path);
   std::size_t n = 0;
   while (r.next()) ++n;
   return n;
@@ -114,7 +114,7 @@ TEST(RawlogGuard, ADamagedRayCountIsRefusedBeforeMrptAllocates) {
     bytes.replace(at, 4, "\xff\xff\xff\xff");
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 
-    asf::RawlogReader r(path);
+    asf::io::RawlogReader r(path);
     ASSERT_TRUE(r.next()) << "the first scan is whole";
     const std::string e = asf_test::errorOf<asf::InputError>([&] { r.next(); });
     EXPECT_TRUE(asf_test::has(e, path + ": record 1: a 2D scan claims 4294967295 rays"))
@@ -124,7 +124,7 @@ TEST(RawlogGuard, ADamagedRayCountIsRefusedBeforeMrptAllocates) {
     // too, so MRPT finds the bytes missing and the reader says the record is cut.
     bytes.replace(at, 4, std::string("\x00\x00\x10\x00", 4));
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-    asf::RawlogReader r2(path);
+    asf::io::RawlogReader r2(path);
     ASSERT_TRUE(r2.next());
     const std::string e2 = asf_test::errorOf<asf::InputError>([&] {
       while (r2.next()) {
@@ -144,7 +144,7 @@ TEST(RawlogGuard, GzLogsAreGuardedToo) {
     mrpt::io::CFileGZOutputStream out(gz);
     out.Write(bytes.data(), bytes.size());
   }
-  asf::RawlogReader r(gz);
+  asf::io::RawlogReader r(gz);
   ASSERT_TRUE(r.next());
   ASSERT_TRUE(r.next());
   const std::string e = asf_test::errorOf<asf::InputError>([&] { r.next(); });
@@ -164,7 +164,7 @@ TEST(RawlogGuard, ASensoryFrameClaimingMillionsOfObservationsIsRefused) {
   ASSERT_EQ(bytes.substr(at, 4), std::string("\x01\x00\x00\x00", 4)) << "one observation";
   bytes.replace(at, 4, std::string("\x01\x00\x73\x3a", 4));
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-  asf::RawlogReader r(path);
+  asf::io::RawlogReader r(path);
   ASSERT_TRUE(r.next());
   const std::string e = asf_test::errorOf<asf::InputError>([&] { r.next(); });
   EXPECT_TRUE(asf_test::has(e, "record 1: a sensory frame claims 980615169 objects")) << e;
@@ -230,7 +230,7 @@ std::string logWith(const std::string& name, const std::string& record) {
 /// What reading the whole log says: "" if it reads to the end.
 std::string readError(const std::string& path) {
   try {
-    asf::RawlogReader r(path);
+    asf::io::RawlogReader r(path);
     while (r.next()) {
     }
   } catch (const asf::InputError& e) {
@@ -501,7 +501,7 @@ TEST(RawlogGuard, A3DScanClaimingAHugeRangeImageIsRefused) {
       << "not the sample this test was written for";
   bytes.replace(at, 4, "\xff\xff\xff\x7f");
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
-  asf::RawlogReader r(path);
+  asf::io::RawlogReader r(path);
   const std::string e = asf_test::errorOf<asf::InputError>([&] {
     while (r.next()) {
     }

@@ -1,7 +1,7 @@
 // Tests of rawlog reading/writing, ground-truth files and the odometry noise model
-// (asf/rawlog_io.h), on logs built here and on MRPT's sample datasets.
+// (asf/io/rawlog_io.h), on logs built here and on MRPT's sample datasets.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -131,8 +131,8 @@ void expectReplayed(const asf::SensorFrame& written, const asf::SensorFrame& rea
   EXPECT_FALSE(read.ground_truth.has_value());
 }
 
-std::vector<asf::SensorFrame> readAll(const std::string& path, asf::RawlogReaderOptions o = {}) {
-  asf::RawlogReader r(path, o);
+std::vector<asf::SensorFrame> readAll(const std::string& path, asf::io::RawlogReaderOptions o = {}) {
+  asf::io::RawlogReader r(path, o);
   std::vector<asf::SensorFrame> out;
   while (auto f = r.next()) out.push_back(*f);
   return out;
@@ -140,7 +140,7 @@ std::vector<asf::SensorFrame> readAll(const std::string& path, asf::RawlogReader
 
 void writeAll(const std::string& path, const std::vector<asf::SensorFrame>& frames,
               std::size_t flush_every = 50) {
-  asf::RawlogWriter w(path, flush_every);
+  asf::io::RawlogWriter w(path, flush_every);
   for (const auto& f : frames) w.write(f);
   EXPECT_EQ(w.framesWritten(), frames.size());
 }
@@ -182,7 +182,7 @@ TEST_P(RoundTrip, ReplayEqualsWrittenFramesExactly) {
                   static_cast<unsigned char>(bytes[1]) == 0x8b;
   EXPECT_EQ(gz, GetParam() == ".rawlog.gz") << "the file's compression follows its name";
 
-  asf::RawlogReader r(path);
+  asf::io::RawlogReader r(path);
   std::vector<asf::SensorFrame> read;
   while (auto f = r.next()) read.push_back(*f);
   EXPECT_FALSE(r.next());
@@ -211,7 +211,7 @@ TEST(RawlogWriter, FlushedFramesAreReadableWhileWriting) {
   TempDir dir;
   const std::string path = dir.file("live.rawlog.gz");
   const auto frames = makeFrames(7);
-  asf::RawlogWriter w(path, 3);
+  asf::io::RawlogWriter w(path, 3);
   for (const auto& f : frames) w.write(f);
   // 7 frames with flush_every = 3: 6 are on disk before close.
   EXPECT_EQ(readAll(path).size(), 6u);
@@ -221,7 +221,7 @@ TEST(RawlogWriter, FlushedFramesAreReadableWhileWriting) {
 
 TEST(RawlogWriter, UnwritableFileIsAnInputErrorNamingIt) {
   const std::string bad = "/nonexistent-dir/x.rawlog";
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::RawlogWriter w(bad); }), bad));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::RawlogWriter w(bad); }), bad));
 }
 
 // ---------------------------------------------------------------- observation-only logs
@@ -262,9 +262,9 @@ TEST(RawlogReader, ObservationOnlyLogFirstLaserByDefault) {
   TempDir dir;
   const std::string path = dir.file("obs.rawlog.gz");
   writeObservationLog(path);
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.odometry_model.a1 = 0.05;
-  asf::RawlogReader r(path, o);
+  asf::io::RawlogReader r(path, o);
   std::vector<asf::SensorFrame> f;
   while (auto x = r.next()) f.push_back(*x);
   ASSERT_EQ(f.size(), 3u);
@@ -290,7 +290,7 @@ TEST(RawlogReader, ObservationOnlyLogLaserByLabel) {
   TempDir dir;
   const std::string path = dir.file("obs.rawlog.gz");
   writeObservationLog(path);
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.laser_label = "BACK";
   const auto f = readAll(path, o);
   ASSERT_EQ(f.size(), 3u);
@@ -300,7 +300,7 @@ TEST(RawlogReader, ObservationOnlyLogLaserByLabel) {
   expectPose(f[2].odometry, relative(2, 1, 2.9, 3, 1, -2.0), "frame 2");
 
   o.laser_label = "NONE";
-  asf::RawlogReader r(path, o);
+  asf::io::RawlogReader r(path, o);
   EXPECT_FALSE(r.next());
   EXPECT_EQ(r.skippedScans(), 6u);
 }
@@ -310,9 +310,9 @@ TEST(RawlogReader, ActionLogLaserSelectionSkipsOtherLabels) {
   const std::string path = dir.file("two.rawlog");
   auto frames = makeFrames(4);
   writeAll(path, frames);
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.laser_label = "OTHER";
-  asf::RawlogReader r(path, o);
+  asf::io::RawlogReader r(path, o);
   int n = 0;
   while (auto f = r.next()) {
     EXPECT_EQ(f->scan, nullptr);  // one frame per step, without the unwanted scan
@@ -330,7 +330,7 @@ TEST(RawlogReader, TruncatedLogEndsWithErrorNamingTheRecord) {
   const auto frames = makeFrames(12);
   std::vector<std::uintmax_t> end_of;  // file size after each frame (flushed every frame)
   {
-    asf::RawlogWriter w(path, 1);
+    asf::io::RawlogWriter w(path, 1);
     for (const auto& f : frames) {
       w.write(f);
       end_of.push_back(fs::file_size(path));
@@ -341,7 +341,7 @@ TEST(RawlogReader, TruncatedLogEndsWithErrorNamingTheRecord) {
   const std::string cut = dir.file("cut.rawlog");
   writeBytes(cut, readBytes(path).substr(0, end_of[6] - 10));
 
-  asf::RawlogReader r(cut);
+  asf::io::RawlogReader r(cut);
   std::vector<asf::SensorFrame> got;
   std::string msg;
   try {
@@ -380,7 +380,7 @@ TEST(RawlogReader, CutAtAnyByteEndsCleanlyOnlyBetweenRecords) {
     writeBytes(cut, bytes.substr(0, n));
     bool clean = true;
     try {
-      asf::RawlogReader r(cut);
+      asf::io::RawlogReader r(cut);
       while (r.next()) {
       }
     } catch (const asf::InputError& e) {
@@ -411,7 +411,7 @@ TEST(RawlogReader, TruncatedGzLogEndsWithError) {
   const std::string bytes = readBytes(path);
   const std::string cut = dir.file("cut.rawlog.gz");
   writeBytes(cut, bytes.substr(0, bytes.size() / 2));
-  asf::RawlogReader r(cut);
+  asf::io::RawlogReader r(cut);
   std::size_t n = 0;
   std::string msg;
   try {
@@ -447,7 +447,7 @@ TEST(RawlogReader, FlippedBytesInARecordHeaderAreAnError) {
   bytes[pos + 1] = static_cast<char>(bytes[pos + 1] ^ 0xff);
   const std::string bad = dir.file("bad.rawlog");
   writeBytes(bad, bytes);
-  asf::RawlogReader r(bad);
+  asf::io::RawlogReader r(bad);
   int n = 0;
   const std::string msg = errorOf<asf::InputError>([&] {
     while (r.next()) ++n;
@@ -463,17 +463,17 @@ TEST(RawlogReader, FlippedBytesInARecordHeaderAreAnError) {
 TEST(RawlogReader, MissingNonRawlogAndEmptyFiles) {
   TempDir dir;
   const std::string missing = dir.file("nope.rawlog");
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::RawlogReader r(missing); }), missing));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::RawlogReader r(missing); }), missing));
 
   const std::string text = dir.file("text.rawlog");
   writeText(text, "this is not a rawlog, just some text that goes on for a while\n");
-  asf::RawlogReader r(text);
+  asf::io::RawlogReader r(text);
   EXPECT_TRUE(has(errorOf<asf::InputError>([&] { r.next(); }), text + ": record 0: "));
   EXPECT_FALSE(r.next());
 
   const std::string empty = dir.file("empty.rawlog");
   writeText(empty, "");
-  asf::RawlogReader e(empty);
+  asf::io::RawlogReader e(empty);
   EXPECT_FALSE(e.next());  // no records is a log without steps, not an error
 }
 
@@ -483,7 +483,7 @@ TEST(GroundTruth, ReadSkipsCommentsAndNamesTheBadLine) {
   TempDir dir;
   const std::string ok = dir.file("gt.txt");
   writeText(ok, "# t x y phi\n\n1.0 0 0 0\n  2.5 1.5 -2 3.1\n");
-  const auto gt = asf::readGroundTruth(ok);
+  const auto gt = asf::io::readGroundTruth(ok);
   ASSERT_EQ(gt.size(), 2u);
   EXPECT_EQ(gt[1].t, 2.5);
   EXPECT_EQ(gt[1].pose.x(), 1.5);
@@ -492,73 +492,73 @@ TEST(GroundTruth, ReadSkipsCommentsAndNamesTheBadLine) {
 
   const std::string bad = dir.file("bad.txt");
   writeText(bad, "1 0 0 0\n2 0 0 0\n3 0 zero 0\n");
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::readGroundTruth(bad); }), bad + ":3:"));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::readGroundTruth(bad); }), bad + ":3:"));
   writeText(bad, "1 0 0 0\n2 0 0 0 7\n");
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::readGroundTruth(bad); }), bad + ":2:"));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::readGroundTruth(bad); }), bad + ":2:"));
   writeText(bad, "1 0 0 0\n# back in time\n0.5 0 0 0\n");
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::readGroundTruth(bad); }), bad + ":3:"));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::readGroundTruth(bad); }), bad + ":3:"));
   const std::string missing = dir.file("none.txt");
-  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::readGroundTruth(missing); }), missing));
+  EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::readGroundTruth(missing); }), missing));
 }
 
 TEST(GroundTruth, InterpolationIsLinearWithAnglesOnTheCircle) {
-  const std::vector<asf::GroundTruthPose> gt = {
+  const std::vector<asf::io::GroundTruthPose> gt = {
       {10.0, CPose2D(0, 0, 0.5)},  {10.2, CPose2D(2, -1, 1.5)},
       {10.4, CPose2D(2, -1, 3.0)}, {10.6, CPose2D(4, 1, -3.0)},  // 0.283 rad further, across +-pi
       {12.0, CPose2D(5, 5, 0)},                                  // after a 1.4 s gap
   };
-  auto p = asf::interpolateGroundTruth(gt, 10.05);
+  auto p = asf::io::interpolateGroundTruth(gt, 10.05);
   ASSERT_TRUE(p);
   EXPECT_NEAR(p->x(), 0.5, 1e-12);
   EXPECT_NEAR(p->y(), -0.25, 1e-12);
   EXPECT_NEAR(p->phi(), 0.75, 1e-12);
-  p = asf::interpolateGroundTruth(gt, 10.2);  // on a line: that line
+  p = asf::io::interpolateGroundTruth(gt, 10.2);  // on a line: that line
   ASSERT_TRUE(p);
   EXPECT_EQ(p->x(), 2);
   EXPECT_EQ(p->phi(), 1.5);
   // Across the wrap: 3.0 -> -3.0 is +0.2832 rad; the middle is pi + ... wrapped.
-  p = asf::interpolateGroundTruth(gt, 10.5);
+  p = asf::io::interpolateGroundTruth(gt, 10.5);
   ASSERT_TRUE(p);
   EXPECT_NEAR(p->x(), 3, 1e-12);
   EXPECT_NEAR(std::abs(p->phi()), M_PI, 1e-12);
-  p = asf::interpolateGroundTruth(gt, 10.55);
+  p = asf::io::interpolateGroundTruth(gt, 10.55);
   ASSERT_TRUE(p);
   EXPECT_NEAR(p->phi(), 3.0 + 0.75 * (2 * M_PI - 6.0) - 2 * M_PI, 1e-12);
   EXPECT_LT(p->phi(), 0);
   // Outside the file, and inside a gap wider than max_gap.
-  EXPECT_FALSE(asf::interpolateGroundTruth(gt, 9.99));
-  EXPECT_FALSE(asf::interpolateGroundTruth(gt, 12.01));
-  EXPECT_FALSE(asf::interpolateGroundTruth(gt, 11.0));
-  EXPECT_TRUE(asf::interpolateGroundTruth(gt, 11.0, 2.0));
-  EXPECT_TRUE(asf::interpolateGroundTruth(gt, 12.0));  // the last line itself
+  EXPECT_FALSE(asf::io::interpolateGroundTruth(gt, 9.99));
+  EXPECT_FALSE(asf::io::interpolateGroundTruth(gt, 12.01));
+  EXPECT_FALSE(asf::io::interpolateGroundTruth(gt, 11.0));
+  EXPECT_TRUE(asf::io::interpolateGroundTruth(gt, 11.0, 2.0));
+  EXPECT_TRUE(asf::io::interpolateGroundTruth(gt, 12.0));  // the last line itself
   // Within 1 us of a line (the printing resolution of GT files) is at that line, even next
   // to a gap or past an end.
-  p = asf::interpolateGroundTruth(gt, 10.6 + 5e-7);
+  p = asf::io::interpolateGroundTruth(gt, 10.6 + 5e-7);
   ASSERT_TRUE(p);
   EXPECT_EQ(p->x(), 4);
-  p = asf::interpolateGroundTruth(gt, 12.0 + 5e-7);
+  p = asf::io::interpolateGroundTruth(gt, 12.0 + 5e-7);
   ASSERT_TRUE(p);
   EXPECT_EQ(p->x(), 5);
-  EXPECT_TRUE(asf::interpolateGroundTruth(gt, 10.0 - 5e-7));
-  EXPECT_FALSE(asf::interpolateGroundTruth(gt, 10.6 + 1e-5));
-  EXPECT_FALSE(asf::interpolateGroundTruth({}, 1.0));
+  EXPECT_TRUE(asf::io::interpolateGroundTruth(gt, 10.0 - 5e-7));
+  EXPECT_FALSE(asf::io::interpolateGroundTruth(gt, 10.6 + 1e-5));
+  EXPECT_FALSE(asf::io::interpolateGroundTruth({}, 1.0));
 }
 
 TEST(GroundTruth, WriterFlushesEveryLineAndReadsBack) {
   TempDir dir;
   const std::string path = dir.file("gt.txt");
-  asf::GroundTruthWriter w(path);
+  asf::io::GroundTruthWriter w(path);
   w.write(1600000000.123456789, CPose2D(1.0 / 3, -2.0 / 3, -3.0));
   w.write(1600000000.2, CPose2D(1e-10, 5, M_PI));
   // Read while the writer is still open: both lines are on disk.
-  const auto gt = asf::readGroundTruth(path);
+  const auto gt = asf::io::readGroundTruth(path);
   ASSERT_EQ(gt.size(), 2u);
   EXPECT_NEAR(gt[0].t, 1600000000.123456789, 1e-6);  // double resolution at 1.6e9 s
   EXPECT_NEAR(gt[0].pose.x(), 1.0 / 3, 1e-9);
   EXPECT_NEAR(gt[0].pose.y(), -2.0 / 3, 1e-9);
   EXPECT_NEAR(gt[0].pose.phi(), -3.0, 1e-9);
   EXPECT_NEAR(gt[1].pose.phi(), M_PI, 1e-9);
-  EXPECT_TRUE(has(errorOf<asf::InputError>([] { asf::GroundTruthWriter x("/nonexistent/gt"); }),
+  EXPECT_TRUE(has(errorOf<asf::InputError>([] { asf::io::GroundTruthWriter x("/nonexistent/gt"); }),
                   "/nonexistent/gt"));
 }
 
@@ -568,18 +568,18 @@ TEST(RawlogReader, FramesGetInterpolatedGroundTruth) {
   const auto frames = makeFrames(6);
   writeAll(log, frames);
   {
-    asf::GroundTruthWriter w(gtf);
+    asf::io::GroundTruthWriter w(gtf);
     // Lines every 0.2 s from the first frame's time - 0.05: frames fall between lines.
     for (int i = 0; i < 3; ++i)
       w.write(frames[0].timestamp - 0.05 + 0.2 * i, CPose2D(i, 2 * i, 0.1 * i));
   }
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.ground_truth_file = gtf;
   const auto read = readAll(log, o);
   ASSERT_EQ(read.size(), 6u);
-  const auto gt = asf::readGroundTruth(gtf);
+  const auto gt = asf::io::readGroundTruth(gtf);
   for (std::size_t k = 0; k < read.size(); ++k) {
-    const auto want = asf::interpolateGroundTruth(gt, read[k].timestamp);
+    const auto want = asf::io::interpolateGroundTruth(gt, read[k].timestamp);
     ASSERT_EQ(read[k].ground_truth.has_value(), want.has_value()) << k;
     if (want) expectPose(*read[k].ground_truth, *want, "frame " + std::to_string(k));
   }
@@ -587,7 +587,7 @@ TEST(RawlogReader, FramesGetInterpolatedGroundTruth) {
   EXPECT_NEAR(read[1].ground_truth->x(), 0.75, 1e-6);
   EXPECT_FALSE(read[5].ground_truth);  // after the last line
   o.ground_truth_file = dir.file("missing.txt");
-  EXPECT_THROW(asf::RawlogReader(log, o), asf::InputError);
+  EXPECT_THROW(asf::io::RawlogReader(log, o), asf::InputError);
 }
 
 // ---------------------------------------------------------------- odometry model
@@ -640,7 +640,7 @@ TEST(OdometryNoiseModel, MatchesMrptsDocumentedGaussianModel) {
 
 TEST(RealData, SenaTelecomFacultyLoop) {
   if (!fs::exists(kSena)) GTEST_SKIP() << kSena << " is missing (Debian package mrpt-common)";
-  asf::RawlogReader r(kSena);
+  asf::io::RawlogReader r(kSena);
   std::vector<asf::SensorFrame> f;
   while (auto x = r.next()) f.push_back(*x);
   // 225 sensory frames, the first without an action before it: 224 odometry steps.
@@ -679,9 +679,9 @@ TEST(RealData, SenaTelecomFacultyLoop) {
 TEST(RealData, GraphSlamSimulWithGroundTruth) {
   if (!fs::exists(kSimul) || !fs::exists(kSimul + ".GT.txt"))
     GTEST_SKIP() << kSimul << "(.GT.txt) is missing (Debian package mrpt-common)";
-  asf::RawlogReaderOptions o;
+  asf::io::RawlogReaderOptions o;
   o.ground_truth_file = kSimul + ".GT.txt";  // 'timestamp x y phi' lines: our format
-  asf::RawlogReader r(kSimul, o);
+  asf::io::RawlogReader r(kSimul, o);
   std::vector<asf::SensorFrame> f;
   while (auto x = r.next()) f.push_back(*x);
   ASSERT_EQ(f.size(), 1733u);

@@ -5,8 +5,8 @@
 // writer put in; a real log through each kind of bag and back; the errors a user meets name
 // the bag and what is there instead.
 #include <asf/errors.h>
-#include <asf/ground_truth.h>
-#include <asf_convert/rosbag2.h>
+#include <asf/io/ground_truth.h>
+#include <asf/io/rosbag2.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/math/wrap2pi.h>
@@ -34,7 +34,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using asf::convert::CdrReader;
+using asf::io::CdrReader;
 
 // ----------------------------------------------------------------------- CDR by hand -----
 
@@ -166,10 +166,10 @@ mrpt::Clock::time_point clockOf(std::int64_t sec, std::int64_t nanosec) {
 void checkConverted(const std::string& format, const std::string& variant) {
   FIXTURE_OR_SKIP(fx, format, variant);
   const fs::path out = fx.dir / "out.rawlog";
-  asf::convert::BagToRawlogOptions o;
+  asf::io::BagToRawlogOptions o;
   o.input = fx.bag.string();
   o.output = out.string();
-  const auto rep = asf::convert::bagToRawlog(o);
+  const auto rep = asf::io::bagToRawlog(o);
   EXPECT_EQ(rep.scan_topic, "/scan");
   EXPECT_EQ(rep.odom_topic, variant == "tf_odom" ? "/tf" : "/odom");
   EXPECT_EQ(rep.odom_from_tf, variant == "tf_odom");
@@ -235,27 +235,27 @@ TEST_P(RosBag, ConvertedRecordsAreTheMessagesWritten) {
 
 TEST_P(RosBag, ErrorsNameTheBagAndWhatIsThere) {
   FIXTURE_OR_SKIP(fx, GetParam(), "two_scans");
-  asf::convert::BagToRawlogOptions o;
+  asf::io::BagToRawlogOptions o;
   o.input = fx.bag.string();
   o.output = (fx.dir / "out.rawlog").string();
   // Two LaserScan topics: one must be chosen; the message lists the topics present.
-  std::string e = errorOf([&] { asf::convert::bagToRawlog(o); });
+  std::string e = errorOf([&] { asf::io::bagToRawlog(o); });
   EXPECT_NE(e.find("several sensor_msgs/msg/LaserScan topics (/scan, /scan_back)"),
             std::string::npos)
       << e;
   EXPECT_NE(e.find("/chatter (std_msgs/msg/String, 1)"), std::string::npos) << e;
   o.scan_topic = "/nope";
-  e = errorOf([&] { asf::convert::bagToRawlog(o); });
+  e = errorOf([&] { asf::io::bagToRawlog(o); });
   EXPECT_NE(e.find("no topic /nope; topics: "), std::string::npos) << e;
   EXPECT_NE(e.find("/scan (sensor_msgs/msg/LaserScan, 20)"), std::string::npos) << e;
   o.scan_topic = "/chatter";
-  e = errorOf([&] { asf::convert::bagToRawlog(o); });
+  e = errorOf([&] { asf::io::bagToRawlog(o); });
   EXPECT_NE(e.find("/chatter is a std_msgs/msg/String, not a sensor_msgs/msg/LaserScan"),
             std::string::npos)
       << e;
   o.scan_topic = "/scan_back";
   o.base_frame = "chassis";
-  e = errorOf([&] { asf::convert::bagToRawlog(o); });
+  e = errorOf([&] { asf::io::bagToRawlog(o); });
   EXPECT_NE(e.find("laser frame 'laser' has no transform to the base frame 'chassis'"),
             std::string::npos)
       << e;
@@ -266,13 +266,13 @@ TEST_P(RosBag, ErrorsNameTheBagAndWhatIsThere) {
 
 TEST_P(RosBag, MissingTransformsAndCompressionAreReported) {
   FIXTURE_OR_SKIP(no_tf, GetParam(), "no_tf");
-  asf::convert::BagToRawlogOptions o;
+  asf::io::BagToRawlogOptions o;
   o.input = no_tf.bag.string();
   o.output = (no_tf.dir / "out.rawlog").string();
-  EXPECT_NE(errorOf([&] { asf::convert::bagToRawlog(o); }).find("in /tf_static (none)"),
+  EXPECT_NE(errorOf([&] { asf::io::bagToRawlog(o); }).find("in /tf_static (none)"),
             std::string::npos);
   o.laser_pose = mrpt::poses::CPose3D(0.1, 0, 0.2, 0, 0, 0);  // given by hand instead
-  const auto rep = asf::convert::bagToRawlog(o);
+  const auto rep = asf::io::bagToRawlog(o);
   EXPECT_EQ(rep.scans, 20u);
   EXPECT_EQ(rep.odometry, 20u);
   EXPECT_EQ(rep.laser_pose_from, "--laser-pose");
@@ -282,7 +282,7 @@ TEST_P(RosBag, MissingTransformsAndCompressionAreReported) {
     FIXTURE_OR_SKIP(lz4, GetParam(), "lz4_compressed");
     o.input = lz4.bag.string();
     o.output = (lz4.dir / "out.rawlog").string();
-    const std::string e = errorOf([&] { asf::convert::bagToRawlog(o); });
+    const std::string e = errorOf([&] { asf::io::bagToRawlog(o); });
     EXPECT_NE(e.find("metadata.yaml: compressed with 'lz4' (FILE mode"), std::string::npos) << e;
     fs::remove_all(lz4.dir);
     return;
@@ -291,7 +291,7 @@ TEST_P(RosBag, MissingTransformsAndCompressionAreReported) {
     FIXTURE_OR_SKIP(z, GetParam(), c);
     o.input = z.bag.string();
     o.output = (z.dir / "out.rawlog").string();
-    const auto r = asf::convert::bagToRawlog(o);
+    const auto r = asf::io::bagToRawlog(o);
     EXPECT_EQ(r.scans, 20u) << c;
     EXPECT_EQ(records(z.dir / "out.rawlog").size(), 40u) << c;
     fs::remove_all(z.dir);
@@ -443,17 +443,17 @@ INSTANTIATE_TEST_SUITE_P(Formats, RosBag, ::testing::Values("ros1", "ros2", "ros
 // /odom still chosen as the odometry; through the rawlog source, the run's ground truth.
 TEST_P(RosBag, AGroundTruthTopicBecomesTheGroundTruthFile) {
   FIXTURE_OR_SKIP(fx, GetParam(), "with_gt");
-  asf::convert::BagToRawlogOptions o;
+  asf::io::BagToRawlogOptions o;
   o.input = fx.bag.string();
   o.output = (fx.dir / "out.rawlog").string();
   o.gt_topic = "/ground_truth";
   o.gt_output = (fx.dir / "gt.txt").string();
-  const auto rep = asf::convert::bagToRawlog(o);
+  const auto rep = asf::io::bagToRawlog(o);
   EXPECT_EQ(rep.odom_topic, "/odom");
   EXPECT_EQ(rep.gt_poses, 20u);
   std::ifstream ef(fx.dir / "expected_gt.json");
   const nlohmann::json want = nlohmann::json::parse(ef);
-  const auto got = asf::readGroundTruth(o.gt_output);
+  const auto got = asf::io::readGroundTruth(o.gt_output);
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t k = 0; k < got.size(); ++k) {
     EXPECT_NEAR(got[k].t, want[k]["sec"].get<double>() + want[k]["nanosec"].get<double>() * 1e-9,
@@ -464,7 +464,7 @@ TEST_P(RosBag, AGroundTruthTopicBecomesTheGroundTruthFile) {
   }
   o.gt_topic = "/scan";
   EXPECT_NE(errorOf([&] {
-              asf::convert::bagToRawlog(o);
+              asf::io::bagToRawlog(o);
             }).find("ground-truth topic /scan is a sensor_msgs/msg/LaserScan"),
             std::string::npos);
   // The bag as a source with bag_gt_topic: the run is scored against it.
@@ -494,17 +494,17 @@ TEST(RosBag2Compression, ZstdMessagesAndFilesAreRead) {
 TEST(RosBagMcap, EveryChunkCompressionAndADamagedFile) {
   for (const char* storage : {"mcap", "mcap_lz4"}) {
     FIXTURE_OR_SKIP(fx, "ros2", std::string("plain@") + storage);
-    asf::convert::BagToRawlogOptions o;
+    asf::io::BagToRawlogOptions o;
     o.input = (fx.dir / "data.mcap").string();  // the file itself, without metadata.yaml
     o.output = (fx.dir / "out.rawlog").string();
-    const auto rep = asf::convert::bagToRawlog(o);
+    const auto rep = asf::io::bagToRawlog(o);
     EXPECT_EQ(rep.scans, 20u) << storage;
     EXPECT_EQ(rep.odometry, 20u) << storage;
     EXPECT_EQ(records(fx.dir / "out.rawlog").size(), 40u) << storage;
     // Cut in the middle: the record it ends in is named.
     const auto size = fs::file_size(fx.dir / "data.mcap");
     fs::resize_file(fx.dir / "data.mcap", size / 2);
-    const std::string e = errorOf([&] { asf::convert::bagToRawlog(o); });
+    const std::string e = errorOf([&] { asf::io::bagToRawlog(o); });
     EXPECT_NE(e.find("data.mcap: the file ends inside the record at byte"), std::string::npos)
         << storage << ": " << e;
     fs::remove_all(fx.dir);

@@ -119,7 +119,7 @@ TEST(TrajectoryEval, RelativePoseErrorIgnoresTheFrameAndEarlierDrift) {
 }
 
 TEST(TrajectoryEval, MatchesByTimeAndCountsUnmatched) {
-  std::vector<asf::GroundTruthPose> gt;
+  std::vector<asf::io::GroundTruthPose> gt;
   for (int i = 0; i <= 10; ++i) gt.push_back({100.0 + i, CPose2D(i, 0, 0)});
   // t = 100.5 interpolates to x = 0.5 (gaps of 1 s, max_gap 2 s); t = 99 and t = 200 are
   // outside the ground truth.

@@ -3,7 +3,7 @@
 // covariances), and the masking that removes exactly the zone's scans, makes
 // its consecutive links wheel odometry x factor and drops its other links.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/sensor_frame.h>
 #include <asf/unreliable_zone.h>
 #include <gtest/gtest.h>
@@ -31,7 +31,7 @@ constexpr double kA = 0.01, kC = 0.001;
 
 std::string writeLog(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("asf_test_zone_" + name + ".rawlog");
-  asf::RawlogWriter w(p.string());
+  asf::io::RawlogWriter w(p.string());
   for (int i = 0; i < 10; ++i) {
     asf::SensorFrame f;
     f.timestamp = 100 + i;

@@ -2,7 +2,7 @@
 // command behind the SLAM accuracy figures (asf's keyframes.txt, icp-slam's estimated path).
 #include <asf/abi.h>
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/trajectory_eval.h>
 #include <tclap/CmdLine.h>
 
@@ -52,7 +52,7 @@ int cmdAte(int argc, char** argv) {
   auto estimate = readTrajectory(est.getValue());
   if (!frame_times.getValue().empty()) {
     std::vector<double> times;
-    RawlogReader log(frame_times.getValue());
+    io::RawlogReader log(frame_times.getValue());
     while (auto f = log.next()) times.push_back(f->timestamp);
     for (TimedPose& p : estimate) {
       const double k = p.t;
@@ -63,7 +63,7 @@ int cmdAte(int argc, char** argv) {
       p.t = times[static_cast<std::size_t>(k)];
     }
   }
-  const auto truth = readGroundTruth(gt.getValue());
+  const auto truth = io::readGroundTruth(gt.getValue());
   const TrajectoryError r = evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
   // Finite inputs can still overflow (coordinates near 1e200 m): no figure rather than "inf".
   for (const double v : {r.ate_rmse_m, r.ate_mean_m, r.ate_max_m, r.rot_rmse_deg})

@@ -2,7 +2,7 @@
 // apps/asf/convert/rosbag2.cpp and bag_to_rawlog.cpp).
 #include <asf/abi.h>
 #include <asf/errors.h>
-#include <asf_convert/rosbag2.h>
+#include <asf/io/rosbag2.h>
 #include <tclap/CmdLine.h>
 
 #include <cmath>
@@ -54,14 +54,14 @@ int cmdBag2Rawlog(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   if (list.getValue()) {
-    const auto bag = convert::openBag(in.getValue());
+    const auto bag = io::openBag(in.getValue());
     for (const auto& t : bag->topics())
       std::cout << std::left << std::setw(32) << t.name << std::setw(34) << t.type << std::right
                 << std::setw(9) << t.messages << "  " << t.serialization_format << "\n";
     return kOk;
   }
   if (out.getValue().empty()) throw TCLAP::CmdLineParseException("required (or --list)", "--out");
-  convert::BagToRawlogOptions o;
+  io::BagToRawlogOptions o;
   o.input = in.getValue();
   o.output = out.getValue();
   o.scan_topic = scan.getValue();
@@ -73,12 +73,12 @@ int cmdBag2Rawlog(int argc, char** argv) {
   o.gt_topic = gt_topic.getValue();
   o.gt_output = gt.getValue();
   if (laser_pose.isSet()) try {
-      o.laser_pose = convert::parseLaserPose(laser_pose.getValue());
+      o.laser_pose = io::parseLaserPose(laser_pose.getValue());
     } catch (const std::invalid_argument& e) {
       throw TCLAP::CmdLineParseException(e.what(), "--laser-pose");
     }
   o.progress = quiet.getValue() ? nullptr : &std::cerr;
-  const auto r = convert::bagToRawlog(o);
+  const auto r = io::bagToRawlog(o);
   const auto& p = r.laser_pose;
   std::cout << "bag2rawlog: " << r.scans << " scans from " << r.scan_topic << " (" << r.rays
             << " rays over " << r.aperture_deg << " deg, frame " << r.laser_frame << ") and "

@@ -1,8 +1,8 @@
-// Log conversions: Rawseeds <-> rawlog, CARMEN -> rawlog (logic in apps/asf/convert).
+// Log conversions: Rawseeds <-> rawlog, CARMEN -> rawlog (logic in libs/io).
 #include <asf/abi.h>
-#include <asf/rawlog_io.h>
-#include <asf_convert/carmen.h>
-#include <asf_convert/rawseeds.h>
+#include <asf/io/rawlog_io.h>
+#include <asf/io/carmen.h>
+#include <asf/io/rawseeds.h>
 #include <tclap/CmdLine.h>
 
 #include <iomanip>
@@ -14,7 +14,7 @@ namespace asf::app {
 
 namespace {
 
-void printStreams(const std::vector<convert::StreamReport>& streams) {
+void printStreams(const std::vector<io::StreamReport>& streams) {
   for (const auto& s : streams) {
     std::cout << "  " << std::left << std::setw(14) << s.stream << std::right << s.records
               << " records from " << s.lines << " lines of " << s.file;
@@ -66,8 +66,8 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
 
   if (gt_only.getValue()) {
     const auto file =
-        convert::findRawseedsStream(dir.getValue(), dataset.getValue(), gt_stream.getValue());
-    const auto s = convert::rawseedsGroundTruthToFile(file, gt.getValue(), skip.getValue(),
+        io::findRawseedsStream(dir.getValue(), dataset.getValue(), gt_stream.getValue());
+    const auto s = io::rawseedsGroundTruthToFile(file, gt.getValue(), skip.getValue(),
                                                       quiet.getValue() ? nullptr : &std::cerr);
     std::cout << "rawseeds2rawlog: " << s.records << " ground-truth poses -> " << gt.getValue()
               << "\n";
@@ -75,7 +75,7 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
     return kOk;
   }
 
-  convert::RawseedsToRawlogOptions o;
+  io::RawseedsToRawlogOptions o;
   o.dir = dir.getValue();
   o.dataset = dataset.getValue();
   if (!laser.getValue().empty()) o.lasers = laser.getValue();
@@ -84,7 +84,7 @@ int cmdRawseeds2Rawlog(int argc, char** argv) {
   o.gt_stream = gt_stream.getValue();
   o.skip_bad_lines = skip.getValue();
   o.progress = quiet.getValue() ? nullptr : &std::cerr;
-  const auto r = convert::rawseedsToRawlog(o);
+  const auto r = io::rawseedsToRawlog(o);
   std::cout << "rawseeds2rawlog: " << r.scans << " scans and " << r.odometry
             << " odometry readings -> " << o.output;
   if (!o.gt_output.empty())
@@ -111,10 +111,10 @@ int cmdRawlogNormalize(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  RawlogReaderOptions o;
+  io::RawlogReaderOptions o;
   o.laser_label = label.getValue();
-  RawlogReader reader(in.getValue(), o);
-  RawlogWriter writer(out.getValue());
+  io::RawlogReader reader(in.getValue(), o);
+  io::RawlogWriter writer(out.getValue());
   std::size_t scans = 0;
   while (auto f = reader.next()) {
     scans += f->scan ? 1 : 0;
@@ -145,14 +145,14 @@ int cmdRawlog2Rawseeds(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  convert::RawlogToRawseedsOptions o;
+  io::RawlogToRawseedsOptions o;
   o.rawlog = rawlog.getValue();
   o.gt_input = gt.getValue();
   o.dir = dir.getValue();
   o.dataset = dataset.getValue();
   o.laser_label = label.getValue();
   o.bz2 = bz2.getValue();
-  const auto r = convert::rawlogToRawseeds(o);
+  const auto r = io::rawlogToRawseeds(o);
   std::cout << "rawlog2rawseeds: " << r.frames << " frames: " << r.scans << " scan lines, "
             << r.odometry_lines << " odometry lines";
   if (!o.gt_input.empty()) std::cout << ", " << r.gt_lines << " ground-truth lines";
@@ -163,8 +163,8 @@ int cmdRawlog2Rawseeds(int argc, char** argv) {
 
 namespace {
 
-void printCarmenReport(const convert::CarmenToRawlogOptions& o,
-                       const convert::CarmenToRawlogReport& r, bool synthesized) {
+void printCarmenReport(const io::CarmenToRawlogOptions& o,
+                       const io::CarmenToRawlogReport& r, bool synthesized) {
   std::cout << "carmen2rawlog: " << r.scans << " scans (" << r.laser_message << ", " << r.rays
             << " rays over " << r.aperture_deg << " deg) and " << r.odometry << " odometry readings"
             << (synthesized ? " (synthesized)" : "") << " -> " << o.output;
@@ -248,11 +248,11 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   for (const auto* a : {&a1, &a2, &a3, &a4, &min_xy, &min_phi, &fov, &max_range, &period})
     if (!(a->getValue() >= 0)) throw TCLAP::CmdLineParseException("must be >= 0", a->getName());
 
-  convert::CarmenToRawlogOptions o;
+  io::CarmenToRawlogOptions o;
   o.input = in.getValue();
   o.output = out.getValue();
   o.gt_output = gt.getValue();
-  using Mode = convert::CarmenToRawlogOptions::Odometry;
+  using Mode = io::CarmenToRawlogOptions::Odometry;
   o.odometry = synth.getValue()        ? Mode::Synthetic
                : odom_lines.getValue() ? Mode::OdomLines
                                        : Mode::Laser;
@@ -265,14 +265,14 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
   o.model.min_std_phi_deg = min_phi.getValue();
   o.fov_deg = fov.getValue();
   o.max_range = max_range.getValue();
-  using Stamps = convert::CarmenToRawlogOptions::Timestamps;
+  using Stamps = io::CarmenToRawlogOptions::Timestamps;
   o.timestamps = stamps.getValue() == "log"     ? Stamps::Log
                  : stamps.getValue() == "order" ? Stamps::Order
                                                 : Stamps::Auto;
   o.scan_period_s = period.getValue();
   o.skip_bad_lines = skip.getValue();
   o.progress = quiet.getValue() ? nullptr : &std::cerr;
-  const auto r = convert::carmenToRawlog(o);
+  const auto r = io::carmenToRawlog(o);
   for (const auto& w : r.warnings) std::cerr << "carmen2rawlog: warning: " << w << "\n";
 
   printCarmenReport(o, r, synth.getValue());

@@ -137,7 +137,7 @@ int cmdMap3d(int argc, char** argv) {
   const Params params = map3dParams(config.getValue(), set.getValue());
   mapping::Map3d map;
   map.configure(params);
-  if (!gt.getValue().empty()) o.ground_truth = readGroundTruth(gt.getValue());
+  if (!gt.getValue().empty()) o.ground_truth = io::readGroundTruth(gt.getValue());
 
   const auto t_start = Clock::now();
   const Map3dFromLogReport r = insertRawlog3d(

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "rawlog_guard.h"
+#include <asf/io/rawlog_guard.h>
 
 namespace asf {
 
@@ -22,12 +22,12 @@ using Clock = std::chrono::steady_clock;
 
 /// The robot pose of each observation: integrated odometry, or the ground truth.
 struct PoseSource {
-  const std::vector<GroundTruthPose>& gt;
+  const std::vector<io::GroundTruthPose>& gt;
   mrpt::poses::CPose2D odo;                     // action logs: composed increments
   std::optional<mrpt::poses::CPose2D> odo_abs;  // observation-only logs: last reading
 
   std::optional<mrpt::poses::CPose2D> at(const mrpt::obs::CObservation& o) const {
-    if (!gt.empty()) return interpolateGroundTruth(gt, mrpt::Clock::toDouble(o.timestamp));
+    if (!gt.empty()) return io::interpolateGroundTruth(gt, mrpt::Clock::toDouble(o.timestamp));
     return odo_abs ? *odo_abs : odo;
   }
 };
@@ -112,7 +112,7 @@ Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOpt
     // MRPT throws for a missing file instead of returning false.
   }
   if (!ok) throw InputError(path + ": cannot open the rawlog (missing or unreadable)");
-  RawlogGuard guard(in);  // refuses records MRPT would crash on, as RawlogReader does
+  io::RawlogGuard guard(in);  // refuses records MRPT would crash on, as RawlogReader does
   auto ar = mrpt::serialization::archiveUniquePtrFrom(guard);
   LogInserter ins(o, map, progress);
   Map3dFromLogReport& r = ins.r;
@@ -131,7 +131,7 @@ Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOpt
       } catch (const std::exception& e) {
         // MRPT wraps what the guard throws: its refusal says why.
         throw InputError(path + ": record " + std::to_string(r.records) + ": " +
-                         (guard.refusal().empty() ? mrptExceptionCause(e.what()) : guard.refusal()));
+                         (guard.refusal().empty() ? io::mrptExceptionCause(e.what()) : guard.refusal()));
       }
       r.read_s += secondsSince(t0);
       ++r.records;

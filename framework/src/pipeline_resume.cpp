@@ -1,7 +1,7 @@
 // [pipeline] resume: a recorded run replayed through the stages, its decisions retaken by
 // the policy, and the source sent where it was going (run_state.h).
 #include <asf/errors.h>
-#include <asf/recorded_run.h>
+#include <asf/io/recorded_run.h>
 
 #include <cmath>
 #include <filesystem>
@@ -18,15 +18,15 @@ bool RunState::replayRecorded() {
     throw ConfigError("[pipeline] resume = " + dir + ": the source '" + source +
                       "' must continue that folder's recording (" + source +
                       ".resume_from = the same folder; asf run --resume sets both)");
-  const std::vector<RecordedDecision> recorded =
-      readRecordedDecisions((std::filesystem::path(dir) / "decisions.csv").string());
+  const std::vector<io::RecordedDecision> recorded =
+      io::readRecordedDecisions((std::filesystem::path(dir) / "decisions.csv").string());
   std::size_t next = 0;
   GridMap goal_map;
   bool ended = false;  // the recorded run ended (or this one was stopped) within the log
   // The decisions recorded before the next frame, retaken by the policy on the same state.
   const auto retake = [&] {
     for (; !ended && next < recorded.size() && recorded[next].step <= sum_.steps; ++next) {
-      const RecordedDecision& r = recorded[next];
+      const io::RecordedDecision& r = recorded[next];
       if (r.step < sum_.steps) continue;  // a row out of order: not this run's
       if (giveUp(r.previous)) return void(ended = true);
       const Decision d = policyDecision(explorationState(r.previous));
@@ -55,7 +55,7 @@ bool RunState::replayRecorded() {
   m_.logStr(mrpt::system::LVL_INFO, "resume: replaying " + dir);
   const std::string name = sp.has("record_name") ? sp.getString("record_name") : source;
   const std::string base = (std::filesystem::path(dir) / name).string();
-  forEachRecordedFrame(base, [&](SensorFrame& f) {
+  io::forEachRecordedFrame(base, [&](SensorFrame& f) {
     if (stop_ && stop_->load()) ended = true;
     if (ended || (retake(), ended)) return;
     step(f);

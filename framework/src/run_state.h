@@ -1,7 +1,7 @@
 #pragma once
 // One run of the pipeline (pipeline_run.cpp, pipeline_resume.cpp): the loop's state and its
 // stages. Private to the framework.
-#include <asf/recorded_run.h>
+#include <asf/io/recorded_run.h>
 
 #include <chrono>
 #include <cmath>

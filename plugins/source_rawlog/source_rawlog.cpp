@@ -1,9 +1,9 @@
 // source_rawlog: replays an MRPT rawlog (action/sensory-frame or observation-only, plain or
 // gz) as a passive source, optionally with a ground-truth file.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/source.h>
-#include <asf_convert/rosbag2.h>
+#include <asf/io/rosbag2.h>
 #include <unistd.h>
 
 #include <cstdint>
@@ -21,7 +21,7 @@ namespace {
 class RawlogSource final : public asf::Source {
  public:
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {
-    asf::RawlogReaderOptions o;
+    asf::io::RawlogReaderOptions o;
     o.laser_label = p.getString("laser_label");
     o.odometry_model = asf::mapping::OdometryNoiseModel::fromParams(p);
     o.observations3d = p.getBool("observations3d");
@@ -42,13 +42,13 @@ class RawlogSource final : public asf::Source {
     std::string gt = p.getString("ground_truth");
     if (!p.getString("bag_gt_topic").empty() && !gt.empty())
       p.fail("bag_gt_topic", "ground_truth is given too: one or the other");
-    if (asf::convert::isRosBag(file)) file = fromBag(p, file, ctx.output_dir, gt);
+    if (asf::io::isRosBag(file)) file = fromBag(p, file, ctx.output_dir, gt);
 
     // Read here (not in the reader) so a bad ground-truth file is reported against its key.
     gt_.clear();
     if (!gt.empty()) {
       try {
-        gt_ = asf::readGroundTruth(gt);
+        gt_ = asf::io::readGroundTruth(gt);
       } catch (const asf::InputError& e) {
         p.fail("ground_truth", e.what());
       }
@@ -58,7 +58,7 @@ class RawlogSource final : public asf::Source {
     file_ = file;
     laser_label_ = o.laser_label;
     try {
-      reader_ = std::make_unique<asf::RawlogReader>(file, o);
+      reader_ = std::make_unique<asf::io::RawlogReader>(file, o);
     } catch (const asf::InputError& e) {
       p.fail("file", e.what());
     }
@@ -89,7 +89,7 @@ class RawlogSource final : public asf::Source {
                                       << "; using the previous one (warned once)");
       f->timestamp = last_t_;
     }
-    if (!gt_.empty()) f->ground_truth = asf::interpolateGroundTruth(gt_, f->timestamp, max_gap_);
+    if (!gt_.empty()) f->ground_truth = asf::io::interpolateGroundTruth(gt_, f->timestamp, max_gap_);
     last_t_ = f->timestamp;
     ++delivered_;
     return f;
@@ -100,7 +100,7 @@ class RawlogSource final : public asf::Source {
   /// output folder as bag.rawlog (in a temporary file without one, removed at the end).
   std::string fromBag(const asf::Params& p, const std::string& bag, const std::string& out_dir,
                       std::string& gt) {
-    asf::convert::BagToRawlogOptions o;
+    asf::io::BagToRawlogOptions o;
     o.input = bag;
     o.scan_topic = p.getString("bag_scan_topic");
     o.odom_topic = p.getString("bag_odom_topic");
@@ -108,7 +108,7 @@ class RawlogSource final : public asf::Source {
     if (!o.odometry) o.odom_topic.clear();
     o.base_frame = p.getString("bag_base_frame");
     if (!p.getString("bag_laser_pose").empty()) try {
-        o.laser_pose = asf::convert::parseLaserPose(p.getString("bag_laser_pose"));
+        o.laser_pose = asf::io::parseLaserPose(p.getString("bag_laser_pose"));
       } catch (const std::invalid_argument& e) {
         p.fail("bag_laser_pose", e.what());
       }
@@ -126,7 +126,7 @@ class RawlogSource final : public asf::Source {
       if (!o.gt_topic.empty()) o.gt_output = temp_gt_ = temp_ + ".gt.txt";
     }
     try {
-      const auto r = asf::convert::bagToRawlog(o);
+      const auto r = asf::io::bagToRawlog(o);
       MRPT_LOG_INFO_STREAM(bag << ": " << r.scans << " scans from " << r.scan_topic << ", "
                                << r.odometry << " odometry readings"
                                << (r.odom_topic.empty() ? "" : " from " + r.odom_topic)
@@ -159,8 +159,8 @@ class RawlogSource final : public asf::Source {
     return std::nullopt;
   }
 
-  std::unique_ptr<asf::RawlogReader> reader_;
-  std::vector<asf::GroundTruthPose> gt_;
+  std::unique_ptr<asf::io::RawlogReader> reader_;
+  std::vector<asf::io::GroundTruthPose> gt_;
   double max_gap_ = 0.5, last_t_ = 0;
   std::int64_t max_frames_ = 0, start_frame_ = 0, delivered_ = 0, skipped_ = 0;
   std::size_t clamped_ = 0;

@@ -8,9 +8,9 @@
 // operator starts, pauses, stops or sends the robot home with std_msgs/String on /asf/command.
 // Every run is recorded as a rawlog.
 #include <asf/errors.h>
-#include <asf/ground_truth.h>
+#include <asf/io/ground_truth.h>
 #include <asf/mapping/odometry_noise.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/source.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -268,8 +268,8 @@ class Ros2Source final : public asf::Source {
     const std::string base = (std::filesystem::path(ctx.output_dir) / p.getString("record_name")).string();
     if (p.getBool("record")) {
       rawlog_path_ = base + ".rawlog";
-      writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
-      if (!gt_topic_.empty()) gt_writer_ = std::make_unique<asf::GroundTruthWriter>(base + ".gt.txt");
+      writer_ = std::make_unique<asf::io::RawlogWriter>(rawlog_path_);
+      if (!gt_topic_.empty()) gt_writer_ = std::make_unique<asf::io::GroundTruthWriter>(base + ".gt.txt");
     }
     if (!p.getBool("bag")) return;
     asf::ros2live::LiveBagTopics t;
@@ -589,8 +589,8 @@ class Ros2Source final : public asf::Source {
   double startup_timeout_ = 30, message_timeout_ = 5, odom_tolerance_ = 0.1, accept_timeout_ = 5,
          goal_timeout_ = 0, radius_ = 0.2;
   asf::mapping::OdometryNoiseModel model_;
-  std::unique_ptr<asf::RawlogWriter> writer_;
-  std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
+  std::unique_ptr<asf::io::RawlogWriter> writer_;
+  std::unique_ptr<asf::io::GroundTruthWriter> gt_writer_;
   asf::ros2live::LiveBag bag_;  // written from the receive thread too
   std::shared_ptr<const asf::WorldTruth> truth_;
 

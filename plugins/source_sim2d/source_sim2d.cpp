@@ -6,8 +6,8 @@
 // steps and never passes through a true obstacle, low or not.
 #include <asf/errors.h>
 #include <asf/occupancy_io.h>
-#include <asf/rawlog_io.h>
-#include <asf/recorded_run.h>
+#include <asf/io/rawlog_io.h>
+#include <asf/io/recorded_run.h>
 #include <asf/source.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/math/wrap2pi.h>
@@ -63,7 +63,7 @@ class Sim2dSource final : public asf::Source {
     double last_scan_time = -1;
     std::size_t frames = 0;
     try {
-      frames = asf::forEachRecordedFrame(base, [&](asf::SensorFrame& f) {
+      frames = asf::io::forEachRecordedFrame(base, [&](asf::SensorFrame& f) {
         if (writer_) writer_->write(f), gt_writer_->write(f.timestamp, *f.ground_truth);
         last = *f.ground_truth;
         if (f.odometry.x() != 0 || f.odometry.y() != 0 || f.odometry.phi() != 0)
@@ -265,8 +265,8 @@ class Sim2dSource final : public asf::Source {
         p.fail("resume_from",
                "is this run's own output folder: the recording to continue would "
                "be overwritten before it is read (use another output folder)");
-      writer_ = std::make_unique<asf::RawlogWriter>(rawlog_path_);
-      gt_writer_ = std::make_unique<asf::GroundTruthWriter>(gt_path_);
+      writer_ = std::make_unique<asf::io::RawlogWriter>(rawlog_path_);
+      gt_writer_ = std::make_unique<asf::io::GroundTruthWriter>(gt_path_);
     }
   }
 
@@ -582,8 +582,8 @@ class Sim2dSource final : public asf::Source {
   double fov_ = 0, max_range_ = 0, range_sigma_ = 0, laser_rate_ = 0, next_scan_time_ = 0;
   double dt_ = 0, step_length_ = 0, turn_step_ = 0, heading_tol_ = 0, radius_ = 0;
   std::string rawlog_path_, gt_path_;
-  std::unique_ptr<asf::RawlogWriter> writer_;
-  std::unique_ptr<asf::GroundTruthWriter> gt_writer_;
+  std::unique_ptr<asf::io::RawlogWriter> writer_;
+  std::unique_ptr<asf::io::GroundTruthWriter> gt_writer_;
 };
 
 }  // namespace

@@ -74,5 +74,10 @@ print(json.dumps({"stop_reason": why, "moved_before_start": moved(0, start),
                   "states": states}))
 if problems:
     print("FAILED: " + "; ".join(problems))
+    # what the run decided and logged, so that a failure seen once can be read afterwards
+    print("decisions.csv, last 15 rows:")
+    print("".join(open(f"{out}/asf/decisions.csv").readlines()[-15:]), end="")
+    print("run.log, last 25 lines:")
+    print("".join(open(f"{out}/asf/run.log").readlines()[-25:]), end="")
     sys.exit(1)
 PY

@@ -4,7 +4,7 @@
 /// asf::mapping::Map3d at the robot pose of its time (integrated odometry of the log, or a ground
 /// truth), with counts, skips and timings.
 #include <asf/mapping/map3d.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
@@ -19,7 +19,7 @@ namespace asf {
 struct Map3dFromLogOptions {
   /// Robot poses from this ground truth instead of odometry (observations outside it are
   /// skipped); empty: odometry.
-  std::vector<GroundTruthPose> ground_truth;
+  std::vector<io::GroundTruthPose> ground_truth;
   /// Replaces the sensorPose of point clouds, Velodyne and 3D range scans (logs that store
   /// the identity); 2D laser scans keep theirs.
   std::optional<mrpt::poses::CPose3D> sensor_pose;

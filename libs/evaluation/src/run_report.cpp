@@ -1,6 +1,7 @@
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
+#include <asf/io/recorded_run.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
 #include <asf/text.h>
@@ -118,37 +119,6 @@ figcaption{color:#555;font-size:.85em}
 )";
 }
 
-std::vector<DecisionRow> readDecisionRows(const std::string& path, std::string& note) {
-  std::vector<DecisionRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  if (!in) {
-    note = "decisions.csv: missing";
-    return rows;
-  }
-  if (!std::getline(in, line)) {
-    note = "decisions.csv: empty";
-    return rows;
-  }
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string f;
-    while (std::getline(ss, f, ',')) header.push_back(f);
-  }
-  while (std::getline(in, line)) {
-    if (line.empty() || header.empty()) continue;
-    DecisionRow row;
-    std::stringstream ss(line);
-    std::string x;
-    for (std::size_t i = 0; i + 1 < header.size() && std::getline(ss, x, ','); ++i)
-      row[header[i]] = x;
-    if (std::getline(ss, x)) row[header.back()] = x;  // the rest of the line
-    rows.push_back(std::move(row));
-  }
-  if (rows.empty()) note = "decisions.csv: no decision recorded";
-  return rows;
-}
 
 }  // namespace report
 
@@ -246,7 +216,7 @@ std::string summaryTable(const json& j) {
   return o.str();
 }
 
-using report::DecisionRow;
+using io::DecisionRow;
 
 std::string field(const DecisionRow& r, const char* key) {
   const auto it = r.find(key);
@@ -520,7 +490,7 @@ std::string writeRunReport(const std::string& run_dir) {
 
   std::string dnote;
   const std::vector<DecisionRow> decisions =
-      report::readDecisionRows((dir / "decisions.csv").string(), dnote);
+      io::readDecisionRows((dir / "decisions.csv").string(), dnote);
   body << timelineSection(dir, decisions) << "<h2>Decisions</h2>\n";
   const std::string dt = decisionsTable(decisions, 20);
   if (!dnote.empty()) notes.push_back(dnote);

@@ -82,13 +82,13 @@ RelativePoseError relativePoseError(const std::vector<CPose2D>& est, const std::
 }
 
 TrajectoryError evaluateTrajectory(const std::vector<TimedPose>& estimate,
-                                   const std::vector<GroundTruthPose>& ground_truth, double max_gap,
+                                   const std::vector<io::GroundTruthPose>& ground_truth, double max_gap,
                                    bool align) {
   std::vector<CPose2D> est, gt;
   std::vector<double> times;
   std::size_t unmatched = 0;
   for (const TimedPose& p : estimate) {
-    const auto g = interpolateGroundTruth(ground_truth, p.t, max_gap);
+    const auto g = io::interpolateGroundTruth(ground_truth, p.t, max_gap);
     if (!g) {
       ++unmatched;
       continue;

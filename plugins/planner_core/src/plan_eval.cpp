@@ -13,7 +13,7 @@
 #include <asf/plan_eval.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/text.h>
 #include <asf/unreliable_zone.h>

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/sensor_frame.h>
 #include <asf/unreliable_zone.h>
 
@@ -18,9 +18,9 @@ KeyframeLog readKeyframeLog(const std::string& rawlog, const std::vector<double>
   out.scan.resize(n);
   out.odometry.assign(n, mrpt::poses::CPose2D());
   out.odometry_cov.assign(n, Eigen::Matrix3d::Zero());
-  RawlogReaderOptions ro;
+  io::RawlogReaderOptions ro;
   ro.laser_label = laser_label;
-  RawlogReader reader(rawlog, ro);
+  io::RawlogReader reader(rawlog, ro);
   mrpt::poses::CPose2D acc;
   Eigen::Matrix3d acc_cov = Eigen::Matrix3d::Zero();
   std::size_t next = 0;
@@ -67,7 +67,7 @@ PoseGraph readRunWithScans(const std::string& graph_file, std::string keyframes_
   PoseGraph g = readG2o(graph_file);
   if (keyframes_file.empty())
     keyframes_file = (std::filesystem::path(graph_file).parent_path() / "keyframes.txt").string();
-  const std::vector<GroundTruthPose> rows = readGroundTruth(keyframes_file);
+  const std::vector<io::GroundTruthPose> rows = io::readGroundTruth(keyframes_file);
   if (rows.size() != g.size())
     throw InputError(keyframes_file + ": " + std::to_string(rows.size()) + " keyframes for the " +
                      std::to_string(g.size()) + " nodes of " + graph_file);

@@ -1,7 +1,7 @@
 // Tests of the rawlog source plugin, loaded through the registry like the host does.
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
@@ -89,7 +89,7 @@ std::shared_ptr<mrpt::obs::CObservation2DRangeScan> scan(const std::string& labe
 std::vector<asf::SensorFrame> writeLog(const std::string& path, int n,
                                        const std::vector<double>& times = {}) {
   std::vector<asf::SensorFrame> frames;
-  asf::RawlogWriter w(path);
+  asf::io::RawlogWriter w(path);
   for (int k = 0; k < n; ++k) {
     asf::SensorFrame f;
     f.timestamp = times.empty() ? 100 + 0.5 * k : times[static_cast<std::size_t>(k)];

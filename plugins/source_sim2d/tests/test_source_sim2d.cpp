@@ -3,7 +3,7 @@
 // rawlog replaying the same stream, and the 2.5D world with its tilted laser.
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
@@ -522,9 +522,9 @@ TEST(Sim2dSource, RecordedRawlogReplaysTheSameStream) {
     auto src = make({{"laser_rays", "91"}, {"laser_rate", "4"}}, 5, dir.string());
     frames = drive(*src, {{6, 4, 0.1}, {2, 1.5, 0.1}});
   }  // closing the source closes the files
-  asf::RawlogReaderOptions ro;
+  asf::io::RawlogReaderOptions ro;
   ro.ground_truth_file = (dir / "sim2d.gt.txt").string();
-  asf::RawlogReader reader((dir / "sim2d.rawlog").string(), ro);
+  asf::io::RawlogReader reader((dir / "sim2d.rawlog").string(), ro);
   std::size_t k = 0, scans = 0;
   while (auto f = reader.next()) {
     ASSERT_LT(k, frames.size());
@@ -994,10 +994,10 @@ TEST(Sim2dTilted, RecordedRawlogKeepsTheTiltedScans) {
                     dir.string());
     frames = drive(*src, {{6, 4, 0.1}});
   }
-  asf::RawlogReaderOptions ro;
+  asf::io::RawlogReaderOptions ro;
   ro.laser_label = "LASER";
   ro.observations3d = true;
-  asf::RawlogReader reader((dir / "sim2d.rawlog").string(), ro);
+  asf::io::RawlogReader reader((dir / "sim2d.rawlog").string(), ro);
   std::size_t k = 0, tilted_scans = 0;
   while (auto f = reader.next()) {
     ASSERT_LT(k, frames.size());

@@ -32,13 +32,6 @@ std::string base64(const std::string& bytes);
 /// An <img> element with the PNG file embedded (base64), or "" when it cannot be read.
 std::string embeddedPng(const std::string& path, const std::string& alt);
 
-/// One row of a run's decisions.csv, fields by column name.
-using DecisionRow = std::map<std::string, std::string>;
-/// decisions.csv's rows (step, time_s, previous_status, decision, goal_x, goal_y, reason);
-/// the last column (the reason) keeps any commas. `note` says why there are none (missing,
-/// empty, no row).
-std::vector<DecisionRow> readDecisionRows(const std::string& path, std::string& note);
-
 /// The CSS every asf HTML report uses.
 const char* css();
 

@@ -2,7 +2,7 @@
 /// \file trajectory_eval.h
 /// Trajectory accuracy against ground truth: absolute trajectory error (ATE) after the rigid
 /// SE(2) alignment that minimises it, the measure SLAM papers and MRPT's tools report.
-#include <asf/ground_truth.h>
+#include <asf/io/ground_truth.h>
 #include <mrpt/poses/CPose2D.h>
 
 #include <optional>
@@ -38,7 +38,7 @@ struct TrajectoryError {
 /// `max_gap`) and computes the ATE, after alignSE2 when `align` (else T = identity).
 /// Throws asf::Error when no pose has a match.
 TrajectoryError evaluateTrajectory(const std::vector<TimedPose>& estimate,
-                                   const std::vector<GroundTruthPose>& ground_truth,
+                                   const std::vector<io::GroundTruthPose>& ground_truth,
                                    double max_gap = 0.5, bool align = true);
 
 /// Same with pairs already matched (estimate[i] <-> truth[i]).

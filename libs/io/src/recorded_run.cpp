@@ -1,14 +1,15 @@
 // A run folder's recorded log and decisions, read back to continue the run (recorded_run.h).
 #include <asf/errors.h>
-#include <asf/ground_truth.h>
-#include <asf/rawlog_io.h>
-#include <asf/recorded_run.h>
-#include <asf/run_report.h>
+#include <asf/io/ground_truth.h>
+#include <asf/io/rawlog_io.h>
+#include <asf/io/recorded_run.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
-namespace asf {
+namespace asf::io {
 
 std::size_t forEachRecordedFrame(const std::string& base,
                                  const std::function<void(SensorFrame&)>& fn) {
@@ -62,10 +63,42 @@ double parseNumber(const std::string& s, const std::string& where, const char* c
 
 }  // namespace
 
+std::vector<DecisionRow> readDecisionRows(const std::string& path, std::string& note) {
+  std::vector<DecisionRow> rows;
+  std::ifstream in(path);
+  std::string line;
+  if (!in) {
+    note = "decisions.csv: missing";
+    return rows;
+  }
+  if (!std::getline(in, line)) {
+    note = "decisions.csv: empty";
+    return rows;
+  }
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    std::string f;
+    while (std::getline(ss, f, ',')) header.push_back(f);
+  }
+  while (std::getline(in, line)) {
+    if (line.empty() || header.empty()) continue;
+    DecisionRow row;
+    std::stringstream ss(line);
+    std::string x;
+    for (std::size_t i = 0; i + 1 < header.size() && std::getline(ss, x, ','); ++i)
+      row[header[i]] = x;
+    if (std::getline(ss, x)) row[header.back()] = x;  // the rest of the line
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty()) note = "decisions.csv: no decision recorded";
+  return rows;
+}
+
 std::vector<RecordedDecision> readRecordedDecisions(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path + ": missing");
   std::string note;
-  const std::vector<report::DecisionRow> rows = report::readDecisionRows(path, note);
+  const std::vector<DecisionRow> rows = readDecisionRows(path, note);
   std::vector<RecordedDecision> out;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -90,4 +123,4 @@ std::vector<RecordedDecision> readRecordedDecisions(const std::string& path) {
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::io

@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::io {
 
 /// Thrown by RawlogGuard::Read for a record it refuses. MRPT's deserializer wraps what its
 /// stream throws: the reader asks refusal() instead.
@@ -115,4 +115,4 @@ class RawlogGuard : public mrpt::io::CStream {
   std::string refusal_;
 };
 
-}  // namespace asf
+}  // namespace asf::io

@@ -13,7 +13,7 @@
 /// - `PARAM name value ...`: robot_frontlaser_offset, robot_front_laser_max,
 ///   laser_front_laser_fov, laser_front_laser_resolution change how FLASER lines are read.
 /// Other messages and `#` comments are skipped (counted per message name).
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace asf::convert {
+namespace asf::io {
 
 struct CarmenToRawlogOptions {
   std::string input;      ///< CARMEN log, ".gz" gunzipped
@@ -94,4 +94,4 @@ struct CarmenToRawlogReport {
 
 CarmenToRawlogReport carmenToRawlog(const CarmenToRawlogOptions& opt);
 
-}  // namespace asf::convert
+}  // namespace asf::io

@@ -1,7 +1,7 @@
 // Rawlog and ground-truth I/O (see rawlog_io.h). Everything binary goes through MRPT's
 // serialization, so logs written here open in MRPT's tools and vice versa.
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -27,9 +27,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "rawlog_guard.h"
+#include <asf/io/rawlog_guard.h>
 
-namespace asf {
+namespace asf::io {
 
 using mrpt::obs::CActionCollection;
 using mrpt::obs::CActionRobotMovement2D;
@@ -441,4 +441,4 @@ void RawlogWriter::flush() {
 
 std::size_t RawlogWriter::framesWritten() const { return impl_->written; }
 
-}  // namespace asf
+}  // namespace asf::io

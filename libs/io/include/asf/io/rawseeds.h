@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace asf::convert {
+namespace asf::io {
 
 /// Range limit of the SICK LMS 291 / LMS 200 (80 m in their cm mode). Readings outside
 /// (0, kSickMaxRange) are marked invalid (the scanners report "no echo" beyond it).
@@ -98,4 +98,4 @@ struct RawlogToRawseedsReport {
 /// scan that is not 181 rays over 180 degrees (naming the record).
 RawlogToRawseedsReport rawlogToRawseeds(const RawlogToRawseedsOptions& opt);
 
-}  // namespace asf::convert
+}  // namespace asf::io

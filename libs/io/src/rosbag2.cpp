@@ -1,4 +1,4 @@
-#include "asf_convert/rosbag2.h"
+#include "asf/io/rosbag2.h"
 
 #include <asf/errors.h>
 #include <asf/text.h>
@@ -19,9 +19,9 @@
 #include <set>
 #include <sstream>
 
-#include "asf_convert/text_io.h"
+#include "asf/io/text_io.h"
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace fs = std::filesystem;
 
@@ -425,4 +425,4 @@ void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, voi
   }
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

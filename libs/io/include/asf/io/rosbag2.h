@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace asf::convert {
+namespace asf::io {
 
 /// One topic of a bag.
 struct BagTopic {
@@ -234,4 +234,4 @@ mrpt::poses::CPose3D parseLaserPose(const std::string& text);
 /// present), a topic of another type, no transform from the base to the laser frame.
 BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o);
 
-}  // namespace asf::convert
+}  // namespace asf::io

@@ -1,7 +1,7 @@
 #include <asf/errors.h>
 #include <asf/text.h>
-#include <asf_convert/carmen.h>
-#include <asf_convert/text_io.h>
+#include <asf/io/carmen.h>
+#include <asf/io/text_io.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
@@ -15,7 +15,7 @@
 #include <random>
 #include <sstream>
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -485,4 +485,4 @@ CarmenToRawlogReport carmenToRawlog(const CarmenToRawlogOptions& opt) {
   return rep;
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::io {
 
 struct GroundTruthPose {
   double t = 0;
@@ -41,4 +41,4 @@ class GroundTruthWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace asf
+}  // namespace asf::io

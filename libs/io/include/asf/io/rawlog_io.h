@@ -14,7 +14,7 @@
 /// equals the written one.
 ///
 /// Ground-truth files: asf/ground_truth.h.
-#include <asf/ground_truth.h>
+#include <asf/io/ground_truth.h>
 #include <asf/mapping/map3d.h>
 #include <asf/mapping/odometry_noise.h>
 #include <asf/sensor_frame.h>
@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::io {
 
 /// The cause in one of MRPT's exception texts (nested "Exception while parsing typed object"
 /// frames around it, call traces, a "==== MRPT exception ====" banner), with the objects it
@@ -134,4 +134,4 @@ class RawlogWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace asf
+}  // namespace asf::io

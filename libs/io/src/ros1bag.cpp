@@ -10,9 +10,9 @@
 #include <map>
 #include <set>
 
-#include "asf_convert/rosbag2.h"
+#include "asf/io/rosbag2.h"
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -79,4 +79,4 @@ void Ros1BagReader::visit(const std::vector<std::string>& topics, Visitor v, voi
   }
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf_convert/text_io.h>
+#include <asf/io/text_io.h>
 #include <bzlib.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
@@ -16,7 +16,7 @@
 #include <filesystem>
 #include <ostream>
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -489,4 +489,4 @@ std::string fixed(double v, int decimals) {
   return s;
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

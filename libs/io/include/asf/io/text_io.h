@@ -17,7 +17,7 @@ namespace mrpt::serialization {
 class CSerializable;
 }
 
-namespace asf::convert {
+namespace asf::io {
 
 /// Reads the lines of a text file; a name ending in ".gz" is gunzipped, ".bz2" bunzipped
 /// (also concatenated bzip2 streams, as pbzip2 writes them). Errors are asf::InputError
@@ -133,4 +133,4 @@ class Progress {
 /// Number formatting for the text outputs: fixed, `decimals` digits, "-0.000000" as "0.000000".
 std::string fixed(double v, int decimals = 6);
 
-}  // namespace asf::convert
+}  // namespace asf::io

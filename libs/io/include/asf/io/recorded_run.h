@@ -7,10 +7,11 @@
 
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::io {
 
 /// Streams the frames a source recorded as `<base>.rawlog` (RawlogWriter) with their ground
 /// truth from `<base>.gt.txt` (line i is frame i, written together), up to the last frame both
@@ -22,6 +23,13 @@ namespace asf {
 /// its frame's.
 std::size_t forEachRecordedFrame(const std::string& base,
                                  const std::function<void(SensorFrame&)>& fn);
+
+/// One row of a run's decisions.csv, fields by column name.
+using DecisionRow = std::map<std::string, std::string>;
+/// decisions.csv's rows (step, time_s, previous_status, decision, goal_x, goal_y, reason);
+/// the last column (the reason) keeps any commas. `note` says why there are none (missing,
+/// empty, no row).
+std::vector<DecisionRow> readDecisionRows(const std::string& path, std::string& note);
 
 /// One decision of a run's decisions.csv.
 struct RecordedDecision {
@@ -35,4 +43,4 @@ struct RecordedDecision {
 /// a row that does not parse.
 std::vector<RecordedDecision> readRecordedDecisions(const std::string& path);
 
-}  // namespace asf
+}  // namespace asf::io

@@ -1,6 +1,6 @@
 // Ground-truth files (see ground_truth.h).
 #include <asf/errors.h>
-#include <asf/ground_truth.h>
+#include <asf/io/ground_truth.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace asf {
+namespace asf::io {
 
 using mrpt::poses::CPose2D;
 
@@ -88,4 +88,4 @@ void GroundTruthWriter::write(double t, const CPose2D& pose) {
 
 void GroundTruthWriter::flush() { std::fflush(impl_->f); }
 
-}  // namespace asf
+}  // namespace asf::io

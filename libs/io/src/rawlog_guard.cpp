@@ -1,4 +1,4 @@
-#include "rawlog_guard.h"
+#include <asf/io/rawlog_guard.h>
 
 #include <mrpt/obs/CAction.h>
 #include <mrpt/obs/CObservation.h>
@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cstring>
 
-namespace asf {
+namespace asf::io {
 
 namespace {
 
@@ -336,4 +336,4 @@ uint64_t RawlogGuard::Seek(int64_t, mrpt::io::CStream::TSeekOrigin) {
   throw std::logic_error("RawlogGuard: no seeking");
 }
 
-}  // namespace asf
+}  // namespace asf::io

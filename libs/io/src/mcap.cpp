@@ -10,9 +10,9 @@
 #include <fstream>
 #include <map>
 
-#include "asf_convert/rosbag2.h"
+#include "asf/io/rosbag2.h"
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -248,4 +248,4 @@ void McapReader::visit(const std::vector<std::string>& topics, Visitor v, void* 
       return;
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

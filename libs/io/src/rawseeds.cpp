@@ -1,8 +1,8 @@
 #include <asf/errors.h>
-#include <asf/rawlog_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/text.h>
-#include <asf_convert/rawseeds.h>
-#include <asf_convert/text_io.h>
+#include <asf/io/rawseeds.h>
+#include <asf/io/text_io.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -14,7 +14,7 @@
 #include <functional>
 #include <ostream>
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -436,4 +436,4 @@ RawlogToRawseedsReport rawlogToRawseeds(const RawlogToRawseedsOptions& opt) {
   return rep;
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io

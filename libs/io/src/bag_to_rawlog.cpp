@@ -2,7 +2,7 @@
 // CObservation2DRangeScan and CObservationOdometry records in the bag's order, the laser's
 // mounting from /tf_static.
 #include <asf/errors.h>
-#include <asf/ground_truth.h>
+#include <asf/io/ground_truth.h>
 #include <asf/text.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -17,10 +17,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "asf_convert/rosbag2.h"
-#include "asf_convert/text_io.h"
+#include "asf/io/rosbag2.h"
+#include "asf/io/text_io.h"
 
-namespace asf::convert {
+namespace asf::io {
 
 namespace {
 
@@ -312,4 +312,4 @@ BagToRawlogReport bagToRawlog(const BagToRawlogOptions& o) {
   return rep;
 }
 
-}  // namespace asf::convert
+}  // namespace asf::io
