@@ -1,7 +1,7 @@
-// The offline baselines' walks on a hand-made topological graph (asf::RoutePolicy::plan):
+// The offline baselines' walks on a hand-made topological graph (asf::exploration::RoutePolicy::plan):
 // the postman walk covers every region edge of the start's component, the TSP walk visits
 // every region, and each step becomes two goals (border midpoint, next centroid).
-#include <asf/route_policy.h>
+#include <asf/exploration/route_policy.h>
 #include <gtest/gtest.h>
 
 #include <set>
@@ -43,7 +43,7 @@ asf::TopoGraph graph() {
 
 TEST(RoutePolicy, PostmanWalkCoversEveryEdgeOfTheStartComponent) {
   const asf::TopoGraph g = graph();
-  const auto p = asf::RoutePolicy::plan(g, 1, asf::RoutePolicy::Route::ChinesePostman, 0.4, 1);
+  const auto p = asf::exploration::RoutePolicy::plan(g, 1, asf::exploration::RoutePolicy::Route::ChinesePostman, 0.4, 1);
   EXPECT_EQ(p.edges, 5);
   EXPECT_DOUBLE_EQ(p.edges_length, 20.0);  // each edge 2 + 2 m through its midpoint
   // Odd regions 3 and 5 (degree 3 and 1): the dead end 3-5 is walked twice: 24 m.
@@ -65,7 +65,7 @@ TEST(RoutePolicy, PostmanWalkCoversEveryEdgeOfTheStartComponent) {
 }
 
 TEST(RoutePolicy, TspWalkVisitsEveryRegion) {
-  const auto p = asf::RoutePolicy::plan(graph(), 2, asf::RoutePolicy::Route::Tsp, 0.4, 1);
+  const auto p = asf::exploration::RoutePolicy::plan(graph(), 2, asf::exploration::RoutePolicy::Route::Tsp, 0.4, 1);
   std::set<asf::RegionId> visited;
   for (int v : p.walk.nodes) visited.insert(p.regions[v]);
   EXPECT_EQ(visited, (std::set<asf::RegionId>{1, 2, 3, 4, 5}));
@@ -76,7 +76,7 @@ TEST(RoutePolicy, TspWalkVisitsEveryRegion) {
 }
 
 TEST(RoutePolicy, IsolatedStartGivesAnEmptyWalk) {
-  const auto p = asf::RoutePolicy::plan(graph(), 9, asf::RoutePolicy::Route::ChinesePostman, 0.4, 1);
+  const auto p = asf::exploration::RoutePolicy::plan(graph(), 9, asf::exploration::RoutePolicy::Route::ChinesePostman, 0.4, 1);
   EXPECT_TRUE(p.walk.edges.empty());
   EXPECT_TRUE(p.goals.empty());
 }

@@ -1,11 +1,11 @@
 // policy_cpp_offline: the offline Chinese postman baseline of thesis ch. 6. It is given the
 // whole map (the true world segmented once) and walks every edge of its topological graph
 // by the shortest closed walk (route inspection).
-#include <asf/route_policy.h>
+#include <asf/exploration/route_policy.h>
 
 namespace {
 
-class CppOfflinePolicy final : public asf::RoutePolicy {
+class CppOfflinePolicy final : public asf::exploration::RoutePolicy {
  public:
   CppOfflinePolicy() : RoutePolicy(Route::ChinesePostman) {}
 };

@@ -1,10 +1,10 @@
 // policy_dopt_frontier: frontier exploration where each frontier is scored by the
 // D-optimality of the pose graph expected after driving to it (Placed and Castellanos, RA-L
 // 2023: edge weights det(Omega)^(1/3), weighted spanning trees), the best one taken. Frontiers,
-// goals and blacklisting are the frontier explorer's (policy_frontier_core); the expected
+// goals and blacklisting are the frontier explorer's (libs/exploration); the expected
 // graph is expected_pose_graph.h.
-#include <asf/expected_pose_graph.h>
-#include <asf/frontier_search.h>
+#include <asf/exploration/expected_pose_graph.h>
+#include <asf/exploration/frontier_search.h>
 
 #include <cmath>
 #include <cstdint>
@@ -26,14 +26,14 @@ class DOptFrontierPolicy final : public asf::Policy {
 
   asf::Decision decide(const asf::ExplorationState& s) override {
     return search_.decide(
-        s, [&](const std::vector<asf::FrontierCandidate>& candidates,
+        s, [&](const std::vector<asf::exploration::FrontierCandidate>& candidates,
                const asf::mapping::Reachability& reach, const std::vector<std::uint8_t>& cells) {
           return choose(s, candidates, reach, cells);
         });
   }
 
  private:
-  static std::string where(const asf::FrontierCandidate& c) {
+  static std::string where(const asf::exploration::FrontierCandidate& c) {
     std::ostringstream os;
     os << std::fixed << std::setprecision(2) << c.length << " m long, " << c.distance
        << " m away (frontier cell " << c.target.x << ", " << c.target.y << ")";
@@ -42,8 +42,8 @@ class DOptFrontierPolicy final : public asf::Policy {
 
   /// The candidate whose expected graph has the largest ||L_w||_0; ties (and a graph without
   /// edges, before the first keyframes) go to the nearest.
-  asf::FrontierChoice choose(const asf::ExplorationState& s,
-                             const std::vector<asf::FrontierCandidate>& candidates,
+  asf::exploration::FrontierChoice choose(const asf::ExplorationState& s,
+                             const std::vector<asf::exploration::FrontierCandidate>& candidates,
                              const asf::mapping::Reachability& reach,
                              const std::vector<std::uint8_t>& cells) const {
     const bool has_edges = s.graph && s.graph->size() >= 2 && !s.graph->edges.empty();
@@ -53,10 +53,10 @@ class DOptFrontierPolicy final : public asf::Policy {
                                               std::to_string(candidates.size()) + " frontiers: ";
       return {0, why + where(candidates.front())};
     }
-    const asf::ExpectedPoseGraph graph(*s.graph, expected_);
-    const asf::AreaFn area = placed_model_ ? areaShares(reach, cells) : asf::AreaFn{};
+    const asf::exploration::ExpectedPoseGraph graph(*s.graph, expected_);
+    const asf::exploration::AreaFn area = placed_model_ ? areaShares(reach, cells) : asf::exploration::AreaFn{};
     std::size_t best = 0;
-    std::vector<asf::Expectation> expected(candidates.size());
+    std::vector<asf::exploration::Expectation> expected(candidates.size());
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       expected[i] = graph.afterPath(reach.pathTo(candidates[i].goal), area);
       if (expected[i].d_optimality > expected[best].d_optimality) best = i;
@@ -72,7 +72,7 @@ class DOptFrontierPolicy final : public asf::Policy {
   /// The unknown and occupied shares of the cells (the search's classification, on the grid
   /// of `reach`) whose centres lie within info_radius of a point; cells off the grid count as
   /// unknown: nothing is known there. Valid while `cells` is.
-  asf::AreaFn areaShares(const asf::mapping::Reachability& reach,
+  asf::exploration::AreaFn areaShares(const asf::mapping::Reachability& reach,
                          const std::vector<std::uint8_t>& cells) const {
     const int W = reach.width(), H = reach.height();
     const double res = reach.resolution(), r = info_radius_;
@@ -94,13 +94,13 @@ class DOptFrontierPolicy final : public asf::Policy {
           unknown += c == asf::kCellUnknown;
           occupied += c == asf::kCellOccupied;
         }
-      return all == 0 ? asf::AreaShares{}
-                      : asf::AreaShares{double(unknown) / all, double(occupied) / all};
+      return all == 0 ? asf::exploration::AreaShares{}
+                      : asf::exploration::AreaShares{double(unknown) / all, double(occupied) / all};
     };
   }
 
-  asf::FrontierSearch search_;
-  asf::ExpectedGraphOptions expected_;
+  asf::exploration::FrontierSearch search_;
+  asf::exploration::ExpectedGraphOptions expected_;
   double info_radius_ = 1;
   bool placed_model_ = true;
 };
@@ -109,11 +109,11 @@ const asf::KeySpec kKeys[] = {
     asf::mapping::keyRobotRadius("0.2"),
     asf::mapping::keyOccupiedThreshold(),
     asf::mapping::keyUnknownBand(),
-    asf::keyMinFrontierSize(),
-    asf::keyFrontierGoalTolerance(),
-    asf::keySnapRadius(),
-    asf::keyBlacklistRadius(),
-    asf::keyMaxFailuresPerFrontier(),
+    asf::exploration::keyMinFrontierSize(),
+    asf::exploration::keyFrontierGoalTolerance(),
+    asf::exploration::keySnapRadius(),
+    asf::exploration::keyBlacklistRadius(),
+    asf::exploration::keyMaxFailuresPerFrontier(),
     asf::keyDouble("node_spacing", "0.5",
                    "The expected graph gets a node every this many metres of the path to a "
                    "frontier (the front-end's keyframe_distance) [m]",

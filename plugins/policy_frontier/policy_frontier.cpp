@@ -1,7 +1,7 @@
 // policy_frontier: greedy nearest-frontier exploration (Yamauchi 1997) over the shared
-// frontier core (policy_frontier_core): the robot goes to the frontier that is nearest along
+// frontier core (libs/exploration): the robot goes to the frontier that is nearest along
 // the free space it can drive.
-#include <asf/frontier_search.h>
+#include <asf/exploration/frontier_search.h>
 
 #include <cstdint>
 #include <iomanip>
@@ -16,25 +16,25 @@ class FrontierPolicy final : public asf::Policy {
   }
 
   asf::Decision decide(const asf::ExplorationState& s) override {
-    return search_.decide(s, [](const std::vector<asf::FrontierCandidate>& candidates,
+    return search_.decide(s, [](const std::vector<asf::exploration::FrontierCandidate>& candidates,
                                 const asf::mapping::Reachability&, const std::vector<std::uint8_t>&) {
-      const asf::FrontierCandidate& best = candidates.front();  // nearest first
+      const asf::exploration::FrontierCandidate& best = candidates.front();  // nearest first
       std::ostringstream why;
       why << std::fixed << std::setprecision(2) << "nearest of " << candidates.size()
           << " frontiers: " << best.length << " m long, " << best.distance
           << " m away (frontier cell " << best.target.x << ", " << best.target.y << ")";
-      return asf::FrontierChoice{0, why.str()};
+      return asf::exploration::FrontierChoice{0, why.str()};
     });
   }
 
  private:
-  asf::FrontierSearch search_;
+  asf::exploration::FrontierSearch search_;
 };
 
 const asf::KeySpec kKeys[] = {
     asf::mapping::keyRobotRadius("0.2"), asf::mapping::keyOccupiedThreshold(),      asf::mapping::keyUnknownBand(),
-    asf::keyMinFrontierSize(),  asf::keyFrontierGoalTolerance(),  asf::keySnapRadius(),
-    asf::keyBlacklistRadius(),  asf::keyMaxFailuresPerFrontier(),
+    asf::exploration::keyMinFrontierSize(),  asf::exploration::keyFrontierGoalTolerance(),  asf::exploration::keySnapRadius(),
+    asf::exploration::keyBlacklistRadius(),  asf::exploration::keyMaxFailuresPerFrontier(),
 };
 
 }  // namespace

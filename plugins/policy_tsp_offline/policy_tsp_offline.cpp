@@ -1,11 +1,11 @@
 // policy_tsp_offline: the offline TSP baseline of thesis ch. 6. It is given the
 // whole map (the true world segmented once) and visits every region of its topological graph
 // by the shortest closed walk that visits them all (TSP on the graph).
-#include <asf/route_policy.h>
+#include <asf/exploration/route_policy.h>
 
 namespace {
 
-class TspOfflinePolicy final : public asf::RoutePolicy {
+class TspOfflinePolicy final : public asf::exploration::RoutePolicy {
  public:
   TspOfflinePolicy() : RoutePolicy(Route::Tsp) {}
 };

@@ -2,7 +2,7 @@
 // eigenvalues (graph_information.h), the nodes placed along a path, and the policy on a
 // corridor, where it goes back to close loops while the nearest-frontier explorer does not.
 #include <asf/errors.h>
-#include <asf/expected_pose_graph.h>
+#include <asf/exploration/expected_pose_graph.h>
 #include <asf/graph_information.h>
 #include <asf/policy.h>
 #include <asf/registry.h>
@@ -38,25 +38,25 @@ asf::PoseGraph chain(int n, double x0, double step, const Eigen::Matrix3d& info,
 }
 
 TEST(ExpectedPoseGraph, EdgeWeightIsTheGeometricMeanOfTheInformationsEigenvalues) {
-  EXPECT_NEAR(asf::edgeDOptimality(Eigen::Vector3d(4, 9, 1).asDiagonal()), std::cbrt(36.0), 1e-12);
+  EXPECT_NEAR(asf::exploration::edgeDOptimality(Eigen::Vector3d(4, 9, 1).asDiagonal()), std::cbrt(36.0), 1e-12);
   // Invariant to a rotation of the frame.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   R.topLeftCorner<2, 2>() << std::cos(0.7), -std::sin(0.7), std::sin(0.7), std::cos(0.7);
   const Eigen::Matrix3d info = R * Eigen::Vector3d(4, 9, 1).asDiagonal() * R.transpose();
-  EXPECT_NEAR(asf::edgeDOptimality(info), std::cbrt(36.0), 1e-12);
-  EXPECT_EQ(asf::edgeDOptimality(Eigen::Vector3d(4, 0, 1).asDiagonal()), 0.0);
-  EXPECT_EQ(asf::edgeDOptimality(Eigen::Vector3d(4, -1, 1).asDiagonal()), 0.0);
+  EXPECT_NEAR(asf::exploration::edgeDOptimality(info), std::cbrt(36.0), 1e-12);
+  EXPECT_EQ(asf::exploration::edgeDOptimality(Eigen::Vector3d(4, 0, 1).asDiagonal()), 0.0);
+  EXPECT_EQ(asf::exploration::edgeDOptimality(Eigen::Vector3d(4, -1, 1).asDiagonal()), 0.0);
 }
 
 TEST(ExpectedPoseGraph, EqualsTheGraphBuiltByHandAndItsDenseSpectrum) {
   const Eigen::Matrix3d odo = Eigen::Vector3d(4, 9, 1).asDiagonal();
   asf::PoseGraph g = chain(5, 0, 0.5, odo);  // x = 0, 0.5, ..., 2
   g.addEdge(edge(0, 4, 8 * Eigen::Matrix3d::Identity(), asf::EdgeKind::LoopClosure));
-  asf::ExpectedGraphOptions o;
+  asf::exploration::ExpectedGraphOptions o;
   o.node_spacing = 0.5;
   o.loop_radius = 1.15;
   o.loop_skip_recent = 2;
-  const asf::ExpectedPoseGraph expected(g, o);
+  const asf::exploration::ExpectedPoseGraph expected(g, o);
   const double w = std::cbrt(36.0);
   EXPECT_NEAR(expected.odometryWeight(), w, 1e-12);
   EXPECT_NEAR(expected.loopWeight(), 8, 1e-12);
@@ -64,7 +64,7 @@ TEST(ExpectedPoseGraph, EqualsTheGraphBuiltByHandAndItsDenseSpectrum) {
   // Up from the newest node (2, 0): new nodes 5 (2, 0.5), 6 (2, 1.0) and 7 (2, 1.2). Node 5
   // may close a loop with nodes 0..2, the nearest within 1.15 m being node 2 (1.118 m); node 6
   // with 0..3: node 3 (1.118 m); node 7 with 0..4: none within 1.15 m (node 4: 1.2 m).
-  const asf::Expectation e = expected.afterPath({{2, 0}, {2, 0.7}, {2, 1.2}});
+  const asf::exploration::Expectation e = expected.afterPath({{2, 0}, {2, 0.7}, {2, 1.2}});
   EXPECT_EQ(e.nodes, 3);
   EXPECT_EQ(e.loops, 2);
   asf::graph::Multigraph hand;
@@ -92,17 +92,17 @@ TEST(ExpectedPoseGraph, TheAuthorsScalingByTheMapAroundEachExpectedNode) {
   const Eigen::Matrix3d odo = Eigen::Vector3d(4, 9, 1).asDiagonal();
   asf::PoseGraph g = chain(5, 0, 0.5, odo);
   g.addEdge(edge(0, 4, 8 * Eigen::Matrix3d::Identity(), asf::EdgeKind::LoopClosure));
-  asf::ExpectedGraphOptions o;
+  asf::exploration::ExpectedGraphOptions o;
   o.node_spacing = 0.5;
   o.loop_radius = 1.15;
   o.loop_skip_recent = 2;
-  const asf::ExpectedPoseGraph expected(g, o);
+  const asf::exploration::ExpectedPoseGraph expected(g, o);
   const std::vector<asf::Point2> path{{2, 0}, {2, 0.7}, {2, 1.2}};
   const double w = std::cbrt(36.0);
   // Half unknown, a fifth occupied around every node: odometry x 1.5; the loops 2-5 and 3-6
   // x 1.5 x age x 0.2, the age being (new id - old id) / nodes of the graph then.
-  const asf::Expectation e = expected.afterPath(path, [](const asf::Point2&) {
-    return asf::AreaShares{0.5, 0.2};
+  const asf::exploration::Expectation e = expected.afterPath(path, [](const asf::Point2&) {
+    return asf::exploration::AreaShares{0.5, 0.2};
   });
   EXPECT_EQ(e.loops, 2);
   asf::graph::Multigraph hand;
@@ -118,8 +118,8 @@ TEST(ExpectedPoseGraph, TheAuthorsScalingByTheMapAroundEachExpectedNode) {
       asf::graph::information(hand, Eigen::VectorXd::Ones(hand.m()), asf::graph::kCriterionD).value;
   EXPECT_NEAR(e.d_optimality, dense, 1e-9 * dense);
   // Nothing to match (3 % occupied or less): no loop expected.
-  const asf::Expectation bare = expected.afterPath(path, [](const asf::Point2&) {
-    return asf::AreaShares{0.5, 0.03};
+  const asf::exploration::Expectation bare = expected.afterPath(path, [](const asf::Point2&) {
+    return asf::exploration::AreaShares{0.5, 0.03};
   });
   EXPECT_EQ(bare.loops, 0);
   EXPECT_LT(bare.d_optimality, e.d_optimality);
@@ -127,10 +127,10 @@ TEST(ExpectedPoseGraph, TheAuthorsScalingByTheMapAroundEachExpectedNode) {
 
 TEST(ExpectedPoseGraph, NodesEveryNodeSpacingAndOneAtTheEnd) {
   const asf::PoseGraph g = chain(3, 0, 0.5, Eigen::Matrix3d::Identity());
-  asf::ExpectedGraphOptions o;
+  asf::exploration::ExpectedGraphOptions o;
   o.node_spacing = 0.5;
   o.loop_radius = 0.1;
-  const asf::ExpectedPoseGraph expected(g, o);
+  const asf::exploration::ExpectedPoseGraph expected(g, o);
   EXPECT_EQ(expected.afterPath({{1, 0}, {2, 0}}).nodes, 2);  // at 0.5 and 1.0: no duplicate
   EXPECT_EQ(expected.afterPath({{1, 0}, {2.2, 0}}).nodes, 3);
   EXPECT_EQ(expected.afterPath({{1, 0}, {1.1, 0}, {1.2, 0}, {1.3, 0}}).nodes, 1);
@@ -139,7 +139,7 @@ TEST(ExpectedPoseGraph, NodesEveryNodeSpacingAndOneAtTheEnd) {
   // A chain only gets longer: its normalised spanning-tree weight w n^(1/(n-1)) falls.
   EXPECT_LT(expected.afterPath({{1, 0}, {3, 0}}).d_optimality, expected.present());
   EXPECT_NEAR(expected.present(), std::pow(3.0, 0.5), 1e-12);
-  EXPECT_THROW(asf::ExpectedPoseGraph(asf::PoseGraph{}, o), asf::InputError);
+  EXPECT_THROW(asf::exploration::ExpectedPoseGraph(asf::PoseGraph{}, o), asf::InputError);
 }
 
 // ---- the policy ------------------------------------------------------------------------

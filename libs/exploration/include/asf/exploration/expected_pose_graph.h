@@ -27,7 +27,7 @@
 #include <unordered_map>
 #include <vector>
 
-namespace asf {
+namespace asf::exploration {
 
 /// D-criterion of one 3x3 information matrix: det^(1/3) (the geometric mean of its
 /// eigenvalues); 0 when it is not positive definite.
@@ -84,4 +84,4 @@ class ExpectedPoseGraph {
   std::int64_t cellKey(const Point2& p, int dx = 0, int dy = 0) const;
 };
 
-}  // namespace asf
+}  // namespace asf::exploration

@@ -9,7 +9,7 @@
 #include <asf/graph_routes.h>
 #include <asf/policy.h>
 
-namespace asf {
+namespace asf::exploration {
 
 class RoutePolicy : public Policy {
  public:
@@ -41,4 +41,4 @@ class RoutePolicy : public Policy {
   int skipped_ = 0;
 };
 
-}  // namespace asf
+}  // namespace asf::exploration

@@ -1,11 +1,11 @@
 #include <asf/errors.h>
-#include <asf/route_policy.h>
+#include <asf/exploration/route_policy.h>
 
 #include <cmath>
 #include <map>
 #include <sstream>
 
-namespace asf {
+namespace asf::exploration {
 
 namespace {
 double dist(const Point2& a, const Point2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
@@ -134,4 +134,4 @@ Decision RoutePolicy::decide(const ExplorationState& s) {
   return Decision::goTo(plan_.goals[i], plan_.labels[i]);
 }
 
-}  // namespace asf
+}  // namespace asf::exploration

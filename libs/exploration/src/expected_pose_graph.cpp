@@ -1,7 +1,7 @@
 // The pose graph expected after driving a path, weighted by the D-criterion of each edge's
 // information, and its D-optimality (expected_pose_graph.h).
 #include <asf/errors.h>
-#include <asf/expected_pose_graph.h>
+#include <asf/exploration/expected_pose_graph.h>
 #include <asf/graph_information.h>
 
 #include <Eigen/Eigenvalues>
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-namespace asf {
+namespace asf::exploration {
 namespace {
 
 double median(std::vector<double> v) {
@@ -120,4 +120,4 @@ double ExpectedPoseGraph::present() const {
   return graph::dOptimalitySparse(base_, Eigen::VectorXd::Ones(base_.m()));
 }
 
-}  // namespace asf
+}  // namespace asf::exploration

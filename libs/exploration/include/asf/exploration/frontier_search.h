@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::exploration {
 
 /// The keys every frontier policy reads (besides keyRobotRadius, keyOccupiedThreshold and
 /// keyUnknownBand of reachability.h), each defined once here.
@@ -108,4 +108,4 @@ class FrontierSearch {
   bool asked_without_map_ = false;
 };
 
-}  // namespace asf
+}  // namespace asf::exploration

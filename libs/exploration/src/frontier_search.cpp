@@ -2,7 +2,7 @@
 // next to unknown ones, clustered 8-connected; each frontier gets the goal of its cell nearest
 // the robot along the free space it can drive (geodesic, robot radius kept); frontiers where
 // navigation failed are blacklisted so the robot never loops on them.
-#include <asf/frontier_search.h>
+#include <asf/exploration/frontier_search.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include <optional>
 #include <sstream>
 
-namespace asf {
+namespace asf::exploration {
 namespace {
 
 constexpr std::uint8_t kFree = kCellFree, kUnknown = kCellUnknown;
@@ -244,4 +244,4 @@ std::vector<FrontierCandidate> FrontierSearch::candidates(const std::vector<Fron
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::exploration
