@@ -11,6 +11,7 @@
 #include <asf/pipeline_config.h>
 #include <asf/registry.h>
 #include <asf/ros2/messages.h>
+#include <asf/segmentation_eval.h>
 #include <asf/source.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -481,11 +482,9 @@ class SimRobot {
       v = latency_ms_;
     }
     if (v.empty()) return "null";
-    std::sort(v.begin(), v.end());
-    auto q = [&](double f) { return v[static_cast<std::size_t>(f * (v.size() - 1))]; };
-    std::ostringstream os;
-    os << "{\"count\": " << v.size() << ", \"median_ms\": " << q(0.5) << ", \"p95_ms\": " << q(0.95)
-       << ", \"max_ms\": " << v.back() << "}";
+    std::ostringstream os;  // the quantiles asf's own scan-to-tf line uses (nearest rank)
+    os << "{\"count\": " << v.size() << ", \"median_ms\": " << asf::percentile(v, 50) << ", \"p95_ms\": "
+       << asf::percentile(v, 95) << ", \"max_ms\": " << *std::max_element(v.begin(), v.end()) << "}";
     return os.str();
   }
 

@@ -1,6 +1,8 @@
 // The live source's state, independent of DDS (live_core.h).
 #include "live_core.h"
 
+#include <asf/segmentation_eval.h>
+
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -210,12 +212,11 @@ std::uint64_t ScanQueue::dropped() const {
   return dropped_;
 }
 
-std::string latencySummary(std::vector<double> ms) {
+std::string latencySummary(const std::vector<double>& ms) {
   if (ms.empty()) return "none";
-  std::sort(ms.begin(), ms.end());
-  const auto q = [&](double f) { return ms[static_cast<std::size_t>(f * static_cast<double>(ms.size() - 1))]; };
   std::ostringstream os;
-  os << "median " << q(0.5) << " ms, p95 " << q(0.95) << " ms, max " << ms.back() << " ms over " << ms.size();
+  os << "median " << percentile(ms, 50) << " ms, p95 " << percentile(ms, 95) << " ms, max "
+     << *std::max_element(ms.begin(), ms.end()) << " ms over " << ms.size();
   return os.str();
 }
 

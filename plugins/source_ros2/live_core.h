@@ -109,10 +109,10 @@ struct ArrivedScan {
   std::chrono::steady_clock::time_point arrived_at;  ///< when the receive thread queued it
 };
 
-/// Latencies in milliseconds, summarised as "median M ms, p95 P ms, max X ms over N": the
-/// quantile q is the sorted values' element at floor(q * (N - 1)), as sim-robot reports its
-/// end-to-end figure. "none" for no value.
-std::string latencySummary(std::vector<double> ms);
+/// Latencies in milliseconds, summarised as "median M ms, p95 P ms, max X ms over N", by
+/// asf::percentile (nearest rank), as sim-robot reports its end-to-end figure. "none" for no
+/// value.
+std::string latencySummary(const std::vector<double>& ms);
 
 /// Scans waiting for the pipeline, filled by the receive thread. At most `capacity` wait;
 /// the oldest is dropped beyond (counted).

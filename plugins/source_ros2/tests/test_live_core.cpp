@@ -127,7 +127,7 @@ TEST(LiveCore, ScanQueueStampsWhenEachScanArrived) {
 TEST(LiveCore, LatencySummaryTakesTheSortedElementAtTheQuantile) {
   EXPECT_EQ(latencySummary({}), "none");
   EXPECT_EQ(latencySummary({7}), "median 7 ms, p95 7 ms, max 7 ms over 1");
-  // 1..21 shuffled: floor(0.5 * 20) = 10 -> 11; floor(0.95 * 20) = 19 -> 20; max 21.
+  // 1..21 shuffled, nearest rank: ceil(0.5 * 21) = 11th -> 11; ceil(0.95 * 21) = 20th -> 20; max 21.
   std::vector<double> v;
   for (int i = 21; i >= 1; i -= 2) v.push_back(i);
   for (int i = 2; i <= 20; i += 2) v.push_back(i);
