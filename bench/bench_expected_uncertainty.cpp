@@ -1,17 +1,17 @@
-// Expected-uncertainty planning (plugins/planner_core/include/asf/expected_uncertainty.h): Algorithm 1
+// Expected-uncertainty planning (asf/planning/expected_uncertainty.h): Algorithm 1
 // on one path of m steps (m = 10, 100, 1000), exact (every hypothesis kept: O(m^2) window
 // integrals) and with the default pruning of negligible hypotheses; and a sweep of start/goal
 // pairs on intel.g2o (skipped without ../shared/datasets/g2o/intel.g2o): search of the reduced
 // graph plus evaluation of every candidate path, per criterion.
 //
-// Also the generalized Voronoi graph and its virtual edges (asf/voronoi_graph.h) on the
+// Also the generalized Voronoi graph and its virtual edges (asf/planning/voronoi_graph.h) on the
 // shipped cave world (datasets/cave/cave_filled.png as a 5 cm grid).
 //
 //   build/bench/bench_expected_uncertainty [--benchmark_filter=Intel|Cave]
 #include <asf/backend.h>
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/registry.h>
-#include <asf/voronoi_graph.h>
+#include <asf/planning/voronoi_graph.h>
 #include <benchmark/benchmark.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <opencv2/imgcodecs.hpp>
@@ -24,7 +24,7 @@
 
 namespace {
 
-namespace eu = asf::eu;
+namespace planning = asf::planning;
 
 /// A corridor of m steps with a consistent joint covariance: node i's marginal grows
 /// linearly, Cov(x_i, x_j) = Sigma_min(i, j) (a random walk), every cross block present.
@@ -54,13 +54,13 @@ struct Corridor {
 
 void BM_EvaluatePath(benchmark::State& state) {
   const Corridor c(static_cast<int>(state.range(0)));
-  const eu::PathModel model = eu::makePathModel(c.g, &c.m, c.path);
-  eu::CriterionOptions o;
+  const planning::PathModel model = planning::makePathModel(c.g, &c.m, c.path);
+  planning::CriterionOptions o;
   o.prune_below = state.range(1) ? 1e-12 : 0.0;
   std::size_t evaluations = 0;
   for (auto _ : state) {
-    const eu::RelocProbFn p = eu::relocalizationProbability(model, o.reloc);
-    const auto r = eu::expectedCovariance(model, p, o.prune_below);
+    const planning::RelocProbFn p = planning::relocalizationProbability(model, o.reloc);
+    const auto r = planning::expectedCovariance(model, p, o.prune_below);
     evaluations = r.evaluations;
     benchmark::DoNotOptimize(r.mean);
   }
@@ -78,7 +78,7 @@ void BM_WindowIntegral(benchmark::State& state) {
   cov << 0.04, 0.01, 0.003, 0.01, 0.05, 0.002, 0.003, 0.002, 0.02;
   const Eigen::Vector3d half(0.3, 0.3, 0.5236);
   for (auto _ : state)
-    benchmark::DoNotOptimize(eu::gaussianBoxProbability(Eigen::Vector3d::Zero(), cov, -half,
+    benchmark::DoNotOptimize(planning::gaussianBoxProbability(Eigen::Vector3d::Zero(), cov, -half,
                                                         half, static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_WindowIntegral)->Arg(128)->Arg(1024)->Unit(benchmark::kMicrosecond);
@@ -91,8 +91,8 @@ constexpr int kPairs = 20;
 /// The planners' candidate search with the defaults of plan-eval's config: all simple routes
 /// of the alias-merged reduced graph while at most 200, else Yen's 20 shortest and 20 routes
 /// of the penalty method, plus the Dijkstra path.
-eu::PathSearchOptions sweepSearch() {
-  eu::PathSearchOptions o;
+planning::PathSearchOptions sweepSearch() {
+  planning::PathSearchOptions o;
   o.max_paths = 200;
   o.k_paths = 20;
   o.diverse_paths = 20;
@@ -144,8 +144,8 @@ void BM_IntelSearch(benchmark::State& state) {
     state.SkipWithError("intel.g2o not found (../shared/datasets/g2o)");
     return;
   }
-  eu::PathSearchOptions o = sweepSearch();
-  o.method = state.range(0) ? eu::SearchMethod::Auto : eu::SearchMethod::All;
+  planning::PathSearchOptions o = sweepSearch();
+  o.method = state.range(0) ? planning::SearchMethod::Auto : planning::SearchMethod::All;
   // The depth-first enumeration alone may not find 200 routes in hours: the first slice's
   // 10 s budget per pair.
   if (!state.range(0)) o.max_seconds = 10;
@@ -156,7 +156,7 @@ void BM_IntelSearch(benchmark::State& state) {
   for (auto _ : state) {
     paths = vertices = fell_back = capped = timed_out = 0;
     for (const auto& [s, t] : d.pairs) {
-      const auto r = eu::searchPaths(d.g, s, t, o);
+      const auto r = planning::searchPaths(d.g, s, t, o);
       paths += r.paths.size();
       vertices += r.reduced_nodes;
       fell_back += r.fell_back;
@@ -187,20 +187,20 @@ void BM_IntelSweep(benchmark::State& state) {
     state.SkipWithError("intel.g2o not found (../shared/datasets/g2o)");
     return;
   }
-  const auto c = static_cast<eu::Criterion>(state.range(0));
-  state.SetLabel(eu::criterionName(c));
-  eu::CriterionOptions o;
-  const eu::PathSearchOptions search = sweepSearch();
+  const auto c = static_cast<planning::Criterion>(state.range(0));
+  state.SetLabel(planning::criterionName(c));
+  planning::CriterionOptions o;
+  const planning::PathSearchOptions search = sweepSearch();
   std::size_t candidates = 0, capped = 0;
   for (const auto& [s, t] : d.pairs) {  // counters, outside the timing
-    const auto paths = eu::searchPaths(d.g, s, t, search);
+    const auto paths = planning::searchPaths(d.g, s, t, search);
     candidates += paths.paths.size();
     capped += paths.capped;
   }
   for (auto _ : state)
     for (const auto& [s, t] : d.pairs) {
       asf::PlanRequest req{&d.g, &d.m, nullptr, s, t};
-      benchmark::DoNotOptimize(eu::planBest(req, c, o, search).cost);
+      benchmark::DoNotOptimize(planning::planBest(req, c, o, search).cost);
     }
   state.counters["pairs"] = kPairs;
   state.counters["candidate_paths"] = static_cast<double>(candidates);
@@ -208,10 +208,10 @@ void BM_IntelSweep(benchmark::State& state) {
   state.counters["nodes"] = static_cast<double>(d.g.size());
 }
 BENCHMARK(BM_IntelSweep)
-    ->Arg(static_cast<int>(eu::Criterion::ExpectedUncertainty))
-    ->Arg(static_cast<int>(eu::Criterion::MechanicalWork))
-    ->Arg(static_cast<int>(eu::Criterion::SumDopt))
-    ->Arg(static_cast<int>(eu::Criterion::Distance))
+    ->Arg(static_cast<int>(planning::Criterion::ExpectedUncertainty))
+    ->Arg(static_cast<int>(planning::Criterion::MechanicalWork))
+    ->Arg(static_cast<int>(planning::Criterion::SumDopt))
+    ->Arg(static_cast<int>(planning::Criterion::Distance))
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
@@ -252,8 +252,8 @@ struct CaveMap {
 
 void BM_CaveGvg(benchmark::State& state) {
   const CaveMap cave;
-  asf::gvg::Gvg gvg;
-  for (auto _ : state) gvg = asf::gvg::computeGvg(cave.map);
+  asf::planning::Gvg gvg;
+  for (auto _ : state) gvg = asf::planning::computeGvg(cave.map);
   state.counters["skeleton_cells"] = static_cast<double>(gvg.skeleton_cells);
   state.counters["vertices"] = static_cast<double>(gvg.vertices.size());
   state.counters["edges"] = static_cast<double>(gvg.edges.size());
@@ -262,8 +262,8 @@ BENCHMARK(BM_CaveGvg)->Unit(benchmark::kMillisecond);
 
 void BM_CaveVirtualEdges(benchmark::State& state) {
   const CaveMap cave;
-  asf::gvg::VirtualEdges ve;
-  for (auto _ : state) ve = asf::gvg::computeVirtualEdges(cave.g, cave.map);
+  asf::planning::VirtualEdges ve;
+  for (auto _ : state) ve = asf::planning::computeVirtualEdges(cave.g, cave.map);
   state.counters["nodes"] = static_cast<double>(cave.g.size());
   state.counters["attached"] = static_cast<double>(ve.attached);
   state.counters["candidates"] = static_cast<double>(ve.candidates);

@@ -6,7 +6,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/multigraph.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/pose_graph.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/segmentation_eval.h>
@@ -169,7 +169,7 @@ bool rawseeds(const std::uint8_t* data, std::size_t size) {
 
 bool mapImage(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
-    const GrayImage img = readGrayImage(writeInput("map.png", data, size));
+    const io::GrayImage img = io::readGrayImage(writeInput("map.png", data, size));
     (void)img;
   });
 }
@@ -179,14 +179,14 @@ bool mapImage(const std::uint8_t* data, std::size_t size) {
 bool occupancyYaml(const std::uint8_t* data, std::size_t size) {
   return accepted([&] {
     const std::string yaml = writeInput("map.yaml", data, size);
-    const OccupancyMapInfo info = readOccupancyYaml(yaml);
+    const io::OccupancyMapInfo info = io::readOccupancyYaml(yaml);
     if (info.image == "map.pgm") {
       static const char kPgm[] = "P2\n3 2\n255\n0 255 128\n255 254 0\n";
       writeInput("map.pgm", reinterpret_cast<const std::uint8_t*>(kPgm), sizeof(kPgm) - 1);
     }
     std::error_code ec;
     if (fs::is_regular_file(fs::path(yaml).parent_path() / info.image, ec))
-      (void)readOccupancyMap(yaml);
+      (void)io::readOccupancyMap(yaml);
   });
 }
 

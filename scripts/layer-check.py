@@ -3,23 +3,22 @@
 and, with --build, on the built plugins. The rules:
 
   includes  a file of libs/<L> includes headers of lower libraries only (LIB_RANK: the contract
-            at the bottom, evaluation at the top); a file of plugins/<P> includes
+            at the bottom, evaluation at the top); above the libraries come the framework,
+            then its conformance kit and studies/ (the host's protocols), then apps/, and
+            each includes only what is below it; a file of plugins/<P> includes
             headers of libs/ and of its own folder only (a plugin never includes the framework,
             an application or another plugin's folder); no cycle between folders;
   links     no plugin .so depends on libasf_framework, directly or through one of asf's
             libraries (readelf's NEEDED, followed through build/lib).
 
-Units are folders: libs/<L>, framework, framework/conformance, apps/<A>, plugins/<P>, each
+Units are folders: libs/<L>, framework, framework/conformance, studies, apps/<A>, plugins/<P>, each
 owning the headers under its include/ (and, for quoted includes, beside the
 file). Tests, fuzz/, bench/ and examples/ are users, not checked. Includes are read as text
 (`#include <...>` / `"..."`), so an include inside a comment counts.
 
-The re-layout is done in slices, so today's violations are listed in a baseline
-(scripts/layer-baseline.txt, one "includes A -> B" or "links P" per line). The check fails on
-a violation not in the baseline and on a baseline line that is no longer a violation (delete
-it: the list only shrinks).
+Any violation fails the check, naming the files and include lines behind it.
 
-    python3 scripts/layer-check.py [--build BUILD_DIR] [--baseline FILE] [--write-baseline]
+    python3 scripts/layer-check.py [--build BUILD_DIR]
     python3 scripts/layer-check.py --self-test
 """
 import argparse
@@ -34,6 +33,8 @@ SOURCES = (".cpp", ".h", ".hpp")
 # The libraries from the bottom up (docs/ARCHITECTURE.md); equal ranks may not include each other.
 LIB_RANK = {"libs/contract": 0, "libs/graph": 1, "libs/mapping": 2, "libs/io": 3, "libs/ros2_msgs": 3,
             "libs/navigation": 4, "libs/planning": 5, "libs/exploration": 6, "libs/evaluation": 7}
+# Above the libraries (equal ranks may not include each other either).
+TOP_RANK = {"framework": 100, "framework/conformance": 101, "studies": 101, "apps": 102}
 SKIP_DIRS = {"tests", "fuzz", "bench", "examples", "build", ".git", "datasets", "docs", "configs"}
 
 
@@ -46,13 +47,15 @@ def unit_of(rel):
         return "plugins/" + parts[1]
     if parts[0] == "framework":
         return "framework/conformance" if len(parts) > 2 and parts[1] == "conformance" else "framework"
+    if parts[0] == "studies":
+        return "studies"
     if parts[0] == "apps" and len(parts) > 2:
         return "apps/" + parts[1]
     return None
 
 
 def source_files(root):
-    for top in ("libs", "plugins", "framework", "apps"):
+    for top in ("libs", "plugins", "framework", "studies", "apps"):
         for d, dirs, files in os.walk(os.path.join(root, top)):
             dirs[:] = sorted(x for x in dirs if x not in SKIP_DIRS)
             for f in sorted(files):
@@ -90,15 +93,24 @@ def include_edges(root, files, owners):
     return edges
 
 
+def rank(unit):
+    """Height in the layers; None for a plugin (plugins stand beside each other on libs/)."""
+    if unit.startswith("plugins/"):
+        return None
+    if unit.startswith("libs/"):
+        if unit not in LIB_RANK:
+            raise SystemExit(f"layer-check: {unit} has no rank: add it to LIB_RANK in {__file__}")
+        return LIB_RANK[unit]
+    return TOP_RANK[unit.split("/")[0] if unit.startswith("apps/") else unit]
+
+
 def include_violations(edges):
     bad = set()
     for a, b in edges:
-        for lib in (a, b):
-            if lib.startswith("libs/") and lib not in LIB_RANK:
-                raise SystemExit(f"layer-check: {lib} has no rank: add it to LIB_RANK in {__file__}")
-        if a.startswith("libs/") and (not b.startswith("libs/") or LIB_RANK[b] >= LIB_RANK[a]):
+        ra, rb = rank(a), rank(b)
+        if ra is None and not b.startswith("libs/"):
             bad.add(f"includes {a} -> {b}")
-        if a.startswith("plugins/") and not b.startswith("libs/"):
+        if ra is not None and (rb is None or rb >= ra):
             bad.add(f"includes {a} -> {b}")
     return bad
 
@@ -128,17 +140,15 @@ def needed(path):
 
 
 def link_violations(build):
-    """('links <plugin>' for every plugin .so reaching libasf_framework through asf's libraries,
-    the plugins built)."""
+    """'links <plugin>' for every plugin .so reaching libasf_framework through asf's libraries."""
     libdir = os.path.join(build, "lib")
     plugdir = os.path.join(libdir, "asf", "plugins")
     if not os.path.isdir(plugdir):
         raise SystemExit(f"layer-check: {plugdir}: no plugins built there")
-    bad, built = set(), set()
+    bad = set()
     for so in sorted(os.listdir(plugdir)):
         if not so.endswith(".so"):
             continue
-        built.add(so[:-3])
         todo, seen = [os.path.join(plugdir, so)], set()
         while todo:
             for lib in needed(todo.pop()):
@@ -148,40 +158,24 @@ def link_violations(build):
                         todo.append(os.path.join(libdir, lib))
         if any(lib.startswith("libasf_framework.") for lib in seen):
             bad.add("links " + so[:-3])
-    return bad, built
+    return bad
 
 
-def check(root, build, baseline_path, write):
+def check(root, build):
     files = list(source_files(root))
     edges = include_edges(root, files, header_owners(root, files))
     found = include_violations(edges) | cycles(edges)
-    built = set()
     if build:
-        links, built = link_violations(build)
-        found |= links
-    if write:
-        with open(baseline_path, "w") as f:
-            f.write("# Layer violations still to remove (scripts/layer-check.py); the list only shrinks.\n")
-            f.writelines(v + "\n" for v in sorted(found))
-        print(f"layer-check: wrote {len(found)} lines to {baseline_path}")
-        return 0
-    known = set()
-    if os.path.exists(baseline_path):
-        known = {l.strip() for l in open(baseline_path) if l.strip() and not l.startswith("#")}
-    # a plugin not built here (an optional component) is not checked
-    known = {k for k in known if not k.startswith("links ") or k[len("links "):] in built}
-    new, gone = sorted(found - known), sorted(known - found)
-    for v in new:
-        print("new violation:", v)
+        found |= link_violations(build)
+    for v in sorted(found):
+        print("violation:", v)
         if v.startswith("includes "):
             a, b = v[len("includes "):].split(" -> ")
             for f, h in edges[(a, b)][:3]:
                 print(f"    {f}: #include {h}")
-    for v in gone:
-        print(f"no longer a violation (delete the line from {baseline_path}):", v)
     print(f"layer-check: {len(files)} files, {len(edges)} unit-to-unit include pairs, "
-          f"{len(found)} violations ({len(found & known)} in the baseline), {len(new)} new, {len(gone)} gone")
-    return 1 if new or gone else 0
+          f"{len(found)} violations" + ("" if build else " (plugin links not checked: no --build)"))
+    return 1 if found else 0
 
 
 def self_test():
@@ -206,21 +200,20 @@ def self_test():
         put("libs/contract/src/c.cpp", "#include <asf/g.h>\n")   # the contract on a higher library
         put("plugins/p/q.cpp", "#include <asf/run.h>\n")           # a plugin on the framework
         put("plugins/r/r.cpp", '#include "../p/core.h"\n')        # another plugin's folder
+        put("studies/include/asf/study.h", "#include <asf/run.h>\n")  # allowed: above the framework
+        put("framework/src/run.cpp", "#include <asf/study.h>\n")     # the framework on a study
         files = list(source_files(root))
         edges = include_edges(root, files, header_owners(root, files))
         assert include_violations(edges) == {"includes libs/a -> framework", "includes plugins/p -> framework",
-                                             "includes plugins/r -> plugins/p",
+                                             "includes plugins/r -> plugins/p", "includes framework -> studies",
                                              "includes libs/contract -> libs/graph"}, include_violations(edges)
-        assert cycles(edges) == {"cycle framework -> libs/b -> libs/a -> framework"}, cycles(edges)
-        base = os.path.join(root, "baseline.txt")
-        open(base, "w").write("includes libs/a -> framework\nincludes plugins/p -> framework\n"
-                              "includes libs/contract -> libs/graph\n"
-                              "includes plugins/r -> plugins/p\ncycle framework -> libs/b -> libs/a -> framework\n")
-        assert check(root, None, base, False) == 0
-        open(base, "a").write("includes libs/b -> framework\n")  # stale: must be deleted
-        assert check(root, None, base, False) == 1
-        open(base, "w").write("includes libs/a -> framework\n")  # two new ones
-        assert check(root, None, base, False) == 1
+        assert cycles(edges) == {"cycle framework -> libs/b -> libs/a -> framework",
+                                 "cycle framework -> studies -> framework"}, cycles(edges)
+        assert check(root, None) == 1
+        for rel in ("libs/a/src/a.cpp", "libs/contract/src/c.cpp", "plugins/p/q.cpp", "plugins/r/r.cpp",
+                    "framework/src/run.cpp"):
+            os.remove(os.path.join(root, rel))
+        assert check(root, None) == 0
     print("layer-check self-test: ok")
     return 0
 
@@ -228,15 +221,12 @@ def self_test():
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", help="build directory: also check the plugins' links")
-    ap.add_argument("--baseline", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                                       "layer-baseline.txt"))
-    ap.add_argument("--write-baseline", action="store_true", help="record today's violations")
     ap.add_argument("--self-test", action="store_true")
     ap.add_argument("--root", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     a = ap.parse_args()
     if a.self_test:
         return self_test()
-    return check(a.root, a.build, a.baseline, a.write_baseline)
+    return check(a.root, a.build)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 // window integral (against Monte Carlo and exact products), the reduced-graph path search
 // (against brute-force enumeration) and `asf plan` end to end.
 #include <asf/errors.h>
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <gtest/gtest.h>
 #include <mrpt/math/wrap2pi.h>
 
@@ -24,7 +24,7 @@ namespace {
 using asf::NodeId;
 using Eigen::Matrix3d;
 using mrpt::poses::CPose2D;
-namespace eu = asf::eu;
+namespace planning = asf::planning;
 
 Matrix3d randomSpd(std::mt19937_64& rng, double scale) {
   std::normal_distribution<double> n(0, 1);
@@ -85,24 +85,24 @@ TEST(ExpectedUncertainty, MergeEqualsBruteForceOnRandomPaths) {
   for (int trial = 0; trial < 40; ++trial) {
     const int m = 1 + trial % 10;
     const RandomChain c = randomChain(rng, m);
-    const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+    const planning::PathModel path = planning::makePathModel(c.g, &c.m, c.path);
     // A probability that depends on the hypothesis (k), the step (t) and the covariance.
     std::vector<double> base(m + 1);
     for (auto& b : base) b = std::uniform_real_distribution<double>(0, 1)(rng);
-    const eu::RelocProbFn synthetic = [&](const eu::RelocQuery& q) {
+    const planning::RelocProbFn synthetic = [&](const planning::RelocQuery& q) {
       return base[q.t] * std::exp(-0.3 * q.robot_cov.trace() * (1 + q.k % 3)) *
              (0.5 + 0.5 * std::tanh(q.chain(0, 2)));
     };
-    expectNear(eu::expectedCovariance(path, synthetic).mean,
-               eu::expectedCovarianceBruteForce(path, synthetic), 1e-10,
+    expectNear(planning::expectedCovariance(path, synthetic).mean,
+               planning::expectedCovarianceBruteForce(path, synthetic), 1e-10,
                "synthetic p, m = " + std::to_string(m));
     // The real relocalization probability (window integral with cross-covariances).
-    eu::RelocalizationOptions o;
+    planning::RelocalizationOptions o;
     o.half_x = o.half_y = 0.2;
     o.p_recognition = 0.9;
-    const eu::RelocProbFn real = eu::relocalizationProbability(path, o);
-    const eu::ExpectedCovariance merged = eu::expectedCovariance(path, real);
-    expectNear(merged.mean, eu::expectedCovarianceBruteForce(path, real), 1e-10,
+    const planning::RelocProbFn real = planning::relocalizationProbability(path, o);
+    const planning::ExpectedCovariance merged = planning::expectedCovariance(path, real);
+    expectNear(merged.mean, planning::expectedCovarianceBruteForce(path, real), 1e-10,
                "window p, m = " + std::to_string(m));
     double total = 0;
     for (double p : merged.prob) total += p;
@@ -114,8 +114,8 @@ TEST(ExpectedUncertainty, MergeEqualsBruteForceOnRandomPaths) {
 TEST(ExpectedUncertainty, CertainRelocalizationGivesTheGoalMarginal) {
   std::mt19937_64 rng(7);
   const RandomChain c = randomChain(rng, 8);
-  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
-  const auto r = eu::expectedCovariance(path, [](const eu::RelocQuery&) { return 1.0; });
+  const planning::PathModel path = planning::makePathModel(c.g, &c.m, c.path);
+  const auto r = planning::expectedCovariance(path, [](const planning::RelocQuery&) { return 1.0; });
   expectNear(r.mean, c.m.node.back(), 1e-14, "p = 1");
   EXPECT_DOUBLE_EQ(r.prob.back(), 1.0);
 }
@@ -123,7 +123,7 @@ TEST(ExpectedUncertainty, CertainRelocalizationGivesTheGoalMarginal) {
 TEST(ExpectedUncertainty, NoRelocalizationIsPureOdometry) {
   std::mt19937_64 rng(8);
   const RandomChain c = randomChain(rng, 9);
-  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
+  const planning::PathModel path = planning::makePathModel(c.g, &c.m, c.path);
   // Independent propagation: composeWithCov along the edges, each edge's covariance
   // brought to the traversal direction by sampling-free algebra below.
   Matrix3d C = c.m.node[0];
@@ -154,7 +154,7 @@ TEST(ExpectedUncertainty, NoRelocalizationIsPureOdometry) {
     }
     x = asf::composeWithCov(x, C, d, O, C);
   }
-  const auto r = eu::expectedCovariance(path, [](const eu::RelocQuery&) { return 0.0; });
+  const auto r = planning::expectedCovariance(path, [](const planning::RelocQuery&) { return 0.0; });
   expectNear(r.mean, C, 1e-6, "p = 0");
   EXPECT_DOUBLE_EQ(r.prob[0], 1.0);
 }
@@ -162,10 +162,10 @@ TEST(ExpectedUncertainty, NoRelocalizationIsPureOdometry) {
 TEST(ExpectedUncertainty, PruningDropsOnlyNegligibleMass) {
   std::mt19937_64 rng(9);
   const RandomChain c = randomChain(rng, 60);
-  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
-  const eu::RelocProbFn p = [](const eu::RelocQuery& q) { return 0.3 + 0.4 * (q.t % 2); };
-  const auto exact = eu::expectedCovariance(path, p);
-  const auto pruned = eu::expectedCovariance(path, p, 1e-12);
+  const planning::PathModel path = planning::makePathModel(c.g, &c.m, c.path);
+  const planning::RelocProbFn p = [](const planning::RelocQuery& q) { return 0.3 + 0.4 * (q.t % 2); };
+  const auto exact = planning::expectedCovariance(path, p);
+  const auto pruned = planning::expectedCovariance(path, p, 1e-12);
   EXPECT_LT(pruned.evaluations, exact.evaluations);
   EXPECT_GT(pruned.pruned_mass, 0);
   EXPECT_LT(pruned.pruned_mass, 1e-9);
@@ -176,7 +176,7 @@ TEST(ExpectedUncertainty, PathModelRejectsNonAdjacentNodes) {
   std::mt19937_64 rng(10);
   const RandomChain c = randomChain(rng, 3);
   const std::string msg = asf_test::errorOf<asf::Error>(
-      [&] { eu::makePathModel(c.g, &c.m, {0, 2}); });
+      [&] { planning::makePathModel(c.g, &c.m, {0, 2}); });
   EXPECT_TRUE(asf_test::has(msg, "share no edge")) << msg;
 }
 
@@ -211,8 +211,8 @@ TEST(GaussianWindow, MatchesMonteCarloOnCorrelatedCovariances) {
     }
     const Eigen::Vector3d mu(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng));
     const Eigen::Vector3d half(0.3, 0.3, 0.5236);
-    const eu::BoxProbability q =
-        eu::gaussianBoxProbability(mu, cov, -half, half, 512, 8, 1000 + trial);
+    const planning::BoxProbability q =
+        planning::gaussianBoxProbability(mu, cov, -half, half, 512, 8, 1000 + trial);
     double se;
     const double mc = monteCarlo(mu, cov, -half, half, 400000, trial, se);
     EXPECT_NEAR(q.value, mc, 4 * se + 4 * q.error + 1e-4)
@@ -228,12 +228,12 @@ TEST(GaussianWindow, DiagonalCovarianceIsTheProductOfMarginals) {
     product *= 0.5 * (std::erfc(-(half(i) - mu(i)) / sd(i) / std::sqrt(2.0)) -
                       std::erfc(-(-half(i) - mu(i)) / sd(i) / std::sqrt(2.0)));
   const Matrix3d cov = sd.cwiseAbs2().asDiagonal();
-  const eu::BoxProbability q = eu::gaussianBoxProbability(mu, cov, -half, half);
+  const planning::BoxProbability q = planning::gaussianBoxProbability(mu, cov, -half, half);
   EXPECT_NEAR(q.value, product, 1e-12);
   // And a correlated covariance with the same marginals gives a different mass.
   Matrix3d corr = cov;
   corr(0, 1) = corr(1, 0) = 0.9 * sd(0) * sd(1);
-  const eu::BoxProbability qc = eu::gaussianBoxProbability(mu, corr, -half, half);
+  const planning::BoxProbability qc = planning::gaussianBoxProbability(mu, corr, -half, half);
   EXPECT_GT(std::abs(qc.value - product), 0.01);
 }
 
@@ -241,12 +241,12 @@ TEST(GaussianWindow, DeterministicForASeedAndValidatesInput) {
   Matrix3d cov;
   cov << 0.1, 0.05, 0.01, 0.05, 0.2, 0.02, 0.01, 0.02, 0.3;
   const Eigen::Vector3d z = Eigen::Vector3d::Zero(), h(0.3, 0.3, 0.5);
-  EXPECT_EQ(eu::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value,
-            eu::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value);
-  EXPECT_DOUBLE_EQ(eu::gaussianBoxProbability(z, Matrix3d::Zero(), -h, h).value, 1.0);
+  EXPECT_EQ(planning::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value,
+            planning::gaussianBoxProbability(z, cov, -h, h, 128, 8, 5).value);
+  EXPECT_DOUBLE_EQ(planning::gaussianBoxProbability(z, Matrix3d::Zero(), -h, h).value, 1.0);
   Matrix3d bad = cov;
   bad(0, 0) = -1;
-  EXPECT_THROW(eu::gaussianBoxProbability(z, bad, -h, h), asf::Error);
+  EXPECT_THROW(planning::gaussianBoxProbability(z, bad, -h, h), asf::Error);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -292,9 +292,9 @@ std::set<std::vector<NodeId>> bruteForcePaths(const asf::PoseGraph& g, NodeId s,
 }
 
 void expectSamePaths(const asf::PoseGraph& g, NodeId s, NodeId t, const std::string& what) {
-  eu::PathSearchOptions o;
+  planning::PathSearchOptions o;
   o.merge_radius = 0;  // the reduction alone: every simple path of the graph
-  const auto r = eu::allSimplePaths(g, s, t, o);
+  const auto r = planning::allSimplePaths(g, s, t, o);
   EXPECT_FALSE(r.capped);
   const std::set<std::vector<NodeId>> got(r.paths.begin(), r.paths.end());
   EXPECT_EQ(got.size(), r.paths.size()) << what << ": a path was produced twice";
@@ -314,10 +314,10 @@ TEST(PathSearch, ReducedGraphPreservesAllSimplePathsOnHandMadeGraphs) {
   for (const auto* g : {&loop, &ladder, &theta})
     for (NodeId s = 0; s < g->size(); ++s)
       for (NodeId t = 0; t < g->size(); ++t) expectSamePaths(*g, s, t, "hand-made");
-  const auto red = eu::reduceGraph(theta, 0, 7);
+  const auto red = planning::reduceGraph(theta, 0, 7);
   EXPECT_EQ(red.kept, (std::vector<NodeId>{0, 7}));
   EXPECT_EQ(red.edges.size(), 3u);
-  const auto red_loop = eu::reduceGraph(loop, 0, 1);
+  const auto red_loop = planning::reduceGraph(loop, 0, 1);
   EXPECT_LT(red_loop.kept.size(), loop.size());
 }
 
@@ -339,13 +339,13 @@ TEST(PathSearch, ReducedGraphPreservesAllSimplePathsOnRandomGraphs) {
 TEST(PathSearch, CapIsReported) {
   const auto ladder = graphOf(10, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {7, 8},
                                    {8, 9}, {0, 5}, {1, 6}, {2, 7}, {3, 8}, {4, 9}});
-  eu::PathSearchOptions o;
+  planning::PathSearchOptions o;
   o.max_paths = 3;
   o.merge_radius = 0;
-  const auto r = eu::allSimplePaths(ladder, 0, 9, o);
+  const auto r = planning::allSimplePaths(ladder, 0, 9, o);
   EXPECT_TRUE(r.capped);
   EXPECT_EQ(r.paths.size(), 3u);
-  EXPECT_THROW(eu::allSimplePaths(ladder, 0, 99), asf::Error);
+  EXPECT_THROW(planning::allSimplePaths(ladder, 0, 99), asf::Error);
 }
 
 TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
@@ -357,13 +357,13 @@ TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
   req.graph = &ladder;
   req.start = 0;
   req.goal = 9;
-  eu::PathSearchOptions all, budget;
+  planning::PathSearchOptions all, budget;
   all.merge_radius = budget.merge_radius = 0;
-  all.method = budget.method = eu::SearchMethod::All;
+  all.method = budget.method = planning::SearchMethod::All;
   budget.max_seconds = 1e-12;
   std::string note_all, note_budget;
-  const auto r_all = eu::planBest(req, eu::Criterion::Distance, {}, all, &note_all);
-  const auto r_budget = eu::planBest(req, eu::Criterion::Distance, {}, budget, &note_budget);
+  const auto r_all = planning::planBest(req, planning::Criterion::Distance, {}, all, &note_all);
+  const auto r_budget = planning::planBest(req, planning::Criterion::Distance, {}, budget, &note_budget);
   ASSERT_TRUE(r_all.found);
   ASSERT_TRUE(r_budget.found);
   EXPECT_EQ(note_all.find("time budget"), std::string::npos) << note_all;
@@ -380,11 +380,11 @@ TEST(PathSearch, TimeBudgetKeepsTheBestSoFarAndSaysSo) {
   }
   for (int i = 0; i < 30; ++i) rungs.emplace_back(i, 30 + i);
   const auto big = graphOf(60, rungs);
-  eu::PathSearchOptions quick;
+  planning::PathSearchOptions quick;
   quick.max_paths = 1u << 30;
   quick.max_seconds = 1e-12;
   quick.merge_radius = 0;
-  const auto r = eu::allSimplePaths(big, 0, 59, quick);
+  const auto r = planning::allSimplePaths(big, 0, 59, quick);
   EXPECT_TRUE(r.timed_out);
   EXPECT_TRUE(r.capped);
   EXPECT_LT(r.paths.size(), 100000u);
@@ -414,7 +414,7 @@ asf::PoseGraph graphAt(const std::vector<std::pair<double, double>>& xy,
 }
 
 /// The vertex sequence a node path visits (consecutive repeats collapsed).
-std::vector<NodeId> project(const eu::SearchGraph& sg, const std::vector<NodeId>& path) {
+std::vector<NodeId> project(const planning::SearchGraph& sg, const std::vector<NodeId>& path) {
   std::vector<NodeId> out;
   for (NodeId v : path)
     if (out.empty() || out.back() != sg.vertex_of[v]) out.push_back(sg.vertex_of[v]);
@@ -436,16 +436,16 @@ bool adjacent(const asf::PoseGraph& g, NodeId a, NodeId b) {
 /// returned path must be a simple chain of graph edges visiting its route in order.
 std::size_t expectSameRoutes(const asf::PoseGraph& g, NodeId s, NodeId t, double radius,
                              const std::string& what) {
-  const auto sg = eu::buildSearchGraph(g, s, t, radius);
+  const auto sg = planning::buildSearchGraph(g, s, t, radius);
   std::set<std::vector<NodeId>> oracle;
   for (const auto& p : bruteForcePaths(g, s, t)) {
     const auto seq = project(sg, p);
     if (simple(seq)) oracle.insert(seq);
   }
-  eu::PathSearchOptions o;
+  planning::PathSearchOptions o;
   o.merge_radius = radius;
   o.max_paths = 1u << 20;
-  const auto r = eu::allSimplePaths(g, s, t, o);
+  const auto r = planning::allSimplePaths(g, s, t, o);
   EXPECT_FALSE(r.capped) << what;
   std::set<std::vector<NodeId>> got;
   for (const auto& p : r.paths) {
@@ -480,22 +480,22 @@ TEST(SearchGraph, AliasedLadderBecomesOneRoute) {
   for (int i = 0; i < 6; ++i) closures.emplace_back(i, 11 - i);
   const auto g = graphAt(xy, chain, closures);
 
-  const auto sg = eu::buildSearchGraph(g, 0, 5, 0.5);
+  const auto sg = planning::buildSearchGraph(g, 0, 5, 0.5);
   EXPECT_EQ(sg.merged_vertices, 6u);  // 0|11 .. 5|6
   EXPECT_EQ(sg.vertex_of[0], sg.vertex_of[11]);
   EXPECT_EQ(sg.vertex_of[2], sg.vertex_of[9]);
   // Start and goal never share a vertex: with a radius spanning the corridor, 0 and 5 stay
   // apart (the rest may merge).
-  const auto wide = eu::buildSearchGraph(g, 0, 5, 10);
+  const auto wide = planning::buildSearchGraph(g, 0, 5, 10);
   EXPECT_NE(wide.vertex_of[0], wide.vertex_of[5]);
-  eu::PathSearchOptions o;
+  planning::PathSearchOptions o;
   o.merge_radius = 0.5;
   // Without the merge the ladder has dozens of simple paths 0 -> 5; merged: the corridor
   // (with or without the detour), and the starts/ends through the alias nodes.
-  eu::PathSearchOptions raw = o;
+  planning::PathSearchOptions raw = o;
   raw.merge_radius = 0;
-  const auto merged = eu::allSimplePaths(g, 0, 5, o);
-  const auto all = eu::allSimplePaths(g, 0, 5, raw);
+  const auto merged = planning::allSimplePaths(g, 0, 5, o);
+  const auto all = planning::allSimplePaths(g, 0, 5, raw);
   EXPECT_LT(merged.paths.size() * 4, all.paths.size())
       << merged.paths.size() << " vs " << all.paths.size();
   for (NodeId s = 0; s < g.size(); ++s)
@@ -528,17 +528,17 @@ TEST(SearchGraph, MergedGraphPreservesAllDistinctRoutesOnRandomGraphs) {
 
 TEST(SearchGraph, ExpandRouteRejectsBadRoutes) {
   const auto g = graphAt({{0, 0}, {1, 0}, {2, 0}, {1, 1}}, {{0, 1}, {1, 2}, {0, 3}, {3, 2}}, {});
-  const auto sg = eu::buildSearchGraph(g, 0, 2, 0, false);
-  EXPECT_EQ(eu::expandRoute(g, sg, {0, 1, 2}, 0, 2), (std::vector<NodeId>{0, 1, 2}));
-  EXPECT_EQ(eu::expandRoute(g, sg, {0, 3, 2}, 0, 2), (std::vector<NodeId>{0, 3, 2}));
-  EXPECT_THROW(eu::expandRoute(g, sg, {0, 2}, 0, 2), asf::Error);        // not adjacent
-  EXPECT_THROW(eu::expandRoute(g, sg, {0, 1, 0, 1, 2}, 0, 2), asf::Error);  // repeated
-  EXPECT_THROW(eu::expandRoute(g, sg, {1, 2}, 0, 2), asf::Error);        // wrong start
+  const auto sg = planning::buildSearchGraph(g, 0, 2, 0, false);
+  EXPECT_EQ(planning::expandRoute(g, sg, {0, 1, 2}, 0, 2), (std::vector<NodeId>{0, 1, 2}));
+  EXPECT_EQ(planning::expandRoute(g, sg, {0, 3, 2}, 0, 2), (std::vector<NodeId>{0, 3, 2}));
+  EXPECT_THROW(planning::expandRoute(g, sg, {0, 2}, 0, 2), asf::Error);        // not adjacent
+  EXPECT_THROW(planning::expandRoute(g, sg, {0, 1, 0, 1, 2}, 0, 2), asf::Error);  // repeated
+  EXPECT_THROW(planning::expandRoute(g, sg, {1, 2}, 0, 2), asf::Error);        // wrong start
 }
 
 /// All simple s -> t paths of a multigraph as edge sequences, by (cost, length, edges).
 std::vector<std::vector<std::size_t>> bruteForceEdgePaths(std::size_t n,
-                                                          const std::vector<eu::WeightedEdge>& e,
+                                                          const std::vector<planning::WeightedEdge>& e,
                                                           std::uint32_t s, std::uint32_t t) {
   std::vector<std::pair<double, std::vector<std::size_t>>> all;
   std::vector<std::size_t> cur;
@@ -582,7 +582,7 @@ TEST(Yen, EqualsTheSortedBruteForceListOnRandomGraphs) {
   std::size_t compared = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const std::size_t n = 2 + rng() % 7;
-    std::vector<eu::WeightedEdge> e;
+    std::vector<planning::WeightedEdge> e;
     const int m = static_cast<int>(rng() % 14);
     for (int k = 0; k < m; ++k)  // parallel edges and self-loops included
       e.push_back({static_cast<std::uint32_t>(rng() % n), static_cast<std::uint32_t>(rng() % n),
@@ -590,7 +590,7 @@ TEST(Yen, EqualsTheSortedBruteForceListOnRandomGraphs) {
     const auto s = static_cast<std::uint32_t>(rng() % n), t = static_cast<std::uint32_t>(rng() % n);
     const auto oracle = bruteForceEdgePaths(n, e, s, t);
     for (std::size_t k : {std::size_t{1}, std::size_t{3}, oracle.size() + 2}) {
-      const auto got = eu::kShortestSimplePaths(n, e, s, t, k);
+      const auto got = planning::kShortestSimplePaths(n, e, s, t, k);
       const std::size_t want = std::min(k, oracle.size());
       ASSERT_EQ(got.size(), want) << "trial " << trial << " k " << k;
       for (std::size_t i = 0; i < want; ++i)
@@ -599,7 +599,7 @@ TEST(Yen, EqualsTheSortedBruteForceListOnRandomGraphs) {
     }
   }
   EXPECT_GT(compared, 1000u);
-  EXPECT_THROW(eu::kShortestSimplePaths(2, {{0, 5, 1.0}}, 0, 1, 3), asf::Error);
+  EXPECT_THROW(planning::kShortestSimplePaths(2, {{0, 5, 1.0}}, 0, 1, 3), asf::Error);
 }
 
 TEST(PathSearch, AutoFallsBackToYenOnALoopyGraphAndSaysSo) {
@@ -614,18 +614,18 @@ TEST(PathSearch, AutoFallsBackToYenOnALoopyGraphAndSaysSo) {
   }
   for (int i = 0; i < 30; ++i) closures.emplace_back(i, 30 + i);
   const auto g = graphAt(xy, chain, closures);
-  eu::PathSearchOptions o;
+  planning::PathSearchOptions o;
   o.merge_radius = 0.5;
   o.max_paths = 100;
   o.k_paths = 12;
   o.diverse_paths = 0;
-  const auto r = eu::searchPaths(g, 0, 59, o);
+  const auto r = planning::searchPaths(g, 0, 59, o);
   EXPECT_TRUE(r.fell_back);
   EXPECT_FALSE(r.capped);
-  EXPECT_EQ(r.method, eu::SearchMethod::Yen);
+  EXPECT_EQ(r.method, planning::SearchMethod::Yen);
   ASSERT_EQ(r.paths.size(), 12u);  // the Dijkstra path is Yen's first: not added again
   EXPECT_FALSE(r.added_shortest);
-  EXPECT_EQ(r.paths.front(), eu::shortestPath(g, 0, 59));
+  EXPECT_EQ(r.paths.front(), planning::shortestPath(g, 0, 59));
   std::set<std::vector<NodeId>> distinct(r.paths.begin(), r.paths.end());
   EXPECT_EQ(distinct.size(), r.paths.size());
   double prev = 0;
@@ -640,15 +640,15 @@ TEST(PathSearch, AutoFallsBackToYenOnALoopyGraphAndSaysSo) {
     prev = len;
   }
   // search = all: the cap is reported instead.
-  o.method = eu::SearchMethod::All;
-  const auto capped = eu::searchPaths(g, 0, 59, o);
+  o.method = planning::SearchMethod::All;
+  const auto capped = planning::searchPaths(g, 0, 59, o);
   EXPECT_TRUE(capped.capped);
   EXPECT_FALSE(capped.fell_back);
   // Rails 0.2 m apart and a 0.5 m merge radius: one corridor, one route.
   for (int i = 30; i < 60; ++i) xy[i].second = 0.2;
   const auto corridor = graphAt(xy, chain, closures);
-  o.method = eu::SearchMethod::Auto;
-  const auto one = eu::searchPaths(corridor, 0, 59, o);
+  o.method = planning::SearchMethod::Auto;
+  const auto one = planning::searchPaths(corridor, 0, 59, o);
   EXPECT_FALSE(one.fell_back);
   EXPECT_LE(one.paths.size(), 3u);
 }
@@ -675,16 +675,16 @@ TEST(PathSearch, PenaltyRoutesReachTheDetourYensVariantsMiss) {
   auto detour = [](const std::vector<NodeId>& p) {
     return std::find(p.begin(), p.end(), NodeId{24}) != p.end();
   };
-  eu::PathSearchOptions o;
-  o.method = eu::SearchMethod::Yen;
+  planning::PathSearchOptions o;
+  o.method = planning::SearchMethod::Yen;
   o.merge_radius = 0.5;
   o.k_paths = 10;
   o.diverse_paths = 0;
-  const auto yen = eu::searchPaths(g, 0, 9, o);
+  const auto yen = planning::searchPaths(g, 0, 9, o);
   EXPECT_EQ(yen.paths.size(), 10u);
   EXPECT_TRUE(std::none_of(yen.paths.begin(), yen.paths.end(), detour));
   o.diverse_paths = 10;
-  const auto both = eu::searchPaths(g, 0, 9, o);
+  const auto both = planning::searchPaths(g, 0, 9, o);
   EXPECT_GT(both.diverse_added, 0u);
   EXPECT_TRUE(std::any_of(both.paths.begin(), both.paths.end(), detour));
   std::set<std::vector<NodeId>> distinct(both.paths.begin(), both.paths.end());
@@ -694,8 +694,8 @@ TEST(PathSearch, PenaltyRoutesReachTheDetourYensVariantsMiss) {
     for (std::size_t i = 1; i < p.size(); ++i) EXPECT_TRUE(adjacent(g, p[i - 1], p[i]));
   }
   // The first route of the penalty method is the shortest path.
-  std::vector<eu::WeightedEdge> we{{0, 1, 1.0}, {1, 2, 1.0}, {0, 2, 3.0}, {0, 2, 2.5}};
-  const auto d = eu::diversePaths(3, we, 0, 2, 5, 1.0);
+  std::vector<planning::WeightedEdge> we{{0, 1, 1.0}, {1, 2, 1.0}, {0, 2, 3.0}, {0, 2, 2.5}};
+  const auto d = planning::diversePaths(3, we, 0, 2, 5, 1.0);
   ASSERT_GE(d.size(), 2u);
   EXPECT_EQ(d[0], (std::vector<std::size_t>{0, 1}));
   EXPECT_EQ(d[1], (std::vector<std::size_t>{3}));  // 2.5 < 2 x 2
@@ -714,20 +714,20 @@ TEST(PathSearch, NearTiesGoToTheShorterPath) {
   req.marginals = &m;
   req.start = 0;
   req.goal = 2;
-  eu::CriterionOptions o;
-  eu::PathSearchOptions search;
+  planning::CriterionOptions o;
+  planning::PathSearchOptions search;
   search.merge_radius = 0;
-  auto r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  auto r = planning::planBest(req, planning::Criterion::SumDopt, o, search);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 1, 2}));
   o.tie_tolerance = 0;
-  r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  r = planning::planBest(req, planning::Criterion::SumDopt, o, search);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 3, 2}));
   // A real difference is not a tie.
   m.node[3] *= 0.5;
   o.tie_tolerance = 1e-6;
-  r = eu::planBest(req, eu::Criterion::SumDopt, o, search);
+  r = planning::planBest(req, planning::Criterion::SumDopt, o, search);
   EXPECT_EQ(r.nodes, (std::vector<NodeId>{0, 3, 2}));
 }
 
@@ -737,8 +737,8 @@ TEST(PathSearch, NearTiesGoToTheShorterPath) {
 TEST(Criteria, BaselinesFollowTheirDefinitions) {
   std::mt19937_64 rng(12);
   const RandomChain c = randomChain(rng, 4);
-  const eu::PathModel path = eu::makePathModel(c.g, &c.m, c.path);
-  eu::CriterionOptions o;
+  const planning::PathModel path = planning::makePathModel(c.g, &c.m, c.path);
+  planning::CriterionOptions o;
   double dopt = 0, dist = 0, work = 0;
   auto U = [&](int t, const Matrix3d& O) {
     return (O.inverse() + c.m.node[t].inverse()).inverse().determinant();
@@ -752,11 +752,11 @@ TEST(Criteria, BaselinesFollowTheirDefinitions) {
     work += std::max(0.0, u - prev);
     prev = u;
   }
-  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::SumDopt, path, o).cost, dopt, 1e-15);
-  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::Distance, path, o).cost, dist, 1e-12);
-  EXPECT_NEAR(eu::evaluatePath(eu::Criterion::MechanicalWork, path, o).cost, work,
+  EXPECT_NEAR(planning::evaluatePath(planning::Criterion::SumDopt, path, o).cost, dopt, 1e-15);
+  EXPECT_NEAR(planning::evaluatePath(planning::Criterion::Distance, path, o).cost, dist, 1e-12);
+  EXPECT_NEAR(planning::evaluatePath(planning::Criterion::MechanicalWork, path, o).cost, work,
               1e-9 * std::max(work, 1e-12));
-  const auto e = eu::evaluatePath(eu::Criterion::ExpectedUncertainty, path, o);
+  const auto e = planning::evaluatePath(planning::Criterion::ExpectedUncertainty, path, o);
   EXPECT_NEAR(e.cost, e.expected.determinant(), 1e-18);
   EXPECT_EQ(e.label, "det(E[C])");
   EXPECT_EQ(e.missing_cross, 0u);
@@ -768,14 +768,14 @@ TEST(Criteria, RecognitionFileErrorsNameTheLine) {
   const std::string good = (dir / "good.txt").string(), bad = (dir / "bad.txt").string();
   std::ofstream(good) << "# node p\n0 0.5\n\n3 1  # comment\n";
   std::ofstream(bad) << "0 0.5\n1 x\n";
-  const auto m = eu::readRecognitionProbabilities(good);
+  const auto m = planning::readRecognitionProbabilities(good);
   EXPECT_EQ(m.size(), 2u);
   EXPECT_DOUBLE_EQ(m.at(3), 1.0);
   std::string msg = asf_test::errorOf<asf::InputError>(
-      [&] { eu::readRecognitionProbabilities(bad); });
+      [&] { planning::readRecognitionProbabilities(bad); });
   EXPECT_TRUE(asf_test::has(msg, bad + ":2")) << msg;
   std::ofstream(bad) << "0 0.5\n1 1.5\n";
-  msg = asf_test::errorOf<asf::InputError>([&] { eu::readRecognitionProbabilities(bad); });
+  msg = asf_test::errorOf<asf::InputError>([&] { planning::readRecognitionProbabilities(bad); });
   EXPECT_TRUE(asf_test::has(msg, ":2") && asf_test::has(msg, "outside")) << msg;
 }
 

@@ -12,7 +12,7 @@
 // at least one run must have been killed.
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/pose_graph.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/segmentation_eval.h>
@@ -76,9 +76,9 @@ std::string unreadable(const fs::path& f) {
     } else if (ext == ".g2o") {
       asf::readG2o(f.string());
     } else if (ext == ".png" || ext == ".pgm") {
-      asf::readGrayImage(f.string());
+      asf::io::readGrayImage(f.string());
     } else if (ext == ".yaml") {
-      asf::readOccupancyYaml(f.string());
+      asf::io::readOccupancyYaml(f.string());
     } else if (ext == ".log") {
       // run.log: appended a line at a time, read by people; a kill may cut its last line.
       return "";

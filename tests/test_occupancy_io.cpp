@@ -1,7 +1,7 @@
 // The occupancy grid as map_server PNG + YAML (occupancy_io.h): a round trip keeps every
 // cell and the frame; the YAML reader names the file and line of what it rejects.
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/segmentation_eval.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -40,22 +40,22 @@ TEST(OccupancyIo, RoundTripKeepsTheCellsAndTheFrame) {
   const asf::GridMap m = smallMap();
   ASSERT_EQ(m.grid->getSizeX(), 7u);
   ASSERT_EQ(m.grid->getSizeY(), 5u);
-  asf::writeOccupancyMap(m, (d / "occ").string());
-  const asf::OccupancyMapInfo info = asf::readOccupancyYaml((d / "occ.yaml").string());
+  asf::io::writeOccupancyMap(m, (d / "occ").string());
+  const asf::io::OccupancyMapInfo info = asf::io::readOccupancyYaml((d / "occ.yaml").string());
   EXPECT_EQ(info.image, "occ.pgm");
-  EXPECT_EQ(info.mode, asf::MapMode::Trinary);
+  EXPECT_EQ(info.mode, asf::io::MapMode::Trinary);
   EXPECT_NEAR(info.resolution, 0.1, 1e-7);
   EXPECT_NEAR(info.origin_x, -3.2, 1e-6);
   EXPECT_NEAR(info.origin_y, 1.5, 1e-6);
   // The image (binary PGM, read by OpenCV): row 0 is the top; free 255, occupied 0, unknown 128.
-  const asf::GrayImage img = asf::readGrayImage((d / "occ.pgm").string());
+  const asf::io::GrayImage img = asf::io::readGrayImage((d / "occ.pgm").string());
   ASSERT_EQ(img.width, 7);
   ASSERT_EQ(img.height, 5);
   EXPECT_EQ(img.at(2, 0), 0);
   EXPECT_EQ(img.at(0, 4), 255);
   EXPECT_NEAR(img.at(4, 5 - 1 - 3), 128, 2);
   // Read back: same size and frame; free where it was free, unknown is not free.
-  const asf::GridMap back = asf::readOccupancyMap((d / "occ.yaml").string());
+  const asf::GridMap back = asf::io::readOccupancyMap((d / "occ.yaml").string());
   ASSERT_TRUE(back.grid);
   ASSERT_EQ(back.grid->getSizeX(), 7u);
   ASSERT_EQ(back.grid->getSizeY(), 5u);
@@ -76,7 +76,7 @@ std::string errorOf(const fs::path& d, const std::string& yaml) {
   const fs::path f = d / "bad.yaml";
   std::ofstream(f) << yaml;
   try {
-    asf::readOccupancyYaml(f.string());
+    asf::io::readOccupancyYaml(f.string());
   } catch (const asf::InputError& e) {
     return e.what();
   }
@@ -107,11 +107,11 @@ TEST(OccupancyIo, YamlErrorsNameTheFileAndLine) {
   // Fuzzing: an origin float cannot place cells at (MRPT asserted, uncaught).
   expect("image: m.png\nresolution: 0.05\norigin: [5777777777077777, -0.5, 0]\n", f + ":3",
          "more than 100 km from 0");
-  EXPECT_THROW(asf::readOccupancyMap((d / "missing.yaml").string()), asf::InputError);
+  EXPECT_THROW(asf::io::readOccupancyMap((d / "missing.yaml").string()), asf::InputError);
   // The image the YAML names must exist: the error names it.
   std::ofstream(d / "noimg.yaml") << ok;
   try {
-    asf::readOccupancyMap((d / "noimg.yaml").string());
+    asf::io::readOccupancyMap((d / "noimg.yaml").string());
     FAIL() << "a missing image was accepted";
   } catch (const asf::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("m.png"), std::string::npos) << e.what();
@@ -129,7 +129,7 @@ std::vector<float> cellsOf(const fs::path& d, const std::string& extra) {
   std::ofstream(d / "row.yaml") << "image: row.pgm\nresolution: 0.5\norigin: [0, 0, 0]\n"
                                 << "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
                                 << extra;
-  const asf::GridMap m = asf::readOccupancyMap((d / "row.yaml").string());
+  const asf::GridMap m = asf::io::readOccupancyMap((d / "row.yaml").string());
   std::vector<float> v;
   for (unsigned cx = 0; cx < m.grid->getSizeX(); ++cx) v.push_back(m.grid->getCell(cx, 0));
   return v;
@@ -155,17 +155,17 @@ TEST(OccupancyIo, ModesClassifyPixelsAsMapServerDoes) {
   // negate: occ = p / 255: 0 free, 50 (0.196) unknown, 100 (0.39) unknown, 205+ occupied.
   expect(cellsOf(d, "negate: 1\n"), {1, 0.5, 0.5, 0, 0, 0}, "negate");
   // The class rule beside the percent rule.
-  asf::OccupancyMapInfo info;
-  EXPECT_EQ(asf::mapServerClass(info, 205), asf::MapCell::Unknown);
-  EXPECT_EQ(asf::mapServerClass(info, 254), asf::MapCell::Free);
-  EXPECT_EQ(asf::mapServerClass(info, 0), asf::MapCell::Occupied);
-  info.mode = asf::MapMode::Raw;
-  EXPECT_EQ(asf::mapServerClass(info, 100), asf::MapCell::Occupied);
-  EXPECT_EQ(asf::mapServerClass(info, 10), asf::MapCell::Free);
-  EXPECT_EQ(asf::mapServerClass(info, 101), asf::MapCell::Unknown);
-  EXPECT_TRUE(asf::isOccupancyYaml("a/b.yaml"));
-  EXPECT_TRUE(asf::isOccupancyYaml("b.yml"));
-  EXPECT_FALSE(asf::isOccupancyYaml("b.yaml.png"));
+  asf::io::OccupancyMapInfo info;
+  EXPECT_EQ(asf::io::mapServerClass(info, 205), asf::io::MapCell::Unknown);
+  EXPECT_EQ(asf::io::mapServerClass(info, 254), asf::io::MapCell::Free);
+  EXPECT_EQ(asf::io::mapServerClass(info, 0), asf::io::MapCell::Occupied);
+  info.mode = asf::io::MapMode::Raw;
+  EXPECT_EQ(asf::io::mapServerClass(info, 100), asf::io::MapCell::Occupied);
+  EXPECT_EQ(asf::io::mapServerClass(info, 10), asf::io::MapCell::Free);
+  EXPECT_EQ(asf::io::mapServerClass(info, 101), asf::io::MapCell::Unknown);
+  EXPECT_TRUE(asf::io::isOccupancyYaml("a/b.yaml"));
+  EXPECT_TRUE(asf::io::isOccupancyYaml("b.yml"));
+  EXPECT_FALSE(asf::io::isOccupancyYaml("b.yaml.png"));
 }
 
 TEST(OccupancyIo, OnlyKnownImageFormatsAreDecoded) {
@@ -175,7 +175,7 @@ TEST(OccupancyIo, OnlyKnownImageFormatsAreDecoded) {
   std::ofstream(d / "m.yaml") << "image: m.png\nresolution: 0.05\norigin: [1, 2, 0]\n";
   std::ofstream(d / "m.png", std::ios::binary) << "P\n" << std::string(64, '\xff');
   try {
-    asf::readOccupancyMap((d / "m.yaml").string());
+    asf::io::readOccupancyMap((d / "m.yaml").string());
     FAIL() << "an unknown format was decoded";
   } catch (const asf::InputError& e) {
     EXPECT_NE(std::string(e.what()).find(
@@ -184,7 +184,7 @@ TEST(OccupancyIo, OnlyKnownImageFormatsAreDecoded) {
         << e.what();
   }
   std::ofstream(d / "m.png", std::ios::binary) << "P2\n3 2\n255\n0 255 128\n255 254 0\n";
-  EXPECT_EQ(asf::readOccupancyMap((d / "m.yaml").string()).grid->getSizeX(), 3u)
+  EXPECT_EQ(asf::io::readOccupancyMap((d / "m.yaml").string()).grid->getSizeX(), 3u)
       << "a PGM under any name is read";
 }
 

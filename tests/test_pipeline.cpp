@@ -1,7 +1,7 @@
 // The pipeline end to end with the reference plugins: configuration errors, outputs of a
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/trajectory_eval.h>
@@ -162,7 +162,7 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   const auto topo = readJson(out / "topology.json");
   EXPECT_GE(topo["nodes"].size(), 2u) << "regions + the unexplored node";
   // The bare grid in its frame: every keyframe stands on a free cell of map.yaml.
-  const asf::GridMap occ = asf::readOccupancyMap((out / "map.yaml").string());
+  const asf::GridMap occ = asf::io::readOccupancyMap((out / "map.yaml").string());
   ASSERT_TRUE(occ.grid);
   for (const auto& n : g.nodes)
     EXPECT_GT(occ.grid->getPos(n.pose.x(), n.pose.y()), 0.5)

@@ -1,8 +1,9 @@
 // Monte-Carlo place recognition (place_recognition.h): a distinctive room is recognized, a
 // featureless corridor is not (ICP slides along it), results are seeded, and the planner
 // uses the Monte Carlo values.
-#include <asf/expected_uncertainty.h>
-#include <asf/place_recognition.h>
+#include <asf/planning/expected_uncertainty.h>
+#include <asf/planning/place_recognition.h>
+#include <asf/studies/recognition_figure.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
@@ -56,13 +57,13 @@ asf::PoseGraph corridor() {
 }
 
 TEST(PlaceRecognition, DistinctiveRoomIsRecognizedAFeaturelessCorridorIsNot) {
-  asf::RecognitionMcOptions o;
+  asf::planning::RecognitionMcOptions o;
   o.samples = 30;
   const asf::PoseGraph r = room();
   const asf::PoseGraph c = corridor();
   double p_room = 0, p_corr = 0;
-  for (asf::NodeId n : {0u, 3u, 5u}) p_room += asf::recognitionProbability(r, n, o) / 3;
-  for (asf::NodeId n : {4u, 6u, 8u}) p_corr += asf::recognitionProbability(c, n, o) / 3;
+  for (asf::NodeId n : {0u, 3u, 5u}) p_room += asf::planning::recognitionProbability(r, n, o) / 3;
+  for (asf::NodeId n : {4u, 6u, 8u}) p_corr += asf::planning::recognitionProbability(c, n, o) / 3;
   RecordProperty("p_room", std::to_string(p_room));
   RecordProperty("p_corridor", std::to_string(p_corr));
   EXPECT_GT(p_room, 0.8);
@@ -73,29 +74,29 @@ TEST(PlaceRecognition, DistinctiveRoomIsRecognizedAFeaturelessCorridorIsNot) {
 }
 
 TEST(PlaceRecognition, SeededPerNodeAndDegenerateCases) {
-  asf::RecognitionMcOptions o;
+  asf::planning::RecognitionMcOptions o;
   o.samples = 12;
   const asf::PoseGraph r = room();
-  const double a = asf::recognitionProbability(r, 2, o);
-  EXPECT_EQ(asf::recognitionProbability(r, 2, o), a) << "same seed, same node: same value";
+  const double a = asf::planning::recognitionProbability(r, 2, o);
+  EXPECT_EQ(asf::planning::recognitionProbability(r, 2, o), a) << "same seed, same node: same value";
   const double step = 1.0 / 12;
   EXPECT_NEAR(std::fmod(a, step), 0.0, 1e-9) << "a count of successes over 12 samples";
   // No scan, or nobody else to recognize the place against: 0.
   asf::PoseGraph alone = r;
   alone.nodes.resize(1);
-  EXPECT_EQ(asf::recognitionProbability(alone, 0, o), 0.0);
+  EXPECT_EQ(asf::planning::recognitionProbability(alone, 0, o), 0.0);
   asf::PoseGraph noscan = r;
   noscan.nodes[1].scan.reset();
-  EXPECT_EQ(asf::recognitionProbability(noscan, 1, o), 0.0);
-  EXPECT_EQ(asf::recognitionProbability(r, 999, o), 0.0);
+  EXPECT_EQ(asf::planning::recognitionProbability(noscan, 1, o), 0.0);
+  EXPECT_EQ(asf::planning::recognitionProbability(r, 999, o), 0.0);
 }
 
 TEST(PlaceRecognition, TrialHoldsTheSamplesBehindTheProbability) {
-  asf::RecognitionMcOptions o;
+  asf::planning::RecognitionMcOptions o;
   o.samples = 16;
   const asf::PoseGraph c = corridor();
-  const asf::RecognitionTrial t = asf::recognitionTrial(c, 6, o);
-  EXPECT_EQ(t.p, asf::recognitionProbability(c, 6, o)) << "the same draws";
+  const asf::planning::RecognitionTrial t = asf::planning::recognitionTrial(c, 6, o);
+  EXPECT_EQ(t.p, asf::planning::recognitionProbability(c, 6, o)) << "the same draws";
   ASSERT_EQ(t.samples.size(), 16u);
   std::size_t ok = 0;
   for (const auto& s : t.samples) {
@@ -116,23 +117,23 @@ TEST(PlaceRecognition, TrialHoldsTheSamplesBehindTheProbability) {
   EXPECT_FALSE(t.map_points.empty());
   EXPECT_FALSE(t.scan_points.empty());
   // The figure: one dot per sample in the error panel, the title, the probability.
-  const std::string svg = asf::recognitionScatterSvg(t, c.nodes[6], o, "corridor node 6");
+  const std::string svg = asf::studies::recognitionScatterSvg(t, c.nodes[6], o, "corridor node 6");
   EXPECT_NE(svg.find("corridor node 6"), std::string::npos);
   EXPECT_NE(svg.find("p_recognition = " + std::to_string(ok) + " / 16"), std::string::npos);
   std::size_t dots = 0;
   for (std::size_t at = 0; (at = svg.find("r='3'", at)) != std::string::npos; ++at) ++dots;
   EXPECT_EQ(dots, 16u);
   // Thread count does not change the values.
-  const auto one = asf::recognitionProbabilities(c, o, 1);
-  const auto two = asf::recognitionProbabilities(c, o, 2);
+  const auto one = asf::planning::recognitionProbabilities(c, o, 1);
+  const auto two = asf::planning::recognitionProbabilities(c, o, 2);
   EXPECT_EQ(one, two);
   EXPECT_EQ(one[6], t.p);
 }
 
 TEST(PlaceRecognition, WrittenFileReadsBack) {
   const std::string f = testing::TempDir() + "/asf_recognition.txt";
-  asf::writeRecognitionProbabilities(f, {{0, 0.25}, {7, 1.0}});
-  const auto back = asf::eu::readRecognitionProbabilities(f);
+  asf::planning::writeRecognitionProbabilities(f, {{0, 0.25}, {7, 1.0}});
+  const auto back = asf::planning::readRecognitionProbabilities(f);
   ASSERT_EQ(back.size(), 2u);
   EXPECT_DOUBLE_EQ(back.at(0), 0.25);
   EXPECT_DOUBLE_EQ(back.at(7), 1.0);

@@ -3,7 +3,7 @@
 // planner avoids the zone where the shortest path crosses it; config errors name the key;
 // and, when ../shared is here, a subset of the protocol on the Intel CARMEN log's SLAM graph.
 #include <asf/errors.h>
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/sensor_frame.h>
 #include <gtest/gtest.h>
@@ -190,10 +190,10 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
   };
   const json pairs = json::array(
       {pair(0, false, false), pair(1, true, true), pair(3, false, true), pair(0, false, true)});
-  EXPECT_EQ(asf::eu::errorExample(pairs, "mechanical_work")["start"].get<int>(), 3);
-  EXPECT_TRUE(asf::eu::errorExample(pairs, "sum_dopt").is_null());
+  EXPECT_EQ(asf::studies::errorExample(pairs, "mechanical_work")["start"].get<int>(), 3);
+  EXPECT_TRUE(asf::studies::errorExample(pairs, "sum_dopt").is_null());
   EXPECT_TRUE(
-      asf::eu::errorExample(json::array({pair(1, true, true)}), "mechanical_work").is_null());
+      asf::studies::errorExample(json::array({pair(1, true, true)}), "mechanical_work").is_null());
 
   asf::PoseGraph g;
   for (int i = 0; i < 6; ++i) {
@@ -201,10 +201,10 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
     n.pose = mrpt::poses::CPose2D(i, i % 2, 0);
     g.nodes.push_back(n);
   }
-  const asf::Zone zone{1.5, -1, 2.5, 2};  // holds node 2 only
+  const asf::planning::Zone zone{1.5, -1, 2.5, 2};  // holds node 2 only
   json scen{{"name", "C"}, {"zone_index", 2}, {"factor", 10.0}, {"pair_results", pairs}};
   const fs::path dir = tempDir("figure");
-  const json rec = asf::eu::writeScenarioFigures(g, zone, scen, dir.string());
+  const json rec = asf::studies::writeScenarioFigures(g, zone, scen, dir.string());
   EXPECT_EQ(rec["scenario"].get<std::string>(), "scenario_C.svg");
   ASSERT_TRUE(rec["error_example"].is_object());
   EXPECT_EQ(rec["error_example"]["start"].get<int>(), 3);
@@ -215,7 +215,7 @@ TEST(PlanEvalFigure, ErrorExampleIsTheFirstPairWhereOnlyTheBaselineCrosses) {
   EXPECT_EQ(count(svg, "fill=\"#2c6fdc\"/>"), 1u) << "node 2 alone is in the zone";
   EXPECT_TRUE(svg.find("node 3 to node 5") != std::string::npos);
   // A path through a node the graph does not have is an input error.
-  EXPECT_THROW(asf::eu::scenarioSvg(g, zone, {{"bad", "red", {0, 9}}}, "t"), asf::InputError);
+  EXPECT_THROW(asf::studies::scenarioSvg(g, zone, {{"bad", "red", {0, 9}}}, "t"), asf::InputError);
 }
 
 TEST(PlanEval, ConfigErrorsNameTheKeyOrSection) {
@@ -335,7 +335,7 @@ TEST(Recognition, CommandWritesEveryNodesProbabilityAndTheScatterAsked) {
   auto r = asf_test::runHost(base + (dir / "out").string() + " -s 3 -s 45");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(asf_test::has(r.out, "46 nodes with a scan")) << r.out;
-  const auto back = asf::eu::readRecognitionProbabilities((dir / "out/recognition.txt").string());
+  const auto back = asf::planning::readRecognitionProbabilities((dir / "out/recognition.txt").string());
   ASSERT_EQ(back.size(), 47u);
   EXPECT_EQ(back.at(40), 0.0) << "no scan, no recognition";
   for (const char* f : {"scatter_3.svg", "scatter_45.svg", "recognition.json"})

@@ -15,12 +15,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using asf::GrayImage;
+using asf::io::GrayImage;
 using asf_test::has;
 using asf_test::runHost;
 
-GrayImage filled(int w, int h, std::uint8_t v) {
-  return GrayImage{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h, v)};
+asf::io::GrayImage filled(int w, int h, std::uint8_t v) {
+  return asf::io::GrayImage{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h, v)};
 }
 
 /// Pixels (image orientation) the published map knows, with their state (1 free, 0 wall).
@@ -38,7 +38,7 @@ std::map<std::pair<int, int>, int> knownPixels(const asf::GridMap& m, int W, int
 // 120 x 60 px, step 50: centres (0,0), (50,0), (100,0), (30,50), (80,50), then (10,100),
 // below the image: the last disk. Radius 0 reveals only the centre.
 TEST(RasterDiskReveal, CentresStepAlongRowsAndTheLastIsBelowTheImage) {
-  const GrayImage g = filled(120, 60, 255);
+  const asf::io::GrayImage g = filled(120, 60, 255);
   asf::RasterDiskOptions o;
   o.radius_px = 0;
   o.min_free_px = 0;
@@ -73,7 +73,7 @@ TEST(RasterDiskReveal, CentresStepAlongRowsAndTheLastIsBelowTheImage) {
 // A disk of radius 2 at the corner (0,0): the pixels with dx^2 + dy^2 <= 4 inside the image,
 // (0,0) (1,0) (2,0) (0,1) (1,1) (0,2); walls are revealed as walls.
 TEST(RasterDiskReveal, ADiskIsThePixelsWithinTheRadiusWallsIncluded) {
-  GrayImage g = filled(10, 10, 255);
+  asf::io::GrayImage g = filled(10, 10, 255);
   g.pixels[1 * 10 + 1] = 0;  // (1,1) is a wall
   asf::RasterDiskOptions o;
   o.radius_px = 2;
@@ -91,7 +91,7 @@ TEST(RasterDiskReveal, ADiskIsThePixelsWithinTheRadiusWallsIncluded) {
 // No map is published while at most min_free_px free pixels are known; the first one then
 // carries every pixel revealed so far, and its `changed` box covers them all.
 TEST(RasterDiskReveal, NothingIsPublishedUntilEnoughFreePixelsAreKnown) {
-  GrayImage g = filled(120, 60, 0);
+  asf::io::GrayImage g = filled(120, 60, 0);
   g.pixels[50 * 120 + 80] = 255;  // the fifth centre is the one free pixel
   asf::RasterDiskOptions o;
   o.radius_px = 0;
@@ -120,7 +120,7 @@ TEST(RasterDiskReveal, NothingIsPublishedUntilEnoughFreePixelsAreKnown) {
 }
 
 TEST(RasterDiskReveal, BadOptionsAreErrors) {
-  const GrayImage g = filled(10, 10, 255);
+  const asf::io::GrayImage g = filled(10, 10, 255);
   asf::RasterDiskOptions o;
   o.step_px = 0;
   EXPECT_THROW(asf::RasterDiskReveal(g, 0.05, o), asf::Error);
@@ -134,12 +134,12 @@ fs::path writeDataset() {
   const fs::path d = fs::temp_directory_path() / "asf_test_raster_disk_reveal";
   fs::remove_all(d);
   for (const char* sub : {"plain", "gt", "furnished"}) fs::create_directories(d / sub);
-  GrayImage room = filled(240, 160, 0);
+  asf::io::GrayImage room = filled(240, 160, 0);
   for (int r = 10; r < 150; ++r)
     for (int c = 10; c < 230; ++c) room.pixels[static_cast<std::size_t>(r) * 240 + c] = 255;
-  asf::writeGrayImage((d / "plain/a.png").string(), room);
-  asf::writeGrayImage((d / "gt/a_gt_segmentation.png").string(), room);
-  asf::writeGrayImage((d / "furnished/a_furnitures.png").string(), room);
+  asf::io::writeGrayImage((d / "plain/a.png").string(), room);
+  asf::io::writeGrayImage((d / "gt/a_gt_segmentation.png").string(), room);
+  asf::io::writeGrayImage((d / "furnished/a_furnitures.png").string(), room);
   return d;
 }
 

@@ -3,7 +3,7 @@
 // orientation round trips; the simulated exploration; asf segment and asf segment-eval end to
 // end on synthetic maps (and on ../shared's benchmark when present).
 //
-// The synthetic PNGs are written with asf::writeGrayImage (OpenCV inside the framework): this
+// The synthetic PNGs are written with asf::io::writeGrayImage (OpenCV inside the framework): this
 // target does not link OpenCV itself.
 #include <asf/errors.h>
 #include <asf/registry.h>
@@ -22,34 +22,34 @@
 
 #include "test_util.h"
 
-using asf::GrayImage;
-using asf::LabelRaster;
+using asf::io::GrayImage;
+using asf::io::LabelRaster;
 using asf_test::has;
 using asf_test::runHost;
 namespace fs = std::filesystem;
 
 namespace {
 
-LabelRaster raster(int w, int h, std::vector<std::int32_t> labels) {
-  return LabelRaster{w, h, std::move(labels)};
+asf::io::LabelRaster raster(int w, int h, std::vector<std::int32_t> labels) {
+  return asf::io::LabelRaster{w, h, std::move(labels)};
 }
 
-LabelRaster filled(int w, int h, std::int32_t v = 0) {
+asf::io::LabelRaster filled(int w, int h, std::int32_t v = 0) {
   return raster(w, h, std::vector<std::int32_t>(static_cast<std::size_t>(w) * h, v));
 }
 
 /// Sets [c0, c1] x [r0, r1] (inclusive, image coordinates) to v.
-void box(LabelRaster& L, int c0, int r0, int c1, int r1, std::int32_t v) {
+void box(asf::io::LabelRaster& L, int c0, int r0, int c1, int r1, std::int32_t v) {
   for (int r = r0; r <= r1; ++r)
     for (int c = c0; c <= c1; ++c) L.labels[static_cast<std::size_t>(r) * L.width + c] = v;
 }
-void box(GrayImage& g, int c0, int r0, int c1, int r1, std::uint8_t v) {
+void box(asf::io::GrayImage& g, int c0, int r0, int c1, int r1, std::uint8_t v) {
   for (int r = r0; r <= r1; ++r)
     for (int c = c0; c <= c1; ++c) g.pixels[static_cast<std::size_t>(r) * g.width + c] = v;
 }
 
-GrayImage blank(int w, int h, std::uint8_t v = 0) {
-  return GrayImage{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h, v)};
+asf::io::GrayImage blank(int w, int h, std::uint8_t v = 0) {
+  return asf::io::GrayImage{w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * h, v)};
 }
 
 fs::path tempDir(const std::string& test) {
@@ -61,8 +61,8 @@ fs::path tempDir(const std::string& test) {
 
 /// 50 x 30 px: room A (cols 2..21, rows 2..21) and room B (cols 24..43, rows 2..21), 400 px
 /// each, joined by a 2 x 2 px door (cols 22..23, rows 10..11); 804 free pixels.
-GrayImage twoRoomsMap() {
-  GrayImage g = blank(50, 30, 0);
+asf::io::GrayImage twoRoomsMap() {
+  asf::io::GrayImage g = blank(50, 30, 0);
   box(g, 2, 2, 21, 21, 255);
   box(g, 24, 2, 43, 21, 255);
   box(g, 22, 10, 23, 11, 254);  // >= 250 counts as free
@@ -70,8 +70,8 @@ GrayImage twoRoomsMap() {
 }
 
 /// Its ground truth: the door closed by a separator line.
-GrayImage twoRoomsGt() {
-  GrayImage g = twoRoomsMap();
+asf::io::GrayImage twoRoomsGt() {
+  asf::io::GrayImage g = twoRoomsMap();
   box(g, 22, 10, 23, 11, 0);
   return g;
 }
@@ -111,12 +111,12 @@ nlohmann::json readJson(const fs::path& p) {
 // Per segment (thesis "recall"), on pixels that are in a room: 28/28, 21/35 (column 6 does not
 // count), 21/21 -> 100, 60, 100 %.
 TEST(SegmentationEvalThesis, ScoresAsTheAuthorsCodeDoes) {
-  asf::GrayImage gt;
+  asf::io::GrayImage gt;
   gt.width = 13;
   gt.height = 7;
   gt.pixels.assign(13 * 7, 255);
   for (int r = 0; r < 7; ++r) gt.pixels[r * 13 + 6] = 0;
-  asf::LabelRaster seg;
+  asf::io::LabelRaster seg;
   seg.width = 13;
   seg.height = 7;
   seg.labels.resize(13 * 7);
@@ -127,7 +127,7 @@ TEST(SegmentationEvalThesis, ScoresAsTheAuthorsCodeDoes) {
   EXPECT_EQ(s.segments, 3);
   EXPECT_NEAR(s.precision, (0.66 + 0.50) / 2, 1e-12);
   EXPECT_NEAR(s.recall, (1.0 + 0.60 + 1.0) / 3, 1e-12);
-  asf::LabelRaster small = seg;
+  asf::io::LabelRaster small = seg;
   small.width = 12;
   EXPECT_THROW(asf::scoreThesisProtocol(small, gt), asf::Error);
 }
@@ -231,12 +231,12 @@ TEST(SegmentationEvalScore, OverAndUnderSegmentation) {
 }
 
 TEST(SegmentationEval, GroundTruthRoomsAre8ConnectedAndLargerThan100Pixels) {
-  GrayImage gt = blank(40, 40, 0);
+  asf::io::GrayImage gt = blank(40, 40, 0);
   box(gt, 0, 0, 9, 9, 251);      // 100 px ...
   box(gt, 10, 10, 19, 19, 255);  // ... touching this 100 px block at a corner: one room of 200
   box(gt, 30, 30, 39, 39, 255);  // 100 px alone: dropped
   box(gt, 25, 0, 39, 9, 250);    // 250 is not > 250: not a room
-  const LabelRaster rooms = asf::groundTruthRooms(gt);
+  const asf::io::LabelRaster rooms = asf::groundTruthRooms(gt);
   std::set<std::int32_t> ids(rooms.labels.begin(), rooms.labels.end());
   EXPECT_EQ(ids, (std::set<std::int32_t>{0, 1}));
   EXPECT_EQ(rooms.at(0, 0), 1);
@@ -257,13 +257,13 @@ TEST(SegmentationEval, MeanStdAndPercentile) {
 
 TEST(SegmentationEval, ImageRowZeroIsTheTopOfTheGrid) {
   // Free pixel at the top-left corner only.
-  GrayImage img = blank(4, 3, 0);
+  asf::io::GrayImage img = blank(4, 3, 0);
   img.pixels[0] = 255;
-  const asf::GridMap map = asf::gridFromImage(img, 0.5);
+  const asf::GridMap map = asf::io::gridFromImage(img, 0.5);
   ASSERT_TRUE(map.grid);
   EXPECT_EQ(map.version, 1u);
   // The grid's cell (0, 2) (top row, y up) is the free one: the image comes back unchanged.
-  const GrayImage back = asf::imageFromGrid(map);
+  const asf::io::GrayImage back = asf::io::imageFromGrid(map);
   ASSERT_EQ(back.width, 4);
   ASSERT_EQ(back.height, 3);
   EXPECT_GE(back.at(0, 0), 250);
@@ -289,39 +289,39 @@ TEST(SegmentationEval, LabelAndGrayPngRoundTripAndErrors) {
   r.labels[1] = 1;
   r.labels[7] = 300;  // needs 16 bits
   r.labels[19] = 65535;
-  asf::writeLabelImage((d / "l.png").string(), r);
-  const auto back = asf::readLabelImage((d / "l.png").string());
+  asf::io::writeLabelImage((d / "l.png").string(), r);
+  const auto back = asf::io::readLabelImage((d / "l.png").string());
   EXPECT_EQ(back.width, 5);
   EXPECT_EQ(back.height, 4);
   EXPECT_EQ(back.labels, r.labels);
   r.labels[0] = 65536;
   EXPECT_TRUE(
-      has(asf_test::errorOf<asf::Error>([&] { asf::writeLabelImage((d / "big.png").string(), r); }),
+      has(asf_test::errorOf<asf::Error>([&] { asf::io::writeLabelImage((d / "big.png").string(), r); }),
           "65536"));
-  const GrayImage g = twoRoomsMap();
-  asf::writeGrayImage((d / "g.png").string(), g);
-  EXPECT_EQ(asf::readGrayImage((d / "g.png").string()).pixels, g.pixels);
+  const asf::io::GrayImage g = twoRoomsMap();
+  asf::io::writeGrayImage((d / "g.png").string(), g);
+  EXPECT_EQ(asf::io::readGrayImage((d / "g.png").string()).pixels, g.pixels);
   EXPECT_TRUE(has(
-      asf_test::errorOf<asf::InputError>([&] { asf::readGrayImage((d / "missing.png").string()); }),
+      asf_test::errorOf<asf::InputError>([&] { asf::io::readGrayImage((d / "missing.png").string()); }),
       "missing.png: no such file"));
   std::ofstream(d / "bad.png") << "not a png";
   EXPECT_TRUE(
-      has(asf_test::errorOf<asf::InputError>([&] { asf::readGrayImage((d / "bad.png").string()); }),
+      has(asf_test::errorOf<asf::InputError>([&] { asf::io::readGrayImage((d / "bad.png").string()); }),
           "bad.png: cannot be read"));
 }
 
 TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
   const fs::path d = tempDir("segment");
-  GrayImage g = twoRoomsMap();
+  asf::io::GrayImage g = twoRoomsMap();
   box(g, 2, 25, 13, 27, 255);  // a 36 px strip near the bottom-left: a third component
-  asf::writeGrayImage((d / "map.png").string(), g);
+  asf::io::writeGrayImage((d / "map.png").string(), g);
   const auto r = runHost("segment " + (d / "map.png").string() +
                          " --resolution 0.05 --segmenter free_components --set min_area=0 -o " +
                          (d / "labels.png").string() + " --graph " + (d / "graph.json").string() +
                          " --overlay " + (d / "overlay.png").string());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "2 regions")) << r.out;
-  const LabelRaster labels = asf::readLabelImage((d / "labels.png").string());
+  const asf::io::LabelRaster labels = asf::io::readLabelImage((d / "labels.png").string());
   ASSERT_EQ(labels.width, g.width);
   ASSERT_EQ(labels.height, g.height);
   // Same orientation as the input: labelled exactly where the input is free.
@@ -373,15 +373,15 @@ TEST(SegmentationEvalSegmentCommand, FrontierEdgesAndTopologyKeys) {
   // Room A reaches the image's left edge over rows 2..21 (beyond the grid = unexplored):
   // one frontier edge 20 px = 1 m wide, through the centres of column 0.
   const fs::path d = tempDir("segment_topology");
-  GrayImage g = twoRoomsGt();  // door closed: two components, no shared border
+  asf::io::GrayImage g = twoRoomsGt();  // door closed: two components, no shared border
   box(g, 0, 2, 1, 21, 255);
-  asf::writeGrayImage((d / "map.png").string(), g);
+  asf::io::writeGrayImage((d / "map.png").string(), g);
   const std::string base = "segment " + (d / "map.png").string() +
                            " --segmenter free_components -o " + (d / "l.png").string() +
                            " --graph " + (d / "g.json").string();
   const auto r = runHost(base);
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto labels = asf::readLabelImage((d / "l.png").string());
+  const auto labels = asf::io::readLabelImage((d / "l.png").string());
   auto j = readJson(d / "g.json");
   EXPECT_EQ(j["nodes"].size(), 3u);
   ASSERT_EQ(j["edges"].size(), 1u) << j.dump();
@@ -433,16 +433,16 @@ namespace {
 fs::path writeDataset(const std::string& test) {
   const fs::path d = tempDir(test);
   for (const char* sub : {"plain", "gt", "furnished"}) fs::create_directories(d / sub);
-  asf::writeGrayImage((d / "plain/a.png").string(), twoRoomsMap());
-  asf::writeGrayImage((d / "gt/a_gt_segmentation.png").string(), twoRoomsGt());
-  GrayImage furnished = twoRoomsMap();
+  asf::io::writeGrayImage((d / "plain/a.png").string(), twoRoomsMap());
+  asf::io::writeGrayImage((d / "gt/a_gt_segmentation.png").string(), twoRoomsGt());
+  asf::io::GrayImage furnished = twoRoomsMap();
   box(furnished, 5, 5, 9, 9, 120);
-  asf::writeGrayImage((d / "furnished/a_furnitures.png").string(), furnished);
-  GrayImage b = blank(30, 30, 0);
+  asf::io::writeGrayImage((d / "furnished/a_furnitures.png").string(), furnished);
+  asf::io::GrayImage b = blank(30, 30, 0);
   box(b, 5, 5, 24, 24, 255);
-  asf::writeGrayImage((d / "plain/b.png").string(), b);
-  asf::writeGrayImage((d / "gt/b_gt_segmentation.png").string(), b);
-  asf::writeGrayImage((d / "furnished/b_furnitures.png").string(), b);
+  asf::io::writeGrayImage((d / "plain/b.png").string(), b);
+  asf::io::writeGrayImage((d / "gt/b_gt_segmentation.png").string(), b);
+  asf::io::writeGrayImage((d / "furnished/b_furnitures.png").string(), b);
   return d;
 }
 
@@ -495,9 +495,9 @@ TEST(SegmentationEvalCommand, ScoresEveryMapAsTheProtocolSays) {
   for (const char* f : {"a_plain.png", "a_furnished.png", "b_plain_labels.png"})
     EXPECT_TRUE(fs::exists(d / "img" / f)) << f;
   // The label images are in the input's orientation and score the same.
-  const auto labels = asf::readLabelImage((d / "img/a_plain_labels.png").string());
+  const auto labels = asf::io::readLabelImage((d / "img/a_plain_labels.png").string());
   const auto rooms =
-      asf::groundTruthRooms(asf::readGrayImage((d / "gt/a_gt_segmentation.png").string()));
+      asf::groundTruthRooms(asf::io::readGrayImage((d / "gt/a_gt_segmentation.png").string()));
   EXPECT_DOUBLE_EQ(asf::scoreSegmentation(labels, rooms).precision, 400.0 / 804.0);
   // --set reaches the segmenter: min_area above every component leaves no segment.
   const auto none =
@@ -609,8 +609,8 @@ namespace {
 
 /// 120 x 60 px at 0.1 m (12 m x 6 m): three rooms along a corridor, so a 5 m laser cannot see
 /// everything from the start.
-GrayImage officeMap() {
-  GrayImage g = blank(120, 60, 0);
+asf::io::GrayImage officeMap() {
+  asf::io::GrayImage g = blank(120, 60, 0);
   box(g, 2, 25, 117, 34, 255);  // corridor
   for (int k = 0; k < 3; ++k) {
     box(g, 2 + 40 * k, 2, 36 + 40 * k, 22, 255);    // rooms above
@@ -623,7 +623,7 @@ GrayImage officeMap() {
 }  // namespace
 
 TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
-  const GrayImage g = officeMap();
+  const asf::io::GrayImage g = officeMap();
   asf::ExplorationSimulator sim(g, 0.1);
   std::uint64_t version = 0;
   std::vector<std::pair<double, double>> robots;
@@ -640,7 +640,7 @@ TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
       EXPECT_LT(sim.coverage(), 1.0);
       const double r = sim.robot().x;
       const int far_col = r < 6 ? 117 : 2;
-      EXPECT_EQ(asf::imageFromGrid(m).at(far_col, 30), 128);
+      EXPECT_EQ(asf::io::imageFromGrid(m).at(far_col, 30), 128);
       first = false;
     }
     ASSERT_LT(robots.size(), 5000u);
@@ -649,7 +649,7 @@ TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
   EXPECT_DOUBLE_EQ(sim.coverage(), 1.0);
   EXPECT_GT(sim.pathLength(), 5.0);
   // Every free pixel of the reachable space is known free, the closet still unknown.
-  const GrayImage explored = asf::imageFromGrid(sim.map());
+  const asf::io::GrayImage explored = asf::io::imageFromGrid(sim.map());
   for (int row = 0; row < g.height; ++row)
     for (int col = 0; col < g.width; ++col) {
       const int p = explored.at(col, row);
@@ -675,7 +675,7 @@ TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
 }
 
 TEST(SegmentationEvalExploration, IncrementalEvaluationPassesThePreviousSegmentation) {
-  const GrayImage g = officeMap();
+  const asf::io::GrayImage g = officeMap();
   auto rooms = asf::groundTruthRooms(g);  // one component: corridor + rooms (closet too)
   auto seg = makeFreeComponents();
   std::size_t calls = 0;
@@ -721,7 +721,7 @@ TEST(SegmentationEvalBenchmark, LabIpaHasTenGroundTruthRooms) {
   const fs::path gt =
       fs::path(ASF_TEST_SHARED_DIR) / "datasets/roomseg/gt/lab_ipa_gt_segmentation.png";
   if (!fs::exists(gt)) GTEST_SKIP() << gt << " is absent (the shared benchmark data)";
-  const auto rooms = asf::groundTruthRooms(asf::readGrayImage(gt.string()));
+  const auto rooms = asf::groundTruthRooms(asf::io::readGrayImage(gt.string()));
   const std::set<std::int32_t> ids(rooms.labels.begin(), rooms.labels.end());
   EXPECT_EQ(ids.size(), 11u);  // 10 rooms + 0 (the protocol's note: 4-connectivity gives 11)
 }

@@ -5,7 +5,7 @@
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/sensor_frame.h>
-#include <asf/unreliable_zone.h>
+#include <asf/planning/unreliable_zone.h>
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -47,7 +47,7 @@ std::string writeLog(const std::string& name) {
 
 TEST(UnreliableZone, KeyframeLogComposesTheWheelOdometryBetweenKeyframes) {
   const std::string log = writeLog("compose");
-  const asf::KeyframeLog k = asf::readKeyframeLog(log, {100, 102, 103, 107});
+  const asf::planning::KeyframeLog k = asf::planning::readKeyframeLog(log, {100, 102, 103, 107});
   ASSERT_EQ(k.scan.size(), 4u);
   // The scans of frames 0, 2 (even), none at 3 or 7.
   ASSERT_TRUE(k.scan[0] && k.scan[1]);
@@ -79,14 +79,14 @@ TEST(UnreliableZone, KeyframeLogComposesTheWheelOdometryBetweenKeyframes) {
 TEST(UnreliableZone, KeyframeLogNamesTheLogAndTheNodeWithoutAFrame) {
   const std::string log = writeLog("missing");
   try {
-    asf::readKeyframeLog(log, {100, 102, 102.5, 104});
+    asf::planning::readKeyframeLog(log, {100, 102, 102.5, 104});
     FAIL() << "a keyframe time the log does not have was accepted";
   } catch (const asf::InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find(log), std::string::npos) << m;
     EXPECT_NE(m.find("node 2"), std::string::npos) << m;
   }
-  EXPECT_THROW(asf::readKeyframeLog(log, {100, 120}), asf::InputError) << "past the log's end";
+  EXPECT_THROW(asf::planning::readKeyframeLog(log, {100, 120}), asf::InputError) << "past the log's end";
 }
 
 /// Six nodes on a line, a scan each, the log's odometry 1 m per keyframe;
@@ -114,8 +114,8 @@ asf::PoseGraph lineGraph() {
   return g;
 }
 
-asf::KeyframeLog lineLog() {
-  asf::KeyframeLog k;
+asf::planning::KeyframeLog lineLog() {
+  asf::planning::KeyframeLog k;
   for (int i = 0; i < 6; ++i) {
     k.scan.push_back(nullptr);
     // Odometry that disagrees with the scan matches (1.1 m, drifting left), so
@@ -128,12 +128,12 @@ asf::KeyframeLog lineLog() {
 
 TEST(UnreliableZone, MaskRemovesExactlyTheZonesScansAndMakesItsLinksWheelOdometry) {
   const asf::PoseGraph g = lineGraph();
-  const asf::KeyframeLog log = lineLog();
+  const asf::planning::KeyframeLog log = lineLog();
   const std::vector<char> in_zone{0, 0, 1, 1, 0, 0};
-  asf::ZoneMaskOptions o;
+  asf::planning::ZoneMaskOptions o;
   o.factor = 10;
-  asf::ZoneMaskReport r;
-  const asf::PoseGraph m = asf::maskZone(g, in_zone, o, &log, &r);
+  asf::planning::ZoneMaskReport r;
+  const asf::PoseGraph m = asf::planning::maskZone(g, in_zone, o, &log, &r);
   ASSERT_EQ(m.size(), 6u);
   for (asf::NodeId v = 0; v < 6; ++v) {
     if (in_zone[v])
@@ -178,12 +178,12 @@ TEST(UnreliableZone, MaskRemovesExactlyTheZonesScansAndMakesItsLinksWheelOdometr
 TEST(UnreliableZone, GraphOnlyVariantsKeepTheEdgesMeans) {
   const asf::PoseGraph g = lineGraph();
   const std::vector<char> in_zone{0, 0, 1, 1, 0, 0};
-  asf::ZoneMaskOptions o;
+  asf::planning::ZoneMaskOptions o;
   o.factor = 100;
-  o.covariance = asf::ZoneCovariance::Scaled;
+  o.covariance = asf::planning::ZoneCovariance::Scaled;
   o.drop_loop_closures = false;
-  asf::ZoneMaskReport r;
-  const asf::PoseGraph m = asf::maskZone(g, in_zone, o, nullptr, &r);
+  asf::planning::ZoneMaskReport r;
+  const asf::PoseGraph m = asf::planning::maskZone(g, in_zone, o, nullptr, &r);
   EXPECT_EQ(m.edges.size(), g.edges.size()) << "nothing dropped";
   EXPECT_EQ(r.edges_replaced, 5u);  // 1-2, 2-3 twice, 3-4, 2-4
   for (std::size_t i = 0; i < g.edges.size(); ++i) {
@@ -193,12 +193,12 @@ TEST(UnreliableZone, GraphOnlyVariantsKeepTheEdgesMeans) {
   }
   // Inside only: an edge needs both ends in the zone.
   o.touching = false;
-  asf::maskZone(g, in_zone, o, nullptr, &r);
+  asf::planning::maskZone(g, in_zone, o, nullptr, &r);
   EXPECT_EQ(r.edges_replaced, 2u);  // 2-3 twice
   // Wheel odometry without the log is a programming error, not a silent
   // fallback.
-  o.covariance = asf::ZoneCovariance::WheelOdometry;
-  EXPECT_THROW(asf::maskZone(g, in_zone, o, nullptr), asf::Error);
+  o.covariance = asf::planning::ZoneCovariance::WheelOdometry;
+  EXPECT_THROW(asf::planning::maskZone(g, in_zone, o, nullptr), asf::Error);
 }
 
 }  // namespace

@@ -5,9 +5,9 @@
 // (distance x det(E[C]) against the library's own evaluation of the explicit candidates)
 // and `asf plan --voronoi`.
 #include <asf/errors.h>
-#include <asf/expected_uncertainty.h>
-#include <asf/occupancy_io.h>
-#include <asf/voronoi_graph.h>
+#include <asf/planning/expected_uncertainty.h>
+#include <asf/io/occupancy_io.h>
+#include <asf/planning/voronoi_graph.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -24,8 +24,7 @@ namespace {
 using asf::NodeId;
 using Eigen::Matrix3d;
 using mrpt::poses::CPose2D;
-namespace eu = asf::eu;
-namespace gvg = asf::gvg;
+namespace planning = asf::planning;
 
 /// A grid of w x h metres at `res`, all occupied, painted with boxes of p(free).
 struct Canvas {
@@ -53,7 +52,7 @@ struct Canvas {
   }
 };
 
-std::string drawSkeleton(const gvg::Gvg& g) {
+std::string drawSkeleton(const planning::Gvg& g) {
   std::ostringstream s;
   for (int cy = g.height - 1; cy >= 0; --cy) {
     for (int cx = 0; cx < g.width; ++cx) s << (g.skeleton[cy * g.width + cx] ? '#' : '.');
@@ -73,14 +72,14 @@ TEST(Voronoi, PlusShapedCorridorHasOneJunctionAndFourBranches) {
   // Arms 1 m wide, from the centre (5, 5) to 1 m from the map's border.
   Canvas c(10, 10, 0.1);
   c.box(1, 4.5, 9, 5.5).box(4.5, 1, 5.5, 9);
-  const gvg::Gvg g = gvg::computeGvg(c.map(), {0.65, 0.1});
+  const planning::Gvg g = planning::computeGvg(c.map(), {0.65, 0.1});
   const std::string pic = drawSkeleton(g);
   ASSERT_EQ(g.junctions(), 1u) << pic;
   ASSERT_EQ(g.ends(), 4u) << pic;
   ASSERT_EQ(g.vertices.size(), 5u) << pic;
   ASSERT_EQ(g.edges.size(), 4u) << pic;
   const auto& j = *std::find_if(g.vertices.begin(), g.vertices.end(),
-                                [](const gvg::Gvg::Vertex& v) { return v.degree >= 3; });
+                                [](const planning::Gvg::Vertex& v) { return v.degree >= 3; });
   EXPECT_EQ(j.degree, 4) << pic;
   EXPECT_NEAR(j.position.x(), 5, 0.15) << pic;
   EXPECT_NEAR(j.position.y(), 5, 0.15) << pic;
@@ -101,7 +100,7 @@ TEST(Voronoi, TwoRoomsWithADoorAreOnePathThroughTheDoor) {
   // Rooms [1, 5] x [1, 5] and [5.2, 9.2] x [1, 5]; the wall between them has a 1 m door.
   Canvas c(10.2, 6, 0.1);
   c.box(1, 1, 5, 5).box(5.2, 1, 9.2, 5).box(5, 2.5, 5.2, 3.5);
-  const gvg::Gvg g = gvg::computeGvg(c.map(), {0.65, 0.1});
+  const planning::Gvg g = planning::computeGvg(c.map(), {0.65, 0.1});
   const std::string pic = drawSkeleton(g);
   ASSERT_EQ(g.edges.size(), 1u) << pic;
   EXPECT_EQ(g.junctions(), 0u) << pic;
@@ -117,7 +116,7 @@ TEST(Voronoi, TwoRoomsWithADoorAreOnePathThroughTheDoor) {
   }
   EXPECT_TRUE(door) << pic;
   // A door narrower than twice the clearance closes the passage: two separate pieces.
-  const gvg::Gvg closed = gvg::computeGvg(c.map(), {0.65, 0.6});
+  const planning::Gvg closed = planning::computeGvg(c.map(), {0.65, 0.6});
   EXPECT_GE(closed.edges.size(), 2u) << drawSkeleton(closed);
   for (const auto& e : closed.edges)
     EXPECT_EQ(closed.vertices[e.a].position.x() < 5.1, closed.vertices[e.b].position.x() < 5.1)
@@ -131,17 +130,17 @@ TEST(Voronoi, TwoRoomsWithADoorAreOnePathThroughTheDoor) {
 
 TEST(Voronoi, ErrorsNameTheProblem) {
   asf::GridMap none;
-  EXPECT_TRUE(asf_test::has(asf_test::errorOf<asf::Error>([&] { gvg::computeGvg(none); }),
+  EXPECT_TRUE(asf_test::has(asf_test::errorOf<asf::Error>([&] { planning::computeGvg(none); }),
                             "no grid"));
   Canvas c(4, 4, 0.1);
   EXPECT_TRUE(asf_test::has(
-      asf_test::errorOf<asf::Error>([&] { gvg::computeGvg(c.map(), {1.5, 0.1}); }),
+      asf_test::errorOf<asf::Error>([&] { planning::computeGvg(c.map(), {1.5, 0.1}); }),
       "free_threshold"));
-  gvg::VirtualEdgeOptions o;
+  planning::VirtualEdgeOptions o;
   o.detour = 0.5;
   asf::PoseGraph g;
   EXPECT_TRUE(asf_test::has(
-      asf_test::errorOf<asf::Error>([&] { gvg::computeVirtualEdges(g, c.map(), o); }), "detour"));
+      asf_test::errorOf<asf::Error>([&] { planning::computeVirtualEdges(g, c.map(), o); }), "detour"));
 }
 
 // ---------------------------------------------------------------------------------------
@@ -191,11 +190,11 @@ struct TwoCorridors {
 
 TEST(VoronoiEdges, CorridorsJoinedOnlyThroughAMappedRoomGetAVirtualEdge) {
   TwoCorridors w;
-  const gvg::VirtualEdges ve = gvg::computeVirtualEdges(w.g, w.canvas.map());
+  const planning::VirtualEdges ve = planning::computeVirtualEdges(w.g, w.canvas.map());
   const std::string pic = drawSkeleton(ve.gvg);
   EXPECT_EQ(ve.attached, w.g.size()) << pic;
   ASSERT_EQ(ve.edges.size(), 1u) << pic;
-  const gvg::VirtualEdge& e = ve.edges[0];
+  const planning::VirtualEdge& e = ve.edges[0];
   // From A's node at x = 5 (the room's axis) to B's.
   EXPECT_EQ(e.a, w.a5) << "(" << w.x(e.a) << ", " << w.y(e.a) << ")\n" << pic;
   EXPECT_EQ(e.b, w.b5) << "(" << w.x(e.b) << ", " << w.y(e.b) << ")\n" << pic;
@@ -216,18 +215,18 @@ TEST(VoronoiEdges, CorridorsJoinedOnlyThroughAMappedRoomGetAVirtualEdge) {
   EXPECT_LE((e.covariance_ab - R * c0 * R.transpose()).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_GT(e.covariance_ab(2, 2), 0);
   // A stricter detour factor than the 38 m drive / 7 m shortcut drops it.
-  gvg::VirtualEdgeOptions strict;
+  planning::VirtualEdgeOptions strict;
   strict.detour = 6;
-  EXPECT_EQ(gvg::computeVirtualEdges(w.g, w.canvas.map(), strict).edges.size(), 0u);
+  EXPECT_EQ(planning::computeVirtualEdges(w.g, w.canvas.map(), strict).edges.size(), 0u);
 }
 
 TEST(VoronoiEdges, DriveInIncrementsComposesTheModelPerIncrement) {
   TwoCorridors w;
-  gvg::VirtualEdgeOptions o;
+  planning::VirtualEdgeOptions o;
   o.odometry_step = 0.5;
-  const gvg::VirtualEdges ve = gvg::computeVirtualEdges(w.g, w.canvas.map(), o);
+  const planning::VirtualEdges ve = planning::computeVirtualEdges(w.g, w.canvas.map(), o);
   ASSERT_EQ(ve.edges.size(), 1u);
-  const gvg::VirtualEdge& e = ve.edges[0];
+  const planning::VirtualEdge& e = ve.edges[0];
   // n equal increments, the turn (here a half turn: B is driven west) spread over them.
   // Heading variances add: n x the increment's, exactly. The position variances add up
   // (each increment's turned into the drive's frame, a rotation keeps the trace) plus the
@@ -245,21 +244,21 @@ TEST(VoronoiEdges, DriveInIncrementsComposesTheModelPerIncrement) {
   EXPECT_GT(own(0, 0) + own(1, 1), n * (ci(0, 0) + ci(1, 1)));
   // Far below the one-increment drive of the same length (the model's std grows with the
   // increment): the heading variance by about n.
-  const gvg::VirtualEdges one = gvg::computeVirtualEdges(w.g, w.canvas.map());
+  const planning::VirtualEdges one = planning::computeVirtualEdges(w.g, w.canvas.map());
   ASSERT_EQ(one.edges.size(), 1u);
   EXPECT_LT(e.covariance_ab(2, 2), one.edges[0].covariance_ab(2, 2) / (0.5 * n));
   // An increment longer than the drive is the one-increment drive.
   o.odometry_step = 100;
-  const gvg::VirtualEdges big = gvg::computeVirtualEdges(w.g, w.canvas.map(), o);
+  const planning::VirtualEdges big = planning::computeVirtualEdges(w.g, w.canvas.map(), o);
   EXPECT_EQ(big.edges[0].covariance_ab, one.edges[0].covariance_ab);
   o.odometry_step = -1;
-  EXPECT_THROW(gvg::computeVirtualEdges(w.g, w.canvas.map(), o), asf::Error);
+  EXPECT_THROW(planning::computeVirtualEdges(w.g, w.canvas.map(), o), asf::Error);
 }
 
 TEST(VoronoiEdges, NoVirtualEdgeThroughOccupiedOrUnknownCells) {
   for (float room : {0.0f, 0.5f}) {  // the room occupied, then unknown
     TwoCorridors w(room);
-    const gvg::VirtualEdges ve = gvg::computeVirtualEdges(w.g, w.canvas.map());
+    const planning::VirtualEdges ve = planning::computeVirtualEdges(w.g, w.canvas.map());
     EXPECT_TRUE(ve.edges.empty()) << "room p(free) " << room << ": " << ve.edges.size()
                                   << " virtual edges\n"
                                   << drawSkeleton(ve.gvg);
@@ -286,10 +285,10 @@ TEST(VoronoiEdges, NoVirtualEdgeThroughOccupiedOrUnknownCells) {
     e.mean = g.nodes[i].pose - g.nodes[i - 1].pose;
     g.addEdge(e);
   }
-  gvg::VirtualEdgeOptions o;
+  planning::VirtualEdgeOptions o;
   o.attach_radius = 3.0;
   o.gvg.clearance = 0.1;
-  const gvg::VirtualEdges ve = gvg::computeVirtualEdges(g, c.map(), o);
+  const planning::VirtualEdges ve = planning::computeVirtualEdges(g, c.map(), o);
   for (const auto& e : ve.edges)
     EXPECT_EQ(e.a / 9, e.b / 9) << e.a << " - " << e.b << "\n" << drawSkeleton(ve.gvg);
   for (NodeId v = 0; v < g.size(); ++v) {
@@ -308,12 +307,12 @@ struct Costs {
 
 /// The oracle: distance x det(E[C]) of the two explicit candidates, by the library's own
 /// evaluation (makePathModel, evaluatePath, pathLength).
-Costs oracle(const TwoCorridors& w, const std::vector<gvg::VirtualEdge>& ve,
-             const eu::CriterionOptions& o) {
+Costs oracle(const TwoCorridors& w, const std::vector<planning::VirtualEdge>& ve,
+             const planning::CriterionOptions& o) {
   auto cost = [&](const std::vector<NodeId>& p) {
-    const eu::PathModel model = eu::makePathModel(w.g, &w.m, p, &ve);
-    return eu::pathLength(model) *
-           eu::evaluatePath(eu::Criterion::ExpectedUncertainty, model, o).cost;
+    const planning::PathModel model = planning::makePathModel(w.g, &w.m, p, &ve);
+    return planning::pathLength(model) *
+           planning::evaluatePath(planning::Criterion::ExpectedUncertainty, model, o).cost;
   };
   return {cost(w.driven), cost({w.a5, w.b5})};
 }
@@ -327,13 +326,13 @@ TEST(VoronoiEdges, PlanTakesTheShortcutOnlyWhenItsExpectedCostIsLower) {
   req.map = &map;
   req.start = w.a5;
   req.goal = w.b5;
-  eu::CriterionOptions o;
+  planning::CriterionOptions o;
   o.reloc.p_recognition = 0;  // a featureless building: odometry only
   o.reloc.use_cross = false;
-  eu::PathSearchOptions s;
+  planning::PathSearchOptions s;
 
   // Without virtual edges: the long driven route, the only one.
-  auto r = eu::planBest(req, eu::Criterion::ExpectedUncertainty, o, s);
+  auto r = planning::planBest(req, planning::Criterion::ExpectedUncertainty, o, s);
   ASSERT_TRUE(r.found) << r.reason;
   EXPECT_EQ(r.nodes, w.driven);
   EXPECT_EQ(r.criterion, "det(E[C])");
@@ -341,9 +340,9 @@ TEST(VoronoiEdges, PlanTakesTheShortcutOnlyWhenItsExpectedCostIsLower) {
   // With them: the shortcut, cheaper by the oracle.
   s.voronoi_edges = true;
   std::string note;
-  r = eu::planBest(req, eu::Criterion::ExpectedUncertainty, o, s, &note);
+  r = planning::planBest(req, planning::Criterion::ExpectedUncertainty, o, s, &note);
   ASSERT_TRUE(r.found) << r.reason;
-  const auto ve = gvg::computeVirtualEdges(w.g, map, s.voronoi).edges;
+  const auto ve = planning::computeVirtualEdges(w.g, map, s.voronoi).edges;
   ASSERT_EQ(ve.size(), 1u);
   Costs k = oracle(w, ve, o);
   ASSERT_LT(k.short_cost, k.long_cost);  // the scenario: the shortcut is better
@@ -353,25 +352,25 @@ TEST(VoronoiEdges, PlanTakesTheShortcutOnlyWhenItsExpectedCostIsLower) {
   EXPECT_TRUE(note.empty()) << note;  // virtual edges found: nothing to warn about
   // Its E[C] is pure odometry: start marginal propagated by the virtual covariance (no
   // relocalization on a virtual step, even with certain recognition).
-  eu::CriterionOptions certain = o;
+  planning::CriterionOptions certain = o;
   certain.reloc.p_recognition = 1;
-  const eu::PathModel sm = eu::makePathModel(w.g, &w.m, {w.a5, w.b5}, &ve);
+  const planning::PathModel sm = planning::makePathModel(w.g, &w.m, {w.a5, w.b5}, &ve);
   ASSERT_TRUE(sm.isVirtual(1));
   EXPECT_EQ(sm.motion_cov[1], ve[0].covariance_ab);
-  EXPECT_NEAR(eu::pathLength(sm), ve[0].length, 1e-12);
-  const Matrix3d ec = eu::evaluatePath(eu::Criterion::ExpectedUncertainty, sm, certain).expected;
-  const eu::RelocProbFn never = [](const eu::RelocQuery&) { return 0.0; };
-  EXPECT_LE((ec - eu::expectedCovarianceBruteForce(sm, never)).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_NEAR(planning::pathLength(sm), ve[0].length, 1e-12);
+  const Matrix3d ec = planning::evaluatePath(planning::Criterion::ExpectedUncertainty, sm, certain).expected;
+  const planning::RelocProbFn never = [](const planning::RelocQuery&) { return 0.0; };
+  EXPECT_LE((ec - planning::expectedCovarianceBruteForce(sm, never)).cwiseAbs().maxCoeff(), 1e-15);
   // ... while on a real edge certain recognition gives the goal's marginal.
-  EXPECT_FALSE(eu::makePathModel(w.g, &w.m, {w.a5, w.a5 + 1}).isVirtual(1));
+  EXPECT_FALSE(planning::makePathModel(w.g, &w.m, {w.a5, w.a5 + 1}).isVirtual(1));
   // Without the virtual edges the shortcut is no path.
-  EXPECT_THROW(eu::makePathModel(w.g, &w.m, {w.a5, w.b5}), asf::Error);
+  EXPECT_THROW(planning::makePathModel(w.g, &w.m, {w.a5, w.b5}), asf::Error);
 
   // A huge odometry covariance on the shortcut: the long route again, as the oracle says.
   s.voronoi.covariance_scale = 1e4;
-  r = eu::planBest(req, eu::Criterion::ExpectedUncertainty, o, s);
+  r = planning::planBest(req, planning::Criterion::ExpectedUncertainty, o, s);
   ASSERT_TRUE(r.found) << r.reason;
-  const auto ve_huge = gvg::computeVirtualEdges(w.g, map, s.voronoi).edges;
+  const auto ve_huge = planning::computeVirtualEdges(w.g, map, s.voronoi).edges;
   ASSERT_EQ(ve_huge.size(), 1u);
   k = oracle(w, ve_huge, o);
   ASSERT_GT(k.short_cost, k.long_cost);
@@ -381,7 +380,7 @@ TEST(VoronoiEdges, PlanTakesTheShortcutOnlyWhenItsExpectedCostIsLower) {
   // No map: pose-graph edges only, and the note says so.
   req.map = nullptr;
   s.voronoi.covariance_scale = 1;
-  r = eu::planBest(req, eu::Criterion::ExpectedUncertainty, o, s, &note);
+  r = planning::planBest(req, planning::Criterion::ExpectedUncertainty, o, s, &note);
   ASSERT_TRUE(r.found);
   EXPECT_EQ(r.nodes, w.driven);
   EXPECT_TRUE(asf_test::has(note, "no map")) << note;
@@ -389,19 +388,19 @@ TEST(VoronoiEdges, PlanTakesTheShortcutOnlyWhenItsExpectedCostIsLower) {
 
 TEST(VoronoiEdges, AlgorithmOneSkipsVirtualStepsLikeTheBruteForce) {
   TwoCorridors w;
-  const auto ve = gvg::computeVirtualEdges(w.g, w.canvas.map()).edges;
+  const auto ve = planning::computeVirtualEdges(w.g, w.canvas.map()).edges;
   ASSERT_EQ(ve.size(), 1u);
   // a5-1 .. a5 -> b5 .. b5-2 (b5 - 1 is east of b5 on B): a virtual step in the middle.
   const std::vector<NodeId> p{w.a5 - 1, w.a5, w.b5, w.b5 - 1, w.b5 - 2};
-  const eu::PathModel model = eu::makePathModel(w.g, &w.m, p, &ve);
+  const planning::PathModel model = planning::makePathModel(w.g, &w.m, p, &ve);
   ASSERT_TRUE(model.isVirtual(2));
   std::size_t asked_at_virtual = 0;
-  const eu::RelocProbFn half = [&](const eu::RelocQuery& q) {
+  const planning::RelocProbFn half = [&](const planning::RelocQuery& q) {
     if (q.t == 2) ++asked_at_virtual;
     return 0.5;
   };
-  const auto fast = eu::expectedCovariance(model, half);
-  const Matrix3d slow = eu::expectedCovarianceBruteForce(model, half);
+  const auto fast = planning::expectedCovariance(model, half);
+  const Matrix3d slow = planning::expectedCovarianceBruteForce(model, half);
   EXPECT_LE((fast.mean - slow).cwiseAbs().maxCoeff(), 1e-12 * slow.cwiseAbs().maxCoeff());
   EXPECT_EQ(asked_at_virtual, 0u);
   EXPECT_EQ(fast.prob[2], 0.0);  // never relocalized on arriving by the virtual edge
@@ -468,7 +467,7 @@ TEST(VoronoiEdges, AsfPlanVoronoi) {
   // The same map as a map_server YAML: resolution and origin from it, the same plan.
   {
     asf::GridMap m = w.canvas.map();
-    asf::writeOccupancyMap(m, (dir / "occ").string());
+    asf::io::writeOccupancyMap(m, (dir / "occ").string());
   }
   r = asf_test::runHost(base + " --map " + (dir / "occ.yaml").string() + " --voronoi", false);
   ASSERT_EQ(r.code, 0) << r.out;

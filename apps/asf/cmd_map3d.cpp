@@ -5,7 +5,7 @@
 #include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/image_io.h>
+#include <asf/io/image_io.h>
 #include <asf/mapping/map3d.h>
 #include <asf/map3d_from_log.h>
 #include <asf/segmentation_eval.h>
@@ -76,7 +76,7 @@ json reportJson(const std::string& rawlog, const std::string& gt, const Params& 
 
 void printSummary(const std::string& rawlog, const std::string& dir, const Params& params,
                   const Map3dFromLogReport& r, const mapping::Map3dStats& s, const GridMap& grid,
-                  const GrayImage& image) {
+                  const io::GrayImage& image) {
   std::cout << rawlog << ": " << r.records << " records, " << r.observations
             << " observations inserted, " << r.points << " points in " << formatFixed(r.insert_s, 3)
             << " s (" << formatFixed(r.insert_s > 0 ? r.points / r.insert_s : 0.0, 0)
@@ -150,8 +150,8 @@ int cmdMap3d(int argc, char** argv) {
   const auto t_write0 = Clock::now();
   map.writeBt((fs::path(dir) / "map3d.bt").string());
   map.writeOt((fs::path(dir) / "map3d.ot").string());
-  const GrayImage image = imageFromGrid(grid);  // empty without a grid
-  if (grid.grid) writeGrayImage((fs::path(dir) / "projected.png").string(), image);
+  const io::GrayImage image = io::imageFromGrid(grid);  // empty without a grid
+  if (grid.grid) io::writeGrayImage((fs::path(dir) / "projected.png").string(), image);
   const double t_write = secondsSince(t_write0);
   const mapping::Map3dStats s = map.stats();
 

@@ -1,13 +1,13 @@
 // asf plan: one planner on one g2o pose graph (thesis chapter 3). The graph is taken as
 // optimized; the back-end only recovers the marginals (and the cross-covariances the
 // relocalization probability needs), then the chosen path is scored under every criterion
-// (asf/plan_query.h holds the protocol; this file parses arguments and prints).
+// (asf/studies/plan_query.h holds the protocol; this file parses arguments and prints).
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/expected_uncertainty.h>
-#include <asf/occupancy_io.h>
-#include <asf/plan_query.h>
+#include <asf/planning/expected_uncertainty.h>
+#include <asf/io/occupancy_io.h>
+#include <asf/studies/plan_query.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 #include <asf/registry.h>
@@ -34,8 +34,8 @@ std::string joinPath(const std::vector<NodeId>& p) {
 
 /// The occupancy map of --map: a map_server YAML or an image at `resolution`; none if empty.
 GridMap readMapArgument(const std::string& path, double resolution) {
-  if (isOccupancyYaml(path)) return readOccupancyMap(path);
-  if (!path.empty()) return gridFromImage(readGrayImage(path), resolution);
+  if (io::isOccupancyYaml(path)) return io::readOccupancyMap(path);
+  if (!path.empty()) return io::gridFromImage(io::readGrayImage(path), resolution);
   return {};
 }
 
@@ -59,22 +59,22 @@ Params plannerParams(const PluginInfo& pinfo, std::vector<std::string> overrides
 }
 
 void renderImage(const std::string& png, const std::string& map, double resolution, bool ellipses,
-                 const PoseGraph& g, const eu::PlanQueryResult& r) {
-  eu::RenderOptions ro;
+                 const PoseGraph& g, const asf::studies::PlanQueryResult& r) {
+  planning::RenderOptions ro;
   ro.ellipses = ellipses;
   ro.map_png = map;
   ro.map_resolution = resolution;
-  if (isOccupancyYaml(map)) {  // the YAML's image, in the YAML's frame
-    const OccupancyMapInfo info = readOccupancyYaml(map);
-    ro.map_png = occupancyImagePath(map, info);
+  if (io::isOccupancyYaml(map)) {  // the YAML's image, in the YAML's frame
+    const io::OccupancyMapInfo info = io::readOccupancyYaml(map);
+    ro.map_png = io::occupancyImagePath(map, info);
     ro.map_resolution = info.resolution;
     ro.map_origin_x = info.origin_x;
     ro.map_origin_y = info.origin_y;
   }
-  eu::renderPlan(png, g, &r.marginals, r.plan.nodes, ro);
+  planning::renderPlan(png, g, &r.marginals, r.plan.nodes, ro);
 }
 
-nlohmann::json alternativeJson(const std::optional<eu::PathAlternative>& a) {
+nlohmann::json alternativeJson(const std::optional<asf::studies::PathAlternative>& a) {
   if (!a) return nullptr;
   return {{"path", a->path},
           {"distance", a->distance},
@@ -83,7 +83,7 @@ nlohmann::json alternativeJson(const std::optional<eu::PathAlternative>& a) {
           {"virtual_steps", a->virtual_steps}};
 }
 
-nlohmann::json hypothesesJson(const eu::HypothesisCheck& h) {
+nlohmann::json hypothesesJson(const asf::studies::HypothesisCheck& h) {
   return {{"steps", h.steps},
           {"sequences", h.sequences},
           {"hypotheses", h.hypotheses},
@@ -95,9 +95,9 @@ nlohmann::json hypothesesJson(const eu::HypothesisCheck& h) {
           {"relative_difference", h.relative_difference}};
 }
 
-void printJson(const std::string& graph, const std::string& planner, const eu::PlanQuery& q,
-               const eu::PlanQueryResult& r, bool voronoi_edges, const std::string& image) {
-  const eu::PathCost& expected = r.costs.at(eu::criterionName(eu::Criterion::ExpectedUncertainty));
+void printJson(const std::string& graph, const std::string& planner, const asf::studies::PlanQuery& q,
+               const asf::studies::PlanQueryResult& r, bool voronoi_edges, const std::string& image) {
+  const planning::PathCost& expected = r.costs.at(planning::criterionName(planning::Criterion::ExpectedUncertainty));
   nlohmann::json ec = nlohmann::json::array();
   for (int i = 0; i < 3; ++i)
     ec.push_back({expected.expected(i, 0), expected.expected(i, 1), expected.expected(i, 2)});
@@ -123,7 +123,7 @@ void printJson(const std::string& graph, const std::string& planner, const eu::P
       {"expected_covariance", ec},
       {"candidates", r.candidates.paths.size()},
       {"capped", r.candidates.capped},
-      {"search", eu::searchMethodName(r.candidates.method)},
+      {"search", planning::searchMethodName(r.candidates.method)},
       {"fell_back", r.candidates.fell_back},
       {"merged_vertices", r.candidates.merged_vertices},
       {"reduced_nodes", r.candidates.reduced_nodes},
@@ -137,13 +137,13 @@ void printJson(const std::string& graph, const std::string& planner, const eu::P
       {"search_time_s", r.search_s},
       {"marginals_time_s", r.marginals_s},
       {"plan_time_s", r.plan_s},
-      {"hypotheses", hypothesesJson(eu::checkHypotheses(r.model, r.criterion_options))},
+      {"hypotheses", hypothesesJson(asf::studies::checkHypotheses(r.model, r.criterion_options))},
       {"note", r.note}};
   if (!image.empty()) j["image"] = image;
   std::cout << j.dump(2) << "\n";
 }
 
-void printComparison(const eu::PlanQueryResult& r) {
+void printComparison(const asf::studies::PlanQueryResult& r) {
   std::cout << "  voronoi: " << r.virtual_edges.size() << " virtual edges (" << r.voronoi_s
             << " s); the path takes " << r.virtual_steps.size() << ":";
   for (const auto& [a, b] : r.virtual_steps) std::cout << " " << a << "-" << b;
@@ -161,11 +161,11 @@ void printComparison(const eu::PlanQueryResult& r) {
 }
 
 void printText(const std::string& graph, const PoseGraph& g, const std::string& planner,
-               const eu::PlanQueryResult& r, bool voronoi_edges) {
+               const asf::studies::PlanQueryResult& r, bool voronoi_edges) {
   const auto& c = r.candidates;
   std::cout << std::setprecision(6) << graph << ": " << g.size() << " nodes, " << g.edges.size()
             << " edges; " << c.paths.size() << " candidate paths ("
-            << eu::searchMethodName(c.method) << "; search graph " << c.reduced_nodes
+            << planning::searchMethodName(c.method) << "; search graph " << c.reduced_nodes
             << " vertices, " << c.reduced_edges << " edges, " << c.merged_vertices
             << " merged aliases" << (c.capped ? ", capped" : "") << ")\n"
             << planner << ": " << r.plan.nodes.size() << " nodes: " << joinPath(r.plan.nodes)
@@ -256,12 +256,12 @@ int cmdPlan(int argc, char** argv) {
                        " does not exist (the graph has " + std::to_string(g.size()) +
                        " nodes, numbered from 0)");
   const GridMap grid = readMapArgument(map.getValue(), resolution.getValue());
-  eu::PlanQuery q;
+  asf::studies::PlanQuery q;
   q.start = static_cast<NodeId>(start.getValue());
   q.goal = static_cast<NodeId>(goal.getValue());
   q.map = grid.grid ? &grid : nullptr;
   q.max_cross = max_cross.getValue();
-  const eu::PlanQueryResult r = eu::planOnGraph(g, *pl, pparams, ctx.seed, *be, q);
+  const asf::studies::PlanQueryResult r = asf::studies::planOnGraph(g, *pl, pparams, ctx.seed, *be, q);
   if (r.cross_skipped)
     std::cerr << "asf plan: the candidate paths need more than " << max_cross.getValue()
               << " cross-covariance blocks (--max-cross); node marginals only\n";
@@ -270,7 +270,7 @@ int cmdPlan(int argc, char** argv) {
                 std::to_string(q.goal) + ": " + r.plan.reason);
   if (!image.getValue().empty())
     renderImage(image.getValue(), map.getValue(), resolution.getValue(), ellipses.getValue(), g, r);
-  const bool voronoi_edges = eu::pathSearchOptionsFrom(pparams).voronoi_edges;
+  const bool voronoi_edges = planning::pathSearchOptionsFrom(pparams).voronoi_edges;
   if (json.getValue()) {
     printJson(graph.getValue(), pinfo->name(), q, r, voronoi_edges, image.getValue());
   } else {

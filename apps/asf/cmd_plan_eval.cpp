@@ -1,9 +1,9 @@
 // asf plan-eval: the unreliable-path-avoidance protocol of thesis Table 3.1 (ch. 3.5.1) on
-// a SLAM run (asf/plan_eval.h holds it; this file parses arguments and prints).
+// a SLAM run (asf/studies/plan_eval.h holds it; this file parses arguments and prints).
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/plan_eval.h>
+#include <asf/studies/plan_eval.h>
 #include <asf/registry.h>
 #include <tclap/CmdLine.h>
 
@@ -46,7 +46,7 @@ int cmdPlanEval(int argc, char** argv) {
   }
   Registry reg;
   scanPlugins(reg, path.getValue());
-  const eu::PlanEvalOutput out = eu::runPlanEval(ini, reg, out_arg.getValue(), config.getValue());
+  const asf::studies::PlanEvalOutput out = asf::studies::runPlanEval(ini, reg, out_arg.getValue(), config.getValue());
   std::cout << out.markdown << "\nwrote " << out.md_file << " and " << out.json_file << "\n";
   return kOk;
 }

@@ -2,8 +2,9 @@
 // SLAM run, from the nodes' own scans in the log the run read; Fig. 3.3 (the scatter of
 // one node's samples) as SVG for the nodes asked.
 #include <asf/errors.h>
-#include <asf/place_recognition.h>
-#include <asf/unreliable_zone.h>
+#include <asf/planning/place_recognition.h>
+#include <asf/planning/unreliable_zone.h>
+#include <asf/studies/recognition_figure.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -43,15 +44,15 @@ nlohmann::json summary(const PoseGraph& g, const std::vector<double>& p) {
 }
 
 /// Thesis Fig. 3.3 for node n: scatter_<n>.svg in `dir`; its entry of recognition.json.
-nlohmann::json writeScatter(const PoseGraph& g, unsigned n, const RecognitionMcOptions& o,
+nlohmann::json writeScatter(const PoseGraph& g, unsigned n, const planning::RecognitionMcOptions& o,
                             const std::filesystem::path& dir) {
-  const RecognitionTrial t = recognitionTrial(g, n, o);
+  const planning::RecognitionTrial t = planning::recognitionTrial(g, n, o);
   const std::string file = (dir / ("scatter_" + std::to_string(n) + ".svg")).string();
   std::ostringstream title;
   title << "Monte Carlo place recognition at node " << n << " (" << std::fixed
         << std::setprecision(2) << g.nodes[n].pose.x() << ", " << g.nodes[n].pose.y() << ")";
   std::ofstream f(file);
-  f << recognitionScatterSvg(t, g.nodes[n], o, title.str());
+  f << studies::recognitionScatterSvg(t, g.nodes[n], o, title.str());
   if (!f) throw Error(file + ": cannot write");
   std::size_t ok = 0;
   for (const auto& s : t.samples) ok += s.success;
@@ -118,7 +119,7 @@ int cmdRecognition(int argc, char** argv) {
     throw ConfigError("--map-radius must be > 0, --window-xy and --window-phi-deg >= 0");
   if (!(success_xy.getValue() > 0) || !(success_phi.getValue() > 0))
     throw ConfigError("--success-xy and --success-phi-deg must be > 0");
-  RecognitionMcOptions o;
+  planning::RecognitionMcOptions o;
   o.samples = samples.getValue();
   o.map_radius = radius.getValue();
   o.half_x = o.half_y = window_xy.getValue();
@@ -128,7 +129,7 @@ int cmdRecognition(int argc, char** argv) {
   o.success_phi = success_phi.getValue() * M_PI / 180;
 
   const PoseGraph g =
-      readRunWithScans(graph.getValue(), keyframes.getValue(), rawlog.getValue(), label.getValue());
+      planning::readRunWithScans(graph.getValue(), keyframes.getValue(), rawlog.getValue(), label.getValue());
   for (unsigned n : scatter.getValue())
     if (n >= g.size())
       throw ConfigError("--scatter " + std::to_string(n) + ": the graph has nodes 0.." +
@@ -136,7 +137,7 @@ int cmdRecognition(int argc, char** argv) {
   std::filesystem::create_directories(out.getValue());
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<double> p =
-      recognitionProbabilities(g, o, threads.getValue(), [&](std::size_t k, std::size_t n) {
+      planning::recognitionProbabilities(g, o, threads.getValue(), [&](std::size_t k, std::size_t n) {
         std::cerr << "recognition: " << k << "/" << n << " nodes, " << std::setprecision(3)
                   << secondsSince(t0) << " s\n";
       });
@@ -144,7 +145,7 @@ int cmdRecognition(int argc, char** argv) {
   std::map<NodeId, double> table;
   for (NodeId n = 0; n < g.size(); ++n) table[n] = p[n];
   const std::filesystem::path dir(out.getValue());
-  writeRecognitionProbabilities((dir / "recognition.txt").string(), table);
+  planning::writeRecognitionProbabilities((dir / "recognition.txt").string(), table);
 
   nlohmann::json j{{"graph", graph.getValue()},
                    {"rawlog", rawlog.getValue()},

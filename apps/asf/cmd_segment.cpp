@@ -5,7 +5,7 @@
 #include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/registry.h>
 #include <asf/run_report.h>
 #include <asf/segment_benchmark.h>
@@ -106,7 +106,7 @@ int cmdSegment(int argc, char** argv) {
       "Write an overlay image: PNG, or SVG (graph as vectors) when the name ends in .svg", false,
       "", "OUT.png", cmd);
   TCLAP::ValueArg<int> threshold("t", "free-threshold", "Pixels >= this are free", false,
-                                 kBenchmarkFreeThreshold, "0-255", cmd);
+                                 io::kBenchmarkFreeThreshold, "0-255", cmd);
   TCLAP::MultiArg<std::string> set("s", "set", kSetHelp, false, "KEY=VALUE", cmd);
   TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
                                     "DIR", cmd);
@@ -117,16 +117,16 @@ int cmdSegment(int argc, char** argv) {
   const SegmenterSetup setup =
       setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), true);
   // A map_server YAML brings its resolution, origin and free/occupied/unknown rules.
-  const bool yaml = isOccupancyYaml(map_arg.getValue());
+  const bool yaml = io::isOccupancyYaml(map_arg.getValue());
   if (yaml && (res.isSet() || threshold.isSet()))
     throw ConfigError(map_arg.getValue() + ": a map_server YAML sets the resolution and the " +
                       "free cells; leave out " +
                       (res.isSet() ? "--resolution" : "--free-threshold"));
-  const GrayImage image = readGrayImage(
-      yaml ? occupancyImagePath(map_arg.getValue(), readOccupancyYaml(map_arg.getValue()))
+  const io::GrayImage image = io::readGrayImage(
+      yaml ? io::occupancyImagePath(map_arg.getValue(), io::readOccupancyYaml(map_arg.getValue()))
            : map_arg.getValue());
-  const GridMap map = yaml ? readOccupancyMap(map_arg.getValue())
-                           : gridFromImage(image, res.getValue(), threshold.getValue());
+  const GridMap map = yaml ? io::readOccupancyMap(map_arg.getValue())
+                           : io::gridFromImage(image, res.getValue(), threshold.getValue());
   auto seg = setup.create();
   const auto t0 = std::chrono::steady_clock::now();
   Segmentation s;
@@ -136,7 +136,7 @@ int cmdSegment(int argc, char** argv) {
     throw InputError(map_arg.getValue() + ": " + e.what());
   }
   const double ms = msSince(t0);
-  writeLabelImage(out.getValue(), segmentationRaster(s, image, map_arg.getValue()));
+  io::writeLabelImage(out.getValue(), segmentationRaster(s, image, map_arg.getValue()));
 
   mapping::TopoBuilder topo;
   topo.configure(setup.topology);

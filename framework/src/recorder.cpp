@@ -2,7 +2,7 @@
 
 #include <asf/atomic_file.h>
 #include <asf/map_views.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/run_report.h>
 #include <asf/segmentation_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -222,7 +222,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   attempt("map views (topology.svg, regions.png, map.png)",
           [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   // The bare grid in its frame (map_server; nav2 loads it unchanged): `asf plan --map map.yaml`.
-  attempt("map.pgm + map.yaml", [&] { writeOccupancyMap(map, dir_ + "/map"); });
+  attempt("map.pgm + map.yaml", [&] { io::writeOccupancyMap(map, dir_ + "/map"); });
   attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/segment_benchmark.h>
 #include <asf/text.h>
 
@@ -23,8 +23,8 @@ struct MapContext {
   const SegmenterFactory& segmenter;
   const ProgressSink& progress;
   std::string gt_file;
-  GrayImage gt_image;
-  LabelRaster rooms;
+  io::GrayImage gt_image;
+  io::LabelRaster rooms;
 
   std::string imagePath(const std::string& what) const {
     return (fs::path(o.images_dir) / (name + "_" + what + ".png")).string();
@@ -32,7 +32,7 @@ struct MapContext {
 };
 
 /// Reveals the map step by step, segmenting after every update (`r.inc`, `r.inc_thesis`).
-void scoreIncremental(const MapContext& m, const std::string& variant, const GrayImage& image,
+void scoreIncremental(const MapContext& m, const std::string& variant, const io::GrayImage& image,
                       const std::string& file, BenchmarkMapResult& r) {
   auto inc_seg = m.segmenter();
   auto last_report = std::chrono::steady_clock::now();
@@ -79,14 +79,14 @@ std::string mapFile(const std::string& dir, const std::string& stem) {
 BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
                                 const std::string& file) {
   // A map_server map brings its own resolution, origin and free / occupied / unknown rules.
-  const bool yaml = isOccupancyYaml(file);
-  const GrayImage image =
-      readGrayImage(yaml ? occupancyImagePath(file, readOccupancyYaml(file)) : file);
+  const bool yaml = io::isOccupancyYaml(file);
+  const io::GrayImage image =
+      io::readGrayImage(yaml ? io::occupancyImagePath(file, io::readOccupancyYaml(file)) : file);
   if (image.width != m.rooms.width || image.height != m.rooms.height)
     throw InputError(file + ": " + std::to_string(image.width) + " x " +
                      std::to_string(image.height) + " px, but " + m.gt_file + " is " +
                      std::to_string(m.rooms.width) + " x " + std::to_string(m.rooms.height));
-  const GridMap map = yaml ? readOccupancyMap(file) : gridFromImage(image, m.o.resolution);
+  const GridMap map = yaml ? io::readOccupancyMap(file) : io::gridFromImage(image, m.o.resolution);
   auto seg = m.segmenter();
   const auto t0 = std::chrono::steady_clock::now();
   const Segmentation s = seg->segment(map, nullptr);
@@ -94,12 +94,12 @@ BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
   r.time_ms = msSince(t0);
   r.name = m.name;
   r.variant = variant;
-  const LabelRaster labels = segmentationRaster(s, image, file);
+  const io::LabelRaster labels = segmentationRaster(s, image, file);
   r.score = scoreSegmentation(labels, m.rooms);
   r.thesis = scoreThesisProtocol(labels, m.gt_image);
   if (!m.o.images_dir.empty()) {
     writeSegmentationOverlay(m.imagePath(variant), map, s, nullptr, &m.rooms);
-    writeLabelImage(m.imagePath(variant + "_labels"), labels);
+    io::writeLabelImage(m.imagePath(variant + "_labels"), labels);
   }
   m.progress(m.prefix + " " + variant + ": " + std::to_string(r.score.segments) + " segments / " +
              std::to_string(r.score.rooms) + " rooms, precision " +
@@ -130,7 +130,7 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
     if (ext == ".png") continue;
     yaml_stems.push_back(names.back());
     const std::string y = e.path().string();
-    images.push_back(fs::path(occupancyImagePath(y, readOccupancyYaml(y))).lexically_normal());
+    images.push_back(fs::path(io::occupancyImagePath(y, io::readOccupancyYaml(y))).lexically_normal());
   }
   const auto contains = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();
@@ -161,7 +161,7 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
   MapContext m{name, prefix, o, segmenter, progress, {}, {}, {}};
   m.gt_file = (fs::path(o.gt_dir) / (name + "_gt_segmentation.png")).string();
   current = name + " (ground truth)";
-  m.gt_image = readGrayImage(m.gt_file);
+  m.gt_image = io::readGrayImage(m.gt_file);
   m.rooms = groundTruthRooms(m.gt_image);
   if (std::none_of(m.rooms.labels.begin(), m.rooms.labels.end(),
                    [](std::int32_t l) { return l > 0; }))
@@ -177,9 +177,9 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
   scored();
 }
 
-LabelRaster segmentationRaster(const Segmentation& seg, const GrayImage& image,
+io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage& image,
                                const std::string& who) {
-  LabelRaster r = toRaster(seg.labels);
+  io::LabelRaster r = toRaster(seg.labels);
   if (r.labels.empty() && seg.regions.empty()) {  // no region at all: an empty image
     r.width = image.width;
     r.height = image.height;

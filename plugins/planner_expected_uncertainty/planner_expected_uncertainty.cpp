@@ -1,13 +1,13 @@
 // planner_expected_uncertainty: the path whose expected covariance at the goal is smallest
 // (thesis chapter 3, Algorithm 1) among all simple paths of the reduced pose graph.
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
 
 namespace {
 
-class ExpectedUncertaintyPlanner final : public asf::eu::CriterionPlanner {
+class ExpectedUncertaintyPlanner final : public asf::planning::CriterionPlanner {
  public:
-  ExpectedUncertaintyPlanner() : CriterionPlanner(asf::eu::Criterion::ExpectedUncertainty) {}
+  ExpectedUncertaintyPlanner() : CriterionPlanner(asf::planning::Criterion::ExpectedUncertainty) {}
 };
 
 const asf::KeySpec kKeys[] = {

@@ -1,14 +1,14 @@
 // planner_mechanical_work: the path with the least mechanical work (Valencia et al.): sum of
 // the positive increments of U = det((O^-1 + Sigma^-1)^-1) along the path. A baseline of
 // thesis chapter 3, searched over the same candidate paths as expected_uncertainty.
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
 
 namespace {
 
-class MechanicalWorkPlanner final : public asf::eu::CriterionPlanner {
+class MechanicalWorkPlanner final : public asf::planning::CriterionPlanner {
  public:
-  MechanicalWorkPlanner() : CriterionPlanner(asf::eu::Criterion::MechanicalWork) {}
+  MechanicalWorkPlanner() : CriterionPlanner(asf::planning::Criterion::MechanicalWork) {}
 };
 
 const asf::KeySpec kKeys[] = {

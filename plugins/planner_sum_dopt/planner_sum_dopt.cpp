@@ -1,14 +1,14 @@
 // planner_sum_dopt: the path minimizing the sum over its nodes of the D-optimality of their
 // marginal covariance (Carrillo et al.; thesis eq. 3.24). A baseline of thesis chapter 3,
 // searched over the same candidate paths as expected_uncertainty.
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
 
 namespace {
 
-class SumDoptPlanner final : public asf::eu::CriterionPlanner {
+class SumDoptPlanner final : public asf::planning::CriterionPlanner {
  public:
-  SumDoptPlanner() : CriterionPlanner(asf::eu::Criterion::SumDopt) {}
+  SumDoptPlanner() : CriterionPlanner(asf::planning::Criterion::SumDopt) {}
 };
 
 const asf::KeySpec kKeys[] = {

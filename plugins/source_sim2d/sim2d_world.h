@@ -43,7 +43,7 @@ struct ImageWorldOptions {
   double origin_x = 0, origin_y = 0;  ///< world coordinates of the image's lower-left corner
   double occupied_threshold = 0.5;    ///< a pixel with 1 - gray/255 above this is a wall
   /// When set, the class of each gray level instead of occupied_threshold (a map_server map's
-  /// rules: asf/occupancy_io.h's mapServerOccupancy).
+  /// rules: asf/io/occupancy_io.h's mapServerOccupancy).
   std::optional<std::array<PixelClass, 256>> classes;
   UnknownCells unknown = UnknownCells::Wall;
   int pad_wall_px = 0;  ///< wall of this many pixels added around the image

@@ -5,7 +5,7 @@
 // is ray cast over the height field. The robot plans on the *estimated* map, drives in fixed
 // steps and never passes through a true obstacle, low or not.
 #include <asf/errors.h>
-#include <asf/occupancy_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/io/recorded_run.h>
 #include <asf/source.h>
@@ -117,7 +117,7 @@ class Sim2dSource final : public asf::Source {
         o.unknown = unknown == "free"   ? asf::sim2d::UnknownCells::Free
                     : unknown == "wall" ? asf::sim2d::UnknownCells::Wall
                                         : asf::sim2d::UnknownCells::Blocked;
-        if (asf::isOccupancyYaml(image)) applyMapServerYaml(p, image, o);
+        if (asf::io::isOccupancyYaml(image)) applyMapServerYaml(p, image, o);
         o.pad_wall_px = static_cast<int>(p.getInt("pad_wall_px"));
         o.tiles = static_cast<int>(p.getInt("map_tiles"));
         o.wall_height = wall_height;
@@ -140,25 +140,25 @@ class Sim2dSource final : public asf::Source {
       if (!p.isDefault(k))
         p.fail(k, std::string("map_image is a map_server YAML, which sets ") + k +
                       " (and the free, occupied and unknown gray levels): leave it out");
-    asf::OccupancyMapInfo info;
+    asf::io::OccupancyMapInfo info;
     try {
-      info = asf::readOccupancyYaml(yaml);
+      info = asf::io::readOccupancyYaml(yaml);
     } catch (const asf::InputError& e) {
       p.fail("map_image", e.what());
     }
-    o.file = asf::occupancyImagePath(yaml, info);
+    o.file = asf::io::occupancyImagePath(yaml, info);
     o.resolution = info.resolution;
     o.origin_x = info.origin_x;
     o.origin_y = info.origin_y;
     std::array<asf::sim2d::PixelClass, 256> classes{};
-    for (int v = 0; v < 256; ++v) switch (asf::mapServerClass(info, static_cast<std::uint8_t>(v))) {
-        case asf::MapCell::Free:
+    for (int v = 0; v < 256; ++v) switch (asf::io::mapServerClass(info, static_cast<std::uint8_t>(v))) {
+        case asf::io::MapCell::Free:
           classes[v] = asf::sim2d::PixelClass::Free;
           break;
-        case asf::MapCell::Occupied:
+        case asf::io::MapCell::Occupied:
           classes[v] = asf::sim2d::PixelClass::Wall;
           break;
-        case asf::MapCell::Unknown:
+        case asf::io::MapCell::Unknown:
           classes[v] = asf::sim2d::PixelClass::Unknown;
           break;
       }

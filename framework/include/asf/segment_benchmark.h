@@ -56,7 +56,7 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
 
 /// A segmentation as an image raster; checks the segmenter's contract on the size (`who`
 /// names the map in the error).
-LabelRaster segmentationRaster(const Segmentation& seg, const GrayImage& image,
+io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage& image,
                                const std::string& who);
 
 }  // namespace asf

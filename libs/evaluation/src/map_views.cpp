@@ -1,5 +1,6 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
+#include <asf/io/image_io.h>
 #include <asf/map_views.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -10,6 +11,14 @@
 namespace asf {
 
 using render::MapImage;
+
+namespace {
+
+void writeBgr(const std::string& path, const cv::Mat& img) {
+  io::writeBgrImage(path, img.cols, img.rows, img.ptr());
+}
+
+}  // namespace
 
 void writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
                    const Segmentation& seg, const TopoGraph& topo,
@@ -32,13 +41,12 @@ void writeMapViews(const std::string& prefix, const PoseGraph& graph, const Grid
                         render::topologySvg(regions, regions.img, topo, pts));
     drawPath(regions);
     render::drawTopology(regions, topo);
-    if (!cv::imwrite(prefix + "regions.png", regions.img))
-      throw Error(prefix + "regions.png: cannot write");
+    writeBgr(prefix + "regions.png", regions.img);
   }
   drawPath(m);
   for (const auto& n : graph.nodes)
     cv::circle(m.img, m.px(n.pose.x(), n.pose.y()), 2, {0, 0, 220}, -1);
-  if (!cv::imwrite(prefix + "map.png", m.img)) throw Error(prefix + "map.png: cannot write");
+  writeBgr(prefix + "map.png", m.img);
 }
 
 namespace {
@@ -117,7 +125,7 @@ void writeViewPng(const std::string& file, const ViewImage& image) {
 
 void writeGridPng(const std::string& file, const GridMap& map) {
   const MapImage m = render::renderGrid(*map.grid);
-  if (!cv::imwrite(file, m.img)) throw Error("cannot write");
+  writeBgr(file, m.img);
 }
 
 }  // namespace asf

@@ -46,7 +46,7 @@ struct RasterDiskReveal::State {
 
 };
 
-RasterDiskReveal::RasterDiskReveal(const GrayImage& image, double resolution,
+RasterDiskReveal::RasterDiskReveal(const io::GrayImage& image, double resolution,
                                    const RasterDiskOptions& options, int free_threshold)
     : s_(std::make_unique<State>()) {
   State& s = *s_;

@@ -13,12 +13,10 @@
 #include <limits>
 #include <map>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <unordered_map>
 
-#include "image_file.h"
 #include "region_render.h"
 #include "reveal_map.h"
 
@@ -26,58 +24,10 @@ namespace asf {
 
 namespace fs = std::filesystem;
 using Grid = mrpt::maps::COccupancyGridMap2D;
-using detail::writeImage;
 
 // ---------------------------------------------------------------- benchmark reading -------
 
-GridMap gridFromImage(const GrayImage& image, double resolution, int free_threshold,
-                      double origin_x, double origin_y) {
-  if (image.width <= 0 || image.height <= 0) throw Error("gridFromImage: empty image");
-  if (!(resolution > 0)) throw Error("gridFromImage: resolution must be > 0");
-  const int W = image.width, H = image.height;
-  std::shared_ptr<Grid> g;
-  try {  // MRPT asserts on extents float cannot tell apart (fuzzing: origin 5.8e15 m)
-    g = std::make_shared<Grid>(
-        static_cast<float>(origin_x), static_cast<float>(origin_x + W * resolution),
-        static_cast<float>(origin_y), static_cast<float>(origin_y + H * resolution),
-        static_cast<float>(resolution));
-  } catch (const std::exception& e) {
-    throw Error("gridFromImage: MRPT cannot make a " + std::to_string(W) + " x " +
-                std::to_string(H) + " grid of " + std::to_string(resolution) + " m cells at (" +
-                std::to_string(origin_x) + ", " + std::to_string(origin_y) + ")");
-  }
-  if (static_cast<int>(g->getSizeX()) != W || static_cast<int>(g->getSizeY()) != H)
-    throw Error("gridFromImage: MRPT made a " + std::to_string(g->getSizeX()) + " x " +
-                std::to_string(g->getSizeY()) + " grid for a " + std::to_string(W) + " x " +
-                std::to_string(H) + " image");
-  g->fill(0.0f);
-  for (int row = 0; row < H; ++row)
-    for (int col = 0; col < W; ++col)
-      if (image.at(col, row) >= free_threshold) g->setCell(col, H - 1 - row, 1.0f);
-  GridMap m;
-  m.grid = std::move(g);
-  m.version = 1;
-  m.changed.extend(origin_x, origin_y);
-  m.changed.extend(origin_x + W * resolution, origin_y + H * resolution);
-  m.rebuilt = true;
-  return m;
-}
-
-GrayImage imageFromGrid(const GridMap& map) {
-  GrayImage g;
-  if (!map.grid) return g;
-  const Grid& grid = *map.grid;
-  g.width = static_cast<int>(grid.getSizeX());
-  g.height = static_cast<int>(grid.getSizeY());
-  g.pixels.resize(static_cast<std::size_t>(g.width) * g.height);
-  for (int cy = 0; cy < g.height; ++cy)
-    for (int cx = 0; cx < g.width; ++cx)
-      g.pixels[static_cast<std::size_t>(g.height - 1 - cy) * g.width + cx] =
-          static_cast<std::uint8_t>(std::lround(255.0 * grid.getCell(cx, cy)));
-  return g;
-}
-
-LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels) {
+io::LabelRaster groundTruthRooms(const io::GrayImage& gt, int min_pixels) {
   cv::Mat mask(gt.height, gt.width, CV_8U, cv::Scalar(0));
   for (int r = 0; r < gt.height; ++r)
     for (int c = 0; c < gt.width; ++c)
@@ -86,7 +36,7 @@ LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels) {
   cv::connectedComponentsWithStats(mask, comp, stats, centroids, 8, CV_32S);
   // Renumber 1..N by first pixel in row-major order (OpenCV's order is its own business).
   std::unordered_map<int, std::int32_t> id_of;
-  LabelRaster L;
+  io::LabelRaster L;
   L.width = gt.width;
   L.height = gt.height;
   L.labels.assign(static_cast<std::size_t>(gt.width) * gt.height, 0);
@@ -102,8 +52,8 @@ LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels) {
   return L;
 }
 
-LabelRaster toRaster(const LabelImage& labels) {
-  LabelRaster R;
+io::LabelRaster toRaster(const LabelImage& labels) {
+  io::LabelRaster R;
   R.width = labels.width;
   R.height = labels.height;
   R.labels.resize(labels.labels.size());
@@ -114,7 +64,7 @@ LabelRaster toRaster(const LabelImage& labels) {
   return R;
 }
 
-LabelImage fromRaster(const LabelRaster& raster, double resolution, double origin_x,
+LabelImage fromRaster(const io::LabelRaster& raster, double resolution, double origin_x,
                       double origin_y) {
   LabelImage L;
   L.width = raster.width;
@@ -132,7 +82,7 @@ LabelImage fromRaster(const LabelRaster& raster, double resolution, double origi
 
 // ---------------------------------------------------------------- scoring -----------------
 
-SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const LabelRaster& rooms,
+SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation, const io::LabelRaster& rooms,
                                     int min_pixels) {
   if (segmentation.width != rooms.width || segmentation.height != rooms.height ||
       segmentation.labels.size() != rooms.labels.size())
@@ -229,7 +179,7 @@ double percentile(std::vector<double> values, double p) {
 // ---------------------------------------------------------------- overlay, JSON -----------
 
 void writeSegmentationOverlay(const std::string& path, const GridMap& map, const Segmentation& seg,
-                              const TopoGraph* topo, const LabelRaster* rooms) {
+                              const TopoGraph* topo, const io::LabelRaster* rooms) {
   if (!map.grid) throw Error(path + ": no map to draw");
   render::MapImage m = render::renderGrid(*map.grid);
   render::drawRegions(m, seg.labels);
@@ -256,7 +206,7 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map, const
   }
   if (topo) render::drawTopology(m, *topo);
   render::drawRegionIds(m, seg);
-  writeImage(path, m.img);
+  io::writeBgrImage(path, m.img.cols, m.img.rows, m.img.ptr());
 }
 
 // ---------------------------------------------------------------- exploration -------------
@@ -378,7 +328,7 @@ struct ExplorationSimulator::State {
   }
 };
 
-ExplorationSimulator::ExplorationSimulator(const GrayImage& image, double resolution,
+ExplorationSimulator::ExplorationSimulator(const io::GrayImage& image, double resolution,
                                            const ExplorationOptions& options, int free_threshold)
     : s_(std::make_unique<State>()) {
   State& s = *s_;
@@ -461,7 +411,7 @@ double ExplorationSimulator::coverage() const {
 }
 
 IncrementalResult evaluateIncremental(Segmenter& segmenter, MapReveal& reveal,
-                                      const LabelRaster& rooms,
+                                      const io::LabelRaster& rooms,
                                       const std::function<void(std::size_t, double)>& progress) {
   IncrementalResult out;
   bool have_previous = false;
@@ -478,7 +428,7 @@ IncrementalResult evaluateIncremental(Segmenter& segmenter, MapReveal& reveal,
   out.final_map = reveal.map();
   out.coverage = reveal.coverage();
   out.path_length_m = reveal.pathLength();
-  LabelRaster labels = toRaster(out.final_segmentation.labels);
+  io::LabelRaster labels = toRaster(out.final_segmentation.labels);
   if (labels.labels.empty()) {  // no update at all, or a segmenter that labelled nothing
     labels.width = rooms.width;
     labels.height = rooms.height;
@@ -492,8 +442,8 @@ IncrementalResult evaluateIncremental(Segmenter& segmenter, MapReveal& reveal,
   return out;
 }
 
-IncrementalResult evaluateIncremental(Segmenter& segmenter, const GrayImage& image,
-                                      const LabelRaster& rooms, double resolution,
+IncrementalResult evaluateIncremental(Segmenter& segmenter, const io::GrayImage& image,
+                                      const io::LabelRaster& rooms, double resolution,
                                       const ExplorationOptions& options,
                                       const std::function<void(std::size_t, double)>& progress) {
   if (rooms.width != image.width || rooms.height != image.height)

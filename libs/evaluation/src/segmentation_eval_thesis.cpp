@@ -10,7 +10,7 @@
 
 namespace asf {
 
-ThesisProtocolScore scoreThesisProtocol(const LabelRaster& segmentation, const GrayImage& gt) {
+ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation, const io::GrayImage& gt) {
   if (segmentation.width != gt.width || segmentation.height != gt.height ||
       segmentation.labels.size() != static_cast<std::size_t>(gt.width) * gt.height)
     throw Error("scoreThesisProtocol: the segmentation is " + std::to_string(segmentation.width) +

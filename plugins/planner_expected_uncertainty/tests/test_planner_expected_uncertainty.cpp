@@ -1,7 +1,7 @@
 // Tests of the expected_uncertainty planner: it avoids a weak (featureless) side of a loop,
 // its keys change the outcome as documented, and bad input is reported.
 #include <asf/errors.h>
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
 #include <asf/registry.h>
 #include <gtest/gtest.h>
@@ -72,10 +72,10 @@ TEST(PlannerExpectedUncertainty, AvoidsTheWeakSideOfALoop) {
   EXPECT_EQ(r.nodes, kLong);
   EXPECT_EQ(r.criterion, "det(E[C])");
   // The reported cost is the library's evaluation of that path.
-  const auto model = asf::eu::makePathModel(g, &m, r.nodes);
-  asf::eu::CriterionOptions o;
+  const auto model = asf::planning::makePathModel(g, &m, r.nodes);
+  asf::planning::CriterionOptions o;
   o.reloc.seed = 0;
-  EXPECT_DOUBLE_EQ(r.cost, asf::eu::evaluatePath(asf::eu::Criterion::ExpectedUncertainty, model, o).cost);
+  EXPECT_DOUBLE_EQ(r.cost, asf::planning::evaluatePath(asf::planning::Criterion::ExpectedUncertainty, model, o).cost);
   // Reverse direction too.
   req.start = 3;
   req.goal = 0;
@@ -105,8 +105,8 @@ TEST(PlannerExpectedUncertainty, RecognitionFileIsUsedAndChecked) {
   const asf::Marginals m = denseMarginals(g);
   const auto r = make({{"p_recognition_file", good}})->plan(asf::PlanRequest{&g, &m, nullptr, 0, 3});
   ASSERT_TRUE(r.found);
-  const auto model = asf::eu::makePathModel(g, &m, r.nodes);
-  const auto odo = asf::eu::expectedCovariance(model, [](const asf::eu::RelocQuery&) { return 0.0; });
+  const auto model = asf::planning::makePathModel(g, &m, r.nodes);
+  const auto odo = asf::planning::expectedCovariance(model, [](const asf::planning::RelocQuery&) { return 0.0; });
   EXPECT_NEAR(r.cost, odo.mean.determinant(), 1e-15);
   try {
     make({{"p_recognition_file", bad}});

@@ -1,6 +1,6 @@
 // Tests of the mechanical_work planner: its choice is the minimum of the criterion over all
 // simple paths (brute force), and it needs marginals.
-#include <asf/expected_uncertainty.h>
+#include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
 #include <asf/registry.h>
 #include <gtest/gtest.h>
@@ -56,9 +56,9 @@ TEST(PlannerMechanicalWork, ChoosesTheMinimumOverAllSimplePaths) {
     std::vector<char> on(n, 0);
     std::function<void(asf::NodeId)> dfs = [&](asf::NodeId v) {
       if (v == t) {
-        const auto model = asf::eu::makePathModel(g, &m, cur);
-        best = std::min(best, asf::eu::evaluatePath(asf::eu::Criterion::MechanicalWork, model,
-                                                    asf::eu::CriterionOptions{}).cost);
+        const auto model = asf::planning::makePathModel(g, &m, cur);
+        best = std::min(best, asf::planning::evaluatePath(asf::planning::Criterion::MechanicalWork, model,
+                                                    asf::planning::CriterionOptions{}).cost);
         return;
       }
       on[v] = 1;

@@ -258,8 +258,8 @@ TEST(SegmenterDude, OnePixelCorridorsAndSpecksAreLabelled) {
 
 /// A floor plan drawn as an image (255 free, 0 wall): three rooms off a corridor, one with
 /// a pillar.
-asf::GrayImage floorPlan() {
-  asf::GrayImage img;
+asf::io::GrayImage floorPlan() {
+  asf::io::GrayImage img;
   img.width = 240;
   img.height = 160;
   img.pixels.assign(static_cast<std::size_t>(img.width) * img.height, 0);

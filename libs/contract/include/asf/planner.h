@@ -7,7 +7,7 @@
 /// - A found path starts at `start`, ends at `goal`, and each consecutive pair is joined by
 ///   an edge of the graph (either direction), or, only for a planner told to drive through
 ///   mapped free space the robot never drove (the criterion planners' `voronoi_edges`, with
-///   a `map`), by a path through the map's free space (asf/voronoi_graph.h).
+///   a `map`), by a path through the map's free space (asf/planning/voronoi_graph.h).
 ///   start == goal gives the one-node path.
 /// - No path (disconnected, bad ids) is a result with found = false and a reason, not an
 ///   exception.

@@ -8,7 +8,8 @@
 /// Orientation: images (GrayImage, LabelRaster, PNG files) have row 0 at the top; grids
 /// (GridMap, LabelImage) have cy = 0 at the bottom (y up). Row r is cy = height - 1 - r.
 #include <asf/grid_map.h>
-#include <asf/image_io.h>
+#include <asf/io/image_io.h>
+#include <asf/io/occupancy_io.h>
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
 #include <asf/topology_json.h>
@@ -23,29 +24,16 @@ namespace asf {
 
 class Segmenter;
 
-/// The benchmark's free-space threshold: pixel >= 250 is free, anything else occupied.
-constexpr int kBenchmarkFreeThreshold = 250;
 /// Ground-truth rooms and scored segments must have more than this many pixels.
 constexpr int kBenchmarkMinRegionPixels = 100;
 
-/// The map as a GridMap: free pixels (>= free_threshold) p(free) = 1, the rest 0; cell
-/// (cx, cy) = pixel (cx, height-1-cy), origin (0, 0) unless given. version = 1, changed = the
-/// whole map, rebuilt = true (a map seen for the first time).
-GridMap gridFromImage(const GrayImage& image, double resolution,
-                      int free_threshold = kBenchmarkFreeThreshold, double origin_x = 0,
-                      double origin_y = 0);
-
-/// The grid as an image (row 0 = top): pixel = round(255 * p(free)), so free 255, occupied 0,
-/// unknown 128. Empty for a map without grid.
-GrayImage imageFromGrid(const GridMap& map);
-
 /// Ground-truth rooms: pixels > 250, 8-connected components with more than `min_pixels`
 /// pixels, numbered 1..N in row-major order of their first pixel.
-LabelRaster groundTruthRooms(const GrayImage& gt, int min_pixels = kBenchmarkMinRegionPixels);
+io::LabelRaster groundTruthRooms(const io::GrayImage& gt, int min_pixels = kBenchmarkMinRegionPixels);
 
 /// Grid labels (cy up) <-> image raster (row 0 top).
-LabelRaster toRaster(const LabelImage& labels);
-LabelImage fromRaster(const LabelRaster& raster, double resolution, double origin_x = 0,
+io::LabelRaster toRaster(const LabelImage& labels);
+LabelImage fromRaster(const io::LabelRaster& raster, double resolution, double origin_x = 0,
                       double origin_y = 0);
 
 /// Score of a segmentation against ground-truth rooms (roomseg-eval.md):
@@ -71,7 +59,7 @@ struct SegmentationScore {
 };
 /// `segmentation` and `rooms` must have the same size (else Error). Rooms are labels > 0 of
 /// `rooms` (groundTruthRooms' output, or any label image), filtered by `min_pixels` too.
-SegmentationScore scoreSegmentation(const LabelRaster& segmentation, const LabelRaster& rooms,
+SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation, const io::LabelRaster& rooms,
                                     int min_pixels = kBenchmarkMinRegionPixels);
 
 /// The thesis' own scoring (read from the author's evaluation code, Incremental_DuDe_ROS
@@ -91,7 +79,7 @@ struct ThesisProtocolScore {
   int rooms = 0, segments = 0;  ///< with at least one counted pixel
 };
 /// `segmentation` (image orientation) and `gt` must have the same size (else Error).
-ThesisProtocolScore scoreThesisProtocol(const LabelRaster& segmentation, const GrayImage& gt);
+ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation, const io::GrayImage& gt);
 
 /// Mean and population standard deviation (divides by n); 0, 0 for no values.
 struct MeanStd {
@@ -105,7 +93,7 @@ double percentile(std::vector<double> values, double p);
 /// topological graph's edges (if `topo`) and the outlines of ground-truth rooms (if `rooms`,
 /// image orientation, same size as the map).
 void writeSegmentationOverlay(const std::string& path, const GridMap& map, const Segmentation& seg,
-                              const TopoGraph* topo, const LabelRaster* rooms = nullptr);
+                              const TopoGraph* topo, const io::LabelRaster* rooms = nullptr);
 
 /// A known map revealed step by step, for timing incremental segmentation
 /// (evaluateIncremental). Deterministic.
@@ -143,9 +131,9 @@ class ExplorationSimulator final : public MapReveal {
   /// 4-connected free component: rays and the robot cannot pass between two obstacle pixels
   /// that touch at a corner, so free pixels linked only diagonally stay unknown. Throws Error
   /// when the map has no free pixel.
-  ExplorationSimulator(const GrayImage& image, double resolution,
+  ExplorationSimulator(const io::GrayImage& image, double resolution,
                        const ExplorationOptions& options = {},
-                       int free_threshold = kBenchmarkFreeThreshold);
+                       int free_threshold = io::kBenchmarkFreeThreshold);
   ~ExplorationSimulator();
   ExplorationSimulator(const ExplorationSimulator&) = delete;
   ExplorationSimulator& operator=(const ExplorationSimulator&) = delete;
@@ -186,8 +174,8 @@ class RasterDiskReveal final : public MapReveal {
   /// `image` is the true map (free = pixel >= free_threshold, as everywhere in asf's
   /// benchmark; the author's code takes > 250). Throws Error when an option is out of range
   /// (radius < 0, step < 1) or the resolution is not > 0.
-  RasterDiskReveal(const GrayImage& image, double resolution, const RasterDiskOptions& options = {},
-                   int free_threshold = kBenchmarkFreeThreshold);
+  RasterDiskReveal(const io::GrayImage& image, double resolution, const RasterDiskOptions& options = {},
+                   int free_threshold = io::kBenchmarkFreeThreshold);
   ~RasterDiskReveal() override;
   RasterDiskReveal(const RasterDiskReveal&) = delete;
   RasterDiskReveal& operator=(const RasterDiskReveal&) = delete;
@@ -215,14 +203,14 @@ struct IncrementalResult {
 /// segmentation against `rooms` (its label image must have the rooms' size). `progress` (may
 /// be empty) is called after every update with the number of updates and the coverage.
 IncrementalResult evaluateIncremental(
-    Segmenter& segmenter, MapReveal& reveal, const LabelRaster& rooms,
+    Segmenter& segmenter, MapReveal& reveal, const io::LabelRaster& rooms,
     const std::function<void(std::size_t, double)>& progress = {});
 
 /// The same on an ExplorationSimulator of `image`: calls segment() after
 /// every scan; scores the last segmentation against `rooms`. `progress` (may be empty) is
 /// called after every update with the number of updates and the coverage.
 IncrementalResult evaluateIncremental(
-    Segmenter& segmenter, const GrayImage& image, const LabelRaster& rooms, double resolution,
+    Segmenter& segmenter, const io::GrayImage& image, const io::LabelRaster& rooms, double resolution,
     const ExplorationOptions& options = {},
     const std::function<void(std::size_t, double)>& progress = {});
 
