@@ -3,7 +3,7 @@
 // errors, summaries against hand-computed statistics, and real experiments end to end
 // (parallel runs, resume, re-running one run, Ctrl-C).
 #include <asf/errors.h>
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
 #include <fcntl.h>
@@ -310,7 +310,7 @@ TEST(ExperimentConfig, ReadsKeysAndResolvesPaths) {
   write(d / "exp.ini",
         "; comparison\n[experiment]\npipeline = pipe.ini\npolicies = a, b ,c\n"
         "replications = 3\nout = res\noverrides = map.resolution=0.1; pipeline.max_steps=5\n");
-  const asf::ExperimentConfig c = asf::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig c = asf::studies::readExperimentConfig((d / "exp.ini").string());
   EXPECT_EQ(c.pipeline_ini, (d / "pipe.ini").string());
   EXPECT_EQ(c.policies, (std::vector<std::string>{"a", "b", "c"}));
   EXPECT_EQ(c.replications, 3);
@@ -320,11 +320,11 @@ TEST(ExperimentConfig, ReadsKeysAndResolvesPaths) {
   EXPECT_EQ(c.overrides, (std::vector<std::string>{"map.resolution=0.1", "pipeline.max_steps=5"}));
 
   write(d / "exp2.ini", "[experiment]\npipeline = pipe.ini\npolicies = a\n");
-  const asf::ExperimentConfig c2 = asf::readExperimentConfig((d / "exp2.ini").string());
+  const asf::studies::ExperimentConfig c2 = asf::studies::readExperimentConfig((d / "exp2.ini").string());
   EXPECT_EQ(c2.replications, 10);
   EXPECT_EQ(c2.out_dir, "results/exp2");
   std::size_t n = 0;
-  asf::experimentKeys(n);
+  asf::studies::experimentKeys(n);
   EXPECT_EQ(n, 7u);
 }
 
@@ -334,7 +334,7 @@ TEST(ExperimentConfig, ErrorsNameFileLineAndKey) {
   auto err = [&](const std::string& text) {
     write(d / "exp.ini", text);
     return asf_test::errorOf<asf::ConfigError>(
-        [&] { asf::readExperimentConfig((d / "exp.ini").string()); });
+        [&] { asf::studies::readExperimentConfig((d / "exp.ini").string()); });
   };
   const std::string f = (d / "exp.ini").string();
   std::string e = err("[experiment]\npipeline = pipe.ini\npolicies = a\nreplicatons = 3\n");
@@ -364,7 +364,7 @@ TEST(ExperimentConfig, ErrorsNameFileLineAndKey) {
 TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
   const fs::path d = tempDir("summary");
   write(d / "pipe.ini", "[pipeline]\n");
-  asf::ExperimentConfig cfg;
+  asf::studies::ExperimentConfig cfg;
   cfg.pipeline_ini = (d / "pipe.ini").string();
   cfg.policies = {"alpha", "beta"};
   cfg.replications = 4;
@@ -397,7 +397,7 @@ TEST(ExperimentSummary, StatisticsCurvesAndStatusesFromRunFolders) {
                                                    "2,1,60,0.9,0,3,0,1,0,1,1,0,0,0,0,0,900\n");
   write(d / "out/alpha/seed_7/map.png", kFakePng);
 
-  const std::string md = asf::summarizeExperiment(cfg);
+  const std::string md = asf::studies::summarizeExperiment(cfg);
   const json j = json::parse(read(d / "out/summary.json"));
   const json& a = j["policies"]["alpha"];
   EXPECT_EQ(a["finished"], 3);
@@ -486,10 +486,10 @@ json readJson(const fs::path& p) { return json::parse(read(p)); }
 
 namespace {
 
-/// A RunLauncher without processes: a run "lasts" a number of polls, then writes the
+/// A ProcessRunner without processes: a run "lasts" a number of polls, then writes the
 /// summary.json its policy is scripted to write and exits as scripted. Records the
 /// arguments, the most runs alive at once and the interrupts.
-class ScriptedLauncher : public asf::RunLauncher {
+class ScriptedLauncher : public asf::studies::ProcessRunner {
  public:
   struct Script {
     int polls = 2;
@@ -501,13 +501,16 @@ class ScriptedLauncher : public asf::RunLauncher {
   std::size_t max_alive = 0, interrupts = 0;
   bool refuse_start = false;
 
-  long start(const std::vector<std::string>& args, const std::string& log,
+  long start(const std::vector<std::string>& argv, const Redirect& io,
              std::string& error) override {
     if (refuse_start) {
       error = "test: cannot start";
       return -1;
     }
-    std::ofstream(log) << "scripted run\n";
+    EXPECT_EQ(argv.at(0), "asf");  // the host's own binary
+    EXPECT_TRUE(io.err.empty());   // stderr with stdout, in run.log
+    const std::vector<std::string> args(argv.begin() + 1, argv.end());
+    std::ofstream(io.out) << "scripted run\n";
     Alive a;
     a.dir = args.at(3);
     a.policy = args.at(5).substr(std::string("pipeline.policy=").size());
@@ -529,6 +532,10 @@ class ScriptedLauncher : public asf::RunLauncher {
   }
   void interrupt(long) override { ++interrupts; }
   void kill(long) override {}
+  int run(const std::vector<std::string>&, std::string& output) override {
+    output = "scripted: runs only asf run";
+    return -1;
+  }
 
  private:
   struct Alive {
@@ -547,16 +554,16 @@ TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = good, crash, broken\nreplications = 2\n"
         "first_seed = 5\njobs = 2\nout = out\noverrides = map.resolution=0.1\n");
-  const asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig cfg = asf::studies::readExperimentConfig((d / "exp.ini").string());
   // good seed 5 finished in an earlier invocation: skipped, not started again.
   write(d / "out/good/seed_5/summary.json", R"({"stop_reason": "source ended"})");
   ScriptedLauncher L;
-  L.by_policy["crash"].exit = {asf::RunLauncher::Exit::How::Signaled, 11, ""};
+  L.by_policy["crash"].exit = {asf::studies::ProcessRunner::Exit::How::Signaled, 11, ""};
   L.by_policy["crash"].stop_reason = "";
-  L.by_policy["broken"].exit = {asf::RunLauncher::Exit::How::Exited, 1, ""};
+  L.by_policy["broken"].exit = {asf::studies::ProcessRunner::Exit::How::Exited, 1, ""};
   L.by_policy["broken"].stop_reason = "error: scripted";
   std::vector<std::string> lines;
-  const auto runs = asf::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
+  const auto runs = asf::studies::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
   std::string all;
   for (const auto& l : lines) all += l + "\n";
   ASSERT_EQ(runs.size(), 6u);
@@ -594,14 +601,14 @@ TEST(ExperimentScheduler, StopInterruptsRunningRunsAndStartsNoMore) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = slow\nreplications = 4\njobs = 2\n"
         "out = out\n");
-  const asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig cfg = asf::studies::readExperimentConfig((d / "exp.ini").string());
   ScriptedLauncher L;
   L.by_policy["slow"].polls = 3;
   L.by_policy["slow"].stop_reason = "interrupted";
-  L.by_policy["slow"].exit = {asf::RunLauncher::Exit::How::Exited, 130, ""};
+  L.by_policy["slow"].exit = {asf::studies::ProcessRunner::Exit::How::Exited, 130, ""};
   std::atomic<bool> stop{false};
   std::vector<std::string> lines;
-  const auto runs = asf::runExperiment(
+  const auto runs = asf::studies::runExperiment(
       cfg, L,
       [&](const std::string& l) {
         lines.push_back(l);
@@ -616,7 +623,7 @@ TEST(ExperimentScheduler, StopInterruptsRunningRunsAndStartsNoMore) {
 
   L.refuse_start = true;
   stop = false;
-  const auto failed = asf::runExperiment(cfg, L, nullptr, &stop);
+  const auto failed = asf::studies::runExperiment(cfg, L, nullptr, &stop);
   EXPECT_EQ(failed[0].exit_code, 127) << "a run that cannot start";
 }
 
@@ -689,11 +696,11 @@ TEST(ExperimentHost, RunsInParallelSummarizesAndResumes) {
   json interrupted = readJson(s5 / "summary.json");
   interrupted["stop_reason"] = "interrupted";
   write(s5 / "summary.json", interrupted.dump());
-  EXPECT_FALSE(asf::runFinished(s5.string()));
+  EXPECT_FALSE(asf::studies::runFinished(s5.string()));
   r = asf_test::runHost("experiment " + (d / "exp.ini").string());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(has(r.out, "started waypoints seed 5")) << r.out;
-  EXPECT_TRUE(asf::runFinished(s5.string()));
+  EXPECT_TRUE(asf::studies::runFinished(s5.string()));
 
   // --summarize-only runs nothing and prints the table of what exists.
   r = asf_test::runHost("experiment " + (d / "exp.ini").string() + " --summarize-only");
@@ -731,12 +738,12 @@ TEST(ExperimentHost, FailedRunIsReportedAndNotCounted) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = waypoints\nreplications = 1\nout = out\n");
   // The asf binary as the experiment's child, with an argument it rejects: a failed run.
-  asf::ExperimentConfig cfg = asf::readExperimentConfig((d / "exp.ini").string());
+  asf::studies::ExperimentConfig cfg = asf::studies::readExperimentConfig((d / "exp.ini").string());
   cfg.overrides = {"pipeline.no_such_key=1"};
   std::vector<std::string> lines;
   asf::app::ProcessLauncher launcher(ASF_TEST_BINARY_DIR "/bin/asf");
   const auto runs =
-      asf::runExperiment(cfg, launcher, [&](const std::string& l) { lines.push_back(l); });
+      asf::studies::runExperiment(cfg, launcher, [&](const std::string& l) { lines.push_back(l); });
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_EQ(runs[0].exit_code, 1);
   std::string all;
@@ -782,8 +789,8 @@ TEST(ExperimentHost, CtrlCStopsRunsAndStillSummarizes) {
   const std::string out = read(log);
   ASSERT_TRUE(WIFEXITED(st)) << out;
   if (fs::exists(d / "out/waypoints/seed_1/summary.json") &&
-      asf::runFinished((d / "out/waypoints/seed_1").string()) &&
-      asf::runFinished((d / "out/waypoints/seed_2").string()))
+      asf::studies::runFinished((d / "out/waypoints/seed_1").string()) &&
+      asf::studies::runFinished((d / "out/waypoints/seed_2").string()))
     GTEST_SKIP() << "both runs finished before the interrupt (machine too fast for the route)";
   EXPECT_EQ(WEXITSTATUS(st), 130) << out;
   EXPECT_TRUE(has(out, "interrupted")) << out;

@@ -3,8 +3,8 @@
 // quoting, the parsers of sbatch's and squeue's output, resubmission and exit codes. The
 // whole backend against a real one-node cluster: tests/scripts/slurm_local.sh.
 #include <asf/errors.h>
-#include <asf/experiment.h>
-#include <asf/experiment_slurm.h>
+#include <asf/studies/experiment.h>
+#include <asf/studies/experiment_slurm.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,8 +25,8 @@ void write(const fs::path& p, const std::string& text) { asf_test::writeFile(p, 
 
 std::string read(const fs::path& p) { return asf_test::readFile(p.string()); }
 
-asf::ExperimentConfig config(const fs::path& dir) {
-  asf::ExperimentConfig cfg;
+asf::studies::ExperimentConfig config(const fs::path& dir) {
+  asf::studies::ExperimentConfig cfg;
   cfg.pipeline_ini = (dir / "pipe line.ini").string();  // a space: quoting matters
   cfg.policies = {"tigre", "frontier"};
   cfg.replications = 2;
@@ -51,7 +51,7 @@ std::string fakeAsf(const fs::path& dir) {
   return exe.string();
 }
 
-int runTask(const asf::SlurmBatch& b, std::size_t task) {
+int runTask(const asf::studies::SlurmBatch& b, std::size_t task) {
   std::string out;
   return asf::app::runCommand(
       {"env", "SLURM_ARRAY_TASK_ID=" + std::to_string(task), "bash", b.script}, out);
@@ -59,14 +59,14 @@ int runTask(const asf::SlurmBatch& b, std::size_t task) {
 
 TEST(ExperimentSlurm, ArrayTasksRunTheLocalBackendsCommandLines) {
   const fs::path dir = tempDir("tasks");
-  const asf::ExperimentConfig cfg = config(dir);
+  const asf::studies::ExperimentConfig cfg = config(dir);
   const std::string exe = fakeAsf(dir);
-  asf::SlurmOptions o;
+  asf::studies::SlurmOptions o;
   o.partition = "short";
   o.time_limit = "00:10:00";
   o.max_parallel = 3;
   o.sbatch_args = {"--mem=2G"};
-  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, o, exe);
+  const asf::studies::SlurmBatch b = asf::studies::writeSlurmBatch(cfg, o, exe);
   ASSERT_EQ(b.runs.size(), 4u);
   ASSERT_EQ(b.tasks.size(), 4u);
   const std::string script = read(b.script);
@@ -76,11 +76,11 @@ TEST(ExperimentSlurm, ArrayTasksRunTheLocalBackendsCommandLines) {
   std::string out;
   ASSERT_EQ(asf::app::runCommand({"bash", "-n", b.script}, out), 0) << out;
   for (std::size_t task = 0; task < b.tasks.size(); ++task) {
-    const asf::ExperimentRun& run = b.runs[b.tasks[task]];
+    const asf::studies::ExperimentRun& run = b.runs[b.tasks[task]];
     ASSERT_EQ(runTask(b, task), 0);
     // Bash saw exactly the arguments the local backend passes (quotes, spaces included).
     std::string expected;
-    for (const auto& a : asf::runArguments(cfg, run)) expected += a + "\n";
+    for (const auto& a : asf::studies::runArguments(cfg, run)) expected += a + "\n";
     std::string got = read(fs::path(run.dir) / "args.txt");
     EXPECT_EQ(got, expected) << "task " << task;
     EXPECT_EQ(read(fs::path(run.dir) / "run.log"), "some output\n");
@@ -96,31 +96,31 @@ TEST(ExperimentSlurm, ArrayTasksRunTheLocalBackendsCommandLines) {
 
 TEST(ExperimentSlurm, FinishedRunsAreNotResubmittedAndExitCodesAreCollected) {
   const fs::path dir = tempDir("resume");
-  asf::ExperimentConfig cfg = config(dir);
+  asf::studies::ExperimentConfig cfg = config(dir);
   const std::string exe = fakeAsf(dir);
   // tigre seed 3 finished in an earlier invocation; frontier seed 3 was interrupted.
   write(dir / "out/tigre/seed_3/summary.json", R"({"stop_reason": "policy done: all"})");
   write(dir / "out/frontier/seed_3/summary.json", R"({"stop_reason": "interrupted"})");
   write(dir / "out/frontier/seed_3/exit_code", "130\n");
-  asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, exe);
+  asf::studies::SlurmBatch b = asf::studies::writeSlurmBatch(cfg, {}, exe);
   ASSERT_EQ(b.tasks.size(), 3u);
   EXPECT_TRUE(b.runs[0].skipped);
   EXPECT_FALSE(fs::exists(dir / "out/frontier/seed_3/exit_code")) << "stale exit status kept";
   EXPECT_NE(read(b.script).find("#SBATCH --array=0-2\n"), std::string::npos)
       << "three tasks, no limit asked for";
-  EXPECT_EQ(asf::slurmTasksEnded(b), 0u);
+  EXPECT_EQ(asf::studies::slurmTasksEnded(b), 0u);
   write(dir / "status", "3");
   EXPECT_EQ(runTask(b, 0), 3);
   EXPECT_FALSE(fs::exists(dir / "out/frontier/seed_3/summary.json")) << "stale summary kept";
-  EXPECT_EQ(asf::slurmTasksEnded(b), 1u);
-  const auto runs = asf::collectSlurmBatch(b);
+  EXPECT_EQ(asf::studies::slurmTasksEnded(b), 1u);
+  const auto runs = asf::studies::collectSlurmBatch(b);
   EXPECT_EQ(runs[b.tasks[0]].exit_code, 3);
   EXPECT_EQ(runs[b.tasks[1]].exit_code, -1) << "a task that never ran has no status";
 
   // Everything finished: nothing to submit, no script.
   for (const char* r : {"frontier/seed_3", "tigre/seed_4", "frontier/seed_4"})
     write(dir / "out" / r / "summary.json", R"({"stop_reason": "max_steps"})");
-  b = asf::writeSlurmBatch(cfg, {}, exe);
+  b = asf::studies::writeSlurmBatch(cfg, {}, exe);
   EXPECT_TRUE(b.tasks.empty());
   EXPECT_TRUE(b.script.empty());
 }
@@ -129,21 +129,21 @@ TEST(ExperimentSlurm, QuotingSurvivesBash) {
   for (const std::string s : {"plain", "two words", "it's", "'", "$HOME", "a\"b", "`ls`",
                               "back\\slash", "", "new\nline", "*"}) {
     std::string out;
-    ASSERT_EQ(asf::app::runCommand({"bash", "-c", "printf %s " + asf::shellQuote(s)}, out), 0);
+    ASSERT_EQ(asf::app::runCommand({"bash", "-c", "printf %s " + asf::studies::shellQuote(s)}, out), 0);
     EXPECT_EQ(out, s);
   }
 }
 
 TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
-  EXPECT_EQ(asf::parseSbatchJobId("4242\n"), "4242");
-  EXPECT_EQ(asf::parseSbatchJobId("77;cluster2\n"), "77");
-  EXPECT_THROW(asf::parseSbatchJobId("sbatch: error: Batch job submission failed\n"), asf::Error);
-  const asf::SlurmQueue q = asf::parseSqueue("PENDING\nRUNNING\nRUNNING\nCOMPLETING\nFAILED\n");
+  EXPECT_EQ(asf::studies::parseSbatchJobId("4242\n"), "4242");
+  EXPECT_EQ(asf::studies::parseSbatchJobId("77;cluster2\n"), "77");
+  EXPECT_THROW(asf::studies::parseSbatchJobId("sbatch: error: Batch job submission failed\n"), asf::Error);
+  const asf::studies::SlurmQueue q = asf::studies::parseSqueue("PENDING\nRUNNING\nRUNNING\nCOMPLETING\nFAILED\n");
   EXPECT_EQ(q.pending, 1);
   EXPECT_EQ(q.running, 3);
   EXPECT_EQ(q.other, 1);
-  EXPECT_EQ(asf::parseSqueue("").total(), 0);
-  const auto states = asf::parseSacctStates(
+  EXPECT_EQ(asf::studies::parseSqueue("").total(), 0);
+  const auto states = asf::studies::parseSacctStates(
       "12_0|COMPLETED\n12_1|TIMEOUT\n12_2|CANCELLED by 0\n13_0|FAILED\n12|PENDING\n"
       "12_x|FAILED\n",
       "12");
@@ -153,16 +153,16 @@ TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
   EXPECT_EQ(states.at(2), "CANCELLED");
 
   const fs::path dir = tempDir("bad");
-  const asf::ExperimentConfig cfg = config(dir);
-  asf::SlurmOptions o;
+  const asf::studies::ExperimentConfig cfg = config(dir);
+  asf::studies::SlurmOptions o;
   o.partition = "two words";
-  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+  EXPECT_THROW(asf::studies::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
   o = {};
   o.max_parallel = -1;
-  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+  EXPECT_THROW(asf::studies::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
   o = {};
   o.sbatch_args = {"mem=2G"};
-  EXPECT_THROW(asf::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
+  EXPECT_THROW(asf::studies::writeSlurmBatch(cfg, o, "/bin/true"), asf::ConfigError);
 }
 
 // Issue 51: a line break in the output folder or in the experiment's INI path must not become
@@ -170,10 +170,10 @@ TEST(ExperimentSlurm, SchedulerOutputsAndBadOptions) {
 // early (sbatch stops reading them at the first line that is not a comment).
 TEST(ExperimentSlurm, NoLineOfTheScriptComesFromAPath) {
   const fs::path dir = tempDir("inject");
-  asf::ExperimentConfig cfg = config(dir);
+  asf::studies::ExperimentConfig cfg = config(dir);
   cfg.out_dir = (dir / "out\ntouch X\n#").string();
   try {
-    asf::writeSlurmBatch(cfg, {}, "/bin/true");
+    asf::studies::writeSlurmBatch(cfg, {}, "/bin/true");
     ADD_FAILURE() << "an output folder with a line break was accepted";
   } catch (const asf::ConfigError& e) {
     const std::string m = e.what();
@@ -182,7 +182,7 @@ TEST(ExperimentSlurm, NoLineOfTheScriptComesFromAPath) {
   }
   EXPECT_FALSE(fs::exists(dir / "out\ntouch X\n#")) << "nothing written";
   cfg.out_dir = (dir / "two words").string();
-  EXPECT_THROW(asf::writeSlurmBatch(cfg, {}, "/bin/true"), asf::ConfigError);
+  EXPECT_THROW(asf::studies::writeSlurmBatch(cfg, {}, "/bin/true"), asf::ConfigError);
 
   // The INI in a folder whose name has line breaks: in the comment it is escaped, in the
   // task's command line it is one quoted argument; every #SBATCH line comes before it, and
@@ -192,7 +192,7 @@ TEST(ExperimentSlurm, NoLineOfTheScriptComesFromAPath) {
   fs::create_directories(odd);
   cfg = config(dir);
   cfg.pipeline_ini = (odd / "pipe.ini").string();
-  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, fakeAsf(dir));
+  const asf::studies::SlurmBatch b = asf::studies::writeSlurmBatch(cfg, {}, fakeAsf(dir));
   const std::string script = read(b.script);
   std::istringstream lines(script);
   std::string line;
@@ -207,18 +207,18 @@ TEST(ExperimentSlurm, NoLineOfTheScriptComesFromAPath) {
   EXPECT_NE(script.find("runs of " + dir.string() + "/e\\ntouch '"), std::string::npos) << script;
   ASSERT_EQ(runTask(b, 0), 0);
   EXPECT_FALSE(fs::exists(injected)) << script;
-  const asf::ExperimentRun& run = b.runs[b.tasks[0]];
+  const asf::studies::ExperimentRun& run = b.runs[b.tasks[0]];
   std::string expected;
-  for (const auto& arg : asf::runArguments(cfg, run)) expected += arg + "\n";
+  for (const auto& arg : asf::studies::runArguments(cfg, run)) expected += arg + "\n";
   EXPECT_EQ(read(fs::path(run.dir) / "args.txt"), expected);
 }
 
 // The job name is a label: a folder name's symbols become '_' (one per byte: α is two).
 TEST(ExperimentSlurm, TheJobNameIsOneWord) {
   const fs::path dir = tempDir("jobname");
-  asf::ExperimentConfig cfg = config(dir);
+  asf::studies::ExperimentConfig cfg = config(dir);
   cfg.out_dir = (dir / "cave(α)").string();
-  const asf::SlurmBatch b = asf::writeSlurmBatch(cfg, {}, "/bin/true");
+  const asf::studies::SlurmBatch b = asf::studies::writeSlurmBatch(cfg, {}, "/bin/true");
   EXPECT_NE(read(b.script).find("#SBATCH --job-name=asf-cave____\n"), std::string::npos) << read(b.script);
 }
 

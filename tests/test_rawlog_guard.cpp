@@ -11,7 +11,7 @@
 //   itself reads as before.
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
-#include <asf/map3d_from_log.h>
+#include <asf/studies/map3d_from_log.h>
 #include <asf/io/rawlog_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -509,7 +509,7 @@ TEST(RawlogGuard, A3DScanClaimingAHugeRangeImageIsRefused) {
   EXPECT_TRUE(asf_test::has(e, "a 3D range scan claims a range image of 2147483647 x 640 pixels"))
       << "[" << e << "]";
   asf::mapping::Map3d map;
-  const asf::Map3dFromLogReport rep = asf::insertRawlog3d(path, {}, map, {});
+  const asf::studies::Map3dFromLogReport rep = asf::studies::insertRawlog3d(path, {}, map, {});
   EXPECT_TRUE(asf_test::has(rep.error, "a 3D range scan claims a range image of 2147483647 x 640"))
       << "[" << rep.error << "]";
   fs::remove(path);

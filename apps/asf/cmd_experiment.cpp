@@ -1,9 +1,10 @@
 // asf experiment: replications x policies of one pipeline as parallel `asf run` processes,
-// resumable, summarized as tables, plots and an HTML report (asf/experiment.h).
+// resumable, summarized as tables, plots and an HTML report (asf/studies/experiment.h).
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
+#include <asf/studies/experiment_slurm.h>
 #include <asf/pipeline.h>
 #include <tclap/CmdLine.h>
 
@@ -15,7 +16,6 @@
 #include <iostream>
 
 #include "commands.h"
-#include "experiment_slurm_host.h"
 #include "process_launcher.h"
 
 namespace asf::app {
@@ -26,14 +26,12 @@ namespace fs = std::filesystem;
 
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
-extern "C" void onExperimentSignal(int signo) {
-  g_signal = signo;
-  g_stop = true;
-}
+
+void printLine(const std::string& line) { std::cout << line << std::endl; }
 
 /// Resolves the pipeline once per policy with the experiment's overrides, so a typo in a
 /// policy name or an override fails here with its message, not in every run's log.
-void checkPipeline(const ExperimentConfig& cfg) {
+void checkPipeline(const studies::ExperimentConfig& cfg) {
   for (const auto& p : cfg.policies) {
     IniConfig ini = IniConfig::fromFile(cfg.pipeline_ini);
     ini.set("pipeline", "policy", p, "[experiment] policies");
@@ -49,42 +47,17 @@ void checkPipeline(const ExperimentConfig& cfg) {
   }
 }
 
-/// The asf binary this process runs (the runs and array tasks execute it too).
-std::string asfExecutable() {
-  std::error_code ec;
-  const std::string exe = fs::read_symlink("/proc/self/exe", ec).string();
-  if (ec) throw Error("/proc/self/exe: cannot find the asf binary: " + ec.message());
-  return exe;
-}
-
-/// Runs `body` with SIGINT and SIGTERM setting g_stop (the runs or the job are stopped, the
-/// experiment still summarizes), restoring the default handlers after, also on exceptions.
-int withStopSignals(const std::function<int()>& body) {
-  g_stop = false;
-  std::signal(SIGINT, onExperimentSignal);
-  std::signal(SIGTERM, onExperimentSignal);
-  struct Restore {
-    ~Restore() {
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
-    }
-  } restore;
-  return body();
-}
-
 /// The local backend: the runs as processes here; the exit code of the command.
-int runLocally(const ExperimentConfig& cfg) {
+int runLocally(const studies::ExperimentConfig& cfg) {
   checkPipeline(cfg);
   const std::string exe = asfExecutable();
   std::cout << "asf experiment: " << cfg.policies.size() << " policies x " << cfg.replications
             << " replications of " << cfg.pipeline_ini << " into " << cfg.out_dir << "/"
             << std::endl;
-  const int failed = withStopSignals([&] {
+  const int failed = withStopSignals(g_stop, g_signal, [&] {
     ProcessLauncher launcher(exe);
     int n = 0;
-    for (const auto& r : runExperiment(
-             cfg, launcher, [](const std::string& line) { std::cout << line << std::endl; },
-             &g_stop))
+    for (const auto& r : studies::runExperiment(cfg, launcher, printLine, &g_stop))
       if (!r.skipped && r.exit_code != 0 && r.exit_code != interruptedBy(SIGINT) &&
           r.exit_code != interruptedBy(SIGTERM))
         ++n;
@@ -143,7 +116,7 @@ int cmdExperiment(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  ExperimentConfig cfg = readExperimentConfig(config.getValue());
+  studies::ExperimentConfig cfg = studies::readExperimentConfig(config.getValue());
   if (!out.getValue().empty()) cfg.out_dir = out.getValue();
   if (jobs.isSet()) {
     if (jobs.getValue() < 0) throw ConfigError("--jobs must be >= 0");
@@ -159,20 +132,22 @@ int cmdExperiment(int argc, char** argv) {
   if (!(poll.getValue() > 0)) throw ConfigError("--poll must be > 0");
   int code = kOk;
   if (summarize_only.getValue()) {
-    std::cout << summarizeExperiment(cfg);
+    std::cout << studies::summarizeExperiment(cfg);
   } else if (slurm) {
     checkPipeline(cfg);
-    SlurmOptions o;
+    studies::SlurmOptions o;
     o.partition = partition.getValue();
     o.time_limit = time_limit.getValue();
     o.max_parallel = max_parallel.getValue();
     o.sbatch_args = sbatch_arg.getValue();
     const std::string exe = asfExecutable();
-    const int failed = withStopSignals([&] {
-      return runSlurmExperiment(cfg, o, dry_run.getValue(), poll.getValue(), exe, g_stop);
+    const int failed = withStopSignals(g_stop, g_signal, [&] {
+      ProcessLauncher launcher(exe);
+      return studies::runSlurmExperiment(cfg, o, dry_run.getValue(), poll.getValue(), exe,
+                                         launcher, printLine, g_stop);
     });
     if (dry_run.getValue()) return kOk;
-    std::cout << "\n" << summarizeExperiment(cfg);
+    std::cout << "\n" << studies::summarizeExperiment(cfg);
     code = g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
   } else {
     code = runLocally(cfg);

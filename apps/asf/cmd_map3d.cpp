@@ -1,13 +1,13 @@
 // asf map3d: a rawlog's 3D observations into an OctoMap octree at the robot poses (odometry
 // or ground truth), with the 2D projection the pipeline uses, the .bt/.ot files and stats
-// (asf/map3d_from_log.h does the insertion; this file parses arguments and writes).
+// (asf/studies/map3d_from_log.h does the insertion; this file parses arguments and writes).
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/io/image_io.h>
 #include <asf/mapping/map3d.h>
-#include <asf/map3d_from_log.h>
+#include <asf/studies/map3d_from_log.h>
 #include <asf/segmentation_eval.h>
 #include <asf/text.h>
 #include <tclap/CmdLine.h>
@@ -55,7 +55,7 @@ Params map3dParams(const std::string& config, const std::vector<std::string>& se
 
 /// What map3d.json holds besides the timings of projection and writing.
 json reportJson(const std::string& rawlog, const std::string& gt, const Params& params,
-                const Map3dFromLogReport& r, const mapping::Map3dStats& s) {
+                const studies::Map3dFromLogReport& r, const mapping::Map3dStats& s) {
   json j;
   j["rawlog"] = rawlog;
   j["poses"] = gt.empty() ? "odometry" : "ground truth " + gt;
@@ -75,8 +75,8 @@ json reportJson(const std::string& rawlog, const std::string& gt, const Params& 
 }
 
 void printSummary(const std::string& rawlog, const std::string& dir, const Params& params,
-                  const Map3dFromLogReport& r, const mapping::Map3dStats& s, const GridMap& grid,
-                  const io::GrayImage& image) {
+                  const studies::Map3dFromLogReport& r, const mapping::Map3dStats& s,
+                  const GridMap& grid, const io::GrayImage& image) {
   std::cout << rawlog << ": " << r.records << " records, " << r.observations
             << " observations inserted, " << r.points << " points in " << formatFixed(r.insert_s, 3)
             << " s (" << formatFixed(r.insert_s > 0 ? r.points / r.insert_s : 0.0, 0)
@@ -132,7 +132,7 @@ int cmdMap3d(int argc, char** argv) {
       false, "", "POSE", cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
-  Map3dFromLogOptions o;
+  studies::Map3dFromLogOptions o;
   o.sensor_pose = parseSensorPose(sensor_pose.getValue());
   const Params params = map3dParams(config.getValue(), set.getValue());
   mapping::Map3d map;
@@ -140,7 +140,7 @@ int cmdMap3d(int argc, char** argv) {
   if (!gt.getValue().empty()) o.ground_truth = io::readGroundTruth(gt.getValue());
 
   const auto t_start = Clock::now();
-  const Map3dFromLogReport r = insertRawlog3d(
+  const studies::Map3dFromLogReport r = studies::insertRawlog3d(
       rawlog.getValue(), o, map, [](const std::string& line) { std::cerr << line << "\n"; });
   const std::string dir = out.getValue();
   fs::create_directories(dir);

@@ -1,5 +1,5 @@
 // asf optimize: one back-end on one g2o file, timed; the command behind the back-end
-// figures of docs/BENCHMARKS.md.
+// figures of docs/benchmarks/backends.md.
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/errors.h>

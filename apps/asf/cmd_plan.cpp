@@ -59,7 +59,7 @@ Params plannerParams(const PluginInfo& pinfo, std::vector<std::string> overrides
 }
 
 void renderImage(const std::string& png, const std::string& map, double resolution, bool ellipses,
-                 const PoseGraph& g, const asf::studies::PlanQueryResult& r) {
+                 const PoseGraph& g, const studies::PlanQueryResult& r) {
   planning::RenderOptions ro;
   ro.ellipses = ellipses;
   ro.map_png = map;
@@ -74,7 +74,7 @@ void renderImage(const std::string& png, const std::string& map, double resoluti
   planning::renderPlan(png, g, &r.marginals, r.plan.nodes, ro);
 }
 
-nlohmann::json alternativeJson(const std::optional<asf::studies::PathAlternative>& a) {
+nlohmann::json alternativeJson(const std::optional<studies::PathAlternative>& a) {
   if (!a) return nullptr;
   return {{"path", a->path},
           {"distance", a->distance},
@@ -83,7 +83,7 @@ nlohmann::json alternativeJson(const std::optional<asf::studies::PathAlternative
           {"virtual_steps", a->virtual_steps}};
 }
 
-nlohmann::json hypothesesJson(const asf::studies::HypothesisCheck& h) {
+nlohmann::json hypothesesJson(const studies::HypothesisCheck& h) {
   return {{"steps", h.steps},
           {"sequences", h.sequences},
           {"hypotheses", h.hypotheses},
@@ -95,9 +95,11 @@ nlohmann::json hypothesesJson(const asf::studies::HypothesisCheck& h) {
           {"relative_difference", h.relative_difference}};
 }
 
-void printJson(const std::string& graph, const std::string& planner, const asf::studies::PlanQuery& q,
-               const asf::studies::PlanQueryResult& r, bool voronoi_edges, const std::string& image) {
-  const planning::PathCost& expected = r.costs.at(planning::criterionName(planning::Criterion::ExpectedUncertainty));
+void printJson(const std::string& graph, const std::string& planner,
+               const studies::PlanQuery& q, const studies::PlanQueryResult& r,
+               bool voronoi_edges, const std::string& image) {
+  const planning::PathCost& expected =
+      r.costs.at(planning::criterionName(planning::Criterion::ExpectedUncertainty));
   nlohmann::json ec = nlohmann::json::array();
   for (int i = 0; i < 3; ++i)
     ec.push_back({expected.expected(i, 0), expected.expected(i, 1), expected.expected(i, 2)});
@@ -137,13 +139,13 @@ void printJson(const std::string& graph, const std::string& planner, const asf::
       {"search_time_s", r.search_s},
       {"marginals_time_s", r.marginals_s},
       {"plan_time_s", r.plan_s},
-      {"hypotheses", hypothesesJson(asf::studies::checkHypotheses(r.model, r.criterion_options))},
+      {"hypotheses", hypothesesJson(studies::checkHypotheses(r.model, r.criterion_options))},
       {"note", r.note}};
   if (!image.empty()) j["image"] = image;
   std::cout << j.dump(2) << "\n";
 }
 
-void printComparison(const asf::studies::PlanQueryResult& r) {
+void printComparison(const studies::PlanQueryResult& r) {
   std::cout << "  voronoi: " << r.virtual_edges.size() << " virtual edges (" << r.voronoi_s
             << " s); the path takes " << r.virtual_steps.size() << ":";
   for (const auto& [a, b] : r.virtual_steps) std::cout << " " << a << "-" << b;
@@ -161,7 +163,7 @@ void printComparison(const asf::studies::PlanQueryResult& r) {
 }
 
 void printText(const std::string& graph, const PoseGraph& g, const std::string& planner,
-               const asf::studies::PlanQueryResult& r, bool voronoi_edges) {
+               const studies::PlanQueryResult& r, bool voronoi_edges) {
   const auto& c = r.candidates;
   std::cout << std::setprecision(6) << graph << ": " << g.size() << " nodes, " << g.edges.size()
             << " edges; " << c.paths.size() << " candidate paths ("
@@ -256,12 +258,12 @@ int cmdPlan(int argc, char** argv) {
                        " does not exist (the graph has " + std::to_string(g.size()) +
                        " nodes, numbered from 0)");
   const GridMap grid = readMapArgument(map.getValue(), resolution.getValue());
-  asf::studies::PlanQuery q;
+  studies::PlanQuery q;
   q.start = static_cast<NodeId>(start.getValue());
   q.goal = static_cast<NodeId>(goal.getValue());
   q.map = grid.grid ? &grid : nullptr;
   q.max_cross = max_cross.getValue();
-  const asf::studies::PlanQueryResult r = asf::studies::planOnGraph(g, *pl, pparams, ctx.seed, *be, q);
+  const studies::PlanQueryResult r = studies::planOnGraph(g, *pl, pparams, ctx.seed, *be, q);
   if (r.cross_skipped)
     std::cerr << "asf plan: the candidate paths need more than " << max_cross.getValue()
               << " cross-covariance blocks (--max-cross); node marginals only\n";

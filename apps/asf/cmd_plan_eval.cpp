@@ -46,7 +46,8 @@ int cmdPlanEval(int argc, char** argv) {
   }
   Registry reg;
   scanPlugins(reg, path.getValue());
-  const asf::studies::PlanEvalOutput out = asf::studies::runPlanEval(ini, reg, out_arg.getValue(), config.getValue());
+  const studies::PlanEvalOutput out =
+      studies::runPlanEval(ini, reg, out_arg.getValue(), config.getValue());
   std::cout << out.markdown << "\nwrote " << out.md_file << " and " << out.json_file << "\n";
   return kOk;
 }

@@ -128,16 +128,16 @@ int cmdRecognition(int argc, char** argv) {
   o.success_xy = success_xy.getValue();
   o.success_phi = success_phi.getValue() * M_PI / 180;
 
-  const PoseGraph g =
-      planning::readRunWithScans(graph.getValue(), keyframes.getValue(), rawlog.getValue(), label.getValue());
+  const PoseGraph g = planning::readRunWithScans(graph.getValue(), keyframes.getValue(),
+                                                 rawlog.getValue(), label.getValue());
   for (unsigned n : scatter.getValue())
     if (n >= g.size())
       throw ConfigError("--scatter " + std::to_string(n) + ": the graph has nodes 0.." +
                         std::to_string(g.size() - 1));
   std::filesystem::create_directories(out.getValue());
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<double> p =
-      planning::recognitionProbabilities(g, o, threads.getValue(), [&](std::size_t k, std::size_t n) {
+  const std::vector<double> p = planning::recognitionProbabilities(
+      g, o, threads.getValue(), [&](std::size_t k, std::size_t n) {
         std::cerr << "recognition: " << k << "/" << n << " nodes, " << std::setprecision(3)
                   << secondsSince(t0) << " s\n";
       });

@@ -3,16 +3,17 @@
 // figure | thesis value | asf value | difference | note.
 #include <asf/abi.h>
 #include <asf/errors.h>
+#include <asf/studies/reproduce.h>
 #include <tclap/CmdLine.h>
-#include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <thread>
 
 #include "commands.h"
-#include "reproduce_runner.h"
+#include "process_launcher.h"
 
 namespace asf::app {
 
@@ -20,10 +21,30 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string selfExecutable(const char* argv0) {
-  std::error_code ec;
-  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::absolute(argv0).string() : p.string();
+namespace rp = studies::reproduce;
+
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+
+/// The stages' results: run now (Ctrl-C stops them), or with --report-only those done before.
+std::vector<rp::StageResult> stageResults(const std::vector<rp::Stage>& stages,
+                                          const rp::Settings& s, bool report_only) {
+  std::vector<rp::StageResult> results(stages.size());
+  if (report_only) {
+    for (std::size_t i = 0; i < stages.size(); ++i)
+      if (rp::recordedSettings(s, stages[i]) == rp::stageSettings(s, stages[i]))
+        results[i].status = rp::StageResult::kReused;
+    return results;
+  }
+  std::cerr << "reproduce: " << stages.size() << " stages into " << s.out << " ("
+            << s.fingerprint() << ", " << s.jobs << " cores)\n";
+  withStopSignals(g_stop, g_signal, [&] {
+    ProcessLauncher launcher(s.asf);
+    results = rp::run(stages, s, launcher, g_stop,
+                      [](const std::string& line) { std::cerr << line << "\n"; });
+    return 0;
+  });
+  return results;
 }
 
 /// configs/ of the source tree when run from it, else the installed share/asf/configs.
@@ -71,9 +92,9 @@ int cmdReproduce(int argc, char** argv) {
                                "Run nothing: write the report from the stages done", cmd);
   cmd.parse(argc, argv);
 
-  reproduce::Settings s;
+  rp::Settings s;
   s.quick = quick.getValue();
-  s.asf = selfExecutable(argv[0]);
+  s.asf = asfExecutable();
   const char* env_shared = std::getenv("ASF_SHARED_DIR");
   const std::string shared_dir = !shared.getValue().empty()  ? shared.getValue()
                                  : env_shared && *env_shared ? env_shared
@@ -102,35 +123,22 @@ int cmdReproduce(int argc, char** argv) {
   fs::create_directories(out_dir);
   s.out = fs::canonical(out_dir).string();
 
-  const auto stages = reproduce::plan(s);
-  std::vector<reproduce::StageResult> results;
-  if (report_only.getValue()) {
-    results.resize(stages.size());
-    for (std::size_t i = 0; i < stages.size(); ++i)
-      if (reproduce::recordedSettings(s, stages[i]) == reproduce::stageSettings(s, stages[i]))
-        results[i].status = reproduce::StageResult::kReused;
-  } else {
-    std::cerr << "reproduce: " << stages.size() << " stages into " << s.out << " ("
-              << s.fingerprint() << ", " << s.jobs << " cores)\n";
-    results = reproduce::run(stages, s);
-  }
-  const reproduce::Report report = reproduce::collect(s, stages, results);
-  reproduce::write(s, report, stages, results);
+  const auto stages = rp::plan(s);
+  const std::vector<rp::StageResult> results = stageResults(stages, s, report_only.getValue());
+  const rp::Report report = rp::collect(s, stages, results);
+  rp::write(s, report, stages, results);
   const std::size_t missing = report.missing();
   std::size_t bad_stages = 0;
   bool interrupted = false;
   for (const auto& r : results) {
-    bad_stages +=
-        r.status != reproduce::StageResult::kDone && r.status != reproduce::StageResult::kReused;
+    bad_stages += r.status != rp::StageResult::kDone && r.status != rp::StageResult::kReused;
     interrupted = interrupted || r.why.find("interrupted") != std::string::npos;
   }
   std::cout << "reproduce: " << report.rows.size() << " rows (" << missing
             << " without an asf value), " << report.figures.size() << " figures; "
             << stages.size() - bad_stages << "/" << stages.size() << " stages done\nwrote " << s.out
             << "/report.md, report.html, report.json\n";
-  if (interrupted)
-    return reproduce::interruptingSignal() ? interruptedBy(reproduce::interruptingSignal())
-                                           : kInterrupted;
+  if (interrupted) return g_signal ? interruptedBy(g_signal) : kInterrupted;
   return missing == 0 && bad_stages == 0 ? kOk : kError;
 }
 

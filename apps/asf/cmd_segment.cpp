@@ -1,6 +1,6 @@
 // asf segment: one map image through a segmenter plugin (label PNG, topological graph,
 // overlay). asf segment-eval: a segmenter scored on the room segmentation benchmark as
-// ../shared/docs/roomseg-eval.md describes (the figures of docs/BENCHMARKS.md).
+// ../shared/docs/roomseg-eval.md describes (the figures of docs/benchmarks/segmentation.md).
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
 #include <asf/config.h>
@@ -8,7 +8,7 @@
 #include <asf/io/occupancy_io.h>
 #include <asf/registry.h>
 #include <asf/run_report.h>
-#include <asf/segment_benchmark.h>
+#include <asf/studies/segment_benchmark.h>
 #include <asf/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <asf/text.h>
@@ -136,7 +136,7 @@ int cmdSegment(int argc, char** argv) {
     throw InputError(map_arg.getValue() + ": " + e.what());
   }
   const double ms = msSince(t0);
-  io::writeLabelImage(out.getValue(), segmentationRaster(s, image, map_arg.getValue()));
+  io::writeLabelImage(out.getValue(), studies::segmentationRaster(s, image, map_arg.getValue()));
 
   mapping::TopoBuilder topo;
   topo.configure(setup.topology);
@@ -159,7 +159,7 @@ int cmdSegment(int argc, char** argv) {
 
 namespace {
 
-using MapResult = BenchmarkMapResult;
+using MapResult = studies::BenchmarkMapResult;
 
 json thesisJson(const ThesisProtocolScore& t) {
   return {{"precision", t.precision},
@@ -337,10 +337,10 @@ void printReport(const std::vector<MapResult>& all) {
 
 /// Scores every map, writing the JSON report after each; the report on stdout. An error
 /// keeps what was scored (kError).
-int scoreBenchmark(const SegmenterSetup& setup, const SegmentBenchmarkOptions& o,
+int scoreBenchmark(const SegmenterSetup& setup, const studies::SegmentBenchmarkOptions& o,
                    const std::vector<std::string>& only, const std::string& json_out) {
   const std::string name = setup.info->name();
-  const std::vector<std::string> names = benchmarkMapNames(o, only);
+  const std::vector<std::string> names = studies::benchmarkMapNames(o, only);
   if (!o.images_dir.empty()) fs::create_directories(o.images_dir);
 
   std::vector<MapResult> results;
@@ -353,7 +353,7 @@ int scoreBenchmark(const SegmenterSetup& setup, const SegmentBenchmarkOptions& o
   };
   try {
     for (std::size_t k = 0; k < names.size(); ++k)
-      scoreBenchmarkMap(
+      studies::scoreBenchmarkMap(
           names[k],
           "[" + std::to_string(k + 1) + "/" + std::to_string(names.size()) + "] " + names[k], o,
           [&] { return setup.create(); },
@@ -465,7 +465,7 @@ int cmdSegmentEval(int argc, char** argv) {
 
   const SegmenterSetup setup =
       setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), false);
-  SegmentBenchmarkOptions o;
+  studies::SegmentBenchmarkOptions o;
   o.plain_dir = plain.getValue();
   o.gt_dir = gt.getValue();
   o.furnished_dir = furnished.getValue();

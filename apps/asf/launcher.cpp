@@ -1,6 +1,7 @@
 // asf: the host's launcher. It answers --version itself and loads the commands (libasf_host.so,
 // host_main.cpp) only when one runs: that library needs about 300 others (MRPT, OpenCV, CGAL,
-// ...) whose loading and relocation take most of a short command's time (docs/BENCHMARKS.md).
+// ...) whose loading and relocation take most of a short command's time
+// (docs/benchmarks/performance.md).
 #include <asf/abi.h>
 #include <dlfcn.h>
 #include <unistd.h>

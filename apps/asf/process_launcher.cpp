@@ -1,5 +1,6 @@
 #include "process_launcher.h"
 
+#include <asf/errors.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -7,8 +8,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -16,42 +19,80 @@ extern char** environ;
 
 namespace asf::app {
 
-long ProcessLauncher::start(const std::vector<std::string>& args, const std::string& log,
-                            std::string& error) {
-  std::vector<char*> argv{const_cast<char*>(exe_.c_str())};
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
+namespace {
+
+/// posix_spawnp of `argv` with stdin from /dev/null and stdout/stderr as `io` says; in a
+/// process group of its own with SIGINT and SIGTERM at their defaults (asf installs its own)
+/// when `own_group`. Returns the pid, or -1 with `error` saying why.
+pid_t spawn(const std::vector<std::string>& argv, const studies::ProcessRunner::Redirect& io,
+            bool own_group, std::string& error) {
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawnattr_t at;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  posix_spawn_file_actions_addopen(&fa, 1, io.out.c_str(),
+                                   O_WRONLY | O_CREAT | (io.append_out ? O_APPEND : O_TRUNC), 0644);
+  if (io.err.empty())
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  else
+    posix_spawn_file_actions_addopen(&fa, 2, io.err.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   posix_spawnattr_init(&at);
-  // Own process group: a terminal's Ctrl-C reaches only the experiment, which forwards one
-  // SIGINT to each child. Default SIGINT/SIGTERM dispositions: asf run installs its own.
-  sigset_t def, none;
-  sigemptyset(&def);
-  sigaddset(&def, SIGINT);
-  sigaddset(&def, SIGTERM);
-  sigemptyset(&none);
-  posix_spawnattr_setsigdefault(&at, &def);
-  posix_spawnattr_setsigmask(&at, &none);
-  posix_spawnattr_setpgroup(&at, 0);
-  posix_spawnattr_setflags(&at,
-                           POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+  if (own_group) {
+    // A terminal's Ctrl-C reaches only the host, which stops its children itself.
+    sigset_t def, none;
+    sigemptyset(&def);
+    sigaddset(&def, SIGINT);
+    sigaddset(&def, SIGTERM);
+    sigemptyset(&none);
+    posix_spawnattr_setsigdefault(&at, &def);
+    posix_spawnattr_setsigmask(&at, &none);
+    posix_spawnattr_setpgroup(&at, 0);
+    posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGDEF |
+                                      POSIX_SPAWN_SETSIGMASK);
+  }
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &fa, &at, argv.data(), environ);
+  const int rc = posix_spawnp(&pid, args[0], &fa, &at, args.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&at);
   if (rc != 0) {
-    error = exe_ + ": cannot start: " + std::strerror(rc);
+    error = argv[0] + ": cannot start: " + std::strerror(rc);
     return -1;
   }
   return pid;
 }
 
-std::optional<RunLauncher::Exit> ProcessLauncher::poll(long handle) {
+/// Waits for `pid` to end; its exit status or 128 + the signal that ended it.
+int waitFor(pid_t pid) {
+  int st = 0;
+  while (waitpid(pid, &st, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFSIGNALED(st) ? 128 + WTERMSIG(st) : WEXITSTATUS(st);
+}
+
+std::atomic<bool>* g_stop = nullptr;
+std::atomic<int>* g_signal = nullptr;
+extern "C" void onStopSignal(int signo) {
+  if (g_signal) *g_signal = signo;
+  if (g_stop) *g_stop = true;
+}
+
+}  // namespace
+
+long ProcessLauncher::start(const std::vector<std::string>& argv, const Redirect& io,
+                            std::string& error) {
+  std::vector<std::string> args = argv;
+  if (!args.empty() && args[0] == "asf") args[0] = exe_;
+  if (args.empty()) {
+    error = "no command to start";
+    return -1;
+  }
+  return spawn(args, io, true, error);
+}
+
+std::optional<studies::ProcessRunner::Exit> ProcessLauncher::poll(long handle) {
   int st = 0;
   const pid_t w = waitpid(static_cast<pid_t>(handle), &st, WNOHANG);
   if (w == 0 || (w < 0 && errno == EINTR)) return std::nullopt;
@@ -68,37 +109,34 @@ std::optional<RunLauncher::Exit> ProcessLauncher::poll(long handle) {
   return e;
 }
 
-void ProcessLauncher::interrupt(long handle) { ::kill(static_cast<pid_t>(handle), SIGINT); }
+void ProcessLauncher::interrupt(long handle) { ::kill(-static_cast<pid_t>(handle), SIGINT); }
 
-void ProcessLauncher::kill(long handle) { ::kill(static_cast<pid_t>(handle), SIGKILL); }
+void ProcessLauncher::kill(long handle) { ::kill(-static_cast<pid_t>(handle), SIGKILL); }
 
-int runCommand(const std::vector<std::string>& args, std::string& output) {
+int ProcessLauncher::run(const std::vector<std::string>& argv, std::string& output) {
+  std::vector<std::string> args = argv;
+  if (!args.empty() && args[0] == "asf") args[0] = exe_;
+  return runCommand(args, output);
+}
+
+int runCommand(const std::vector<std::string>& argv, std::string& output) {
+  if (argv.empty()) {
+    output = "no command to run";
+    return -1;
+  }
   char path[] = "/tmp/asf-command-XXXXXX";
   const int fd = mkstemp(path);
   if (fd < 0) {
     output = std::string("cannot create a temporary file: ") + std::strerror(errno);
     return -1;
   }
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&fa, fd, 1);
-  posix_spawn_file_actions_adddup2(&fa, fd, 2);
-  pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
   close(fd);
-  int code = -1;
-  if (rc != 0) {
-    output = args[0] + ": cannot start: " + std::strerror(rc);
+  std::string error;
+  const pid_t pid = spawn(argv, {path, false, ""}, false, error);
+  const int code = pid < 0 ? -1 : waitFor(pid);
+  if (pid < 0) {
+    output = error;
   } else {
-    int st = 0;
-    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
-    }
-    code = WIFSIGNALED(st) ? 128 + WTERMSIG(st) : WEXITSTATUS(st);
     std::ifstream in(path, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
@@ -106,6 +144,33 @@ int runCommand(const std::vector<std::string>& args, std::string& output) {
   }
   unlink(path);
   return code;
+}
+
+
+std::string asfExecutable() {
+  std::error_code ec;
+  const std::string exe = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+  if (ec) throw Error("/proc/self/exe: cannot find the asf binary: " + ec.message());
+  return exe;
+}
+
+int withStopSignals(std::atomic<bool>& stop, std::atomic<int>& signal,
+                    const std::function<int()>& body) {
+  stop = false;
+  signal = 0;
+  g_stop = &stop;
+  g_signal = &signal;
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+  struct Restore {
+    ~Restore() {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+      g_stop = nullptr;
+      g_signal = nullptr;
+    }
+  } restore;
+  return body();
 }
 
 }  // namespace asf::app

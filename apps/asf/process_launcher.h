@@ -1,30 +1,42 @@
 #pragma once
-// The host's way of starting an experiment's runs: the asf binary as child processes.
-#include <asf/experiment.h>
+// The host's one way of starting processes (asf experiment's runs and Slurm commands, asf
+// reproduce's stage commands), and of being stopped while they run.
+#include <asf/studies/process_runner.h>
 
+#include <atomic>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace asf::app {
 
-/// RunLauncher over posix_spawn/waitpid/kill; a handle is the child's pid.
-class ProcessLauncher final : public RunLauncher {
+/// ProcessRunner over posix_spawn/waitpid/kill; a handle is the child's pid.
+class ProcessLauncher final : public studies::ProcessRunner {
  public:
-  /// `asf_exe`: the asf binary the runs execute (the host's own, /proc/self/exe).
+  /// `asf_exe`: the binary argv[0] == "asf" names (the host's own, asfExecutable()).
   explicit ProcessLauncher(std::string asf_exe) : exe_(std::move(asf_exe)) {}
-  long start(const std::vector<std::string>& args, const std::string& log,
+  long start(const std::vector<std::string>& argv, const Redirect& io,
              std::string& error) override;
   std::optional<Exit> poll(long handle) override;
   void interrupt(long handle) override;
   void kill(long handle) override;
+  int run(const std::vector<std::string>& argv, std::string& output) override;
 
  private:
   std::string exe_;
 };
 
-/// Runs `argv` (argv[0] looked up in PATH) to its end with stdin from /dev/null; its stdout
-/// and stderr together in `output`. Returns the exit status, 128 + the signal that ended
-/// it, or -1 with `output` saying why it could not start.
+/// Runs `argv` (argv[0] looked up in PATH) to its end; ProcessLauncher::run without the
+/// host's binary.
 int runCommand(const std::vector<std::string>& argv, std::string& output);
+
+/// The asf binary this process runs (/proc/self/exe), which the studies' processes run too.
+std::string asfExecutable();
+
+/// Runs `body` with SIGINT and SIGTERM setting `stop` (and `signal` to the signal's number)
+/// instead of ending the process, so a study stops its processes and still writes what it
+/// has; the default handlers are back after, also on exceptions.
+int withStopSignals(std::atomic<bool>& stop, std::atomic<int>& signal,
+                    const std::function<int()>& body);
 
 }  // namespace asf::app

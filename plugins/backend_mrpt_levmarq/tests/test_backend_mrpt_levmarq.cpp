@@ -159,7 +159,7 @@ TEST(MrptLevmarq, DisconnectedNodesAndTrivialGraphs) {
 
 TEST(MrptLevmarq, SharedIntelDataset) {
   // The baseline works on the easy benchmark (on MIT and city10000 it stops early: see
-  // docs/BENCHMARKS.md); the contract holds on all three.
+  // docs/benchmarks/backends.md); the contract holds on all three.
   const std::string dir = std::string(ASF_TEST_SHARED_DIR) + "/datasets/g2o/";
   if (!std::filesystem::exists(dir + "intel.g2o")) GTEST_SKIP() << "needs " << dir;
   asf::PoseGraph g = asf::readG2o(dir + "intel.g2o");

@@ -17,7 +17,7 @@ namespace asf {
 /// written. Returns the report's path.
 std::string writeRunReport(const std::string& run_dir);
 
-/// Pieces shared by the run report and the experiment summary (asf/experiment.h); HTML
+/// Pieces shared by the run report and the experiment summary (asf/studies/experiment.h); HTML
 /// escaping is asf::htmlEscape (text.h), atomic writes asf::writeFileAtomically (atomic_file.h).
 namespace report {
 

@@ -7,7 +7,7 @@
 
 #include "reproduce_collector.h"
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace {
 
@@ -204,8 +204,8 @@ void figure45(Collector& c) {
                  fmt(last_regions, 0) + " at the end)"
            : "",
         ok ? (lowered_growing > 0 ? "agrees" : "differs") : "",
-        "a count lowered once the map is complete is churn, not merging (docs/BENCHMARKS.md, "
-        "the cave with the author's robot)");
+        "a count lowered once the map is complete is churn, not merging (docs/benchmarks/"
+        "exploration.md, the cave with the author's robot)");
   c.row(stage, "Fig. 4.5", "only the contours touching new information are re-segmented",
         "yes: the other regions keep their ids and colours",
         ok ? fmt(inc.back(), 0) + " of " + fmt(segs.back(), 0) + " segmentations incremental" : "",
@@ -382,4 +382,4 @@ void chapters4and5(Collector& c) {
   figs511(c);
 }
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -1,6 +1,6 @@
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
-#include <asf/segment_benchmark.h>
+#include <asf/studies/segment_benchmark.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <memory>
 
-namespace asf {
+namespace asf::studies {
 
 namespace fs = std::filesystem;
 
@@ -192,4 +192,4 @@ io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage&
   return r;
 }
 
-}  // namespace asf
+}  // namespace asf::studies

@@ -2,17 +2,20 @@
 /// \file reproduce.h
 /// `asf reproduce`: the thesis' tables and figures of chapters 3-6 rerun by asf, one report.
 /// The work is a list of stages (each one or more asf commands writing into its own folder,
-/// plan()), run by the host's scheduler (apps/asf/reproduce_runner.h: it starts the
-/// processes) that resumes from the stages already done (stageSettings, recordedSettings);
+/// plan()), run by run() through the host's ProcessRunner, resuming from the stages already
+/// done (stageSettings, recordedSettings);
 /// then every row (figure | thesis value | asf value | difference | note) is read back from
 /// the stages' outputs (collect()) and written as report.md/.html/.json (write()).
+#include <asf/studies/process_runner.h>
+
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 /// What the command line chose; `fingerprint()` names it all (for the report), each stage
 /// records the part its results depend on (stageSettings).
@@ -67,6 +70,19 @@ struct StageResult {
 /// The stages of the reproduction under `s`.
 std::vector<Stage> plan(const Settings& s);
 
+using Progress = std::function<void(const std::string&)>;
+
+/// Runs the stages not done yet, `s.jobs` cores at a time, in list order as their
+/// prerequisites allow; a stage's commands run one after the other, argv[0] "asf" being the
+/// host's binary, stdout to the command's stdout_file or the stage log and stderr to
+/// OUT/<id>/stage.log. `progress` gets a line per started and settled stage and, each minute,
+/// what runs. When `stop` becomes true (the host's Ctrl-C) the running commands are
+/// interrupted, no stage starts and their results say "interrupted". Results are in the order
+/// of `stages`.
+std::vector<StageResult> run(const std::vector<Stage>& stages, const Settings& s,
+                             ProcessRunner& runner, const std::atomic<bool>& stop,
+                             const Progress& progress);
+
 /// One line of the report.
 struct Row {
   std::string section;     ///< "Table 3.1", "Fig. 6.2", ...
@@ -103,4 +119,4 @@ Report collect(const Settings& s, const std::vector<Stage>& stages,
 void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
            const std::vector<StageResult>& results);
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -1,7 +1,7 @@
 #pragma once
 // Internal to `asf reproduce`: how the rows are collected (reproduce_rows*.cpp, one file per
 // chapter of the thesis) and the number formats they share.
-#include <asf/reproduce.h>
+#include <asf/studies/reproduce.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -112,4 +112,4 @@ void chapter3(Collector& c);
 void chapters4and5(Collector& c);
 void chapter6(Collector& c);
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -4,7 +4,7 @@
 // with fewer start/goal pairs (the full sweep takes 100 min) and, under --quick, smoke-run
 // sizes.
 #include <asf/errors.h>
-#include <asf/reproduce.h>
+#include <asf/studies/reproduce.h>
 #include <asf/text.h>
 
 #include <cstdio>
@@ -15,7 +15,7 @@
 #include <set>
 #include <sstream>
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace fs = std::filesystem;
 using Argv = std::vector<std::string>;
@@ -419,4 +419,4 @@ std::string recordedSettings(const Settings& s, const Stage& st) {
   }
 }
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

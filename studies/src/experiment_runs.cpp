@@ -1,12 +1,12 @@
 #include "experiment_runs.h"
 
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
-namespace asf::detail {
+namespace asf::studies::detail {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -63,4 +63,4 @@ double number(const json& s, const char* key) {
   return s[key].get<double>();
 }
 
-}  // namespace asf::detail
+}  // namespace asf::studies::detail

@@ -7,15 +7,15 @@
 /// INI: an [experiment] section (experimentKeys()); the pipeline INI it names is run with
 /// `--set pipeline.policy=P --set pipeline.seed=S` plus the experiment's own overrides.
 #include <asf/key_spec.h>
+#include <asf/studies/process_runner.h>
 
 #include <atomic>
 #include <cstddef>
 #include <functional>
-#include <optional>
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::studies {
 
 const KeySpec* experimentKeys(std::size_t& n);
 
@@ -45,41 +45,17 @@ struct ExperimentRun {
 /// "interrupted" nor an error ("error..."): such a run is not run again.
 bool runFinished(const std::string& run_dir);
 
-/// Starts an experiment's runs as processes and watches them. The host implements it
-/// (apps/asf/process_launcher.h: the asf binary through posix_spawn): the library never
-/// starts a process itself.
-class RunLauncher {
- public:
-  virtual ~RunLauncher() = default;
-  struct Exit {
-    enum class How { Exited, Signaled, Lost } how = How::Exited;
-    int code = 0;       ///< the exit status, or the signal number when Signaled
-    std::string error;  ///< Lost: why
-  };
-  /// Starts `asf ARGS` (ARGS without the program) with stdin from /dev/null, stdout and
-  /// stderr into `log`, in its own process group (a terminal's Ctrl-C reaches the
-  /// experiment only); returns a handle >= 0, or -1 with `error` saying why.
-  virtual long start(const std::vector<std::string>& args, const std::string& log,
-                     std::string& error) = 0;
-  /// Without blocking: how `handle` ended, once it has (the handle is then released).
-  virtual std::optional<Exit> poll(long handle) = 0;
-  /// Asks the run to stop (SIGINT: it writes its outputs and exits).
-  virtual void interrupt(long handle) = 0;
-  /// Ends the run at once (SIGKILL).
-  virtual void kill(long handle) = 0;
-};
-
 /// The `asf` arguments of one run: `run INI --out DIR --set pipeline.policy=P --set
 /// pipeline.seed=S`, the experiment's overrides, `-v WARN`.
 std::vector<std::string> runArguments(const ExperimentConfig& cfg, const ExperimentRun& run);
 
-/// Runs every (policy, seed) not finished yet through `launcher`, at most `cfg.jobs` at a
-/// time, each with stdout and stderr in <run dir>/run.log; `progress` (may be empty) gets
+/// Runs every (policy, seed) not finished yet as `asf ARGS` processes through `runner`, at
+/// most `cfg.jobs` at a time, each with stdout and stderr in <run dir>/run.log; `progress` (may be empty) gets
 /// one line per started, skipped or ended run. A run counts as finished as runFinished()
 /// says. When `*stop` becomes true (the host's Ctrl-C handler), the running runs are
 /// interrupted (they write their outputs and exit; killed after a grace period), no new run
 /// starts, and what exists is still summarized (summarizeExperiment).
-std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, RunLauncher& launcher,
+std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, ProcessRunner& runner,
                                          const std::function<void(const std::string&)>& progress,
                                          const std::atomic<bool>* stop = nullptr);
 
@@ -90,4 +66,4 @@ std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, RunLaunche
 /// that know it (n). Returns the Markdown table.
 std::string summarizeExperiment(const ExperimentConfig& cfg);
 
-}  // namespace asf
+}  // namespace asf::studies

@@ -3,7 +3,7 @@
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 #include <asf/run_report.h>
 #include <asf/svg_plot.h>
 #include <asf/text.h>
@@ -18,7 +18,7 @@
 
 #include "experiment_runs.h"
 
-namespace asf {
+namespace asf::studies {
 
 namespace fs = std::filesystem;
 using detail::number;
@@ -448,4 +448,4 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
   return table + notes;
 }
 
-}  // namespace asf
+}  // namespace asf::studies

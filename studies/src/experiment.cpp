@@ -1,7 +1,7 @@
-// asf experiment: its INI and the scheduler of its runs (started by the host's RunLauncher).
+// asf experiment: its INI and the scheduler of its runs (started by the host's ProcessRunner).
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -15,7 +15,7 @@
 
 #include "experiment_runs.h"
 
-namespace asf {
+namespace asf::studies {
 
 namespace fs = std::filesystem;
 using detail::number;
@@ -66,9 +66,9 @@ using SteadyClock = std::chrono::steady_clock;
 /// Starts the runs not finished yet, at most `jobs` at a time, and reports each end.
 class Scheduler {
  public:
-  Scheduler(const ExperimentConfig& cfg, RunLauncher& launcher,
+  Scheduler(const ExperimentConfig& cfg, ProcessRunner& runner,
             const std::function<void(const std::string&)>& progress, const std::atomic<bool>* stop)
-      : cfg_(cfg), launcher_(launcher), progress_(progress), stop_(stop) {}
+      : cfg_(cfg), runner_(runner), progress_(progress), stop_(stop) {}
 
   std::vector<ExperimentRun> run();
 
@@ -84,7 +84,7 @@ class Scheduler {
   void startMore();
   /// Reaps the runs that ended; true if any did.
   bool reap();
-  std::string endLine(const ExperimentRun& run, const RunLauncher::Exit& e, double secs) const;
+  std::string endLine(const ExperimentRun& run, const ProcessRunner::Exit& e, double secs) const;
   void say(const std::string& line) const {
     if (progress_) progress_(line);
   }
@@ -96,7 +96,7 @@ class Scheduler {
   }
 
   const ExperimentConfig& cfg_;
-  RunLauncher& launcher_;
+  ProcessRunner& runner_;
   const std::function<void(const std::string&)>& progress_;
   const std::atomic<bool>* stop_;
   std::vector<ExperimentRun> runs_;
@@ -140,13 +140,13 @@ void Scheduler::handleStop(bool stopping) {
     if (!running_.empty())
       say("interrupted: stopping " + std::to_string(running_.size()) +
           " running run(s); they write their outputs first");
-    for (const auto& r : running_) launcher_.interrupt(r.handle);
+    for (const auto& r : running_) runner_.interrupt(r.handle);
     stop_time_ = SteadyClock::now();
   }
   // A run that ignores SIGINT (hung in a plugin) must not keep the experiment forever.
   if (forwarded_ && !killed_ && SteadyClock::now() - stop_time_ > kStopGrace) {
     killed_ = true;
-    for (const auto& r : running_) launcher_.kill(r.handle);
+    for (const auto& r : running_) runner_.kill(r.handle);
   }
 }
 
@@ -160,7 +160,9 @@ void Scheduler::startMore() {
     fs::remove(fs::path(run.dir) / "summary.json", ec);
     std::string error;
     const std::string log = (fs::path(run.dir) / "run.log").string();
-    const long handle = launcher_.start(runArguments(cfg_, run), log, error);
+    std::vector<std::string> argv{"asf"};
+    for (auto& a : runArguments(cfg_, run)) argv.push_back(std::move(a));
+    const long handle = runner_.start(argv, {log, false, ""}, error);
     if (handle < 0) {
       run.exit_code = 127;
       ++done_;
@@ -175,7 +177,7 @@ void Scheduler::startMore() {
 bool Scheduler::reap() {
   bool reaped = false;
   for (auto it = running_.begin(); it != running_.end();) {
-    const std::optional<RunLauncher::Exit> e = launcher_.poll(it->handle);
+    const std::optional<ProcessRunner::Exit> e = runner_.poll(it->handle);
     if (!e) {
       ++it;
       continue;
@@ -184,18 +186,17 @@ bool Scheduler::reap() {
     ExperimentRun& run = runs_[it->run];
     const double secs = std::chrono::duration<double>(SteadyClock::now() - it->t0).count();
     ++done_;
-    using How = RunLauncher::Exit::How;
-    run.exit_code = e->how == How::Lost ? -1 : e->how == How::Signaled ? 128 + e->code : e->code;
+    run.exit_code = exitCode(*e);
     say(prefix() + name(run) + ": " + endLine(run, *e, secs));
     it = running_.erase(it);
   }
   return reaped;
 }
 
-std::string Scheduler::endLine(const ExperimentRun& run, const RunLauncher::Exit& e,
+std::string Scheduler::endLine(const ExperimentRun& run, const ProcessRunner::Exit& e,
                                double secs) const {
   const std::string log = (fs::path(run.dir) / "run.log").string();
-  using How = RunLauncher::Exit::How;
+  using How = ProcessRunner::Exit::How;
   if (e.how == How::Lost) return "lost (" + e.error + ")";
   if (e.how == How::Signaled)
     return "killed by signal " + std::to_string(e.code) + " after " + formatFixed(secs, 1) + " s" +
@@ -278,12 +279,12 @@ std::vector<std::string> runArguments(const ExperimentConfig& cfg, const Experim
   return args;
 }
 
-std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, RunLauncher& launcher,
+std::vector<ExperimentRun> runExperiment(const ExperimentConfig& cfg, ProcessRunner& runner,
                                          const std::function<void(const std::string&)>& progress,
                                          const std::atomic<bool>* stop) {
-  std::vector<ExperimentRun> runs = Scheduler(cfg, launcher, progress, stop).run();
+  std::vector<ExperimentRun> runs = Scheduler(cfg, runner, progress, stop).run();
   summarizeExperiment(cfg);
   return runs;
 }
 
-}  // namespace asf
+}  // namespace asf::studies

@@ -2,7 +2,7 @@
 // and links to the figures) and report.html (self-contained: SVGs inline, PNGs embedded).
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
-#include <asf/reproduce.h>
+#include <asf/studies/reproduce.h>
 #include <asf/run_report.h>
 #include <asf/text.h>
 
@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -181,4 +181,4 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
   writeFileAtomically(s.out + "/report.html", html.str());
 }
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::studies {
 
 struct Map3dFromLogOptions {
   /// Robot poses from this ground truth instead of odometry (observations outside it are
@@ -43,4 +43,4 @@ Map3dFromLogReport insertRawlog3d(const std::string& rawlog, const Map3dFromLogO
                                   mapping::Map3d& map,
                                   const std::function<void(const std::string&)>& progress);
 
-}  // namespace asf
+}  // namespace asf::studies

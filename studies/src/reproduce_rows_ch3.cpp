@@ -2,7 +2,7 @@
 // 3.1-3.5 and Table 3.2.
 #include "reproduce_collector.h"
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace {
 
@@ -220,7 +220,8 @@ void chapter3(Collector& c) {
                 std::to_string(s.recognition_samples) + " samples). A seeded subset of " + pairs +
                 " start/goal pairs per zone (scripts/chapter-3.sh runs 300). The zones and why the "
                 "baselines "
-                "err only where they do: configs/plan_eval_<log>.ini and docs/BENCHMARKS.md.");
+                "err only where they do: configs/plan_eval_<log>.ini and "
+                "docs/benchmarks/planning.md.");
   c.section("Fig. 3.3",
             "asf recognition on the ACES run, " + std::to_string(s.figure_samples) +
                 " samples at a corridor node and a corner node (the thesis used Rawseeds).");
@@ -239,4 +240,4 @@ void chapter3(Collector& c) {
   table32(c);
 }
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/map3d_from_log.h>
+#include <asf/studies/map3d_from_log.h>
 #include <asf/text.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -14,7 +14,7 @@
 
 #include <asf/io/rawlog_guard.h>
 
-namespace asf {
+namespace asf::studies {
 
 namespace {
 
@@ -144,4 +144,4 @@ Map3dFromLogReport insertRawlog3d(const std::string& path, const Map3dFromLogOpt
   return r;
 }
 
-}  // namespace asf
+}  // namespace asf::studies

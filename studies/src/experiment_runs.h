@@ -1,13 +1,13 @@
 #pragma once
 // What the experiment's scheduler (experiment.cpp) and its summary (experiment_summary.cpp)
 // both read of a run folder. Private to the framework.
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-namespace asf::detail {
+namespace asf::studies::detail {
 
 std::string runDir(const ExperimentConfig& cfg, const std::string& policy, int seed);
 /// Every (policy, seed) of cfg, seeds outer and policies inner (an interrupted experiment
@@ -20,4 +20,4 @@ std::string runStatus(const nlohmann::json& s, const std::string& why);
 /// A number of summary.json; NaN when absent.
 double number(const nlohmann::json& s, const char* key);
 
-}  // namespace asf::detail
+}  // namespace asf::studies::detail

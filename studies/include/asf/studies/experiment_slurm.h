@@ -2,22 +2,24 @@
 /// \file experiment_slurm.h
 /// `asf experiment --backend slurm`: an experiment's unfinished runs as one Slurm job array.
 ///
-/// The library writes the array's script and reads what the scheduler's commands print; the
-/// host runs `sbatch`, `squeue` and `scancel` (apps/asf/cmd_experiment.cpp). Task i of the
+/// The library writes the array's script, runs `sbatch`, `squeue`, `scancel` and `sacct`
+/// through the host's ProcessRunner and reads what they print. Task i of the
 /// array runs the i-th unfinished (policy, seed) with the local backend's command line
 /// (runArguments), its stdout and stderr in the run folder's run.log and its exit status in
 /// the run folder's exit_code; the scheduler's own log of the task goes to
 /// <out>/slurm/logs/task_<i>.log. Nothing assumes that the submitting machine runs the tasks:
 /// every path in the script is absolute, so the output folder and the asf installation must
 /// be on a filesystem the compute nodes share (docs/EXPERIMENTS.md).
-#include <asf/experiment.h>
+#include <asf/studies/experiment.h>
 
+#include <atomic>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::studies {
 
 struct SlurmOptions {
   std::string partition;   ///< --partition (empty: the cluster's default)
@@ -73,4 +75,14 @@ std::size_t slurmTasksEnded(const SlurmBatch& b);
 /// Single-quotes `s` for bash ('\'' for each quote inside).
 std::string shellQuote(const std::string& s);
 
-}  // namespace asf
+/// `asf experiment --backend slurm`: writes the array for cfg's unfinished runs, submits it
+/// through `runner` (sbatch) unless `dry_run`, follows it with squeue every `poll_s` seconds
+/// until no task is queued or `stop`, then cancels it (scancel) if stopped; `progress` gets
+/// the lines to show. Returns the number of submitted runs that did not finish (each named
+/// with its logs). Throws asf::Error when sbatch fails or squeue fails 10 times in a row.
+int runSlurmExperiment(const ExperimentConfig& cfg, const SlurmOptions& o, bool dry_run,
+                       double poll_s, const std::string& asf_exe, ProcessRunner& runner,
+                       const std::function<void(const std::string&)>& progress,
+                       const std::atomic<bool>& stop);
+
+}  // namespace asf::studies

@@ -1,17 +1,19 @@
 // asf experiment --backend slurm: the job array's script and the scheduler's outputs
-// (asf/experiment_slurm.h).
+// (asf/studies/experiment_slurm.h).
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/experiment_slurm.h>
+#include <asf/studies/experiment_slurm.h>
 
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "experiment_runs.h"
 
-namespace asf {
+namespace asf::studies {
 
 namespace fs = std::filesystem;
 
@@ -92,6 +94,46 @@ std::string scriptText(const ExperimentConfig& cfg, const SlurmOptions& o, const
     << "echo \"$code\" > \"$dir/exit_code.tmp\" && mv \"$dir/exit_code.tmp\" \"$dir/exit_code\"\n"
     << "exit \"$code\"\n";
   return s.str();
+}
+
+std::string runOrThrow(ProcessRunner& runner, const std::vector<std::string>& argv) {
+  std::string out;
+  const int code = runner.run(argv, out);
+  if (code != 0) {
+    std::string cmd;
+    for (const auto& a : argv) cmd += (cmd.empty() ? "" : " ") + a;
+    throw Error(cmd + ": " + (code < 0 ? out : "exit status " + std::to_string(code) + ": " + out));
+  }
+  return out;
+}
+
+/// Polls squeue until the job has no task left in the queue (or `stop`), printing a line
+/// whenever the counts change. A failing squeue is retried: a busy controller answers later.
+void follow(const SlurmBatch& b, const std::string& job, double poll_s, ProcessRunner& runner,
+            const std::function<void(const std::string&)>& progress, const std::atomic<bool>& stop) {
+  std::string last;
+  int failures = 0;
+  for (;;) {
+    std::string out;
+    const int code = runner.run({"squeue", "-h", "-r", "-j", job, "-o", "%T"}, out);
+    SlurmQueue q;
+    if (code == 0) {
+      failures = 0;
+      q = parseSqueue(out);
+    } else if (++failures > 10) {
+      throw Error("squeue -j " + job + " failed 10 times in a row: " + out);
+    }
+    const std::size_t ended = slurmTasksEnded(b);
+    const std::string line = "slurm job " + job + ": " + std::to_string(ended) + "/" +
+                             std::to_string(b.tasks.size()) + " ended, " +
+                             std::to_string(q.running) + " running, " + std::to_string(q.pending) +
+                             " pending";
+    if (line != last && progress) progress(line);
+    last = line;
+    if (code == 0 && q.total() == 0) return;
+    if (stop) return;
+    std::this_thread::sleep_for(std::chrono::duration<double>(poll_s));
+  }
 }
 
 }  // namespace
@@ -202,4 +244,57 @@ std::vector<ExperimentRun> collectSlurmBatch(const SlurmBatch& b) {
   return runs;
 }
 
-}  // namespace asf
+int runSlurmExperiment(const ExperimentConfig& cfg, const SlurmOptions& o, bool dry_run,
+                       double poll_s, const std::string& asf_exe, ProcessRunner& runner,
+                       const std::function<void(const std::string&)>& progress,
+                       const std::atomic<bool>& stop) {
+  auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  const SlurmBatch b = writeSlurmBatch(cfg, o, asf_exe);
+  const std::size_t done = b.runs.size() - b.tasks.size();
+  say("asf experiment: " + std::to_string(b.runs.size()) + " runs, " + std::to_string(done) +
+      " finished earlier, " + std::to_string(b.tasks.size()) + " to submit");
+  if (b.tasks.empty()) return 0;
+  say("asf experiment: array script " + b.script);
+  if (dry_run) {
+    say("asf experiment: --dry-run: not submitted (sbatch --parsable " + b.script + ")");
+    return 0;
+  }
+  const std::string job = parseSbatchJobId(runOrThrow(runner, sbatchCommand(b)));
+  say("asf experiment: submitted as Slurm job " + job + " (" + std::to_string(b.tasks.size()) +
+      " array tasks; logs in " + b.dir + "/logs)");
+  follow(b, job, poll_s, runner, progress, stop);
+  if (stop) {
+    std::string out;
+    runner.run({"scancel", job}, out);
+    say("asf experiment: interrupted: scancel " + job +
+        " (cancelled tasks keep what they wrote; run again to resubmit them)");
+  }
+  int failed = 0;
+  const std::vector<ExperimentRun> runs = collectSlurmBatch(b);
+  std::map<std::size_t, std::string> states;  // Slurm's word on the tasks, if it keeps accounts
+  bool asked = false;
+  for (std::size_t task = 0; task < b.tasks.size(); ++task) {
+    const ExperimentRun& r = runs[b.tasks[task]];
+    if (runFinished(r.dir)) continue;
+    ++failed;
+    if (!asked) {
+      asked = true;
+      std::string out;
+      if (runner.run({"sacct", "-n", "-P", "-X", "-j", job, "-o", "JobID,State"}, out) == 0)
+        states = parseSacctStates(out, job);
+    }
+    const auto st = states.find(task);
+    say("asf experiment: " + r.policy + " seed " + std::to_string(r.seed) + " (task " +
+        std::to_string(task) + ") did not finish" +
+        (st != states.end() ? " (Slurm: " + st->second + ")" : std::string()) +
+        (r.exit_code >= 0 ? " (exit status " + std::to_string(r.exit_code) + ")"
+                          : " (no exit status: never ran, or killed by Slurm)") +
+        "; logs: " + (fs::path(r.dir) / "run.log").string() + ", " + b.dir + "/logs/task_" +
+        std::to_string(task) + ".log");
+  }
+  return failed;
+}
+
+}  // namespace asf::studies

@@ -5,7 +5,7 @@
 
 #include "reproduce_collector.h"
 
-namespace asf::reproduce {
+namespace asf::studies::reproduce {
 
 namespace {
 
@@ -63,9 +63,8 @@ void policiesOnTheCave(Collector& c) {
   const std::string od = all ? ordering(dist) : "", oe = all ? ordering(err) : "";
   c.row(stage, "Figs. 6.2-6.4", "ordering by distance", ordering(kDistance), od,
         all ? (od == ordering(kDistance) ? "agrees" : "differs") : "",
-        "TIGRE's extra distance: docs/BENCHMARKS.md, the cave with the author's robot "
-        "(re-segmentations of a "
-        "complete map)");
+        "TIGRE's extra distance: docs/benchmarks/exploration.md, the cave with the author's "
+        "robot (re-segmentations of a complete map)");
   c.row(stage, "Figs. 6.2-6.4", "ordering by mean pose error", ordering(kError), oe,
         all ? (oe == ordering(kError) ? "agrees" : "differs") : "");
   // The goal's form of the error ordering: both edge-covering policies below both others.
@@ -121,4 +120,4 @@ Report collect(const Settings& s, const std::vector<Stage>& stages,
   return c.report;
 }
 
-}  // namespace asf::reproduce
+}  // namespace asf::studies::reproduce

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::studies {
 
 struct SegmentBenchmarkOptions {
   std::string plain_dir, gt_dir;  ///< <name>.png; <name>_gt_segmentation.png
@@ -59,4 +59,4 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
 io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage& image,
                                const std::string& who);
 
-}  // namespace asf
+}  // namespace asf::studies
