@@ -3,6 +3,7 @@
 // pairings) on small instances and closed forms.
 #include <asf/errors.h>
 #include <asf/graph_families.h>
+#include <asf/graph_file.h>
 #include <asf/graph_routes.h>
 #include <asf/multigraph.h>
 #include <gtest/gtest.h>
@@ -762,6 +763,40 @@ int runAsf(const std::string& args, std::string& out, std::string& err) {
 }
 
 }  // namespace
+
+TEST(GraphFile, ListsPickTheLineAskedAndOtherFilesRefuseOne) {
+  const auto p = tempFile("pick.txt", "# two graphs\n3 2 1-2 2-3\n\n4 3 1-2 2-3 3-4\n");
+  const auto ref = asf::NoiseReference::Median;
+  GraphFile first = readGraphFile(p.string(), std::nullopt, false, ref);
+  EXPECT_EQ(first.line, 2);
+  EXPECT_EQ(first.g.n, 3);
+  GraphFile fourth = readGraphFile(p.string(), 4, false, ref);
+  EXPECT_EQ(fourth.line, 4);
+  EXPECT_EQ(fourth.g.m(), 3);
+  EXPECT_FALSE(fourth.pose_graph.has_value());
+  try {
+    readGraphFile(p.string(), 3, false, ref);  // the blank line
+    FAIL() << "expected InputError";
+  } catch (const asf::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":3: no graph on that line");
+  }
+  const auto empty = tempFile("empty.txt", "# nothing\n");
+  EXPECT_THROW(graphOnLine(readGraphList(empty.string()), empty.string(), std::nullopt),
+               asf::InputError);
+  const auto g2o = tempFile("two.g2o",
+                            "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                            "EDGE_SE2 0 1 1 0 0 100 0 0 100 0 1000\n");
+  EXPECT_THROW(readGraphFile(g2o.string(), 1, false, ref), asf::InputError);
+  const GraphFile pg = readGraphFile(g2o.string(), std::nullopt, true, ref);
+  ASSERT_TRUE(pg.pose_graph.has_value());
+  EXPECT_EQ(pg.g.n, 2);
+  EXPECT_EQ(pg.positions.size(), 2u);
+  const auto dir = std::filesystem::temp_directory_path() / "asf_test_graph_file_dir";
+  std::filesystem::create_directories(dir);
+  EXPECT_THROW(readGraphFile(dir.string(), std::nullopt, false, ref), asf::InputError);
+  for (const auto& f : {p, empty, g2o}) std::filesystem::remove(f);
+  std::filesystem::remove_all(dir);
+}
 
 TEST(GraphRoutes, MalformedGraphFilesNameFileAndLine) {
   const auto p = tempFile("bad.txt", "4 3 1-2 2-3 3-4\n# comment\n\n3 2 1-2 2-9\n");

@@ -3,6 +3,7 @@
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <asf/graph_drawing.h>
+#include <asf/graph_file.h>
 #include <asf/graph_information.h>
 #include <asf/pose_graph.h>
 #include <asf/pose_graph_information.h>
@@ -25,43 +26,6 @@ namespace asf::app {
 
 namespace {
 
-bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// The graph `asf optimal` works on, with node positions for --draw and, for pose graphs, the
-// pose graph and its bounded-noise model.
-struct LoadedGraph {
-  graph::Multigraph g;
-  std::vector<Eigen::Vector2d> positions;  // empty: laid out for drawing
-  int line = 0;                            // graph lists: the line read
-  std::optional<PoseGraph> pose_graph;
-  std::optional<BoundedNoise> noise;
-};
-
-// A g2o file (or a run directory's graph.g2o): one node per pose, one edge per measurement,
-// edge information alpha_j from the bounded-noise model unless `unit` (every alpha_j = 1).
-LoadedGraph fromG2o(const std::string& path, bool unit, NoiseReference reference) {
-  LoadedGraph l;
-  l.pose_graph = readG2o(path);
-  const PoseGraph& pg = *l.pose_graph;
-  if (pg.edges.empty()) throw InputError(path + ": the pose graph has no edges");
-  l.noise = boundedNoise(pg, reference);
-  l.g = poseGraphAsMultigraph(pg, unit ? std::vector<double>{} : l.noise->alpha);
-  for (const auto& n : pg.nodes) l.positions.emplace_back(n.pose.x(), n.pose.y());
-  return l;
-}
-
-// The topological graph of a run or of `asf segment --graph` (topology.json).
-LoadedGraph fromTopologyJson(const std::string& path) {
-  graph::RegionGraph r = graph::readTopologyJson(path);
-  LoadedGraph l;
-  l.g = std::move(r.graph);
-  for (const auto& [x, y] : r.centroids) l.positions.emplace_back(x, y);
-  return l;
-}
-
 std::vector<double> parseCriteria(const std::string& list) {
   std::vector<double> out;
   std::stringstream ss(list);
@@ -70,33 +34,6 @@ std::vector<double> parseCriteria(const std::string& list) {
     if (!item.empty()) out.push_back(graph::parseCriterion(item));
   if (out.empty()) throw InputError("--criteria '" + list + "': no criterion given");
   return out;
-}
-
-LoadedGraph loadGraph(const std::string& path_in, bool has_index, int index, bool unit,
-                      NoiseReference reference) {
-  std::string path = path_in;
-  if (std::filesystem::is_directory(path)) {
-    path = (std::filesystem::path(path) / "graph.g2o").string();
-    if (!std::filesystem::exists(path))
-      throw InputError(path_in + ": a directory without graph.g2o (expected an asf run output)");
-  }
-  const bool g2o = endsWith(path, ".g2o"), topo = endsWith(path, ".json");
-  if ((g2o || topo) && has_index) throw InputError(path + ": --index applies to graph lists only");
-  if (g2o) return fromG2o(path, unit, reference);
-  if (topo) return fromTopologyJson(path);
-  const auto list = graph::readGraphList(path);
-  if (list.empty()) throw InputError(path + ": no graph in the file");
-  const graph::ListedGraph* pick = &list.front();
-  if (has_index) {
-    pick = nullptr;
-    for (const auto& lg : list)
-      if (lg.line == index) pick = &lg;
-    if (!pick) throw InputError(path + ":" + std::to_string(index) + ": no graph on that line");
-  }
-  LoadedGraph l;
-  l.g = pick->graph;
-  l.line = pick->line;
-  return l;
 }
 
 /// Graphs from this size on get progress lines on stderr.
@@ -162,7 +99,7 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
 }
 
 // The bounded-noise model of a pose graph (eqs. 5.52-5.53): Sigma^-1 and the alpha_j.
-void describeNoise(const LoadedGraph& l, bool unit, NoiseReference reference, nlohmann::json& j,
+void describeNoise(const graph::GraphFile& l, bool unit, NoiseReference reference, nlohmann::json& j,
                    std::ostream& text) {
   const BoundedNoise& b = *l.noise;
   std::vector<double> a = b.alpha, sh = b.sharpness;
@@ -185,7 +122,7 @@ void describeNoise(const LoadedGraph& l, bool unit, NoiseReference reference, nl
 }
 
 // Theorem 5.2.1 and eq. 5.54 on the pose graph: exact information, edge sum, bound.
-void theoremTable(const LoadedGraph& l, const std::vector<double>& ps, nlohmann::json& j,
+void theoremTable(const graph::GraphFile& l, const std::vector<double>& ps, nlohmann::json& j,
                   std::ostream& text) {
   text << "theorem 5.2.1 / eq. 5.54: ||J^T Omega J||_p (exact), ||sum E_j (x) Sigma_j^-1||_p "
           "(edge sum), ||L_alpha||_p ||Sigma^-1||_p (bound)\n";
@@ -274,7 +211,8 @@ int runOptimal(const OptimalRequest& rq) {
   const std::string& path = rq.path;
   const bool unit = rq.unit;
   const NoiseReference ref = parseNoiseReference(rq.reference, "--noise-reference");
-  const LoadedGraph l = loadGraph(path, rq.index_set, rq.index, unit, ref);
+  const std::optional<int> line_asked = rq.index_set ? std::optional<int>(rq.index) : std::nullopt;
+  const graph::GraphFile l = graph::readGraphFile(path, line_asked, unit, ref);
   if (rq.theorem && !l.pose_graph)
     throw InputError(path + ": --theorem needs a pose graph (a .g2o file or a run directory)");
   const graph::Multigraph& g = l.g;

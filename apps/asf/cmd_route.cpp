@@ -2,6 +2,7 @@
 // on-line explorer simulated on the known graph). The offline baselines of thesis ch. 6.
 #include <asf/abi.h>
 #include <asf/errors.h>
+#include <asf/graph_file.h>
 #include <asf/graph_routes.h>
 #include <asf/multigraph.h>
 #include <tclap/CmdLine.h>
@@ -118,17 +119,9 @@ int cmdRoute(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   const auto list = graph::readGraphList(file.getValue());
-  const graph::ListedGraph* chosen = nullptr;
-  for (const auto& lg : list)
-    if (index.getValue() == 0 || lg.line == index.getValue()) {
-      chosen = &lg;
-      break;
-    }
-  if (!chosen) {
-    if (index.getValue() == 0) throw InputError(file.getValue() + ": no graph in the file");
-    throw InputError(file.getValue() + ":" + std::to_string(index.getValue()) +
-                     ": no graph on this line");
-  }
+  const graph::ListedGraph* chosen = &graph::graphOnLine(
+      list, file.getValue(),
+      index.getValue() == 0 ? std::nullopt : std::optional<int>(index.getValue()));
   const graph::Multigraph& g = chosen->graph;
   const auto algo = graph::parseRouteAlgorithm(algorithm.getValue());
   const std::string where = file.getValue() + ":" + std::to_string(chosen->line);

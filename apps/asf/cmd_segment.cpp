@@ -15,14 +15,12 @@
 #include <asf/mapping/topo_builder.h>
 #include <tclap/CmdLine.h>
 
-#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "commands.h"
@@ -33,7 +31,6 @@ namespace asf::app {
 namespace {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 /// A segmenter plugin with its validated keys, and the [topology] keys; creates a fresh,
 /// configured instance per map (segmenters keep id state between calls).
@@ -161,180 +158,6 @@ namespace {
 
 using MapResult = studies::BenchmarkMapResult;
 
-json thesisJson(const ThesisProtocolScore& t) {
-  return {{"precision", t.precision},
-          {"recall", t.recall},
-          {"rooms", t.rooms},
-          {"segments", t.segments}};
-}
-
-json scoreJson(const SegmentationScore& s) {
-  return {{"precision", s.precision},
-          {"recall", s.recall},
-          {"precision_pooled", s.precision_pooled},
-          {"recall_pooled", s.recall_pooled},
-          {"mcc", s.mcc},
-          {"segments", s.segments},
-          {"rooms", s.rooms}};
-}
-
-json incrementalJson(const IncrementalResult& r, const ThesisProtocolScore& t) {
-  json j = scoreJson(r.final_score);
-  j["thesis_protocol"] = thesisJson(t);
-  j["updates"] = r.update_ms.size();
-  j["update_ms"] = r.update_ms;
-  j["median_ms"] = percentile(r.update_ms, 50);
-  j["p95_ms"] = percentile(r.update_ms, 95);
-  j["max_ms"] = percentile(r.update_ms, 100);
-  j["mean_ms"] = meanStd(r.update_ms).mean;
-  j["coverage"] = r.coverage;
-  j["path_length_m"] = r.path_length_m;
-  return j;
-}
-
-/// Means and population stds of one variant's maps (and of their incremental runs).
-json summaryJson(const std::vector<MapResult>& all, const std::string& variant) {
-  std::map<std::string, std::vector<double>> v, inc;
-  std::vector<double> updates;
-  for (const auto& m : all) {
-    if (m.variant != variant) continue;
-    v["precision"].push_back(m.score.precision);
-    v["recall"].push_back(m.score.recall);
-    v["precision_pooled"].push_back(m.score.precision_pooled);
-    v["recall_pooled"].push_back(m.score.recall_pooled);
-    v["mcc"].push_back(m.score.mcc);
-    v["segments"].push_back(m.score.segments);
-    v["time_ms"].push_back(m.time_ms);
-    v["thesis_precision"].push_back(m.thesis.precision);
-    v["thesis_recall"].push_back(m.thesis.recall);
-    if (!m.incremental) continue;
-    inc["thesis_precision"].push_back(m.inc_thesis.precision);
-    inc["thesis_recall"].push_back(m.inc_thesis.recall);
-    inc["precision"].push_back(m.inc.final_score.precision);
-    inc["recall"].push_back(m.inc.final_score.recall);
-    inc["precision_pooled"].push_back(m.inc.final_score.precision_pooled);
-    inc["recall_pooled"].push_back(m.inc.final_score.recall_pooled);
-    inc["mcc"].push_back(m.inc.final_score.mcc);
-    inc["coverage"].push_back(m.inc.coverage);
-    // The thesis reports each map's mean time per update (Fig. 4.2).
-    inc["map_mean_ms"].push_back(meanStd(m.inc.update_ms).mean);
-    updates.insert(updates.end(), m.inc.update_ms.begin(), m.inc.update_ms.end());
-  }
-  json j;
-  j["maps"] = v["precision"].size();
-  for (const auto& [k, vals] : v) {
-    const MeanStd ms = meanStd(vals);
-    j[k + "_mean"] = ms.mean;
-    j[k + "_std"] = ms.std;
-  }
-  if (!inc.empty()) {
-    json i;
-    i["maps"] = inc["precision"].size();
-    // Update times pooled over every update of every map.
-    i["updates"] = updates.size();
-    i["median_ms"] = percentile(updates, 50);
-    i["p95_ms"] = percentile(updates, 95);
-    i["max_ms"] = percentile(updates, 100);
-    i["mean_ms"] = meanStd(updates).mean;
-    for (const auto& [k, vals] : inc) {
-      const MeanStd ms = meanStd(vals);
-      i[k + "_mean"] = ms.mean;
-      i[k + "_std"] = ms.std;
-    }
-    j["incremental"] = i;
-  }
-  return j;
-}
-
-json reportJson(const std::vector<MapResult>& all, const std::string& segmenter,
-                const SegmenterSetup& setup, const std::string& exploration,
-                const std::string& error) {
-  json j;
-  j["segmenter"] = segmenter;
-  if (!exploration.empty()) j["exploration"] = exploration;
-  json params = json::object();
-  for (const auto& [k, v] : setup.params.values()) params[k] = v.text;
-  j["params"] = params;
-  j["maps"] = json::array();
-  for (const auto& m : all) {
-    json e = scoreJson(m.score);
-    e["name"] = m.name;
-    e["variant"] = m.variant;
-    e["time_ms"] = m.time_ms;
-    e["thesis_protocol"] = thesisJson(m.thesis);
-    if (m.incremental) e["incremental"] = incrementalJson(m.inc, m.inc_thesis);
-    j["maps"].push_back(e);
-  }
-  json summary;
-  for (const char* v : {"plain", "furnished"})
-    if (std::any_of(all.begin(), all.end(), [&](const MapResult& m) { return m.variant == v; }))
-      summary[v] = summaryJson(all, v);
-  j["summary"] = summary;
-  j["complete"] = error.empty();
-  if (!error.empty()) j["error"] = error;
-  return j;
-}
-
-void printReport(const std::vector<MapResult>& all) {
-  std::cout << std::left << std::setw(20) << "map" << std::setw(11) << "variant" << std::right
-            << std::setw(7) << "prec" << std::setw(7) << "rec" << std::setw(8) << "prec_p"
-            << std::setw(8) << "rec_p" << std::setw(7) << "mcc" << std::setw(6) << "segs"
-            << std::setw(6) << "rooms" << std::setw(10) << "time_ms"
-            << "\n";
-  for (const auto& m : all) {
-    std::cout << std::left << std::setw(20) << m.name << std::setw(11) << m.variant << std::right
-              << std::setw(7) << formatFixed(m.score.precision, 3) << std::setw(7)
-              << formatFixed(m.score.recall, 3) << std::setw(8)
-              << formatFixed(m.score.precision_pooled, 3) << std::setw(8)
-              << formatFixed(m.score.recall_pooled, 3) << std::setw(7)
-              << formatFixed(m.score.mcc, 3) << std::setw(6) << m.score.segments << std::setw(6)
-              << m.score.rooms << std::setw(10) << formatFixed(m.time_ms, 1) << "\n";
-    if (m.incremental)
-      std::cout << "  incremental: " << m.inc.update_ms.size() << " updates, median "
-                << formatFixed(percentile(m.inc.update_ms, 50), 1) << " ms, p95 "
-                << formatFixed(percentile(m.inc.update_ms, 95), 1) << " ms, max "
-                << formatFixed(percentile(m.inc.update_ms, 100), 1) << " ms; final precision "
-                << formatFixed(m.inc.final_score.precision, 3) << ", recall "
-                << formatFixed(m.inc.final_score.recall, 3) << ", coverage "
-                << formatFixed(m.inc.coverage, 3) << "\n";
-  }
-  for (const char* v : {"plain", "furnished"}) {
-    const json s = summaryJson(all, v);
-    if (s["maps"].get<std::size_t>() == 0) continue;
-    auto pm = [&](const std::string& k, int digits = 3) {
-      return formatFixed(s[k + "_mean"].get<double>(), digits) + " +- " +
-             formatFixed(s[k + "_std"].get<double>(), digits);
-    };
-    std::cout << "summary " << v << " (" << s["maps"] << " maps): precision " << pm("precision")
-              << ", recall " << pm("recall") << ", precision_pooled " << pm("precision_pooled")
-              << ", recall_pooled " << pm("recall_pooled") << ", mcc " << pm("mcc") << ", segments "
-              << pm("segments", 1) << ", time_ms " << pm("time_ms", 1) << "\n";
-    std::cout << "summary " << v << " thesis protocol: precision (per room) "
-              << pm("thesis_precision") << ", recall (per segment) " << pm("thesis_recall");
-    if (s.contains("incremental"))
-      std::cout << "; incremental final: precision "
-                << formatFixed(s["incremental"]["thesis_precision_mean"].get<double>(), 3) << " +- "
-                << formatFixed(s["incremental"]["thesis_precision_std"].get<double>(), 3)
-                << ", recall "
-                << formatFixed(s["incremental"]["thesis_recall_mean"].get<double>(), 3) << " +- "
-                << formatFixed(s["incremental"]["thesis_recall_std"].get<double>(), 3);
-    std::cout << "\n";
-    if (s.contains("incremental")) {
-      const json& i = s["incremental"];
-      auto ipm = [&](const std::string& k) {
-        return formatFixed(i[k + "_mean"].get<double>(), 3) + " +- " +
-               formatFixed(i[k + "_std"].get<double>(), 3);
-      };
-      std::cout << "summary " << v << " incremental (" << i["maps"] << " maps, " << i["updates"]
-                << " updates): median " << formatFixed(i["median_ms"].get<double>(), 1)
-                << " ms, p95 " << formatFixed(i["p95_ms"].get<double>(), 1) << " ms, max "
-                << formatFixed(i["max_ms"].get<double>(), 1) << " ms; final precision "
-                << ipm("precision") << ", recall " << ipm("recall") << ", coverage "
-                << ipm("coverage") << "; per-map mean update " << ipm("map_mean_ms") << " ms\n";
-    }
-  }
-}
-
 /// Scores every map, writing the JSON report after each; the report on stdout. An error
 /// keeps what was scored (kError).
 int scoreBenchmark(const SegmenterSetup& setup, const studies::SegmentBenchmarkOptions& o,
@@ -348,8 +171,8 @@ int scoreBenchmark(const SegmenterSetup& setup, const studies::SegmentBenchmarkO
   const std::string protocol = o.incremental ? o.exploration : "";
   auto save = [&] {
     if (!json_out.empty())
-      writeTextAtomically(json_out,
-                          reportJson(results, name, setup, protocol, error).dump(2) + "\n");
+      writeTextAtomically(json_out, studies::benchmarkReportJson(results, name, setup.params,
+                                                                 protocol, error));
   };
   try {
     for (std::size_t k = 0; k < names.size(); ++k)
@@ -362,7 +185,7 @@ int scoreBenchmark(const SegmenterSetup& setup, const studies::SegmentBenchmarkO
     // Keep what was scored: the report and the JSON cover the maps done before the error.
     error = (current.empty() ? "" : current + ": ") + e.what();
   }
-  printReport(results);
+  std::cout << studies::benchmarkReportText(results);
   try {
     save();
   } catch (const std::exception& e) {

@@ -54,6 +54,16 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
                        const ProgressSink& progress, std::vector<BenchmarkMapResult>& results,
                        std::string& current, const std::function<void()>& scored);
 
+/// The JSON report of `asf segment-eval --json` (indented, newline-terminated): the segmenter
+/// and its parameters, each map's scores (and its incremental run), and per variant the means
+/// and population standard deviations; "complete" false and "error" when `error` is set.
+std::string benchmarkReportJson(const std::vector<BenchmarkMapResult>& all,
+                                const std::string& segmenter, const Params& params,
+                                const std::string& exploration, const std::string& error);
+
+/// The same as `asf segment-eval` prints it: a table of the maps, then the summary lines.
+std::string benchmarkReportText(const std::vector<BenchmarkMapResult>& all);
+
 /// A segmentation as an image raster; checks the segmenter's contract on the size (`who`
 /// names the map in the error).
 io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage& image,
