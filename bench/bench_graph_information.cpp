@@ -1,12 +1,12 @@
-// Certified optimal edge weights (graph_information.h) on seeded random connected graphs of
+// Certified optimal edge weights (graph/information.h) on seeded random connected graphs of
 // 100 nodes and 297 edges (a random spanning tree plus distinct random edges), the size the
 // issue's cvxopt figures were measured on (D 0.24 s, A 0.70 s, E 2.2 s). Counters: the
 // certified relative gap and the iterations of the last run. set137/<criterion> solves the
 // criterion on all 137 graphs of `asf graph-gen`'s default list (what `asf optimal-eval` does).
 //
 //   build/bench/bench_graph_information [--benchmark_filter=E]
-#include <asf/graph_families.h>
-#include <asf/graph_information.h>
+#include <asf/graph/families.h>
+#include <asf/graph/information.h>
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -58,9 +58,15 @@ void information(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(optimal, D, asf::graph::kCriterionD)->DenseRange(1, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(optimal, A, asf::graph::kCriterionA)->DenseRange(1, 3)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(optimal, E, asf::graph::kCriterionE)->DenseRange(1, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(optimal, D, asf::graph::kCriterionD)
+    ->DenseRange(1, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(optimal, A, asf::graph::kCriterionA)
+    ->DenseRange(1, 3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(optimal, E, asf::graph::kCriterionE)
+    ->DenseRange(1, 3)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(set137, D, asf::graph::kCriterionD)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(set137, A, asf::graph::kCriterionA)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(set137, E, asf::graph::kCriterionE)->Unit(benchmark::kMillisecond);

@@ -1,11 +1,11 @@
-// Routes on known graphs (framework/include/asf/graph_routes.h) at the sizes of the optimal
+// Routes on known graphs (libs/graph/include/asf/graph/routes.h) at the sizes of the optimal
 // analysis (issue 6: random graphs of 100 nodes and 297 edges; topological graphs of up to
 // ~120 nodes): Chinese postman, the blossom alone, TSP (heuristic + bound, and Held-Karp at its
 // limit), and the explorers. Counters: walk length relative to the total edge length (cpp,
 // tarry) or the TSP gap to its lower bound.
 //
 //   build/bench/bench_graph_routes [--benchmark_filter=Postman]
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 #include <benchmark/benchmark.h>
 
 #include <random>

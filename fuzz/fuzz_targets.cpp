@@ -5,11 +5,11 @@
 
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 #include <asf/io/occupancy_io.h>
 #include <asf/pose_graph.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/io/carmen.h>
 #include <asf/io/rawseeds.h>
 #include <asf/io/rosbag2.h>

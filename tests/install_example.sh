@@ -133,7 +133,7 @@ target_link_libraries(postman PRIVATE asf::graph)
 CMAKE
 cat >"$graph_src/main.cpp" <<'CPP'
 // A triangle with a pendant edge: the Chinese postman walk repeats the pendant edge.
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 #include <iostream>
 int main() {
   asf::graph::Multigraph g;

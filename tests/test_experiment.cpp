@@ -4,8 +4,8 @@
 // (parallel runs, resume, re-running one run, Ctrl-C).
 #include <asf/errors.h>
 #include <asf/studies/experiment.h>
-#include <asf/run_report.h>
-#include <asf/svg_plot.h>
+#include <asf/evaluation/run_report.h>
+#include <asf/evaluation/svg_plot.h>
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -310,7 +310,8 @@ TEST(ExperimentConfig, ReadsKeysAndResolvesPaths) {
   write(d / "exp.ini",
         "; comparison\n[experiment]\npipeline = pipe.ini\npolicies = a, b ,c\n"
         "replications = 3\nout = res\noverrides = map.resolution=0.1; pipeline.max_steps=5\n");
-  const asf::studies::ExperimentConfig c = asf::studies::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig c =
+      asf::studies::readExperimentConfig((d / "exp.ini").string());
   EXPECT_EQ(c.pipeline_ini, (d / "pipe.ini").string());
   EXPECT_EQ(c.policies, (std::vector<std::string>{"a", "b", "c"}));
   EXPECT_EQ(c.replications, 3);
@@ -320,7 +321,8 @@ TEST(ExperimentConfig, ReadsKeysAndResolvesPaths) {
   EXPECT_EQ(c.overrides, (std::vector<std::string>{"map.resolution=0.1", "pipeline.max_steps=5"}));
 
   write(d / "exp2.ini", "[experiment]\npipeline = pipe.ini\npolicies = a\n");
-  const asf::studies::ExperimentConfig c2 = asf::studies::readExperimentConfig((d / "exp2.ini").string());
+  const asf::studies::ExperimentConfig c2 =
+      asf::studies::readExperimentConfig((d / "exp2.ini").string());
   EXPECT_EQ(c2.replications, 10);
   EXPECT_EQ(c2.out_dir, "results/exp2");
   std::size_t n = 0;
@@ -554,7 +556,8 @@ TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = good, crash, broken\nreplications = 2\n"
         "first_seed = 5\njobs = 2\nout = out\noverrides = map.resolution=0.1\n");
-  const asf::studies::ExperimentConfig cfg = asf::studies::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig cfg =
+      asf::studies::readExperimentConfig((d / "exp.ini").string());
   // good seed 5 finished in an earlier invocation: skipped, not started again.
   write(d / "out/good/seed_5/summary.json", R"({"stop_reason": "source ended"})");
   ScriptedLauncher L;
@@ -563,7 +566,8 @@ TEST(ExperimentScheduler, JobsLimitSkipsExitCodesAndArguments) {
   L.by_policy["broken"].exit = {asf::studies::ProcessRunner::Exit::How::Exited, 1, ""};
   L.by_policy["broken"].stop_reason = "error: scripted";
   std::vector<std::string> lines;
-  const auto runs = asf::studies::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
+  const auto runs =
+      asf::studies::runExperiment(cfg, L, [&](const std::string& l) { lines.push_back(l); });
   std::string all;
   for (const auto& l : lines) all += l + "\n";
   ASSERT_EQ(runs.size(), 6u);
@@ -601,7 +605,8 @@ TEST(ExperimentScheduler, StopInterruptsRunningRunsAndStartsNoMore) {
   write(d / "exp.ini",
         "[experiment]\npipeline = pipe.ini\npolicies = slow\nreplications = 4\njobs = 2\n"
         "out = out\n");
-  const asf::studies::ExperimentConfig cfg = asf::studies::readExperimentConfig((d / "exp.ini").string());
+  const asf::studies::ExperimentConfig cfg =
+      asf::studies::readExperimentConfig((d / "exp.ini").string());
   ScriptedLauncher L;
   L.by_policy["slow"].polls = 3;
   L.by_policy["slow"].stop_reason = "interrupted";

@@ -4,7 +4,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/pipeline.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 #include <gtest/gtest.h>
 
 #include <atomic>

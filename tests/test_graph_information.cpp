@@ -1,9 +1,9 @@
-// Information of walks on graphs and certified optimal edge weights (graph_information.h):
+// Information of walks on graphs and certified optimal edge weights (graph/information.h):
 // closed forms, eigen identities, brute force, the E trap on symmetric trees, the cvxopt
 // cross-check, the exhaustive search of walks and `asf optimal`.
 #include <asf/errors.h>
-#include <asf/graph_families.h>
-#include <asf/graph_information.h>
+#include <asf/graph/families.h>
+#include <asf/graph/information.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>

@@ -2,10 +2,10 @@
 // and the asf route command. Oracles are brute force (edge duplications, permutations,
 // pairings) on small instances and closed forms.
 #include <asf/errors.h>
-#include <asf/graph_families.h>
-#include <asf/graph_file.h>
-#include <asf/graph_routes.h>
-#include <asf/multigraph.h>
+#include <asf/graph/families.h>
+#include <asf/graph/file.h>
+#include <asf/graph/routes.h>
+#include <asf/graph/multigraph.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -766,7 +766,7 @@ int runAsf(const std::string& args, std::string& out, std::string& err) {
 
 TEST(GraphFile, ListsPickTheLineAskedAndOtherFilesRefuseOne) {
   const auto p = tempFile("pick.txt", "# two graphs\n3 2 1-2 2-3\n\n4 3 1-2 2-3 3-4\n");
-  const auto ref = asf::NoiseReference::Median;
+  const auto ref = asf::graph::NoiseReference::Median;
   GraphFile first = readGraphFile(p.string(), std::nullopt, false, ref);
   EXPECT_EQ(first.line, 2);
   EXPECT_EQ(first.g.n, 3);
@@ -830,7 +830,8 @@ TEST(GraphRoutes, RouteCommand) {
   // Line 1: a path 1-2-3; line 3: K4.
   const auto p = tempFile("list.txt", "3 2 1-2 2-3\n# K4 next\n4 6 1-2 1-3 1-4 2-3 2-4 3-4\n");
   std::string out, err;
-  ASSERT_EQ(runAsf("route " + p.string() + " --algorithm cpp --index 3 --start 2 --json", out, err), 0)
+  ASSERT_EQ(runAsf("route " + p.string() + " --algorithm cpp --index 3 --start 2 --json", out, err),
+            0)
       << err;
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["index"], 3);

@@ -15,7 +15,7 @@
 #include <asf/io/occupancy_io.h>
 #include <asf/pose_graph.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>

@@ -1,7 +1,7 @@
 // The live view (asf run --gui): its picture (renderLiveView) on a hand-made map, and the
 // window under Xvfb, where the run's last picture is found pixel for pixel in a screenshot of
 // the X server's framebuffer (Xvfb -fbdir: an XWD file, read here by hand).
-#include <asf/map_views.h>
+#include <asf/evaluation/map_views.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <signal.h>

@@ -2,7 +2,7 @@
 // cell and the frame; the YAML reader names the file and line of what it rejects.
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

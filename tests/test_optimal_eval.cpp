@@ -1,7 +1,7 @@
-// Graph families (asf/graph_families.h), `asf graph-gen` and `asf optimal-eval`: generator
+// Graph families (asf/graph/families.h), `asf graph-gen` and `asf optimal-eval`: generator
 // invariants, list round trips, and the evaluation's figures on graphs with known answers.
 #include <asf/errors.h>
-#include <asf/graph_families.h>
+#include <asf/graph/families.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -131,8 +131,8 @@ TEST(OptimalEval, KnownAnswersAndTheDocumentedJson) {
 
 TEST(OptimalEval, GraphGenFeedsOptimalEval) {
   const fs::path f = tmp("gen.txt");
-  const auto g = asf_test::runHost("graph-gen --family rooms --count 5 --max-nodes 20 --seed 3 -o " +
-                                   f.string());
+  const auto g = asf_test::runHost(
+      "graph-gen --family rooms --count 5 --max-nodes 20 --seed 3 -o " + f.string());
   ASSERT_EQ(g.code, 0) << g.out;
   EXPECT_TRUE(has(g.out, "5 rooms graphs")) << g.out;
   const auto r = asf_test::runHost("optimal-eval " + f.string());

@@ -4,7 +4,7 @@
 #include <asf/io/occupancy_io.h>
 #include <asf/pipeline.h>
 #include <asf/pose_graph.h>
-#include <asf/trajectory_eval.h>
+#include <asf/evaluation/trajectory_eval.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

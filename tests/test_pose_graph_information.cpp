@@ -3,8 +3,8 @@
 // eigenvalues, the Kronecker identity (eq. 5.51), the bound (eq. 5.54) and its equality case,
 // the theorem's exactness on trees, and the chain on real graphs (intel, MIT, a cave run).
 #include <asf/errors.h>
-#include <asf/graph_information.h>
-#include <asf/pose_graph_information.h>
+#include <asf/graph/information.h>
+#include <asf/graph/pose_graph_information.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -16,8 +16,8 @@
 #include "test_util.h"
 
 namespace fs = std::filesystem;
-using asf::BoundedNoise;
-using asf::NoiseReference;
+using asf::graph::BoundedNoise;
+using asf::graph::NoiseReference;
 using asf::PoseGraph;
 using Eigen::Matrix3d;
 using mrpt::poses::CPose2D;
@@ -80,7 +80,8 @@ TEST(BoundedNoise, HandWorkedTriangle) {
   addEdge(g, 0, 1, diag(8, 8, 1));
   addEdge(g, 1, 2, diag(1, 1, 8));
   addEdge(g, 2, 0, diag(2, 2, 8));
-  const BoundedNoise m = asf::boundedNoise(g, NoiseReference::Median);
+  const asf::graph::BoundedNoise m =
+      asf::graph::boundedNoise(g, asf::graph::NoiseReference::Median);
   EXPECT_TRUE(m.reference.isApprox(diag(2, 2, 8), 1e-12)) << m.reference;
   ASSERT_EQ(m.alpha.size(), 3u);
   EXPECT_NEAR(m.alpha[0], 4, 1e-12);
@@ -89,11 +90,12 @@ TEST(BoundedNoise, HandWorkedTriangle) {
   EXPECT_NEAR(m.sharpness[0], 1.0 / 32, 1e-12);
   EXPECT_NEAR(m.sharpness[1], 0.5, 1e-12);
   EXPECT_NEAR(m.sharpness[2], 1, 1e-12);
-  const BoundedNoise i = asf::boundedNoise(g, NoiseReference::Identity);
+  const asf::graph::BoundedNoise i =
+      asf::graph::boundedNoise(g, asf::graph::NoiseReference::Identity);
   EXPECT_TRUE(i.reference.isApprox(8 * Matrix3d::Identity(), 1e-12)) << i.reference;
   for (double a : i.alpha) EXPECT_NEAR(a, 1, 1e-12);
   // The multigraph carries alpha as edge information and the poses' distances as lengths.
-  const auto mg = asf::poseGraphAsMultigraph(g, m.alpha);
+  const auto mg = asf::graph::poseGraphAsMultigraph(g, m.alpha);
   EXPECT_EQ(mg.n, 3);
   EXPECT_DOUBLE_EQ(mg.edges[0].information, 4);
   EXPECT_NEAR(mg.edges[1].length, std::sqrt(2.0), 1e-12);
@@ -104,8 +106,8 @@ TEST(BoundedNoise, HandWorkedTriangle) {
 TEST(BoundedNoise, AlphaIsTheTightestBoundOnFullMatrices) {
   std::mt19937 rng(7);
   const PoseGraph g = randomGraph(12, 10, rng);
-  for (auto ref : {NoiseReference::Median, NoiseReference::Identity}) {
-    const BoundedNoise b = asf::boundedNoise(g, ref);
+  for (auto ref : {asf::graph::NoiseReference::Median, asf::graph::NoiseReference::Identity}) {
+    const asf::graph::BoundedNoise b = asf::graph::boundedNoise(g, ref);
     EXPECT_NEAR(*std::min_element(b.alpha.begin(), b.alpha.end()), 1.0, 1e-12);
     EXPECT_EQ(b.reference(0, 0), b.reference(1, 1));
     for (std::size_t k = 0; k < g.edges.size(); ++k) {
@@ -118,12 +120,12 @@ TEST(BoundedNoise, AlphaIsTheTightestBoundOnFullMatrices) {
   PoseGraph bad = g;
   bad.edges[3].information(0, 0) = -1;
   try {
-    asf::boundedNoise(bad, NoiseReference::Median);
+    asf::graph::boundedNoise(bad, asf::graph::NoiseReference::Median);
     FAIL() << "an indefinite information matrix must be rejected";
   } catch (const asf::InputError& e) {
     EXPECT_TRUE(asf_test::has(e.what(), "edge 3")) << e.what();
   }
-  EXPECT_THROW(asf::parseNoiseReference("mean", "--noise-reference"), asf::InputError);
+  EXPECT_THROW(asf::graph::parseNoiseReference("mean", "--noise-reference"), asf::InputError);
 }
 
 // The exact information is the back-ends' Gauss-Newton matrix: removing node 0 (the gauge)
@@ -132,22 +134,22 @@ TEST(BoundedNoise, AlphaIsTheTightestBoundOnFullMatrices) {
 TEST(PoseGraphInformation, ExactInformationAndPseudoDeterminant) {
   std::mt19937 rng(3);
   const PoseGraph g = randomGraph(9, 8, rng);
-  const Eigen::SparseMatrix<double> Y = asf::fisherInformation(g);
+  const Eigen::SparseMatrix<double> Y = asf::graph::fisherInformation(g);
   std::vector<int> index;
   const Eigen::MatrixXd H = asf::denseInformation(g, index);
   const Eigen::MatrixXd Yd(Y);
   EXPECT_LT((Yd.bottomRightCorner(24, 24) - H).norm(), 1e-9 * H.norm());
-  const Eigen::MatrixXd K = asf::rigidMotionGauge(g);
+  const Eigen::MatrixXd K = asf::graph::rigidMotionGauge(g);
   EXPECT_LT((Yd * K).norm(), 1e-9 * Yd.norm());
-  const Eigen::SparseMatrix<double> S = asf::edgeSumInformation(g);
-  const Eigen::MatrixXd T = asf::translationGauge(g.size());
+  const Eigen::SparseMatrix<double> S = asf::graph::edgeSumInformation(g);
+  const Eigen::MatrixXd T = asf::graph::translationGauge(g.size());
   EXPECT_LT((Eigen::MatrixXd(S) * T).norm(), 1e-9 * Yd.norm());
   for (const auto& [M, gauge] : {std::pair{Y, K}, std::pair{S, T}}) {
     const Eigen::VectorXd ev = denseEigenvalues(M);
     const double dense = ev.tail(ev.size() - 3).array().log().sum();
-    EXPECT_NEAR(asf::logPseudoDeterminant(M, gauge), dense, 1e-8 * std::abs(dense));
+    EXPECT_NEAR(asf::graph::logPseudoDeterminant(M, gauge), dense, 1e-8 * std::abs(dense));
     for (double p : {1.0, 0.0, -1.0, kE})
-      EXPECT_NEAR(asf::informationFunction(M, gauge, p),
+      EXPECT_NEAR(asf::graph::informationFunction(M, gauge, p),
                   asf::graph::powerMean(ev.tail(ev.size() - 3), p),
                   1e-8 * asf::graph::powerMean(ev.tail(ev.size() - 3), p));
   }
@@ -159,12 +161,13 @@ TEST(PoseGraphInformation, ExactInformationAndPseudoDeterminant) {
 TEST(PoseGraphInformation, KroneckerIdentityAndBound) {
   std::mt19937 rng(11);
   const PoseGraph g = randomGraph(10, 12, rng);
-  const BoundedNoise b = asf::boundedNoise(g, NoiseReference::Median);
-  const Eigen::MatrixXd T = asf::translationGauge(g.size());
+  const asf::graph::BoundedNoise b =
+      asf::graph::boundedNoise(g, asf::graph::NoiseReference::Median);
+  const Eigen::MatrixXd T = asf::graph::translationGauge(g.size());
   for (double p : {1.0, 0.0, -1.0, -3.0, kE}) {
     SCOPED_TRACE(asf::graph::criterionName(p));
-    const asf::TheoremCheck c = asf::checkTheorem(g, b, p);
-    EXPECT_NEAR(asf::informationFunction(asf::boundInformation(g, b), T, p), c.bound,
+    const asf::graph::TheoremCheck c = asf::graph::checkTheorem(g, b, p);
+    EXPECT_NEAR(asf::graph::informationFunction(asf::graph::boundInformation(g, b), T, p), c.bound,
                 1e-9 * c.bound);
     EXPECT_LE(c.edge_sum, c.bound * (1 + 1e-9));
     EXPECT_LT(c.edge_sum, c.bound * 0.99) << "random matrices are far from proportional";
@@ -172,10 +175,11 @@ TEST(PoseGraphInformation, KroneckerIdentityAndBound) {
   PoseGraph sharp = g;
   std::uniform_real_distribution<double> s(1, 5);
   for (auto& e : sharp.edges) e.information = s(rng) * diag(3, 3, 0.5);
-  const BoundedNoise bs = asf::boundedNoise(sharp, NoiseReference::Median);
+  const asf::graph::BoundedNoise bs =
+      asf::graph::boundedNoise(sharp, asf::graph::NoiseReference::Median);
   for (double q : bs.sharpness) EXPECT_NEAR(q, 1, 1e-12);
   for (double p : {1.0, 0.0, -1.0, kE}) {
-    const asf::TheoremCheck c = asf::checkTheorem(sharp, bs, p);
+    const asf::graph::TheoremCheck c = asf::graph::checkTheorem(sharp, bs, p);
     EXPECT_NEAR(c.edge_sum, c.bound, 1e-9 * c.bound) << asf::graph::criterionName(p);
   }
 }
@@ -186,21 +190,24 @@ TEST(PoseGraphInformation, KroneckerIdentityAndBound) {
 TEST(PoseGraphInformation, TheoremExactInDOnTrees) {
   std::mt19937 rng(5);
   const PoseGraph tree = randomGraph(15, 0, rng, true);
-  const BoundedNoise b = asf::boundedNoise(tree, NoiseReference::Median);
-  const asf::TheoremCheck c = asf::checkTheorem(tree, b, 0.0);
+  const asf::graph::BoundedNoise b =
+      asf::graph::boundedNoise(tree, asf::graph::NoiseReference::Median);
+  const asf::graph::TheoremCheck c = asf::graph::checkTheorem(tree, b, 0.0);
   EXPECT_NEAR(c.exact, c.edge_sum, 1e-9 * c.edge_sum);
   const PoseGraph loops = randomGraph(15, 10, rng);
-  const asf::TheoremCheck l = asf::checkTheorem(loops, asf::boundedNoise(loops, NoiseReference::Median), 0.0);
+  const asf::graph::TheoremCheck l = asf::graph::checkTheorem(
+      loops, asf::graph::boundedNoise(loops, asf::graph::NoiseReference::Median), 0.0);
   EXPECT_GT(std::abs(l.exact / l.edge_sum - 1), 1e-4);
   // A disconnected graph has no information; a dense criterion on a large graph is refused.
   PoseGraph split = tree;
   split.addNode(CPose2D(9, 9, 0));
   split.addNode(CPose2D(9, 8, 0));
   addEdge(split, 15, 16, Matrix3d::Identity());
-  const asf::TheoremCheck z = asf::checkTheorem(split, asf::boundedNoise(split, NoiseReference::Median), -1.0);
+  const asf::graph::TheoremCheck z = asf::graph::checkTheorem(
+      split, asf::graph::boundedNoise(split, asf::graph::NoiseReference::Median), -1.0);
   EXPECT_EQ(z.exact, 0);
   EXPECT_EQ(z.bound, 0);
-  EXPECT_THROW(asf::checkTheorem(loops, b, -1.0, 30), asf::InputError);
+  EXPECT_THROW(asf::graph::checkTheorem(loops, b, -1.0, 30), asf::InputError);
 }
 
 // The weighted optimal design: parallel edges of different information put all their weight
@@ -234,12 +241,14 @@ TEST(PoseGraphInformation, OptimalDesignWithEdgeInformation) {
 // (measured: intel 1.7 %, MIT 2.7 %, a cave run ~1 %; lever arms, see the header).
 TEST(PoseGraphInformation, TheoremOnRealGraphs) {
   const fs::path dir = fs::path(ASF_TEST_SHARED_DIR) / "datasets/g2o";
-  if (!fs::exists(dir / "intel.g2o")) GTEST_SKIP() << "../shared is not available here (" << dir << ")";
+  if (!fs::exists(dir / "intel.g2o"))
+    GTEST_SKIP() << "../shared is not available here (" << dir << ")";
   for (const char* name : {"intel.g2o", "MIT.g2o"}) {
     SCOPED_TRACE(name);
     const PoseGraph g = asf::readG2o((dir / name).string());
-    const BoundedNoise b = asf::boundedNoise(g, NoiseReference::Median);
-    const asf::TheoremCheck c = asf::checkTheorem(g, b, 0.0);
+    const asf::graph::BoundedNoise b =
+        asf::graph::boundedNoise(g, asf::graph::NoiseReference::Median);
+    const asf::graph::TheoremCheck c = asf::graph::checkTheorem(g, b, 0.0);
     EXPECT_GT(c.edge_sum, 0);
     EXPECT_LE(c.edge_sum, c.bound);
     EXPECT_LT(std::abs(c.exact / c.edge_sum - 1), 0.05);
@@ -249,9 +258,10 @@ TEST(PoseGraphInformation, TheoremOnRealGraphs) {
   for (std::size_t i = 0; i < 250; ++i) head.addNode(intel.nodes[i].pose);
   for (const auto& e : intel.edges)
     if (e.from < 250 && e.to < 250) head.addEdge(e);
-  const BoundedNoise bh = asf::boundedNoise(head, NoiseReference::Median);
+  const asf::graph::BoundedNoise bh =
+      asf::graph::boundedNoise(head, asf::graph::NoiseReference::Median);
   for (double p : {1.0, 0.0, -1.0, kE}) {
-    const asf::TheoremCheck c = asf::checkTheorem(head, bh, p);
+    const asf::graph::TheoremCheck c = asf::graph::checkTheorem(head, bh, p);
     EXPECT_GT(c.edge_sum, 0) << asf::graph::criterionName(p);
     EXPECT_LE(c.edge_sum, c.bound * (1 + 1e-9)) << asf::graph::criterionName(p);
   }

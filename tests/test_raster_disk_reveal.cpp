@@ -1,7 +1,7 @@
 // asf::RasterDiskReveal (the thesis' incremental protocol) with centres, disks and
 // publications worked out by hand, and `asf segment-eval --exploration raster_disks`.
 #include <asf/errors.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 

@@ -1,13 +1,13 @@
-// Room segmentation scoring (asf/segmentation_eval.h): hand-computed precision, recall, pooled
-// values and MCC; the benchmark's reading rules (thresholds, 8-connectivity, > 100 px); image
-// orientation round trips; the simulated exploration; asf segment and asf segment-eval end to
+// Room segmentation scoring (asf/evaluation/segmentation_eval.h): hand-computed precision, recall,
+// pooled values and MCC; the benchmark's reading rules (thresholds, 8-connectivity, > 100 px);
+// image orientation round trips; the simulated exploration; asf segment and asf segment-eval end to
 // end on synthetic maps (and on ../shared's benchmark when present).
 //
 // The synthetic PNGs are written with asf::io::writeGrayImage (OpenCV inside the framework): this
 // target does not link OpenCV itself.
 #include <asf/errors.h>
 #include <asf/registry.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
 
@@ -295,19 +295,19 @@ TEST(SegmentationEval, LabelAndGrayPngRoundTripAndErrors) {
   EXPECT_EQ(back.height, 4);
   EXPECT_EQ(back.labels, r.labels);
   r.labels[0] = 65536;
-  EXPECT_TRUE(
-      has(asf_test::errorOf<asf::Error>([&] { asf::io::writeLabelImage((d / "big.png").string(), r); }),
-          "65536"));
+  EXPECT_TRUE(has(
+      asf_test::errorOf<asf::Error>([&] { asf::io::writeLabelImage((d / "big.png").string(), r); }),
+      "65536"));
   const asf::io::GrayImage g = twoRoomsMap();
   asf::io::writeGrayImage((d / "g.png").string(), g);
   EXPECT_EQ(asf::io::readGrayImage((d / "g.png").string()).pixels, g.pixels);
-  EXPECT_TRUE(has(
-      asf_test::errorOf<asf::InputError>([&] { asf::io::readGrayImage((d / "missing.png").string()); }),
-      "missing.png: no such file"));
+  EXPECT_TRUE(has(asf_test::errorOf<asf::InputError>(
+                      [&] { asf::io::readGrayImage((d / "missing.png").string()); }),
+                  "missing.png: no such file"));
   std::ofstream(d / "bad.png") << "not a png";
-  EXPECT_TRUE(
-      has(asf_test::errorOf<asf::InputError>([&] { asf::io::readGrayImage((d / "bad.png").string()); }),
-          "bad.png: cannot be read"));
+  EXPECT_TRUE(has(
+      asf_test::errorOf<asf::InputError>([&] { asf::io::readGrayImage((d / "bad.png").string()); }),
+      "bad.png: cannot be read"));
 }
 
 TEST(SegmentationEvalSegmentCommand, EndToEndOnASyntheticMap) {
@@ -411,7 +411,7 @@ TEST(SegmentationEval, TopologyJsonShape) {
   e.a = 1, e.b = 2, e.midpoint = {1.5, 2.5}, e.width = 0.9;
   e.traversals.push_back({true, 4.0});
   t.edges = {e};
-  const auto j = nlohmann::json::parse(asf::topologyJson(t));
+  const auto j = nlohmann::json::parse(asf::graph::topologyJson(t));
   ASSERT_EQ(j["nodes"].size(), 3u);
   EXPECT_EQ(j["nodes"][0]["region"], 1);
   EXPECT_EQ(j["nodes"][0]["centroid"], nlohmann::json({1.0, 2.0}));

@@ -1,7 +1,7 @@
-// Trajectory accuracy (asf/trajectory_eval.h) and `asf ate`: the alignment recovers a known
-// rigid transform, the ATE equals hand-computed values, and bad files name their line.
+// Trajectory accuracy (asf/evaluation/trajectory_eval.h) and `asf ate`: the alignment recovers a
+// known rigid transform, the ATE equals hand-computed values, and bad files name their line.
 #include <asf/errors.h>
-#include <asf/trajectory_eval.h>
+#include <asf/evaluation/trajectory_eval.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/bits_math.h>
 

@@ -3,7 +3,7 @@
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/trajectory_eval.h>
+#include <asf/evaluation/trajectory_eval.h>
 #include <tclap/CmdLine.h>
 
 #include <cmath>
@@ -64,7 +64,8 @@ int cmdAte(int argc, char** argv) {
     }
   }
   const auto truth = io::readGroundTruth(gt.getValue());
-  const TrajectoryError r = evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
+  const TrajectoryError r =
+      evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
   // Finite inputs can still overflow (coordinates near 1e200 m): no figure rather than "inf".
   for (const double v : {r.ate_rmse_m, r.ate_mean_m, r.ate_max_m, r.rot_rmse_deg})
     if (!std::isfinite(v))
@@ -75,7 +76,8 @@ int cmdAte(int argc, char** argv) {
     std::ofstream f(per_pose.getValue());
     f << "# t error_m (after " << (r.aligned ? "SE(2) alignment" : "no alignment") << ")\n"
       << std::setprecision(17);
-    for (std::size_t i = 0; i < r.errors_m.size(); ++i) f << r.times[i] << ' ' << r.errors_m[i] << '\n';
+    for (std::size_t i = 0; i < r.errors_m.size(); ++i)
+      f << r.times[i] << ' ' << r.errors_m[i] << '\n';
     if (!f) throw Error(per_pose.getValue() + ": cannot write");
   }
   if (json.getValue()) {

@@ -8,7 +8,7 @@
 #include <asf/io/image_io.h>
 #include <asf/mapping/map3d.h>
 #include <asf/studies/map3d_from_log.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/text.h>
 #include <tclap/CmdLine.h>
 

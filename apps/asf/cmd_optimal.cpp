@@ -2,11 +2,11 @@
 // (D, A, E, T or any p <= 1), with the efficiency of traversing every edge once.
 #include <asf/abi.h>
 #include <asf/errors.h>
-#include <asf/graph_drawing.h>
-#include <asf/graph_file.h>
-#include <asf/graph_information.h>
+#include <asf/graph/drawing.h>
+#include <asf/graph/file.h>
+#include <asf/graph/information.h>
 #include <asf/pose_graph.h>
-#include <asf/pose_graph_information.h>
+#include <asf/graph/pose_graph_information.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -99,15 +99,15 @@ std::vector<Eigen::VectorXd> designs(const graph::Multigraph& g, const std::vect
 }
 
 // The bounded-noise model of a pose graph (eqs. 5.52-5.53): Sigma^-1 and the alpha_j.
-void describeNoise(const graph::GraphFile& l, bool unit, NoiseReference reference, nlohmann::json& j,
-                   std::ostream& text) {
-  const BoundedNoise& b = *l.noise;
+void describeNoise(const graph::GraphFile& l, bool unit, graph::NoiseReference reference,
+                   nlohmann::json& j, std::ostream& text) {
+  const graph::BoundedNoise& b = *l.noise;
   std::vector<double> a = b.alpha, sh = b.sharpness;
   std::sort(a.begin(), a.end());
   std::sort(sh.begin(), sh.end());
   const Eigen::Vector3d ref = b.reference.diagonal();
   j["edge_information"] = {{"model", unit ? "unit" : "bounded"},
-                           {"reference", noiseReferenceName(reference)},
+                           {"reference", graph::noiseReferenceName(reference)},
                            {"sigma_inverse", {ref[0], ref[1], ref[2]}},
                            {"alpha", b.alpha},
                            {"alpha_min", a.front()},
@@ -116,7 +116,7 @@ void describeNoise(const graph::GraphFile& l, bool unit, NoiseReference referenc
                            {"sharpness_median", sh[sh.size() / 2]}};
   text << "edge information: " << (unit ? "unit (every alpha_j = 1)" : "bounded noise (eq. 5.53)")
        << ", Sigma^-1 = diag(" << ref[0] << ", " << ref[1] << ", " << ref[2] << ") ("
-       << noiseReferenceName(reference) << "); alpha min " << a.front() << " median "
+       << graph::noiseReferenceName(reference) << "); alpha min " << a.front() << " median "
        << a[a.size() / 2] << " max " << a.back() << "; sharpness median " << sh[sh.size() / 2]
        << "\n";
 }
@@ -129,7 +129,7 @@ void theoremTable(const graph::GraphFile& l, const std::vector<double>& ps, nloh
   for (double p : ps) {
     const std::string name = graph::criterionName(p);
     try {
-      const TheoremCheck c = checkTheorem(*l.pose_graph, *l.noise, p);
+      const graph::TheoremCheck c = graph::checkTheorem(*l.pose_graph, *l.noise, p);
       j["theorem"][name] = {{"exact", c.exact}, {"edge_sum", c.edge_sum}, {"bound", c.bound}};
       text << "  " << name << ": exact " << c.exact << "  edge sum " << c.edge_sum << "  bound "
            << c.bound << "  (edge sum / bound " << c.edge_sum / c.bound << ", exact / edge sum "
@@ -210,7 +210,7 @@ int runOptimal(const OptimalRequest& rq) {
   const auto ps = parseCriteria(rq.criteria);
   const std::string& path = rq.path;
   const bool unit = rq.unit;
-  const NoiseReference ref = parseNoiseReference(rq.reference, "--noise-reference");
+  const graph::NoiseReference ref = graph::parseNoiseReference(rq.reference, "--noise-reference");
   const std::optional<int> line_asked = rq.index_set ? std::optional<int>(rq.index) : std::nullopt;
   const graph::GraphFile l = graph::readGraphFile(path, line_asked, unit, ref);
   if (rq.theorem && !l.pose_graph)

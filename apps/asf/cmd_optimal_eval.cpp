@@ -3,9 +3,9 @@
 // asf graph-gen: the seeded graph families to run it on.
 #include <asf/abi.h>
 #include <asf/errors.h>
-#include <asf/graph_families.h>
-#include <asf/graph_information.h>
-#include <asf/graph_routes.h>
+#include <asf/graph/families.h>
+#include <asf/graph/information.h>
+#include <asf/graph/routes.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>

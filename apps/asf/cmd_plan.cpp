@@ -11,7 +11,7 @@
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 #include <asf/registry.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <tclap/CmdLine.h>
 
 #include <filesystem>

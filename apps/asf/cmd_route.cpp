@@ -2,9 +2,9 @@
 // on-line explorer simulated on the known graph). The offline baselines of thesis ch. 6.
 #include <asf/abi.h>
 #include <asf/errors.h>
-#include <asf/graph_file.h>
-#include <asf/graph_routes.h>
-#include <asf/multigraph.h>
+#include <asf/graph/file.h>
+#include <asf/graph/routes.h>
+#include <asf/graph/multigraph.h>
 #include <tclap/CmdLine.h>
 
 #include <iomanip>

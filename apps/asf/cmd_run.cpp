@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/map_views.h>
+#include <asf/evaluation/map_views.h>
 #include <asf/pipeline.h>
 #include <dlfcn.h>
 #include <tclap/CmdLine.h>

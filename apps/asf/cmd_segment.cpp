@@ -7,9 +7,9 @@
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
 #include <asf/registry.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 #include <asf/studies/segment_benchmark.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <asf/text.h>
 #include <asf/mapping/topo_builder.h>
@@ -138,7 +138,8 @@ int cmdSegment(int argc, char** argv) {
   mapping::TopoBuilder topo;
   topo.configure(setup.topology);
   topo.update(s, map);
-  if (!graph.getValue().empty()) writeTextAtomically(graph.getValue(), topologyJson(topo.graph()));
+  if (!graph.getValue().empty())
+    writeTextAtomically(graph.getValue(), graph::topologyJson(topo.graph()));
   if (!overlay.getValue().empty())
     writeSegmentationOverlay(overlay.getValue(), map, s, &topo.graph());
 

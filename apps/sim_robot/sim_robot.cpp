@@ -11,7 +11,7 @@
 #include <asf/pipeline_config.h>
 #include <asf/registry.h>
 #include <asf/ros2/messages.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/source.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -72,7 +72,8 @@ bi::Time_ rosTime(double t) {
 gm::Pose_ rosPose(const ros2::Transform& t) {
   gm::Pose_ p;
   p.position().x(t.tx), p.position().y(t.ty), p.position().z(t.tz);
-  p.orientation().x(t.qx), p.orientation().y(t.qy), p.orientation().z(t.qz), p.orientation().w(t.qw);
+  p.orientation().x(t.qx), p.orientation().y(t.qy), p.orientation().z(t.qz),
+      p.orientation().w(t.qw);
   return p;
 }
 
@@ -149,7 +150,8 @@ class SimRobot {
               [](const auto& a, const auto& b) { return a.first < b.first; });
     std::size_t next_command = 0;
     while (!g_stop) {
-      for (; next_command < o_.commands.size() && o_.commands[next_command].first <= t; ++next_command) {
+      for (; next_command < o_.commands.size() && o_.commands[next_command].first <= t;
+           ++next_command) {
         std_msgs::msg::dds_::String_ m;
         m.data(o_.commands[next_command].second);
         command_->write(&m);
@@ -200,34 +202,40 @@ class SimRobot {
                              "' does not drive (asf sim-robot needs an active source, e.g. sim2d)");
     for (const char* k : {"sensor_x", "sensor_y", "sensor_z", "sensor_yaw_deg"})
       if (!p.has(k)) throw asf::ConfigError(o_.config + ": source has no key " + k);
-    mount_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"), p.getDouble("sensor_z"),
+    mount_ = mrpt::poses::CPose3D(p.getDouble("sensor_x"), p.getDouble("sensor_y"),
+                                  p.getDouble("sensor_z"),
                                   p.getDouble("sensor_yaw_deg") * M_PI / 180, 0, 0);
     uuid_rng_.seed(ctx.seed);
   }
 
   void advertise() {
     using asf::simrobot::Qos;
-    clock_ = node_.writer<rosgraph_msgs::msg::dds_::Clock_, rosgraph_msgs::msg::dds_::Clock_PubSubType>(
-        "/clock", Qos::SensorData, 1);
+    clock_ =
+        node_.writer<rosgraph_msgs::msg::dds_::Clock_, rosgraph_msgs::msg::dds_::Clock_PubSubType>(
+            "/clock", Qos::SensorData, 1);
     if (o_.fault == "scan_as_string")
       scan_ = node_.writer<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
           "/scan", Qos::SensorData, 5);
     else
-      scan_ = node_.writer<sensor_msgs::msg::dds_::LaserScan_, sensor_msgs::msg::dds_::LaserScan_PubSubType>(
-          "/scan", Qos::SensorData, 5);
+      scan_ =
+          node_.writer<sensor_msgs::msg::dds_::LaserScan_,
+                       sensor_msgs::msg::dds_::LaserScan_PubSubType>("/scan", Qos::SensorData, 5);
     odom_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
         "/odom", Qos::Reliable, 50);
     gt_ = node_.writer<nav_msgs::msg::dds_::Odometry_, nav_msgs::msg::dds_::Odometry_PubSubType>(
         "/ground_truth", Qos::Reliable, 50);
     tf_ = node_.writer<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
         "/tf", Qos::Reliable, 100);
-    tf_static_ = node_.writer<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
-        "/tf_static", Qos::ReliableLatched, 1);
-    world_ = node_.writer<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
-        "/world_map", Qos::ReliableLatched, 1);
+    tf_static_ =
+        node_.writer<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
+            "/tf_static", Qos::ReliableLatched, 1);
+    world_ = node_.writer<nav_msgs::msg::dds_::OccupancyGrid_,
+                          nav_msgs::msg::dds_::OccupancyGrid_PubSubType>("/world_map",
+                                                                         Qos::ReliableLatched, 1);
     command_ = node_.writer<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
         "/asf/command", Qos::Reliable, 10);
-    status_ = node_.writer<action_msgs::msg::dds_::GoalStatusArray_, action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
+    status_ = node_.writer<action_msgs::msg::dds_::GoalStatusArray_,
+                           action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
         "/navigate_to_pose/_action/status", Qos::ReliableLatched, 1);
   }
 
@@ -243,26 +251,27 @@ class SimRobot {
           inbox_.goal = g;
           ++inbox_.goals_received;
         });
-    node_.reader<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
-        "/map", Qos::ReliableLatched, 1, [this](const nav_msgs::msg::dds_::OccupancyGrid_& m) {
-          ros2::OccupancyGrid g;
-          g.resolution = m.info().resolution();
-          g.width = m.info().width(), g.height = m.info().height();
-          g.origin = fromRos(m.info().origin());
-          g.data = m.data();
-          g.stamp = {m.header().stamp().sec(), m.header().stamp().nanosec()};
-          g.frame_id = m.header().frame_id();
-          try {
-            auto grid = ros2::mrptFromOccupancy(g);
-            std::lock_guard<std::mutex> lock(inbox_.mu);
-            inbox_.map = std::move(grid);
-            ++inbox_.map_version;
-            inbox_.last_map = std::move(g);
-            ++inbox_.maps;
-          } catch (const std::exception& e) {
-            std::fprintf(stderr, "asf sim-robot: topic /map: %s (ignored)\n", e.what());
-          }
-        });
+    node_
+        .reader<nav_msgs::msg::dds_::OccupancyGrid_, nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+            "/map", Qos::ReliableLatched, 1, [this](const nav_msgs::msg::dds_::OccupancyGrid_& m) {
+              ros2::OccupancyGrid g;
+              g.resolution = m.info().resolution();
+              g.width = m.info().width(), g.height = m.info().height();
+              g.origin = fromRos(m.info().origin());
+              g.data = m.data();
+              g.stamp = {m.header().stamp().sec(), m.header().stamp().nanosec()};
+              g.frame_id = m.header().frame_id();
+              try {
+                auto grid = ros2::mrptFromOccupancy(g);
+                std::lock_guard<std::mutex> lock(inbox_.mu);
+                inbox_.map = std::move(grid);
+                ++inbox_.map_version;
+                inbox_.last_map = std::move(g);
+                ++inbox_.maps;
+              } catch (const std::exception& e) {
+                std::fprintf(stderr, "asf sim-robot: topic /map: %s (ignored)\n", e.what());
+              }
+            });
     node_.reader<tf2_msgs::msg::dds_::TFMessage_, tf2_msgs::msg::dds_::TFMessage_PubSubType>(
         "/tf", Qos::Reliable, 100, [this](const tf2_msgs::msg::dds_::TFMessage_& m) {
           for (const auto& t : m.transforms()) {
@@ -271,8 +280,9 @@ class SimRobot {
             std::lock_guard<std::mutex> lock(inbox_.mu);
             ++inbox_.map_to_odom_count;
             scanToTf(t.header().stamp());
-            inbox_.map_to_odom = CPose2D(t.transform().translation().x(), t.transform().translation().y(),
-                                         ros2::yawFromQuaternion(r.x(), r.y(), r.z(), r.w()));
+            inbox_.map_to_odom =
+                CPose2D(t.transform().translation().x(), t.transform().translation().y(),
+                        ros2::yawFromQuaternion(r.x(), r.y(), r.z(), r.w()));
           }
         });
   }
@@ -289,7 +299,8 @@ class SimRobot {
   }
 
   void subscribeMarkers() {
-    node_.reader<visualization_msgs::msg::dds_::MarkerArray_, visualization_msgs::msg::dds_::MarkerArray_PubSubType>(
+    node_.reader<visualization_msgs::msg::dds_::MarkerArray_,
+                 visualization_msgs::msg::dds_::MarkerArray_PubSubType>(
         "/asf/markers", asf::simrobot::Qos::Reliable, 5,
         [this](const visualization_msgs::msg::dds_::MarkerArray_& m) {
           std::lock_guard<std::mutex> lock(inbox_.mu);
@@ -297,21 +308,24 @@ class SimRobot {
           ++inbox_.marker_arrays;
         });
     node_.reader<std_msgs::msg::dds_::String_, std_msgs::msg::dds_::String_PubSubType>(
-        "/asf/status", asf::simrobot::Qos::ReliableLatched, 1, [this](const std_msgs::msg::dds_::String_& m) {
+        "/asf/status", asf::simrobot::Qos::ReliableLatched, 1,
+        [this](const std_msgs::msg::dds_::String_& m) {
           const std::string key = "\"state\": \"";
           const std::size_t at = m.data().find(key);
           if (at == std::string::npos) return;
           const std::size_t from = at + key.size(), to = m.data().find('"', from);
           const std::string state = m.data().substr(from, to - from);
           std::lock_guard<std::mutex> lock(inbox_.mu);
-          if (inbox_.run_states.empty() || inbox_.run_states.back() != state) inbox_.run_states.push_back(state);
+          if (inbox_.run_states.empty() || inbox_.run_states.back() != state)
+            inbox_.run_states.push_back(state);
         });
   }
 
   // The laser's mounting and the true world, once (transient local: late joiners get them).
   void publishStatic() {
     tf2_msgs::msg::dds_::TFMessage_ m;
-    m.transforms().push_back(rosTransform(o_.clock_start, "base_link", "laser", ros2::transformFromPose(mount_)));
+    m.transforms().push_back(
+        rosTransform(o_.clock_start, "base_link", "laser", ros2::transformFromPose(mount_)));
     if (o_.fault != "no_tf_static" && !o_.mount_on_tf) tf_static_->write(&m);
     if (const auto truth = source_->worldTruth()) {
       nav_msgs::msg::dds_::OccupancyGrid_ g =
@@ -336,7 +350,9 @@ class SimRobot {
     odom_->write(&o);
     tf2_msgs::msg::dds_::TFMessage_ tf;
     tf.transforms().push_back(rosTransform(t, "odom", "base_link", tr));
-    if (o_.mount_on_tf) tf.transforms().push_back(rosTransform(t, "base_link", "laser", ros2::transformFromPose(mount_)));
+    if (o_.mount_on_tf)
+      tf.transforms().push_back(
+          rosTransform(t, "base_link", "laser", ros2::transformFromPose(mount_)));
     tf_->write(&tf);
     if (f.ground_truth) {
       nav_msgs::msg::dds_::Odometry_ g = o;
@@ -472,7 +488,8 @@ class SimRobot {
     const auto it = scan_sent_.find(stamp.sec() * 1000000000LL + stamp.nanosec());
     if (it == scan_sent_.end()) return;
     latency_ms_.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - it->second).count());
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - it->second)
+            .count());
   }
 
   std::string latencyJson() {
@@ -483,8 +500,9 @@ class SimRobot {
     }
     if (v.empty()) return "null";
     std::ostringstream os;  // the quantiles asf's own scan-to-tf line uses (nearest rank)
-    os << "{\"count\": " << v.size() << ", \"median_ms\": " << asf::percentile(v, 50) << ", \"p95_ms\": "
-       << asf::percentile(v, 95) << ", \"max_ms\": " << *std::max_element(v.begin(), v.end()) << "}";
+    os << "{\"count\": " << v.size() << ", \"median_ms\": " << asf::percentile(v, 50)
+       << ", \"p95_ms\": " << asf::percentile(v, 95)
+       << ", \"max_ms\": " << *std::max_element(v.begin(), v.end()) << "}";
     return os.str();
   }
 
@@ -505,11 +523,13 @@ class SimRobot {
     std::ofstream f(o_.out + "/sim_robot.json");
     f << "{\"scans_published\": " << scans_ << ", \"goals_received\": " << inbox_.goals_received
       << ", \"velocities_received\": " << inbox_.velocities_received
-      << ", \"goals_reached\": " << reached_ << ", \"replans_after_map_to_odom\": " << replans_ << ", \"goals_failed\": " << failed_
-      << ", \"maps_received\": " << inbox_.maps << ", \"marker_arrays_received\": "
-      << inbox_.marker_arrays << ", \"map_to_odom_received\": " << inbox_.map_to_odom_count
+      << ", \"goals_reached\": " << reached_ << ", \"replans_after_map_to_odom\": " << replans_
+      << ", \"goals_failed\": " << failed_ << ", \"maps_received\": " << inbox_.maps
+      << ", \"marker_arrays_received\": " << inbox_.marker_arrays
+      << ", \"map_to_odom_received\": " << inbox_.map_to_odom_count
       << ", \"scan_to_tf_latency\": " << latencyJson() << ", \"asf_states\": " << statesJson()
-      << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false") << "}\n";
+      << ", \"simulated_s\": " << t << ", \"stopped_by_signal\": " << (g_stop ? "true" : "false")
+      << "}\n";
   }
 
   Options o_;
@@ -545,8 +565,8 @@ extern "C" ASF_EXPORT int asf_sim_robot_main(int argc, char** argv) {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
     SimRobot robot(o);
-    std::fprintf(stderr, "asf sim-robot: %s on domain %d%s, real-time factor %g\n", o.config.c_str(),
-                 o.domain, o.loopback ? " (loopback)" : "", o.rate);
+    std::fprintf(stderr, "asf sim-robot: %s on domain %d%s, real-time factor %g\n",
+                 o.config.c_str(), o.domain, o.loopback ? " (loopback)" : "", o.rate);
     return robot.run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "asf sim-robot: error: %s\n", e.what());

@@ -2,10 +2,10 @@
 // optimize, update maps, segment, track), the final optimization reusing them, and the
 // summary.
 #include <asf/errors.h>
-#include <asf/map_views.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/map_views.h>
+#include <asf/evaluation/run_report.h>
 #include <asf/text.h>
-#include <asf/trajectory_eval.h>
+#include <asf/evaluation/trajectory_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>

@@ -1,10 +1,10 @@
 #include "recorder.h"
 
 #include <asf/atomic_file.h>
-#include <asf/map_views.h>
+#include <asf/evaluation/map_views.h>
 #include <asf/io/occupancy_io.h>
-#include <asf/run_report.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/run_report.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
@@ -223,7 +223,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
           [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   // The bare grid in its frame (map_server; nav2 loads it unchanged): `asf plan --map map.yaml`.
   attempt("map.pgm + map.yaml", [&] { io::writeOccupancyMap(map, dir_ + "/map"); });
-  attempt("topology.json", [&] { writeAtomically(dir_ + "/topology.json", topologyJson(topo)); });
+  attempt("topology.json",
+          [&] { writeAtomically(dir_ + "/topology.json", graph::topologyJson(topo)); });
   attempt("summary.json", [&] {
     json j;
     j["plugins"] = slots_;
@@ -290,8 +291,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   });
 }
 
-void Recorder::finishMap3d(const mapping::Map3d& map, const GridMap& projected, const Params& params,
-                           const Map3dInfo& info, std::string& error) {
+void Recorder::finishMap3d(const mapping::Map3d& map, const GridMap& projected,
+                           const Params& params, const Map3dInfo& info, std::string& error) {
   auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
   attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
   attempt("map3d.ot", [&] { map.writeOt(dir_ + "/map3d.ot"); });

@@ -4,7 +4,7 @@
 // entrance edge only as a last resort; among the allowed edges prefer those to visited
 // regions (loop closing) over the others, then the nearest. Stop when no edge of the graph
 // is left untraversed (Fraenkel-style count), frontier edges included.
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 #include <asf/policy.h>
 #include <asf/mapping/reachability.h>
 #include <asf/text.h>
@@ -73,7 +73,8 @@ class TigrePolicy final : public asf::Policy {
     const asf::TopoGraph& topo = *s.topo;
     const Point2 robot{s.robot.x(), s.robot.y()};
     if (!s.map || !s.map->grid || topo.nodes.size() <= 1) return wait(robot, "no regions yet");
-    const asf::mapping::Reachability reach = asf::mapping::Reachability::compute(*s.map, robot, reach_opt_);
+    const asf::mapping::Reachability reach =
+        asf::mapping::Reachability::compute(*s.map, robot, reach_opt_);
 
     if (auto d = enterPendingRegion(s, reach)) return *d;
     const RegionId here = topo.current;
@@ -147,8 +148,8 @@ class TigrePolicy final : public asf::Policy {
   }
 
   /// The robot is in no region: to the nearest reachable one.
-  asf::Decision toNearestRegion(const asf::ExplorationState& s, const asf::mapping::Reachability& reach,
-                                const Point2& robot) {
+  asf::Decision toNearestRegion(const asf::ExplorationState& s,
+                                const asf::mapping::Reachability& reach, const Point2& robot) {
     double best = asf::mapping::Reachability::kUnreachable;
     std::optional<Point2> goal;
     RegionId target = 0;
@@ -169,8 +170,9 @@ class TigrePolicy final : public asf::Policy {
 
   /// Every edge of the graph not given up: where its goal is and whether it is still
   /// untraversed (counted in `untraversed`; the given-up ones in `given_up`).
-  std::vector<Option> edgeOptions(const asf::TopoGraph& topo, const asf::mapping::Reachability& reach,
-                                  int& untraversed, int& given_up) {
+  std::vector<Option> edgeOptions(const asf::TopoGraph& topo,
+                                  const asf::mapping::Reachability& reach, int& untraversed,
+                                  int& given_up) {
     std::vector<Option> options;
     for (std::size_t i = 0; i < topo.edges.size(); ++i) {
       const asf::TopoEdge& e = topo.edges[i];
@@ -198,7 +200,8 @@ class TigrePolicy final : public asf::Policy {
 
   /// The nearest reachable cell of a frontier, away from the frontier goals tried; false if
   /// there is none.
-  bool frontierGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach, Option& o) const {
+  bool frontierGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach,
+                    Option& o) const {
     std::vector<Point2> cells;
     for (const Point2& c : e.border)
       if (!blacklisted(c)) cells.push_back(c);
@@ -212,7 +215,8 @@ class TigrePolicy final : public asf::Policy {
   }
 
   /// A reachable cell at the border's midpoint, else on the border; unreachable cost if none.
-  void regionEdgeGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach, Option& o) const {
+  void regionEdgeGoal(const asf::TopoEdge& e, const asf::mapping::Reachability& reach,
+                      Option& o) const {
     o.untraversed = e.traversals.empty();
     const double half = 0.5 * e.width + snap_;
     std::optional<Point2> g = reach.nearestReachable(e.midpoint, half);
@@ -369,8 +373,9 @@ class TigrePolicy final : public asf::Policy {
 
   /// A reachable cell of region r near `anchor` (default: its centroid, which may lie outside
   /// a non-convex region or too close to a wall).
-  std::optional<Point2> regionGoal(const asf::ExplorationState& s, const asf::mapping::Reachability& reach,
-                                   RegionId r, std::optional<Point2> anchor = std::nullopt) const {
+  std::optional<Point2> regionGoal(const asf::ExplorationState& s,
+                                   const asf::mapping::Reachability& reach, RegionId r,
+                                   std::optional<Point2> anchor = std::nullopt) const {
     const asf::TopoNode* n = s.topo->node(r);
     if (!n) return std::nullopt;
     const Point2 target = anchor ? *anchor : n->centroid;

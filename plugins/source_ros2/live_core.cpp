@@ -1,7 +1,7 @@
 // The live source's state, independent of DDS (live_core.h).
 #include "live_core.h"
 
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -146,7 +146,8 @@ NavStatus GoalTracker::status(std::uint64_t scans_returned, double wall_time,
 OperatorRequest::Kind parseOperatorCommand(const std::string& text) {
   std::string t;
   for (char c : text)
-    if (!std::isspace(static_cast<unsigned char>(c))) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!std::isspace(static_cast<unsigned char>(c)))
+      t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   using Kind = OperatorRequest::Kind;
   if (t == "start" || t == "resume") return Kind::Resume;
   if (t == "pause") return Kind::Pause;
@@ -244,7 +245,8 @@ std::map<std::string, double> otherThreadsCpuByName() {
     std::string skip;
     for (int field = 3; field <= 13; ++field) is >> skip;
     long ut = 0, st = 0;
-    if (is >> ut >> st) by_name[line.substr(lp + 1, rp - lp - 1)] += static_cast<double>(ut + st) / tick;
+    if (is >> ut >> st)
+      by_name[line.substr(lp + 1, rp - lp - 1)] += static_cast<double>(ut + st) / tick;
   }
   return by_name;
 }

@@ -4,8 +4,8 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/studies/experiment.h>
-#include <asf/run_report.h>
-#include <asf/svg_plot.h>
+#include <asf/evaluation/run_report.h>
+#include <asf/evaluation/svg_plot.h>
 #include <asf/text.h>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 #include <asf/text.h>
 
 #include <algorithm>
@@ -25,8 +25,8 @@ struct Frame {
 
 }  // namespace
 
-std::string scenarioSvg(const PoseGraph& g, const planning::Zone& zone, const std::vector<PathDrawing>& paths,
-                        const std::string& title) {
+std::string scenarioSvg(const PoseGraph& g, const planning::Zone& zone,
+                        const std::vector<PathDrawing>& paths, const std::string& title) {
   for (const auto& p : paths)
     for (NodeId v : p.nodes)
       if (v >= g.size())

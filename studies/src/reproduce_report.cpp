@@ -3,7 +3,7 @@
 #include <asf/abi.h>
 #include <asf/atomic_file.h>
 #include <asf/studies/reproduce.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 #include <asf/text.h>
 
 #include <filesystem>

@@ -1,7 +1,7 @@
 // The rows of `asf reproduce` for chapters 4 (segmentation: Table 4.1, Figs. 4.1-4.5) and 5
 // (optimal exploration: Table 5.1, Theorem 5.2.1, Figs. 5.1-5.13).
 #include <asf/errors.h>
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 
 #include <algorithm>
 

@@ -8,12 +8,12 @@
 /// services.
 ///
 /// 3D map ([pipeline] map3d = true): the 3D observations of a frame that adds a pose-graph
-/// node (SensorFrame::observations3d) become keyframes of an asf::mapping::Map3d at that node, follow
-/// the node when the back-end moves it, and are projected to 2D; observations of frames that
+/// node (SensorFrame::observations3d) become keyframes of an asf::mapping::Map3d at that node,
+/// follow the node when the back-end moves it, and are projected to 2D; observations of frames that
 /// add no node are not used. [pipeline] navigation_map chooses the grid the policy, the
 /// navigation, the segmenter and the coverage see: the 2D scans' grid, the projection, or
 /// both merged (asf::mapping::mergeOccupancy: an obstacle either sees is an obstacle).
-#include <asf/map_views.h>
+#include <asf/evaluation/map_views.h>
 #include <asf/pipeline_config.h>
 #include <asf/run_summary.h>
 

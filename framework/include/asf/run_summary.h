@@ -14,7 +14,7 @@ struct RunSummary {
   double final_pose_error_m = -1;  ///< vs ground truth; -1 if unknown
   double mean_pose_error_m = -1;
   /// Absolute trajectory error of the final keyframe poses (graph nodes with ground truth)
-  /// after SE(2) alignment (asf/trajectory_eval.h); -1 with fewer than 2 such nodes.
+  /// after SE(2) alignment (asf/evaluation/trajectory_eval.h); -1 with fewer than 2 such nodes.
   double ate_rmse_m = -1, ate_max_m = -1;
   std::size_t ate_poses = 0;
   /// Relative pose error of consecutive final keyframes (asf::relativePoseError, delta 1);

@@ -1,7 +1,7 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/io/image_io.h>
-#include <asf/map_views.h>
+#include <asf/evaluation/map_views.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>

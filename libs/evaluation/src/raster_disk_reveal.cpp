@@ -1,6 +1,6 @@
 // asf::RasterDiskReveal: the thesis' incremental protocol (disks revealed along a raster).
 #include <asf/errors.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #include "region_render.h"
 
-#include <asf/run_report.h>
+#include <asf/evaluation/run_report.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
 #include <asf/errors.h>
-#include <asf/run_report.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/run_report.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -82,8 +82,8 @@ LabelImage fromRaster(const io::LabelRaster& raster, double resolution, double o
 
 // ---------------------------------------------------------------- scoring -----------------
 
-SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation, const io::LabelRaster& rooms,
-                                    int min_pixels) {
+SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation,
+                                    const io::LabelRaster& rooms, int min_pixels) {
   if (segmentation.width != rooms.width || segmentation.height != rooms.height ||
       segmentation.labels.size() != rooms.labels.size())
     throw Error("scoreSegmentation: the segmentation is " + std::to_string(segmentation.width) +

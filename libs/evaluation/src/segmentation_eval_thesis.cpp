@@ -1,7 +1,7 @@
 // The thesis' own scoring of the room segmentation benchmark (segmentation_eval.h,
 // scoreThesisProtocol): what Table 4.1 of the thesis reports, reproduced to compare with it.
 #include <asf/errors.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 
 #include <map>
 #include <opencv2/core.hpp>
@@ -10,7 +10,8 @@
 
 namespace asf {
 
-ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation, const io::GrayImage& gt) {
+ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
+                                        const io::GrayImage& gt) {
   if (segmentation.width != gt.width || segmentation.height != gt.height ||
       segmentation.labels.size() != static_cast<std::size_t>(gt.width) * gt.height)
     throw Error("scoreThesisProtocol: the segmentation is " + std::to_string(segmentation.width) +

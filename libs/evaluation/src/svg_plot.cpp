@@ -1,7 +1,7 @@
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/run_report.h>
-#include <asf/svg_plot.h>
+#include <asf/evaluation/run_report.h>
+#include <asf/evaluation/svg_plot.h>
 #include <asf/text.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/trajectory_eval.h>
+#include <asf/evaluation/trajectory_eval.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
 
@@ -82,8 +82,8 @@ RelativePoseError relativePoseError(const std::vector<CPose2D>& est, const std::
 }
 
 TrajectoryError evaluateTrajectory(const std::vector<TimedPose>& estimate,
-                                   const std::vector<io::GroundTruthPose>& ground_truth, double max_gap,
-                                   bool align) {
+                                   const std::vector<io::GroundTruthPose>& ground_truth,
+                                   double max_gap, bool align) {
   std::vector<CPose2D> est, gt;
   std::vector<double> times;
   std::size_t unmatched = 0;

@@ -2,7 +2,7 @@
 // information, and its D-optimality (expected_pose_graph.h).
 #include <asf/errors.h>
 #include <asf/exploration/expected_pose_graph.h>
-#include <asf/graph_information.h>
+#include <asf/graph/information.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

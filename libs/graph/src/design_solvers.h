@@ -1,6 +1,6 @@
 #pragma once
 // Private to the graph library: the numerics of the optimal design problems of
-// graph_information.h (thesis chapter 5), shared by its files: the design vectors, dense
+// graph/information.h (thesis chapter 5), shared by its files: the design vectors, dense
 // linear algebra helpers (design_numerics.cpp), the E-optimal interior point method
 // (design_e.cpp) and the smooth criteria's Newton method (design_smooth.cpp).
 //
@@ -9,7 +9,7 @@
 // when X is on 1-perp, and whose inverse is X^+ + J/n. For a_j = e_u - e_v (orthogonal to 1)
 // the quadratic forms a_j^T X a_l are then four look-ups, so the gradients and Hessians of the
 // design problems cost O(m n + m^2) once X is known, instead of O(m n^2) with a reduced basis.
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

@@ -2,7 +2,7 @@
 // graphs that come without positions.
 #include <asf/atomic_file.h>
 #include <asf/errors.h>
-#include <asf/graph_drawing.h>
+#include <asf/graph/drawing.h>
 #include <asf/text.h>
 
 #include <Eigen/Cholesky>

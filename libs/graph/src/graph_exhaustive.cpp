@@ -1,6 +1,6 @@
 // Exhaustive search of traversals of a graph (thesis figs. 5.6-5.10) and its plot.
 #include <asf/errors.h>
-#include <asf/graph_information.h>
+#include <asf/graph/information.h>
 
 #include <Eigen/Core>
 #include <algorithm>

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/graph_families.h>
+#include <asf/graph/families.h>
 
 #include <algorithm>
 #include <fstream>
@@ -84,7 +84,8 @@ Multigraph smallWorld(int n, int k, double beta, std::uint64_t seed) {
   for (;;) {
     std::set<std::pair<int, int>> e;
     for (int v = 0; v < n; ++v)
-      for (int j = 1; j <= k / 2; ++j) e.insert({std::min(v, (v + j) % n), std::max(v, (v + j) % n)});
+      for (int j = 1; j <= k / 2; ++j)
+        e.insert({std::min(v, (v + j) % n), std::max(v, (v + j) % n)});
     std::vector<std::pair<int, int>> ring(e.begin(), e.end());
     for (auto& [u, v] : ring) {
       if (!coin(rng, beta)) continue;
@@ -133,7 +134,8 @@ std::vector<Multigraph> generateFamily(const std::string& family, int count, int
   if (max_nodes < 4) throw Error("generateFamily: max_nodes must be >= 4");
   static const char* kFamilies[] = {"grid", "tree", "smallworld", "rooms"};
   const bool mixed = family == "mixed";
-  if (!mixed && std::find(std::begin(kFamilies), std::end(kFamilies), family) == std::end(kFamilies))
+  if (!mixed &&
+      std::find(std::begin(kFamilies), std::end(kFamilies), family) == std::end(kFamilies))
     throw Error("unknown graph family '" + family + "' (grid, tree, smallworld, rooms, mixed)");
   std::vector<Multigraph> out;
   for (int i = 0; i < count; ++i) {

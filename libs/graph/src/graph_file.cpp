@@ -1,6 +1,6 @@
 #include <asf/errors.h>
-#include <asf/graph_file.h>
-#include <asf/topology_json.h>
+#include <asf/graph/file.h>
+#include <asf/graph/topology_json.h>
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 // Information of walks on graphs and certified optimal edge weights (thesis chapter 5).
 // The solvers' numerics are in design_solvers.h and design_{numerics,e,smooth}.cpp.
 #include <asf/errors.h>
-#include <asf/graph_information.h>
+#include <asf/graph/information.h>
 #include <asf/text.h>
 
 #include <Eigen/Cholesky>

@@ -2,7 +2,7 @@
 // Christofides' odd tree nodes): Edmonds' weighted blossom, O(k^3), and an exact bitmask DP
 // for small k.
 #include <asf/errors.h>
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 
 #include <algorithm>
 #include <cmath>

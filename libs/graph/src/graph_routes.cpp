@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 
 #include <algorithm>
 #include <array>

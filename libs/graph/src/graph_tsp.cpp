@@ -1,7 +1,7 @@
 // Traveling salesman tours over a graph's shortest-path metric: Held-Karp (exact, small),
 // Christofides and nearest neighbour with 2-opt / Or-opt improvement.
 #include <asf/errors.h>
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 
 #include <algorithm>
 #include <cmath>

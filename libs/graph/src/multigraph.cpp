@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <fstream>
 #include <sstream>

@@ -1,8 +1,8 @@
 // The information matrix of a 2D pose graph against Theorem 5.2.1 and the bounded-noise
 // model of the thesis' section 5.2.4.
 #include <asf/errors.h>
-#include <asf/graph_information.h>
-#include <asf/pose_graph_information.h>
+#include <asf/graph/information.h>
+#include <asf/graph/pose_graph_information.h>
 #include <asf/se2_edge.h>
 
 #include <Eigen/Eigenvalues>
@@ -13,7 +13,7 @@
 #include <cmath>
 #include <limits>
 
-namespace asf {
+namespace asf::graph {
 
 namespace {
 
@@ -92,7 +92,8 @@ BoundedNoise boundedNoise(const PoseGraph& g, NoiseReference reference) {
   for (std::size_t k = 0; k < g.edges.size(); ++k) {
     const Matrix3d& O = g.edges[k].information;
     Eigen::LLT<Matrix3d> llt(O);
-    if (!O.allFinite() || (O - O.transpose()).cwiseAbs().maxCoeff() > 1e-9 * O.cwiseAbs().maxCoeff() ||
+    if (!O.allFinite() ||
+        (O - O.transpose()).cwiseAbs().maxCoeff() > 1e-9 * O.cwiseAbs().maxCoeff() ||
         llt.info() != Eigen::Success)
       throw InputError("bounded-noise weights: edge " + std::to_string(k) + " (" +
                        std::to_string(g.edges[k].from) + " -> " + std::to_string(g.edges[k].to) +
@@ -122,11 +123,11 @@ BoundedNoise boundedNoise(const PoseGraph& g, NoiseReference reference) {
   return b;
 }
 
-graph::Multigraph poseGraphAsMultigraph(const PoseGraph& g, const std::vector<double>& alpha) {
+Multigraph poseGraphAsMultigraph(const PoseGraph& g, const std::vector<double>& alpha) {
   if (!alpha.empty() && alpha.size() != g.edges.size())
     throw InputError("poseGraphAsMultigraph: " + std::to_string(alpha.size()) +
                      " weights for " + std::to_string(g.edges.size()) + " edges");
-  graph::Multigraph m;
+  Multigraph m;
   m.n = static_cast<int>(g.size());
   for (std::size_t k = 0; k < g.edges.size(); ++k) {
     const auto& e = g.edges[k];
@@ -176,7 +177,7 @@ double informationFunction(const Eigen::SparseMatrix<double>& Y, const Eigen::Ma
   D.noalias() += lift * Q * Q.transpose();
   const Eigen::VectorXd ev =
       Eigen::SelfAdjointEigenSolver<MatrixXd>(D, Eigen::EigenvaluesOnly).eigenvalues();
-  return graph::powerMean(ev.head(N - 3), p);
+  return powerMean(ev.head(N - 3), p);
 }
 
 Eigen::MatrixXd translationGauge(std::size_t nodes) {
@@ -223,14 +224,14 @@ TheoremCheck checkTheorem(const PoseGraph& g, const BoundedNoise& b, double p,
   c.p = p;
   // A graph that does not connect every pose has zero information under every criterion.
   if (!poseGraphAsMultigraph(g, {}).connected()) return c;
-  if (p != graph::kCriterionD && 3 * g.size() > max_dense)
-    throw InputError("checkTheorem: criterion " + graph::criterionName(p) + " needs a dense " +
+  if (p != kCriterionD && 3 * g.size() > max_dense)
+    throw InputError("checkTheorem: criterion " + criterionName(p) + " needs a dense " +
                      std::to_string(3 * g.size()) + "x" + std::to_string(3 * g.size()) +
                      " eigen-decomposition (limit " + std::to_string(max_dense) +
                      "); only D is computed at any size");
   const Eigen::SparseMatrix<double> exact = fisherInformation(g);
   const Eigen::SparseMatrix<double> sum = edgeSumInformation(g);
-  if (p == graph::kCriterionD) {
+  if (p == kCriterionD) {
     // ||L_alpha (x) Sigma^-1||_0 = ||L_alpha||_0 ||Sigma^-1||_0 (eq. 5.50), sparse at any size.
     // The exact information is taken anchored the same way (det without node 0, times n^3):
     // its own pseudo-determinant carries a factor 1 + sum |t_i - mean t|^2 / n from the
@@ -241,12 +242,12 @@ TheoremCheck checkTheorem(const PoseGraph& g, const BoundedNoise& b, double p,
     c.bound = dOptimality(boundInformation(g, b), K);
     return c;
   }
-  const graph::Multigraph m = poseGraphAsMultigraph(g, b.alpha);
-  c.bound = graph::information(m, Eigen::VectorXd::Ones(m.m()), p).value *
-            graph::powerMean(b.reference.diagonal(), p);
+  const Multigraph m = poseGraphAsMultigraph(g, b.alpha);
+  c.bound = information(m, Eigen::VectorXd::Ones(m.m()), p).value *
+            powerMean(b.reference.diagonal(), p);
   c.exact = informationFunction(exact, rigidMotionGauge(g), p);
   c.edge_sum = informationFunction(sum, translationGauge(g.size()), p);
   return c;
 }
 
-}  // namespace asf
+}  // namespace asf::graph

@@ -1,7 +1,7 @@
 #pragma once
 // Private to the graph library: the checks and walk helpers of graph_routes.cpp that the
 // other route files (graph_tsp.cpp) share.
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 
 #include <limits>
 #include <string>

@@ -1,8 +1,8 @@
 // topology.json both ways: written from a TopoGraph (topology_json.h), read as a region graph
 // (multigraph.h; shared by `asf optimal` and the fuzz target).
 #include <asf/errors.h>
-#include <asf/multigraph.h>
-#include <asf/topology_json.h>
+#include <asf/graph/multigraph.h>
+#include <asf/graph/topology_json.h>
 
 #include <climits>
 #include <fstream>
@@ -80,9 +80,6 @@ RegionGraph readTopologyJson(const std::string& path) {
   return parseTopologyJson(ss.str(), path);
 }
 
-}  // namespace asf::graph
-
-namespace asf {
 
 std::string topologyJson(const TopoGraph& topo) {
   using nlohmann::json;
@@ -109,4 +106,4 @@ std::string topologyJson(const TopoGraph& topo) {
   return j.dump(2) + "\n";
 }
 
-}  // namespace asf
+}  // namespace asf::graph

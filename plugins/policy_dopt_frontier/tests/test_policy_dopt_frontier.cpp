@@ -1,9 +1,9 @@
 // dopt_frontier: the expected pose graph against a graph built by hand and the dense
-// eigenvalues (graph_information.h), the nodes placed along a path, and the policy on a
+// eigenvalues (graph/information.h), the nodes placed along a path, and the policy on a
 // corridor, where it goes back to close loops while the nearest-frontier explorer does not.
 #include <asf/errors.h>
 #include <asf/exploration/expected_pose_graph.h>
-#include <asf/graph_information.h>
+#include <asf/graph/information.h>
 #include <asf/policy.h>
 #include <asf/registry.h>
 #include <gtest/gtest.h>
@@ -38,7 +38,8 @@ asf::PoseGraph chain(int n, double x0, double step, const Eigen::Matrix3d& info,
 }
 
 TEST(ExpectedPoseGraph, EdgeWeightIsTheGeometricMeanOfTheInformationsEigenvalues) {
-  EXPECT_NEAR(asf::exploration::edgeDOptimality(Eigen::Vector3d(4, 9, 1).asDiagonal()), std::cbrt(36.0), 1e-12);
+  EXPECT_NEAR(asf::exploration::edgeDOptimality(Eigen::Vector3d(4, 9, 1).asDiagonal()),
+              std::cbrt(36.0), 1e-12);
   // Invariant to a rotation of the frame.
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   R.topLeftCorner<2, 2>() << std::cos(0.7), -std::sin(0.7), std::sin(0.7), std::cos(0.7);

@@ -2,7 +2,7 @@
 // on one map of the room segmentation benchmark.
 #include <asf/errors.h>
 #include <asf/registry.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -300,7 +300,8 @@ TEST(SegmenterDude, ChangedBoxUpdateEqualsWholeMapUpdateThroughAnExploration) {
       incremental += a.mode == asf::Segmentation::Mode::Incremental;
       ASSERT_EQ(a.labels.labels, b.labels.labels) << "step " << steps;
       ASSERT_EQ(a.regions.size(), b.regions.size()) << "step " << steps;
-      for (std::size_t k = 0; k < a.regions.size(); ++k) ASSERT_EQ(a.regions[k].id, b.regions[k].id);
+      for (std::size_t k = 0; k < a.regions.size(); ++k)
+        ASSERT_EQ(a.regions[k].id, b.regions[k].id);
       EXPECT_EQ(a.changed_cells, b.changed_cells) << "step " << steps;
     }
     EXPECT_GT(steps, 20);
@@ -370,7 +371,8 @@ TEST(SegmenterDude, AnObstacleInUnknownSpaceThatClosesAGapIsSeen) {
     const auto b2 = batch->segment(mapOf(g2, 1), nullptr);
     const auto b1 = batch->segment(mapOf(g, 1), nullptr);
     ASSERT_FALSE(samePartition(b1.labels, b2.labels))
-        << "the case must change the batch result: " << b1.regions.size() << " / " << b2.regions.size();
+        << "the case must change the batch result: " << b1.regions.size() << " / "
+        << b2.regions.size();
     EXPECT_EQ(s2.mode, asf::Segmentation::Mode::Incremental);
     EXPECT_EQ(s2.changed_cells, 0);  // no free cell changed
     EXPECT_TRUE(samePartition(s2.labels, b2.labels));
@@ -444,7 +446,8 @@ TEST(SegmenterDude, LoopClosureWithALocalChangeStaysIncremental) {
     setBox(*g2, 18.05, 0.9, 18.15, 7.1, kWall);
     int changed = 0;
     for (unsigned cy = 0; cy < g->getSizeY(); ++cy)
-      for (unsigned cx = 0; cx < g->getSizeX(); ++cx) changed += isFree(*g, cx, cy) != isFree(*g2, cx, cy);
+      for (unsigned cx = 0; cx < g->getSizeX(); ++cx)
+        changed += isFree(*g, cx, cy) != isFree(*g2, cx, cy);
     ASSERT_GT(changed, 0);
     const auto s2 = seg->segment(mapOf(g2, 2, /*rebuilt=*/true), &s1);
     checkConsistency(s2, *g2);

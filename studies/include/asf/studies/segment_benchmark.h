@@ -5,7 +5,7 @@
 /// describes, per map and variant (plain, furnished), optionally also incrementally while the
 /// map is revealed (a simulated laser, or the thesis' raster of disks).
 #include <asf/registry.h>
-#include <asf/segmentation_eval.h>
+#include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 
 #include <functional>

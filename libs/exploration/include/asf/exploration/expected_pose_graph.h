@@ -18,7 +18,7 @@
 /// difference over the graph's nodes) x the occupied share, and no loop where under 3 % of the
 /// cells are occupied (nothing to match). Without them, the medians alone.
 #include <asf/geometry.h>
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 #include <asf/pose_graph.h>
 
 #include <Eigen/Core>

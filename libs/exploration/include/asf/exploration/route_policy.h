@@ -6,7 +6,7 @@
 /// `tsp_offline`). Goals: each edge's border midpoint, then the next region's centroid.
 /// A goal the navigation fails to reach is skipped (logged); the policy is done at the end of
 /// the walk. Edge lengths: centroid -> border midpoint -> centroid.
-#include <asf/graph_routes.h>
+#include <asf/graph/routes.h>
 #include <asf/policy.h>
 
 namespace asf::exploration {

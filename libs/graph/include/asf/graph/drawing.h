@@ -1,8 +1,8 @@
 #pragma once
-/// \file graph_drawing.h
+/// \file drawing.h
 /// Drawings of edge weights on a graph (thesis figs. 5.11-5.13: the optimal weights of one
 /// graph under E, A and D, edge thickness proportional to the weight).
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <Eigen/Core>
 #include <string>

@@ -15,7 +15,7 @@
 ///   linearization differs from it by the lever arm of edge j (d e_t / d phi_i, of the order
 ///   of the edge length): the theorem's "small error" approximation drops it (5.18-5.24 treat
 ///   the frame change as a rotation). fisherInformation() keeps it.
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 #include <asf/pose_graph.h>
 
 #include <Eigen/Core>
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::graph {
 
 /// How the common Sigma^-1 of eq. 5.52 is chosen. Both are diag(a, a, c), isotropic in
 /// translation so that the bound does not depend on the edge's heading, and are scaled so
@@ -53,7 +53,7 @@ BoundedNoise boundedNoise(const PoseGraph& g, NoiseReference reference);
 /// The pose graph as a multigraph: one node per pose, one edge per measurement (self-loops
 /// kept, they carry no information), Edge::information = alpha_j (or 1 when `alpha` is
 /// empty), Edge::length = distance between the end poses' estimates.
-graph::Multigraph poseGraphAsMultigraph(const PoseGraph& g, const std::vector<double>& alpha);
+Multigraph poseGraphAsMultigraph(const PoseGraph& g, const std::vector<double>& alpha);
 
 /// Exact un-anchored information J^T Omega J at the current estimate (3n x 3n).
 Eigen::SparseMatrix<double> fisherInformation(const PoseGraph& g);
@@ -95,4 +95,4 @@ struct TheoremCheck {
 TheoremCheck checkTheorem(const PoseGraph& g, const BoundedNoise& b, double p,
                           std::size_t max_dense = 3000);
 
-}  // namespace asf
+}  // namespace asf::graph

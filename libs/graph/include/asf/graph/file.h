@@ -1,11 +1,11 @@
 #pragma once
-/// \file graph_file.h
+/// \file file.h
 /// A graph read from whatever file names it: a g2o pose graph (or a run folder, for its
 /// graph.g2o), a topology.json, or one line of a graph list. `asf optimal` and `asf route`
 /// read their graphs so.
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 #include <asf/pose_graph.h>
-#include <asf/pose_graph_information.h>
+#include <asf/graph/pose_graph_information.h>
 
 #include <Eigen/Core>
 #include <optional>

@@ -1,5 +1,5 @@
 #pragma once
-/// \file graph_routes.h
+/// \file routes.h
 /// Routes on a known graph (thesis ch. 5-6): Euler circuits/trails, the Chinese postman walk
 /// (route inspection), the TSP walk (visit every node), and the on-line explorers Tarry,
 /// modified Tarry (TIGRE's rule), Tremaux and DFS simulated on a known graph. Every route is a
@@ -12,7 +12,7 @@
 /// and seed give the same walk on every platform (ties are drawn with std::mt19937, reduced
 /// with a modulo, never through <random> distributions, whose output is implementation
 /// defined).
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <cstdint>
 #include <random>

@@ -1,5 +1,5 @@
 #pragma once
-/// \file graph_information.h
+/// \file information.h
 /// Information of walks on graphs and certified optimal edge weights (thesis chapter 5).
 ///
 /// Conventions (the thesis', eq. 5.57 and 5.61):
@@ -19,7 +19,7 @@
 ///   the best information rate; the efficiency of a walk is its rate divided by the optimum.
 /// - A graph (or the support of x) that does not connect all n nodes has information 0 and
 ///   `connected = false`; a graph with one node has no eigenvalues and is reported the same way.
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <Eigen/Core>
 #include <functional>

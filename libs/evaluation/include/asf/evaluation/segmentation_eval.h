@@ -12,7 +12,7 @@
 #include <asf/io/occupancy_io.h>
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
-#include <asf/topology_json.h>
+#include <asf/graph/topology_json.h>
 
 #include <cstdint>
 #include <functional>
@@ -29,7 +29,8 @@ constexpr int kBenchmarkMinRegionPixels = 100;
 
 /// Ground-truth rooms: pixels > 250, 8-connected components with more than `min_pixels`
 /// pixels, numbered 1..N in row-major order of their first pixel.
-io::LabelRaster groundTruthRooms(const io::GrayImage& gt, int min_pixels = kBenchmarkMinRegionPixels);
+io::LabelRaster groundTruthRooms(const io::GrayImage& gt,
+                                 int min_pixels = kBenchmarkMinRegionPixels);
 
 /// Grid labels (cy up) <-> image raster (row 0 top).
 io::LabelRaster toRaster(const LabelImage& labels);
@@ -59,7 +60,8 @@ struct SegmentationScore {
 };
 /// `segmentation` and `rooms` must have the same size (else Error). Rooms are labels > 0 of
 /// `rooms` (groundTruthRooms' output, or any label image), filtered by `min_pixels` too.
-SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation, const io::LabelRaster& rooms,
+SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation,
+                                    const io::LabelRaster& rooms,
                                     int min_pixels = kBenchmarkMinRegionPixels);
 
 /// The thesis' own scoring (read from the author's evaluation code, Incremental_DuDe_ROS
@@ -79,7 +81,8 @@ struct ThesisProtocolScore {
   int rooms = 0, segments = 0;  ///< with at least one counted pixel
 };
 /// `segmentation` (image orientation) and `gt` must have the same size (else Error).
-ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation, const io::GrayImage& gt);
+ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
+                                        const io::GrayImage& gt);
 
 /// Mean and population standard deviation (divides by n); 0, 0 for no values.
 struct MeanStd {
@@ -174,7 +177,8 @@ class RasterDiskReveal final : public MapReveal {
   /// `image` is the true map (free = pixel >= free_threshold, as everywhere in asf's
   /// benchmark; the author's code takes > 250). Throws Error when an option is out of range
   /// (radius < 0, step < 1) or the resolution is not > 0.
-  RasterDiskReveal(const io::GrayImage& image, double resolution, const RasterDiskOptions& options = {},
+  RasterDiskReveal(const io::GrayImage& image, double resolution,
+                   const RasterDiskOptions& options = {},
                    int free_threshold = io::kBenchmarkFreeThreshold);
   ~RasterDiskReveal() override;
   RasterDiskReveal(const RasterDiskReveal&) = delete;
@@ -210,8 +214,8 @@ IncrementalResult evaluateIncremental(
 /// every scan; scores the last segmentation against `rooms`. `progress` (may be empty) is
 /// called after every update with the number of updates and the coverage.
 IncrementalResult evaluateIncremental(
-    Segmenter& segmenter, const io::GrayImage& image, const io::LabelRaster& rooms, double resolution,
-    const ExplorationOptions& options = {},
+    Segmenter& segmenter, const io::GrayImage& image, const io::LabelRaster& rooms,
+    double resolution, const ExplorationOptions& options = {},
     const std::function<void(std::size_t, double)>& progress = {});
 
 }  // namespace asf

@@ -1,8 +1,8 @@
 #pragma once
-/// \file graph_families.h
+/// \file families.h
 /// Seeded generators of test graph families for the optimal-exploration analysis (grids,
 /// trees, small worlds, rooms along corridors), and the graph-list writer.
-#include <asf/multigraph.h>
+#include <asf/graph/multigraph.h>
 
 #include <cstdint>
 #include <string>
