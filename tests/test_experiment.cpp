@@ -96,7 +96,7 @@ bool hasNanOrInf(const std::string& s) {  // as a value, not inside a word ("inf
 // ---------------------------------------------------------------------------------- plots
 
 TEST(SvgPlot, NiceTicksOnKnownRanges) {
-  using asf::plot::niceTicks;
+  using asf::evaluation::plot::niceTicks;
   auto near = [](const std::vector<double>& got, const std::vector<double>& want) {
     if (got.size() != want.size()) return false;
     for (std::size_t i = 0; i < got.size(); ++i)
@@ -120,18 +120,19 @@ TEST(SvgPlot, NiceTicksOnKnownRanges) {
 }
 
 TEST(SvgPlot, LinesBandsGapsAndLegend) {
-  asf::plot::Figure f;
+  asf::evaluation::plot::Figure f;
   f.title = "Coverage <vs> distance";
   f.x_label = "distance (m)";
   f.y_label = "coverage (%)";
-  asf::plot::Series a =
-      asf::plot::series("tigre & co", {0, 1, 2, 3, 4, 5}, {0, 10, NAN, 30, 40, 50});
+  asf::evaluation::plot::Series a =
+      asf::evaluation::plot::series("tigre & co", {0, 1, 2, 3, 4, 5}, {0, 10, NAN, 30, 40, 50});
   a.y_low = {0, 5, NAN, 25, 35, 45};
   a.y_high = {0, 15, NAN, 35, 45, 55};
-  asf::plot::Series b = asf::plot::series("nearest_frontier", {0, 2.5, 5}, {0, 20, INFINITY});
+  asf::evaluation::plot::Series b =
+      asf::evaluation::plot::series("nearest_frontier", {0, 2.5, 5}, {0, 20, INFINITY});
   b.dashed = true;
   f.series = {a, b};
-  const std::string s = asf::plot::svg(f);
+  const std::string s = asf::evaluation::plot::svg(f);
   EXPECT_EQ(s.rfind("<svg", 0), 0u) << s.substr(0, 80);
   EXPECT_TRUE(has(s, "xmlns=\"http://www.w3.org/2000/svg\""));
   EXPECT_EQ(tagBalance(s), "") << s;
@@ -153,21 +154,21 @@ TEST(SvgPlot, LinesBandsGapsAndLegend) {
 }
 
 TEST(SvgPlot, NoDataIsStillAValidSvg) {
-  asf::plot::Figure f;
+  asf::evaluation::plot::Figure f;
   f.title = "Empty";
-  EXPECT_TRUE(has(asf::plot::svg(f), "no data"));
-  f.series = {asf::plot::series("only gaps", {NAN, 1}, {1, NAN})};
-  const std::string s = asf::plot::svg(f);
+  EXPECT_TRUE(has(asf::evaluation::plot::svg(f), "no data"));
+  f.series = {asf::evaluation::plot::series("only gaps", {NAN, 1}, {1, NAN})};
+  const std::string s = asf::evaluation::plot::svg(f);
   EXPECT_TRUE(has(s, "no data"));
   EXPECT_TRUE(has(s, "only gaps"));
   EXPECT_EQ(tagBalance(s), "") << s;
   EXPECT_FALSE(hasNanOrInf(s)) << s;
 
   const fs::path d = tempDir("svg");
-  asf::plot::writeSvg(f, (d / "x.svg").string());
+  asf::evaluation::plot::writeSvg(f, (d / "x.svg").string());
   EXPECT_EQ(read(d / "x.svg"), s);
   const std::string err = asf_test::errorOf<asf::Error>(
-      [&] { asf::plot::writeSvg(f, (d / "no_such_dir" / "x.svg").string()); });
+      [&] { asf::evaluation::plot::writeSvg(f, (d / "no_such_dir" / "x.svg").string()); });
   EXPECT_TRUE(has(err, "no_such_dir/x.svg")) << err;
 }
 
@@ -205,7 +206,7 @@ TEST(RunReport, EmbedsImagesAndDrawsPlots) {
   fs::create_directories(d / "timeline");  // decision 1 has no picture (no map yet)
   write(d / "timeline/0002.png", kFakePng);
   write(d / "timeline/0003.png", kFakePng);
-  const std::string path = asf::writeRunReport(d.string());
+  const std::string path = asf::evaluation::writeRunReport(d.string());
   EXPECT_EQ(path, (d / "report.html").string());
   const std::string html = read(path);
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
@@ -249,14 +250,14 @@ TEST(RunReport, MapEntropyOverTheFinalGrid) {
                                   "1,0,0,0.1,1,0,0,1,0,1,1,1,2,3,4,5,0\n"
                                   "2,1,10,0.5,5,0.2,0,2,1,1,1,1,2,3,4,5,200\n"
                                   "3,2,20,0.9,9,0.3,1,3,2,2,2,1,2,3,4,5,600\n");
-  std::string html = read(asf::writeRunReport(d.string()));
+  std::string html = read(asf::evaluation::writeRunReport(d.string()));
   auto svgs = svgsOf(html);
   ASSERT_EQ(svgs.size(), 5u);
   EXPECT_TRUE(has(svgs[3], "Map entropy over the final grid")) << svgs[3];
   EXPECT_TRUE(has(svgs[3], "entropy (kbit)"));
   EXPECT_FALSE(hasNanOrInf(svgs[3])) << svgs[3];
   write(d / "summary.json", R"({"policy": "tigre", "distance_m": 20})");
-  html = read(asf::writeRunReport(d.string()));
+  html = read(asf::evaluation::writeRunReport(d.string()));
   EXPECT_EQ(svgsOf(html).size(), 4u);
 }
 
@@ -274,7 +275,7 @@ TEST(RunReport, TimelineOfALongRunIsThinnedEvenly) {
     write(d / name, kFakePng);
   }
   write(d / "decisions.csv", csv);
-  const std::string html = read(asf::writeRunReport(d.string()));
+  const std::string html = read(asf::evaluation::writeRunReport(d.string()));
   EXPECT_TRUE(has(html, "type=\"range\" min=\"0\" max=\"149\"")) << "150 pictures";
   EXPECT_TRUE(has(html, "decision 1 of 400 · step 10 · t = 1 s · goto (1, 2) · goal 1\""));
   EXPECT_TRUE(has(html, "decision 400 of 400 · step 4000 · t = 400 s · goto (1, 2) · goal 400"));
@@ -284,7 +285,7 @@ TEST(RunReport, TimelineOfALongRunIsThinnedEvenly) {
 
 TEST(RunReport, MissingFilesAreNotedNotFatal) {
   const fs::path d = tempDir("report_empty");
-  const std::string html = read(asf::writeRunReport(d.string()));
+  const std::string html = read(asf::evaluation::writeRunReport(d.string()));
   EXPECT_EQ(tagBalance(html), "");
   for (const char* f : {"summary.json: missing", "timeseries.csv: missing", "map.png: missing",
                         "decisions.csv: missing"})
@@ -293,12 +294,12 @@ TEST(RunReport, MissingFilesAreNotedNotFatal) {
   // Broken files too: invalid JSON, a CSV without the columns, an interrupted run.
   write(d / "summary.json", "{\"distance_m\": 3,");
   write(d / "timeseries.csv", "a,b\n1,2\n");
-  const std::string html2 = read(asf::writeRunReport(d.string()));
+  const std::string html2 = read(asf::evaluation::writeRunReport(d.string()));
   EXPECT_TRUE(has(html2, "summary.json: invalid JSON"));
   EXPECT_TRUE(has(html2, "no distance_m column"));
 
   const std::string err = asf_test::errorOf<asf::Error>(
-      [&] { asf::writeRunReport((d / "no" / "such" / "dir").string()); });
+      [&] { asf::evaluation::writeRunReport((d / "no" / "such" / "dir").string()); });
   EXPECT_TRUE(has(err, "report.html")) << err;
 }
 

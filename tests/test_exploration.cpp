@@ -84,7 +84,7 @@ nlohmann::json explore(const std::string& policy, const fs::path& dir,
 /// Coverage milestones in summary.json: the distance and time of the first timeseries row at
 /// or above each share (recomputed from timeseries.csv), null for a share never reached.
 void expectMilestonesOfTheTimeseries(const nlohmann::json& j, const fs::path& run) {
-  const auto ts = asf::report::readCsvColumns((run / "timeseries.csv").string());
+  const auto ts = asf::evaluation::report::readCsvColumns((run / "timeseries.csv").string());
   const std::vector<double>& cov = ts.at("coverage");
   int reached = 0;
   double last_d = -1;
@@ -155,7 +155,7 @@ struct Point {
 };
 /// The true position (gt_x, gt_y) of trajectory.csv's first and last rows.
 std::pair<Point, Point> firstAndLastTruth(const fs::path& run) {
-  const auto t = asf::report::readCsvColumns((run / "trajectory.csv").string());
+  const auto t = asf::evaluation::report::readCsvColumns((run / "trajectory.csv").string());
   return {{t.at("gt_x").front(), t.at("gt_y").front()}, {t.at("gt_x").back(), t.at("gt_y").back()}};
 }
 

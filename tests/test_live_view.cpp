@@ -38,7 +38,8 @@ asf::GridMap room() {
 }
 
 /// Whether a pixel within `r` of map point (x, y) has colour (b, g, r) (image y down).
-bool colourNear(const asf::ViewImage& v, double x, double y, int b, int g, int r_, int r = 1) {
+bool colourNear(const asf::evaluation::ViewImage& v, double x, double y, int b, int g, int r_,
+                int r = 1) {
   const int cx = static_cast<int>(x / kRes), cy = v.height - 1 - static_cast<int>(y / kRes);
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
@@ -63,8 +64,8 @@ TEST(LiveView, PictureShowsTheMapThePoseGraphTheRobotAndItsGoal) {
   e.from = 2, e.to = 0, e.kind = asf::EdgeKind::LoopClosure;
   graph.addEdge(e);
   const asf::Point2 goal{1.0, 2.5};
-  const asf::ViewImage v =
-      asf::renderLiveView(map, {}, {}, graph, {}, mrpt::poses::CPose2D(3.0, 1.5, 0), &goal, 0);
+  const asf::evaluation::ViewImage v = asf::evaluation::renderLiveView(
+      map, {}, {}, graph, {}, mrpt::poses::CPose2D(3.0, 1.5, 0), &goal, 0);
   ASSERT_EQ(v.width, 80);
   ASSERT_EQ(v.height, 60);
   ASSERT_EQ(v.bgr.size(), 80u * 60u * 3u);
@@ -79,10 +80,11 @@ TEST(LiveView, PictureShowsTheMapThePoseGraphTheRobotAndItsGoal) {
   EXPECT_LT(brightness(0, v.height - 1) + 300, brightness(60, v.height - 6))
       << "a wall cell is darker than a free one";
   // Scaled down to max_side; nothing without a grid.
-  const asf::ViewImage small = asf::renderLiveView(map, {}, {}, graph, {}, {}, nullptr, 40);
+  const asf::evaluation::ViewImage small =
+      asf::evaluation::renderLiveView(map, {}, {}, graph, {}, {}, nullptr, 40);
   EXPECT_EQ(small.width, 40);
   EXPECT_EQ(small.height, 30);
-  EXPECT_TRUE(asf::renderLiveView({}, {}, {}, graph, {}, {}, nullptr, 40).bgr.empty());
+  EXPECT_TRUE(asf::evaluation::renderLiveView({}, {}, {}, graph, {}, {}, nullptr, 40).bgr.empty());
 }
 
 TEST(LiveView, WithoutADisplayGuiIsAClearErrorAndWritesNothing) {

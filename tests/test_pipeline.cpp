@@ -155,7 +155,7 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   EXPECT_GT(s.rpe_trans_rmse_m, 0.0);
   EXPECT_LT(s.rpe_trans_rmse_m, s.ate_max_m);
   EXPECT_EQ(j["rpe_trans_rmse_m"], s.rpe_trans_rmse_m);
-  const auto kf = asf::readTrajectory((out / "keyframes.txt").string());
+  const auto kf = asf::evaluation::readTrajectory((out / "keyframes.txt").string());
   ASSERT_EQ(kf.size(), s.nodes);
   for (std::size_t i = 0; i < kf.size(); ++i)
     EXPECT_NEAR(kf[i].pose.x(), g.nodes[i].pose.x(), 1e-5) << "keyframe " << i;

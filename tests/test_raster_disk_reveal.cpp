@@ -1,4 +1,4 @@
-// asf::RasterDiskReveal (the thesis' incremental protocol) with centres, disks and
+// asf::evaluation::RasterDiskReveal (the thesis' incremental protocol) with centres, disks and
 // publications worked out by hand, and `asf segment-eval --exploration raster_disks`.
 #include <asf/errors.h>
 #include <asf/evaluation/segmentation_eval.h>
@@ -39,10 +39,10 @@ std::map<std::pair<int, int>, int> knownPixels(const asf::GridMap& m, int W, int
 // below the image: the last disk. Radius 0 reveals only the centre.
 TEST(RasterDiskReveal, CentresStepAlongRowsAndTheLastIsBelowTheImage) {
   const asf::io::GrayImage g = filled(120, 60, 255);
-  asf::RasterDiskOptions o;
+  asf::evaluation::RasterDiskOptions o;
   o.radius_px = 0;
   o.min_free_px = 0;
-  asf::RasterDiskReveal reveal(g, 0.1, o);
+  asf::evaluation::RasterDiskReveal reveal(g, 0.1, o);
   const std::vector<std::pair<int, int>> centres{{0, 0}, {50, 0}, {100, 0}, {30, 50}, {80, 50}};
   std::size_t published = 0;
   while (reveal.step()) {
@@ -75,11 +75,11 @@ TEST(RasterDiskReveal, CentresStepAlongRowsAndTheLastIsBelowTheImage) {
 TEST(RasterDiskReveal, ADiskIsThePixelsWithinTheRadiusWallsIncluded) {
   asf::io::GrayImage g = filled(10, 10, 255);
   g.pixels[1 * 10 + 1] = 0;  // (1,1) is a wall
-  asf::RasterDiskOptions o;
+  asf::evaluation::RasterDiskOptions o;
   o.radius_px = 2;
   o.step_px = 100;  // one disk on the image, the next below it
   o.min_free_px = 0;
-  asf::RasterDiskReveal reveal(g, 0.05, o);
+  asf::evaluation::RasterDiskReveal reveal(g, 0.05, o);
   ASSERT_TRUE(reveal.step());
   const auto known = knownPixels(reveal.map(), 10, 10);
   const std::map<std::pair<int, int>, int> expected{{{0, 0}, 1}, {{1, 0}, 1}, {{2, 0}, 1},
@@ -93,10 +93,10 @@ TEST(RasterDiskReveal, ADiskIsThePixelsWithinTheRadiusWallsIncluded) {
 TEST(RasterDiskReveal, NothingIsPublishedUntilEnoughFreePixelsAreKnown) {
   asf::io::GrayImage g = filled(120, 60, 0);
   g.pixels[50 * 120 + 80] = 255;  // the fifth centre is the one free pixel
-  asf::RasterDiskOptions o;
+  asf::evaluation::RasterDiskOptions o;
   o.radius_px = 0;
   o.min_free_px = 0;
-  asf::RasterDiskReveal reveal(g, 0.1, o);
+  asf::evaluation::RasterDiskReveal reveal(g, 0.1, o);
   ASSERT_TRUE(reveal.step());
   EXPECT_EQ(reveal.disks(), 5u);
   const asf::GridMap& m = reveal.map();
@@ -114,20 +114,20 @@ TEST(RasterDiskReveal, NothingIsPublishedUntilEnoughFreePixelsAreKnown) {
   EXPECT_FALSE(reveal.step());
   // With min_free_px = 1 the one free pixel is not enough: nothing is ever published.
   o.min_free_px = 1;
-  asf::RasterDiskReveal never(g, 0.1, o);
+  asf::evaluation::RasterDiskReveal never(g, 0.1, o);
   EXPECT_FALSE(never.step());
   EXPECT_EQ(never.disks(), 6u);
 }
 
 TEST(RasterDiskReveal, BadOptionsAreErrors) {
   const asf::io::GrayImage g = filled(10, 10, 255);
-  asf::RasterDiskOptions o;
+  asf::evaluation::RasterDiskOptions o;
   o.step_px = 0;
-  EXPECT_THROW(asf::RasterDiskReveal(g, 0.05, o), asf::Error);
+  EXPECT_THROW(asf::evaluation::RasterDiskReveal(g, 0.05, o), asf::Error);
   o.step_px = 5;
   o.radius_px = -1;
-  EXPECT_THROW(asf::RasterDiskReveal(g, 0.05, o), asf::Error);
-  EXPECT_THROW(asf::RasterDiskReveal(g, 0.0), asf::Error);
+  EXPECT_THROW(asf::evaluation::RasterDiskReveal(g, 0.05, o), asf::Error);
+  EXPECT_THROW(asf::evaluation::RasterDiskReveal(g, 0.0), asf::Error);
 }
 
 fs::path writeDataset() {

@@ -122,14 +122,14 @@ TEST(SegmentationEvalThesis, ScoresAsTheAuthorsCodeDoes) {
   seg.labels.resize(13 * 7);
   for (int r = 0; r < 7; ++r)
     for (int c = 0; c < 13; ++c) seg.labels[r * 13 + c] = c <= 3 ? 1 : (c <= 9 ? 2 : 3);
-  const asf::ThesisProtocolScore s = asf::scoreThesisProtocol(seg, gt);
+  const asf::evaluation::ThesisProtocolScore s = asf::evaluation::scoreThesisProtocol(seg, gt);
   EXPECT_EQ(s.rooms, 2);
   EXPECT_EQ(s.segments, 3);
   EXPECT_NEAR(s.precision, (0.66 + 0.50) / 2, 1e-12);
   EXPECT_NEAR(s.recall, (1.0 + 0.60 + 1.0) / 3, 1e-12);
   asf::io::LabelRaster small = seg;
   small.width = 12;
-  EXPECT_THROW(asf::scoreThesisProtocol(small, gt), asf::Error);
+  EXPECT_THROW(asf::evaluation::scoreThesisProtocol(small, gt), asf::Error);
 }
 
 TEST(SegmentationEvalScore, HandComputedExample) {
@@ -146,7 +146,7 @@ TEST(SegmentationEvalScore, HandComputedExample) {
   // MCC = (2*7 - 2*4) / sqrt((2+2)(2+4)(7+2)(7+4)) = 6 / sqrt(2376).
   const auto rooms = raster(3, 2, {1, 1, 1, 2, 2, 2});
   const auto seg = raster(3, 2, {1, 1, 2, 2, 2, 0});
-  const auto s = asf::scoreSegmentation(seg, rooms, 0);
+  const auto s = asf::evaluation::scoreSegmentation(seg, rooms, 0);
   EXPECT_EQ(s.segments, 2);
   EXPECT_EQ(s.rooms, 2);
   EXPECT_DOUBLE_EQ(s.precision, 5.0 / 6.0);
@@ -158,7 +158,8 @@ TEST(SegmentationEvalScore, HandComputedExample) {
   EXPECT_DOUBLE_EQ(s.segment_precision[0], 1.0);
   EXPECT_DOUBLE_EQ(s.segment_precision[1], 2.0 / 3.0);
   // A perfect segmentation (other label values) scores 1 everywhere.
-  const auto perfect = asf::scoreSegmentation(raster(3, 2, {7, 7, 7, 9, 9, 9}), rooms, 0);
+  const auto perfect =
+      asf::evaluation::scoreSegmentation(raster(3, 2, {7, 7, 7, 9, 9, 9}), rooms, 0);
   EXPECT_DOUBLE_EQ(perfect.precision, 1);
   EXPECT_DOUBLE_EQ(perfect.recall, 1);
   EXPECT_DOUBLE_EQ(perfect.mcc, 1);
@@ -169,7 +170,7 @@ TEST(SegmentationEvalScore, UnlabelledFreePixelsLowerRecallOnly) {
   box(rooms, 0, 0, 19, 19, 1);  // 400 px
   auto seg = filled(30, 30);
   box(seg, 0, 0, 19, 14, 5);  // 300 px of it, the rest unlabelled
-  const auto s = asf::scoreSegmentation(seg, rooms);
+  const auto s = asf::evaluation::scoreSegmentation(seg, rooms);
   EXPECT_DOUBLE_EQ(s.precision, 1);
   EXPECT_DOUBLE_EQ(s.recall, 0.75);
   EXPECT_DOUBLE_EQ(s.recall_pooled, 0.75);
@@ -188,14 +189,14 @@ TEST(SegmentationEvalScore, RegionsOfAtMost100PixelsAreIgnored) {
   box(seg, 0, 0, 19, 19, 1);
   box(seg, 0, 30, 9, 39, 2);    // 100 px, perfect on the ignored room: ignored
   box(seg, 21, 21, 30, 30, 4);  // 100 px straddling nothing: ignored (would have precision 0)
-  const auto s = asf::scoreSegmentation(seg, rooms);
+  const auto s = asf::evaluation::scoreSegmentation(seg, rooms);
   EXPECT_EQ(s.segments, 1);
   EXPECT_EQ(s.rooms, 2);
   EXPECT_DOUBLE_EQ(s.precision, 1);
   EXPECT_DOUBLE_EQ(s.recall, 0.5);  // room 3 has no segment
   // 101 px counts.
   box(seg, 31, 21, 31, 21, 4);  // segment 4 grows to 101 px
-  const auto s2 = asf::scoreSegmentation(seg, rooms);
+  const auto s2 = asf::evaluation::scoreSegmentation(seg, rooms);
   EXPECT_EQ(s2.segments, 2);
   EXPECT_DOUBLE_EQ(s2.precision, 0.5);  // (1 + 0) / 2
 }
@@ -210,13 +211,13 @@ TEST(SegmentationEvalScore, OverAndUnderSegmentation) {
   box(over, 10, 0, 19, 19, 2);
   box(over, 20, 0, 29, 19, 3);
   box(over, 30, 0, 39, 19, 4);
-  const auto o = asf::scoreSegmentation(over, rooms);
+  const auto o = asf::evaluation::scoreSegmentation(over, rooms);
   EXPECT_EQ(o.segments, 4);
   EXPECT_DOUBLE_EQ(o.precision, 1);
   EXPECT_DOUBLE_EQ(o.recall, 0.5);
   EXPECT_DOUBLE_EQ(o.recall_pooled, 0.5);
   // Under-segmentation: one segment over both rooms -> precision 1/2, recall 1.
-  const auto u = asf::scoreSegmentation(filled(40, 20, 8), rooms);
+  const auto u = asf::evaluation::scoreSegmentation(filled(40, 20, 8), rooms);
   EXPECT_EQ(u.segments, 1);
   EXPECT_DOUBLE_EQ(u.precision, 0.5);
   EXPECT_DOUBLE_EQ(u.recall, 1);
@@ -225,9 +226,9 @@ TEST(SegmentationEvalScore, OverAndUnderSegmentation) {
   EXPECT_LT(o.mcc, 1);
   EXPECT_DOUBLE_EQ(u.mcc, 0);
   // Sizes must match.
-  EXPECT_TRUE(
-      has(asf_test::errorOf<asf::Error>([&] { asf::scoreSegmentation(filled(10, 10), rooms); }),
-          "10 x 10"));
+  EXPECT_TRUE(has(asf_test::errorOf<asf::Error>(
+                      [&] { asf::evaluation::scoreSegmentation(filled(10, 10), rooms); }),
+                  "10 x 10"));
 }
 
 TEST(SegmentationEval, GroundTruthRoomsAre8ConnectedAndLargerThan100Pixels) {
@@ -236,7 +237,7 @@ TEST(SegmentationEval, GroundTruthRoomsAre8ConnectedAndLargerThan100Pixels) {
   box(gt, 10, 10, 19, 19, 255);  // ... touching this 100 px block at a corner: one room of 200
   box(gt, 30, 30, 39, 39, 255);  // 100 px alone: dropped
   box(gt, 25, 0, 39, 9, 250);    // 250 is not > 250: not a room
-  const asf::io::LabelRaster rooms = asf::groundTruthRooms(gt);
+  const asf::io::LabelRaster rooms = asf::evaluation::groundTruthRooms(gt);
   std::set<std::int32_t> ids(rooms.labels.begin(), rooms.labels.end());
   EXPECT_EQ(ids, (std::set<std::int32_t>{0, 1}));
   EXPECT_EQ(rooms.at(0, 0), 1);
@@ -273,14 +274,14 @@ TEST(SegmentationEval, ImageRowZeroIsTheTopOfTheGrid) {
   const asf::Segmentation s = seg->segment(map, nullptr);
   ASSERT_EQ(s.regions.size(), 1u);
   EXPECT_GT(s.labels.at(0, 2), 0);
-  EXPECT_EQ(asf::toRaster(s.labels).labels[0], s.labels.at(0, 2));
+  EXPECT_EQ(asf::evaluation::toRaster(s.labels).labels[0], s.labels.at(0, 2));
   // Raster <-> grid labels round trip, with the flip.
   const auto r = raster(4, 3, {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
-  const asf::LabelImage L = asf::fromRaster(r, 0.5, 1.0, 2.0);
+  const asf::LabelImage L = asf::evaluation::fromRaster(r, 0.5, 1.0, 2.0);
   EXPECT_EQ(L.at(0, 2), 1);
   EXPECT_EQ(L.at(3, 0), 12);
   EXPECT_EQ(L.atPoint(1.1, 2.1), 9);  // bottom-left cell
-  EXPECT_EQ(asf::toRaster(L).labels, r.labels);
+  EXPECT_EQ(asf::evaluation::toRaster(L).labels, r.labels);
 }
 
 TEST(SegmentationEval, LabelAndGrayPngRoundTripAndErrors) {
@@ -496,9 +497,9 @@ TEST(SegmentationEvalCommand, ScoresEveryMapAsTheProtocolSays) {
     EXPECT_TRUE(fs::exists(d / "img" / f)) << f;
   // The label images are in the input's orientation and score the same.
   const auto labels = asf::io::readLabelImage((d / "img/a_plain_labels.png").string());
-  const auto rooms =
-      asf::groundTruthRooms(asf::io::readGrayImage((d / "gt/a_gt_segmentation.png").string()));
-  EXPECT_DOUBLE_EQ(asf::scoreSegmentation(labels, rooms).precision, 400.0 / 804.0);
+  const auto rooms = asf::evaluation::groundTruthRooms(
+      asf::io::readGrayImage((d / "gt/a_gt_segmentation.png").string()));
+  EXPECT_DOUBLE_EQ(asf::evaluation::scoreSegmentation(labels, rooms).precision, 400.0 / 804.0);
   // --set reaches the segmenter: min_area above every component leaves no segment.
   const auto none =
       runHost(evalArgs(d, false) + " --set min_area=100 --json " + (d / "none.json").string());
@@ -624,7 +625,7 @@ asf::io::GrayImage officeMap() {
 
 TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
   const asf::io::GrayImage g = officeMap();
-  asf::ExplorationSimulator sim(g, 0.1);
+  asf::evaluation::ExplorationSimulator sim(g, 0.1);
   std::uint64_t version = 0;
   std::vector<std::pair<double, double>> robots;
   bool first = true;
@@ -663,7 +664,7 @@ TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
       }
     }
   // Deterministic: a second run takes the same path.
-  asf::ExplorationSimulator again(g, 0.1);
+  asf::evaluation::ExplorationSimulator again(g, 0.1);
   std::size_t i = 0;
   while (again.step()) {
     ASSERT_LT(i, robots.size());
@@ -676,11 +677,12 @@ TEST(SegmentationEvalExploration, RevealsTheReachableMapStepByStep) {
 
 TEST(SegmentationEvalExploration, IncrementalEvaluationPassesThePreviousSegmentation) {
   const asf::io::GrayImage g = officeMap();
-  auto rooms = asf::groundTruthRooms(g);  // one component: corridor + rooms (closet too)
+  auto rooms =
+      asf::evaluation::groundTruthRooms(g);  // one component: corridor + rooms (closet too)
   auto seg = makeFreeComponents();
   std::size_t calls = 0;
-  const auto r =
-      asf::evaluateIncremental(*seg, g, rooms, 0.1, {}, [&](std::size_t n, double) { calls = n; });
+  const auto r = asf::evaluation::evaluateIncremental(*seg, g, rooms, 0.1, {},
+                                                      [&](std::size_t n, double) { calls = n; });
   EXPECT_GT(r.update_ms.size(), 3u);
   EXPECT_EQ(calls, r.update_ms.size());
   EXPECT_DOUBLE_EQ(r.coverage, 1.0);
@@ -721,7 +723,7 @@ TEST(SegmentationEvalBenchmark, LabIpaHasTenGroundTruthRooms) {
   const fs::path gt =
       fs::path(ASF_TEST_SHARED_DIR) / "datasets/roomseg/gt/lab_ipa_gt_segmentation.png";
   if (!fs::exists(gt)) GTEST_SKIP() << gt << " is absent (the shared benchmark data)";
-  const auto rooms = asf::groundTruthRooms(asf::io::readGrayImage(gt.string()));
+  const auto rooms = asf::evaluation::groundTruthRooms(asf::io::readGrayImage(gt.string()));
   const std::set<std::int32_t> ids(rooms.labels.begin(), rooms.labels.end());
   EXPECT_EQ(ids.size(), 11u);  // 10 rooms + 0 (the protocol's note: 4-connectivity gives 11)
 }

@@ -43,15 +43,15 @@ TEST(TrajectoryEval, AlignmentRecoversAKnownRigidTransform) {
   const CPose2D T(3.0, -2.0, 0.7);
   std::vector<CPose2D> est;
   for (const auto& p : truth) est.push_back(CPose2D() - T + p);  // est = T^-1 * truth
-  const CPose2D A = asf::alignSE2(est, truth);
+  const CPose2D A = asf::evaluation::alignSE2(est, truth);
   EXPECT_NEAR(A.x(), T.x(), 1e-9);
   EXPECT_NEAR(A.y(), T.y(), 1e-9);
   EXPECT_NEAR(A.phi(), T.phi(), 1e-12);
-  const auto r = asf::evaluateMatched(est, truth);
+  const auto r = asf::evaluation::evaluateMatched(est, truth);
   EXPECT_LT(r.ate_rmse_m, 1e-9);
   EXPECT_LT(r.rot_rmse_deg, 1e-9);
   // Without alignment the error is that of the transform itself.
-  EXPECT_GT(asf::evaluateMatched(est, truth, false).ate_rmse_m, 1.0);
+  EXPECT_GT(asf::evaluation::evaluateMatched(est, truth, false).ate_rmse_m, 1.0);
 }
 
 TEST(TrajectoryEval, HandComputedErrors) {
@@ -59,12 +59,12 @@ TEST(TrajectoryEval, HandComputedErrors) {
   // (symmetric about the line), RMSE 1, heading errors 0.
   const std::vector<CPose2D> truth{CPose2D(0, 0, 0), CPose2D(2, 0, 0)};
   const std::vector<CPose2D> est{CPose2D(0, 1, 0), CPose2D(2, -1, 0)};
-  const auto raw = asf::evaluateMatched(est, truth, false);
+  const auto raw = asf::evaluation::evaluateMatched(est, truth, false);
   EXPECT_NEAR(raw.ate_rmse_m, 1.0, 1e-12);
   EXPECT_NEAR(raw.ate_max_m, 1.0, 1e-12);
   // Aligned: rotating the estimate by -45 degrees about its centre puts both on the x axis,
   // at (1 -+ sqrt(2), 0): errors |1 - sqrt(2)| each.
-  const auto al = asf::evaluateMatched(est, truth);
+  const auto al = asf::evaluation::evaluateMatched(est, truth);
   EXPECT_NEAR(al.ate_rmse_m, std::sqrt(2.0) - 1, 1e-12);
   EXPECT_NEAR(al.alignment.phi(), M_PI / 4, 1e-12);
   EXPECT_NEAR(al.rot_rmse_deg, 45.0, 1e-9);
@@ -78,25 +78,25 @@ TEST(TrajectoryEval, RelativePoseErrorByHand) {
                                    CPose2D(3, 0, 0)};
   std::vector<CPose2D> est{CPose2D(0, 0, 0), CPose2D(1, 0, 0), CPose2D(2, 0, 0),
                            CPose2D(3.1, 0, 0)};
-  auto r = asf::relativePoseError(est, truth);
+  auto r = asf::evaluation::relativePoseError(est, truth);
   EXPECT_EQ(r.pairs, 3u);
   EXPECT_NEAR(r.trans_rmse_m, std::sqrt(0.01 / 3), 1e-12);
   EXPECT_NEAR(r.trans_max_m, 0.1, 1e-12);
   EXPECT_NEAR(r.rot_rmse_deg, 0, 1e-12);
   // Over two steps both pairs that include the long step see it.
-  r = asf::relativePoseError(est, truth, 2);
+  r = asf::evaluation::relativePoseError(est, truth, 2);
   EXPECT_EQ(r.pairs, 2u);
   EXPECT_NEAR(r.trans_rmse_m, std::sqrt(0.01 / 2), 1e-12);
   // A heading error of 0.1 rad at pose 1 (position right): the first pair's motion turns by
   // 0.1 rad, and the second's, seen from the turned pose, goes 1 m at -0.1 rad.
   est = truth;
   est[1] = CPose2D(1, 0, 0.1);
-  r = asf::relativePoseError(est, truth);
+  r = asf::evaluation::relativePoseError(est, truth);
   const double t2 = std::pow(std::cos(0.1) - 1, 2) + std::pow(std::sin(0.1), 2);
   EXPECT_NEAR(r.trans_rmse_m, std::sqrt(t2 / 3), 1e-12);
   EXPECT_NEAR(r.rot_rmse_deg, mrpt::RAD2DEG(std::sqrt(2 * 0.01 / 3)), 1e-9);
-  EXPECT_THROW(asf::relativePoseError(est, truth, 4), asf::Error);
-  EXPECT_THROW(asf::relativePoseError(est, truth, 0), asf::Error);
+  EXPECT_THROW(asf::evaluation::relativePoseError(est, truth, 4), asf::Error);
+  EXPECT_THROW(asf::evaluation::relativePoseError(est, truth, 0), asf::Error);
 }
 
 TEST(TrajectoryEval, RelativePoseErrorIgnoresTheFrameAndEarlierDrift) {
@@ -106,14 +106,14 @@ TEST(TrajectoryEval, RelativePoseErrorIgnoresTheFrameAndEarlierDrift) {
   std::vector<CPose2D> est;
   const CPose2D frame(3, -2, 0.7);
   for (const auto& p : truth) est.push_back(frame + p);
-  EXPECT_LT(asf::relativePoseError(est, truth).trans_rmse_m, 1e-9);
-  EXPECT_GT(asf::evaluateMatched(est, truth, false).ate_rmse_m, 1.0);
+  EXPECT_LT(asf::evaluation::relativePoseError(est, truth).trans_rmse_m, 1e-9);
+  EXPECT_GT(asf::evaluation::evaluateMatched(est, truth, false).ate_rmse_m, 1.0);
   // One wrong step (0.2 m sideways at pose 10, everything after it carried along): the ATE
   // sees it at every later pose, the RPE at the one pair that contains it.
   est = truth;
   for (std::size_t i = 10; i < est.size(); ++i)
     est[i] = truth[9] + CPose2D(0, 0.2, 0) + (truth[i] - truth[9]);
-  const auto r = asf::relativePoseError(est, truth);
+  const auto r = asf::evaluation::relativePoseError(est, truth);
   EXPECT_NEAR(r.trans_max_m, 0.2, 1e-9);
   EXPECT_NEAR(r.trans_rmse_m, 0.2 / std::sqrt(49.0), 1e-9);
 }
@@ -123,16 +123,16 @@ TEST(TrajectoryEval, MatchesByTimeAndCountsUnmatched) {
   for (int i = 0; i <= 10; ++i) gt.push_back({100.0 + i, CPose2D(i, 0, 0)});
   // t = 100.5 interpolates to x = 0.5 (gaps of 1 s, max_gap 2 s); t = 99 and t = 200 are
   // outside the ground truth.
-  const std::vector<asf::TimedPose> est{
+  const std::vector<asf::evaluation::TimedPose> est{
       {100.5, CPose2D(0.5, 0.2, 0)}, {103, CPose2D(3, 0.2, 0)}, {99, CPose2D()}, {200, CPose2D()}};
-  const auto r = asf::evaluateTrajectory(est, gt, 2.0, false);
+  const auto r = asf::evaluation::evaluateTrajectory(est, gt, 2.0, false);
   EXPECT_EQ(r.poses, 2u);
   EXPECT_EQ(r.unmatched, 2u);
   EXPECT_NEAR(r.ate_rmse_m, 0.2, 1e-9);
   ASSERT_EQ(r.times.size(), 2u);
   EXPECT_EQ(r.times[1], 103);
   EXPECT_TRUE(has(asf_test::errorOf<asf::Error>([&] {
-                    asf::evaluateTrajectory({{50, CPose2D()}}, gt);
+                    asf::evaluation::evaluateTrajectory({{50, CPose2D()}}, gt);
                   }),
                   "no estimated pose has a ground-truth match"));
 }
@@ -140,16 +140,17 @@ TEST(TrajectoryEval, MatchesByTimeAndCountsUnmatched) {
 TEST(TrajectoryEval, ReadsTextAndRejectsBadLinesWithTheirNumber) {
   const auto ok =
       tempFile("ok.txt", "# comment\n% other comment\n\n1.5 1 2 0.1 extra\n2.5 3 4 0.2\n");
-  const auto t = asf::readTrajectory(ok.string());
+  const auto t = asf::evaluation::readTrajectory(ok.string());
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[0].t, 1.5);
   EXPECT_EQ(t[1].pose.y(), 4);
   const auto bad = tempFile("bad.txt", "1 2 3 4\n5 6 nan 8\n");
   const std::string msg =
-      asf_test::errorOf<asf::InputError>([&] { asf::readTrajectory(bad.string()); });
+      asf_test::errorOf<asf::InputError>([&] { asf::evaluation::readTrajectory(bad.string()); });
   EXPECT_TRUE(has(msg, "bad.txt:2")) << msg;
-  EXPECT_TRUE(has(asf_test::errorOf<asf::InputError>([] { asf::readTrajectory("/nonexistent/x"); }),
-                  "cannot open"));
+  EXPECT_TRUE(has(
+      asf_test::errorOf<asf::InputError>([] { asf::evaluation::readTrajectory("/nonexistent/x"); }),
+      "cannot open"));
 }
 
 TEST(TrajectoryEval, AteCommandAlignsAndWritesPerPoseErrors) {

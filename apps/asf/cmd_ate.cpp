@@ -49,12 +49,12 @@ int cmdAte(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  auto estimate = readTrajectory(est.getValue());
+  auto estimate = evaluation::readTrajectory(est.getValue());
   if (!frame_times.getValue().empty()) {
     std::vector<double> times;
     io::RawlogReader log(frame_times.getValue());
     while (auto f = log.next()) times.push_back(f->timestamp);
-    for (TimedPose& p : estimate) {
+    for (evaluation::TimedPose& p : estimate) {
       const double k = p.t;
       if (k < 0 || k != std::floor(k) || k >= static_cast<double>(times.size()))
         throw InputError(est.getValue() + ": frame index " + std::to_string(k) +
@@ -64,8 +64,8 @@ int cmdAte(int argc, char** argv) {
     }
   }
   const auto truth = io::readGroundTruth(gt.getValue());
-  const TrajectoryError r =
-      evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
+  const evaluation::TrajectoryError r =
+      evaluation::evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
   // Finite inputs can still overflow (coordinates near 1e200 m): no figure rather than "inf".
   for (const double v : {r.ate_rmse_m, r.ate_mean_m, r.ate_max_m, r.rot_rmse_deg})
     if (!std::isfinite(v))

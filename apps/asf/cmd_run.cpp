@@ -47,7 +47,7 @@ class LiveWindow {
   ~LiveWindow() {
     if (window_) close_(window_);
   }
-  void show(const ViewImage& v) {
+  void show(const evaluation::ViewImage& v) {
     if (is_open_(window_)) show_(window_, v.width, v.height, v.bgr.data());
   }
   /// After the run: `seconds` (< 0: until the window is closed or the run is interrupted).
@@ -182,7 +182,8 @@ int cmdRun(int argc, char** argv) {
   Pipeline pipeline(rc, dir);
   if (window) {
     LiveWindow* w = window.get();
-    pipeline.setLiveView([w](const ViewImage& v) { w->show(v); }, gui_refresh.getValue(), 800);
+    pipeline.setLiveView([w](const evaluation::ViewImage& v) { w->show(v); },
+                         gui_refresh.getValue(), 800);
   }
 
   std::signal(SIGINT, onSignal);

@@ -141,7 +141,7 @@ int cmdSegment(int argc, char** argv) {
   if (!graph.getValue().empty())
     writeTextAtomically(graph.getValue(), graph::topologyJson(topo.graph()));
   if (!overlay.getValue().empty())
-    writeSegmentationOverlay(overlay.getValue(), map, s, &topo.graph());
+    evaluation::writeSegmentationOverlay(overlay.getValue(), map, s, &topo.graph());
 
   std::size_t frontier = 0;
   for (const auto& e : topo.graph().edges) frontier += e.frontier();

@@ -92,7 +92,8 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
   json rows = json::array();
   md << "# Table 4.1: averaged precision and recall (%), mean ± std over the maps\n\n"
      << "asf columns: `thesis protocol` scores as the author's evaluation code does "
-        "(asf::scoreThesisProtocol: the thesis' \"precision\" is per room, its \"recall\" per "
+        "(asf::evaluation::scoreThesisProtocol: the thesis' \"precision\" is per room, its "
+        "\"recall\" per "
         "segment, unlabelled pixels ignored, no size filter); `roomseg` scores as "
         "../shared/docs/roomseg-eval.md (Bormann et al.: precision per segment, recall per room, "
         "regions of more than 100 px) and is shown in the row of the same meaning: the thesis' "
@@ -157,10 +158,10 @@ void writeTable(const std::vector<Run>& runs, const std::string& dir) {
 /// A staircase over sorted values: with `at_least`, the share of values >= x ("95 % of the
 /// maps score above ..."), else the share <= x ("95 % of the maps within ... ms"); values are
 /// scaled by `scale` on x.
-plot::Series staircase(std::string label, std::vector<double> v, bool dashed, bool at_least,
-                       double scale) {
+evaluation::plot::Series staircase(std::string label, std::vector<double> v, bool dashed,
+                                   bool at_least, double scale) {
   std::sort(v.begin(), v.end());
-  plot::Series s;
+  evaluation::plot::Series s;
   s.label = std::move(label);
   s.dashed = dashed;
   const double n = static_cast<double>(v.size());
@@ -174,10 +175,10 @@ plot::Series staircase(std::string label, std::vector<double> v, bool dashed, bo
   }
   return s;
 }
-plot::Series atLeast(std::string label, std::vector<double> v, bool dashed) {
+evaluation::plot::Series atLeast(std::string label, std::vector<double> v, bool dashed) {
   return staircase(std::move(label), std::move(v), dashed, true, 100);
 }
-plot::Series within(std::string label, std::vector<double> v, bool dashed) {
+evaluation::plot::Series within(std::string label, std::vector<double> v, bool dashed) {
   return staircase(std::move(label), std::move(v), dashed, false, 1);
 }
 
@@ -203,7 +204,7 @@ std::vector<double> mapValues(const Run& r, const std::string& scenario, const s
 
 void writeFigures(const std::vector<Run>& runs, const std::string& dir) {
   for (const char* metric : {"precision", "recall"}) {
-    plot::Figure f;
+    evaluation::plot::Figure f;
     f.title = std::string("Fig. 4.1: ") + metric + " over the maps (thesis protocol)";
     f.x_label = std::string(metric) + " (%)";
     f.y_label = "maps scoring at least x (%)";
@@ -218,13 +219,14 @@ void writeFigures(const std::vector<Run>& runs, const std::string& dir) {
           f.series.push_back(atLeast(r.label + " incremental " + scenario, inc, true));
       }
     }
-    plot::writeSvg(f, (fs::path(dir) / (std::string("fig4_1_") + metric + ".svg")).string());
+    evaluation::plot::writeSvg(
+        f, (fs::path(dir) / (std::string("fig4_1_") + metric + ".svg")).string());
   }
-  plot::Figure batch;
+  evaluation::plot::Figure batch;
   batch.title = "Fig. 4.2: batch segmentation time per map";
   batch.x_label = "time (ms)";
   batch.y_label = "maps segmented within x (%)";
-  plot::Figure inc;
+  evaluation::plot::Figure inc;
   // As the thesis: each map's mean time per update (the author's cum_time / valid_images).
   inc.title = "Fig. 4.2: incremental, mean time per update of each map";
   inc.x_label = "time (ms)";
@@ -240,8 +242,8 @@ void writeFigures(const std::vector<Run>& runs, const std::string& dir) {
         inc.series.push_back(within(r.label + " " + scenario, means, scenario[0] == 'f'));
     }
   }
-  plot::writeSvg(batch, (fs::path(dir) / "fig4_2_batch_time.svg").string());
-  plot::writeSvg(inc, (fs::path(dir) / "fig4_2_incremental_time.svg").string());
+  evaluation::plot::writeSvg(batch, (fs::path(dir) / "fig4_2_batch_time.svg").string());
+  evaluation::plot::writeSvg(inc, (fs::path(dir) / "fig4_2_incremental_time.svg").string());
 }
 
 }  // namespace

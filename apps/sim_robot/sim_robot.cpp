@@ -11,8 +11,8 @@
 #include <asf/pipeline_config.h>
 #include <asf/registry.h>
 #include <asf/ros2/messages.h>
-#include <asf/evaluation/segmentation_eval.h>
 #include <asf/source.h>
+#include <asf/statistics.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 

@@ -128,7 +128,7 @@ std::vector<std::string> Pipeline::outputFiles() {
           "summary.json", "progress.json",  "report.html",    "run.log"};
 }
 
-void Pipeline::setLiveView(std::function<void(const ViewImage&)> show, double period_s,
+void Pipeline::setLiveView(std::function<void(const evaluation::ViewImage&)> show, double period_s,
                            int max_side) {
   impl_->live_view = std::move(show);
   impl_->live_period_s = period_s;

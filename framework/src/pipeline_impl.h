@@ -48,7 +48,7 @@ struct PipelineParts : public mrpt::system::COutputLogger {
   /// cells)).
   mapping::MapAreaTracker area;
   /// Pipeline::setLiveView: the viewer (empty: none), its period [s] and picture size.
-  std::function<void(const ViewImage&)> live_view;
+  std::function<void(const evaluation::ViewImage&)> live_view;
   double live_period_s = 0.5;
   int live_max_side = 800;
   TopoGraph world_topo;  ///< of the true world, map frame (offline baselines)
@@ -66,6 +66,7 @@ struct PipelineParts : public mrpt::system::COutputLogger {
 
 /// Runs the pipeline once (Pipeline::run).
 RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
-                       const std::atomic<bool>* pause = nullptr, const std::atomic<bool>* home = nullptr);
+                       const std::atomic<bool>* pause = nullptr,
+                       const std::atomic<bool>* home = nullptr);
 
 }  // namespace asf

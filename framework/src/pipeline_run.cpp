@@ -272,12 +272,12 @@ void RunState::showLive(bool force) {
   if (!force && std::chrono::duration<double>(now - last_live_).count() < m_.live_period_s) return;
   last_live_ = now;
   const Point2 goal{last_goal_.x, last_goal_.y};
-  const ViewImage view = renderLiveView(m_.navMap(), m_.seg, m_.topo.graph(), m_.graph, m_.path,
-                                        m_.frontend->currentPose(m_.graph),
-                                        have_goal_ ? &goal : nullptr, m_.live_max_side);
+  const evaluation::ViewImage view = evaluation::renderLiveView(
+      m_.navMap(), m_.seg, m_.topo.graph(), m_.graph, m_.path, m_.frontend->currentPose(m_.graph),
+      have_goal_ ? &goal : nullptr, m_.live_max_side);
   if (view.bgr.empty()) return;
   m_.live_view(view);
-  if (force) writeViewPng(m_.out_dir + "/live_view.png", view);
+  if (force) evaluation::writeViewPng(m_.out_dir + "/live_view.png", view);
 }
 
 void RunState::finalOptimization() {
@@ -376,11 +376,11 @@ void RunState::summarize() {
       kf_gt.push_back(*n.ground_truth);
     }
   if (kf_est.size() >= 2) {
-    const TrajectoryError te = evaluateMatched(kf_est, kf_gt);
+    const evaluation::TrajectoryError te = evaluation::evaluateMatched(kf_est, kf_gt);
     sum_.ate_rmse_m = te.ate_rmse_m;
     sum_.ate_max_m = te.ate_max_m;
     sum_.ate_poses = te.poses;
-    const RelativePoseError rpe = relativePoseError(kf_est, kf_gt);
+    const evaluation::RelativePoseError rpe = evaluation::relativePoseError(kf_est, kf_gt);
     sum_.rpe_trans_rmse_m = rpe.trans_rmse_m;
     sum_.rpe_rot_rmse_deg = rpe.rot_rmse_deg;
   }
@@ -425,7 +425,7 @@ void RunState::writeOutputs() {
                 "any? e.g. [rawlog] observations3d = true)");
   }
   try {
-    writeRunReport(m_.out_dir);
+    evaluation::writeRunReport(m_.out_dir);
   } catch (const std::exception& e) {
     err += std::string(err.empty() ? "" : "; ") + "report.html: " + e.what();
   }

@@ -139,7 +139,7 @@ void Recorder::timelineFrame(int n, const GridMap& map, const Segmentation& seg,
   std::snprintf(name, sizeof name, "/timeline/%04d.png", n);
   try {
     std::filesystem::create_directories(dir_ + "/timeline");
-    writeTimelineFrame(dir_ + name, map, seg, topo, path, robot, goal, max_side);
+    evaluation::writeTimelineFrame(dir_ + name, map, seg, topo, path, robot, goal, max_side);
   } catch (const std::exception& e) {
     std::cerr << "asf run: timeline frame " << n << " not written: " << e.what() << "\n";
   }
@@ -186,7 +186,7 @@ void Recorder::decision(long step, double time, const Decision& d, NavStatus pre
 void Recorder::writeMapViews(const std::string& prefix, const PoseGraph& graph, const GridMap& map,
                              const Segmentation& seg, const TopoGraph& topo,
                              const std::vector<mrpt::poses::CPose2D>& path) {
-  asf::writeMapViews(prefix, graph, map, seg, topo, path);
+  asf::evaluation::writeMapViews(prefix, graph, map, seg, topo, path);
 }
 
 void Recorder::snapshot(double distance, const PoseGraph& graph, const GridMap& map,
@@ -196,7 +196,7 @@ void Recorder::snapshot(double distance, const PoseGraph& graph, const GridMap& 
   std::snprintf(name, sizeof name, "/snapshots/at_%gm_", distance);
   try {
     std::filesystem::create_directories(dir_ + "/snapshots");
-    writeMapViews(dir_ + name, graph, map, seg, topo, path);
+    evaluation::writeMapViews(dir_ + name, graph, map, seg, topo, path);
   } catch (const std::exception& e) {
     std::cerr << "asf run: snapshot at " << distance << " m not written: " << e.what() << "\n";
   }
@@ -220,7 +220,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     writeAtomically(dir_ + "/keyframes.txt", os.str());
   });
   attempt("map views (topology.svg, regions.png, map.png)",
-          [&] { writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
+          [&] { evaluation::writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   // The bare grid in its frame (map_server; nav2 loads it unchanged): `asf plan --map map.yaml`.
   attempt("map.pgm + map.yaml", [&] { io::writeOccupancyMap(map, dir_ + "/map"); });
   attempt("topology.json",
@@ -297,7 +297,7 @@ void Recorder::finishMap3d(const mapping::Map3d& map, const GridMap& projected,
   attempt("map3d.bt", [&] { map.writeBt(dir_ + "/map3d.bt"); });
   attempt("map3d.ot", [&] { map.writeOt(dir_ + "/map3d.ot"); });
   attempt("map3d_grid.png", [&] {
-    if (projected.grid) writeGridPng(dir_ + "/map3d_grid.png", projected);
+    if (projected.grid) evaluation::writeGridPng(dir_ + "/map3d_grid.png", projected);
   });
   attempt("map3d.json", [&] {
     const mapping::Map3dStats st = map.stats();

@@ -91,7 +91,7 @@ class Recorder {
   /// Rewrites progress.json with `status` and the last row's figures (e.g. "paused"). Never
   /// throws: a failure is reported on stderr, the run goes on.
   void status(const std::string& status);
-  /// timeline/NNNN.png: the run at its n-th decision (asf::writeTimelineFrame), for the
+  /// timeline/NNNN.png: the run at its n-th decision (asf::evaluation::writeTimelineFrame), for the
   /// report's timeline. Never throws: a failure is reported on stderr, the run goes on.
   void timelineFrame(int n, const GridMap& map, const Segmentation& seg, const TopoGraph& topo,
                      const std::vector<mrpt::poses::CPose2D>& path,

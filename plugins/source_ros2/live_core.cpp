@@ -1,7 +1,7 @@
 // The live source's state, independent of DDS (live_core.h).
 #include "live_core.h"
 
-#include <asf/evaluation/segmentation_eval.h>
+#include <asf/statistics.h>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>

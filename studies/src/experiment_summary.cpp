@@ -92,9 +92,9 @@ double at(const Curve& c, double x, bool hold) {
 }
 
 /// Mean +- std band of several runs' curves on a common grid of distances.
-plot::Series meanCurve(const std::string& label, const std::vector<Curve>& curves, bool hold,
-                       double dmax) {
-  plot::Series s;
+evaluation::plot::Series meanCurve(const std::string& label, const std::vector<Curve>& curves,
+                                   bool hold, double dmax) {
+  evaluation::plot::Series s;
   s.label = label;
   const int n = 101;
   for (int k = 0; k < n; ++k) {
@@ -118,7 +118,7 @@ plot::Series meanCurve(const std::string& label, const std::vector<Curve>& curve
 bool readCurves(const std::string& dir, Curve& coverage, Curve& epd, Curve& info) {
   std::map<std::string, std::vector<double>> ts;
   try {
-    ts = report::readCsvColumns((fs::path(dir) / "timeseries.csv").string());
+    ts = evaluation::report::readCsvColumns((fs::path(dir) / "timeseries.csv").string());
   } catch (const Error&) {
     return false;
   }
@@ -286,15 +286,15 @@ json summaryJson(const ExperimentConfig& cfg, PolicyStats& ps, const std::vector
 
 /// Curves over all finished runs of each policy.
 struct CurveFigures {
-  plot::Figure coverage{"Coverage vs distance (mean ± std over runs)",
+  evaluation::plot::Figure coverage{"Coverage vs distance (mean ± std over runs)",
                         "distance travelled (m)",
                         "coverage of the reachable area (%)",
                         {}};
-  plot::Figure epd{"Pose error per distance travelled (mean ± std over runs)",
+  evaluation::plot::Figure epd{"Pose error per distance travelled (mean ± std over runs)",
                    "distance travelled (m)",
                    "pose error / distance",
                    {}};
-  plot::Figure information{"Map information vs distance (mean ± std over runs)",
+  evaluation::plot::Figure information{"Map information vs distance (mean ± std over runs)",
                            "distance travelled (m)",
                            "map information (kbit: cells' 1 - entropy)",
                            {}};
@@ -302,12 +302,13 @@ struct CurveFigures {
 };
 
 /// The mean curve of `curves` labelled with the number of runs, or an empty series.
-plot::Series policyCurve(const std::string& policy, const std::vector<Curve>& curves, bool hold) {
+evaluation::plot::Series policyCurve(const std::string& policy, const std::vector<Curve>& curves,
+                                     bool hold) {
   const std::string label = policy + " (" + std::to_string(curves.size()) + " runs)";
   double dmax = 0;
   for (const auto& c : curves) dmax = std::max(dmax, c.d.back());
   if (!curves.empty() && dmax > 0) return meanCurve(label, curves, hold, dmax);
-  return plot::series(label, {}, {});
+  return evaluation::plot::series(label, {}, {});
 }
 
 CurveFigures curveFigures(const ExperimentConfig& cfg, const std::vector<RunData>& runs) {
@@ -363,7 +364,7 @@ void htmlMaps(std::ostringstream& h, const ExperimentConfig& cfg,
     h << "<div><figure>";
     if (first) {
       const std::string img =
-          report::embeddedPng((fs::path(first->dir) / "map.png").string(), p + " map");
+          evaluation::report::embeddedPng((fs::path(first->dir) / "map.png").string(), p + " map");
       h << (img.empty() ? "<p class=\"note\">map.png unreadable</p>" : img);
       h << "<figcaption>" << htmlEscape(p) << ", seed " << first->seed << "</figcaption>";
     } else {
@@ -405,7 +406,8 @@ std::string reportHtml(const ExperimentConfig& cfg, PolicyStats& ps,
   const std::string name = fs::absolute(cfg.out_dir).lexically_normal().filename().string();
   h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>asf "
     << "experiment: " << htmlEscape(name) << "</title>\n<style>\n"
-    << report::css() << "</style>\n</head>\n<body>\n<h1>asf experiment: " << htmlEscape(name)
+    << evaluation::report::css()
+    << "</style>\n</head>\n<body>\n<h1>asf experiment: " << htmlEscape(name)
     << "</h1>\n<p class=\"sub\">pipeline " << htmlEscape(cfg.pipeline_ini) << " · "
     << cfg.replications << " replications (seeds " << cfg.first_seed << "–"
     << cfg.first_seed + cfg.replications - 1 << ")";
@@ -415,9 +417,9 @@ std::string reportHtml(const ExperimentConfig& cfg, PolicyStats& ps,
   }
   h << "</p>\n";
   htmlSummary(h, cfg, ps);
-  h << "<h2>Curves</h2>\n<div class=\"grid\">\n<div>" << plot::svg(curves.coverage)
-    << "</div>\n<div>" << plot::svg(curves.epd) << "</div>\n<div>" << plot::svg(curves.information)
-    << "</div>\n</div>\n";
+  h << "<h2>Curves</h2>\n<div class=\"grid\">\n<div>" << evaluation::plot::svg(curves.coverage)
+    << "</div>\n<div>" << evaluation::plot::svg(curves.epd) << "</div>\n<div>"
+    << evaluation::plot::svg(curves.information) << "</div>\n</div>\n";
   if (curves.without_timeseries)
     h << "<p class=\"note\">" << curves.without_timeseries
       << " finished run(s) without a usable timeseries.csv: no curves from them.</p>\n";
@@ -441,9 +443,10 @@ std::string summarizeExperiment(const ExperimentConfig& cfg) {
   writeFileAtomically((out / "summary.csv").string(), summaryCsv(cfg, ps));
   writeFileAtomically((out / "summary.json").string(), summaryJson(cfg, ps, runs).dump(2) + "\n");
   const CurveFigures curves = curveFigures(cfg, runs);
-  plot::writeSvg(curves.coverage, (out / "coverage_vs_distance.svg").string());
-  plot::writeSvg(curves.epd, (out / "error_per_distance_vs_distance.svg").string());
-  plot::writeSvg(curves.information, (out / "map_information_vs_distance.svg").string());
+  evaluation::plot::writeSvg(curves.coverage, (out / "coverage_vs_distance.svg").string());
+  evaluation::plot::writeSvg(curves.epd, (out / "error_per_distance_vs_distance.svg").string());
+  evaluation::plot::writeSvg(curves.information,
+                             (out / "map_information_vs_distance.svg").string());
   writeFileAtomically((out / "report.html").string(), reportHtml(cfg, ps, runs, curves));
   return table + notes;
 }

@@ -66,7 +66,7 @@ std::string readFile(const std::string& path) {
 
 /// An inline SVG (its XML declaration dropped) or an embedded PNG.
 std::string embedded(const std::string& path, const std::string& alt) {
-  if (fs::path(path).extension() == ".png") return report::embeddedPng(path, alt);
+  if (fs::path(path).extension() == ".png") return evaluation::report::embeddedPng(path, alt);
   std::string svg = readFile(path);
   const auto start = svg.find("<svg");
   return start == std::string::npos ? "" : svg.substr(start);
@@ -130,7 +130,7 @@ void write(const Settings& s, const Report& r, const std::vector<Stage>& stages,
 
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>" << title << "</title><style>"
-       << report::css() << "</style></head><body><h1>" << title << "</h1>";
+       << evaluation::report::css() << "</style></head><body><h1>" << title << "</h1>";
   if (s.quick)
     html << "<p><b>--quick</b>: smoke-run sizes. These values show that every step runs, not what "
             "the "

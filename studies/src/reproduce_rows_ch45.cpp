@@ -171,7 +171,7 @@ void figure45(Collector& c) {
   const std::string stage = "ch6_fig_6_1";
   std::map<std::string, std::vector<double>> ts;
   try {
-    ts = report::readCsvColumns(c.s_.out + "/" + stage + "/run/timeseries.csv");
+    ts = evaluation::report::readCsvColumns(c.s_.out + "/" + stage + "/run/timeseries.csv");
   } catch (const Error&) {  // not produced: the rows say so
   }
   const auto &regions = ts["regions"], &segs = ts["segmentations"],

@@ -36,23 +36,23 @@ void scoreIncremental(const MapContext& m, const std::string& variant, const io:
                       const std::string& file, BenchmarkMapResult& r) {
   auto inc_seg = m.segmenter();
   auto last_report = std::chrono::steady_clock::now();
-  std::unique_ptr<MapReveal> reveal;
+  std::unique_ptr<evaluation::MapReveal> reveal;
   if (m.o.exploration == "raster_disks")
-    reveal = std::make_unique<RasterDiskReveal>(image, m.o.resolution);
+    reveal = std::make_unique<evaluation::RasterDiskReveal>(image, m.o.resolution);
   else
-    reveal = std::make_unique<ExplorationSimulator>(image, m.o.resolution, m.o.explore);
-  r.inc =
-      evaluateIncremental(*inc_seg, *reveal, m.rooms, [&](std::size_t updates, double coverage) {
+    reveal = std::make_unique<evaluation::ExplorationSimulator>(image, m.o.resolution, m.o.explore);
+  r.inc = evaluation::evaluateIncremental(
+      *inc_seg, *reveal, m.rooms, [&](std::size_t updates, double coverage) {
         if (msSince(last_report) < 5000) return;  // a line every 5 s of work
         last_report = std::chrono::steady_clock::now();
         m.progress(m.prefix + " " + variant + " incremental: " + std::to_string(updates) +
                    " updates, " + formatFixed(100 * coverage, 0) + "% explored");
       });
   r.incremental = true;
-  r.inc_thesis =
-      scoreThesisProtocol(segmentationRaster(r.inc.final_segmentation, image, file), m.gt_image);
+  r.inc_thesis = evaluation::scoreThesisProtocol(
+      segmentationRaster(r.inc.final_segmentation, image, file), m.gt_image);
   if (!m.o.images_dir.empty())
-    writeSegmentationOverlay(
+    evaluation::writeSegmentationOverlay(
         m.imagePath(variant == "plain" ? "incremental" : variant + "_incremental"), r.inc.final_map,
         r.inc.final_segmentation, nullptr, &m.rooms);
   m.progress(m.prefix + " " + variant + " incremental: " + std::to_string(r.inc.update_ms.size()) +
@@ -95,10 +95,10 @@ BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
   r.name = m.name;
   r.variant = variant;
   const io::LabelRaster labels = segmentationRaster(s, image, file);
-  r.score = scoreSegmentation(labels, m.rooms);
-  r.thesis = scoreThesisProtocol(labels, m.gt_image);
+  r.score = evaluation::scoreSegmentation(labels, m.rooms);
+  r.thesis = evaluation::scoreThesisProtocol(labels, m.gt_image);
   if (!m.o.images_dir.empty()) {
-    writeSegmentationOverlay(m.imagePath(variant), map, s, nullptr, &m.rooms);
+    evaluation::writeSegmentationOverlay(m.imagePath(variant), map, s, nullptr, &m.rooms);
     io::writeLabelImage(m.imagePath(variant + "_labels"), labels);
   }
   m.progress(m.prefix + " " + variant + ": " + std::to_string(r.score.segments) + " segments / " +
@@ -130,7 +130,8 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
     if (ext == ".png") continue;
     yaml_stems.push_back(names.back());
     const std::string y = e.path().string();
-    images.push_back(fs::path(io::occupancyImagePath(y, io::readOccupancyYaml(y))).lexically_normal());
+    images.push_back(
+        fs::path(io::occupancyImagePath(y, io::readOccupancyYaml(y))).lexically_normal());
   }
   const auto contains = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();
@@ -162,7 +163,7 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
   m.gt_file = (fs::path(o.gt_dir) / (name + "_gt_segmentation.png")).string();
   current = name + " (ground truth)";
   m.gt_image = io::readGrayImage(m.gt_file);
-  m.rooms = groundTruthRooms(m.gt_image);
+  m.rooms = evaluation::groundTruthRooms(m.gt_image);
   if (std::none_of(m.rooms.labels.begin(), m.rooms.labels.end(),
                    [](std::int32_t l) { return l > 0; }))
     throw InputError(m.gt_file +
@@ -179,7 +180,7 @@ void scoreBenchmarkMap(const std::string& name, const std::string& prefix,
 
 io::LabelRaster segmentationRaster(const Segmentation& seg, const io::GrayImage& image,
                                const std::string& who) {
-  io::LabelRaster r = toRaster(seg.labels);
+  io::LabelRaster r = evaluation::toRaster(seg.labels);
   if (r.labels.empty() && seg.regions.empty()) {  // no region at all: an empty image
     r.width = image.width;
     r.height = image.height;

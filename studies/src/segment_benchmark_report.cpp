@@ -16,14 +16,14 @@ namespace {
 using nlohmann::json;
 using MapResult = BenchmarkMapResult;
 
-json thesisJson(const ThesisProtocolScore& t) {
+json thesisJson(const evaluation::ThesisProtocolScore& t) {
   return {{"precision", t.precision},
           {"recall", t.recall},
           {"rooms", t.rooms},
           {"segments", t.segments}};
 }
 
-json scoreJson(const SegmentationScore& s) {
+json scoreJson(const evaluation::SegmentationScore& s) {
   return {{"precision", s.precision},
           {"recall", s.recall},
           {"precision_pooled", s.precision_pooled},
@@ -33,7 +33,8 @@ json scoreJson(const SegmentationScore& s) {
           {"rooms", s.rooms}};
 }
 
-json incrementalJson(const IncrementalResult& r, const ThesisProtocolScore& t) {
+json incrementalJson(const evaluation::IncrementalResult& r,
+                     const evaluation::ThesisProtocolScore& t) {
   json j = scoreJson(r.final_score);
   j["thesis_protocol"] = thesisJson(t);
   j["updates"] = r.update_ms.size();

@@ -47,7 +47,8 @@ class Pipeline {
   /// (renderLiveView: map, regions, topological graph, pose graph, path, robot, goal; at most
   /// `max_side` px) from the run's thread, at most once per `period_s` seconds of wall time
   /// and once at the end, which is also written to live_view.png.
-  void setLiveView(std::function<void(const ViewImage&)> show, double period_s, int max_side);
+  void setLiveView(std::function<void(const evaluation::ViewImage&)> show, double period_s,
+                   int max_side);
 
   /// The files a run writes, relative to out_dir (for messages and docs).
   static std::vector<std::string> outputFiles();

@@ -17,8 +17,8 @@ struct RunSummary {
   /// after SE(2) alignment (asf/evaluation/trajectory_eval.h); -1 with fewer than 2 such nodes.
   double ate_rmse_m = -1, ate_max_m = -1;
   std::size_t ate_poses = 0;
-  /// Relative pose error of consecutive final keyframes (asf::relativePoseError, delta 1);
-  /// -1 with fewer than 2 keyframes with ground truth.
+  /// Relative pose error of consecutive final keyframes (asf::evaluation::relativePoseError, delta
+  /// 1); -1 with fewer than 2 keyframes with ground truth.
   double rpe_trans_rmse_m = -1, rpe_rot_rmse_deg = -1;
   /// Distance driven and simulated time when the coverage (of the timeseries rows) first
   /// reached each of kCoverageMilestones; -1 if it never did.

@@ -8,7 +8,7 @@
 
 #include "region_render.h"
 
-namespace asf {
+namespace asf::evaluation {
 
 using render::MapImage;
 
@@ -128,4 +128,4 @@ void writeGridPng(const std::string& file, const GridMap& map) {
   writeBgr(file, m.img);
 }
 
-}  // namespace asf
+}  // namespace asf::evaluation

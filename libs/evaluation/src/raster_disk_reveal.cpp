@@ -7,7 +7,7 @@
 
 #include "reveal_map.h"
 
-namespace asf {
+namespace asf::evaluation {
 
 using Grid = mrpt::maps::COccupancyGridMap2D;
 
@@ -100,4 +100,4 @@ double RasterDiskReveal::coverage() const {
 }
 std::size_t RasterDiskReveal::disks() const { return s_->disks; }
 
-}  // namespace asf
+}  // namespace asf::evaluation

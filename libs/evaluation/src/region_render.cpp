@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-namespace asf {
+namespace asf::evaluation {
 
 using Grid = mrpt::maps::COccupancyGridMap2D;
 
@@ -135,4 +135,4 @@ std::string topologySvg(const MapImage& m, const cv::Mat& background, const Topo
 
 }  // namespace render
 
-}  // namespace asf
+}  // namespace asf::evaluation

@@ -13,7 +13,7 @@ namespace mrpt::maps {
 class COccupancyGridMap2D;
 }
 
-namespace asf::render {
+namespace asf::evaluation::render {
 
 /// Distinct, deterministic colour of a region id (BGR).
 cv::Vec3b regionColour(RegionId id);
@@ -43,4 +43,4 @@ void drawRegionIds(MapImage& m, const Segmentation& seg);
 std::string topologySvg(const MapImage& m, const cv::Mat& background, const TopoGraph& topo,
                         const std::vector<Point2>& path = {});
 
-}  // namespace asf::render
+}  // namespace asf::evaluation::render

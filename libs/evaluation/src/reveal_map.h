@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-namespace asf::detail {
+namespace asf::evaluation::detail {
 
 /// Publishes into `map` (version + 1, not rebuilt) a copy of `grid` (published grids never
 /// change; a fresh W x H grid of unknown cells when null) in which the image pixels
@@ -31,4 +31,4 @@ void publishReveal(std::shared_ptr<mrpt::maps::COccupancyGridMap2D>& grid, GridM
   map.rebuilt = false;
 }
 
-}  // namespace asf::detail
+}  // namespace asf::evaluation::detail

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace asf {
+namespace asf::evaluation {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -513,4 +513,4 @@ std::string writeRunReport(const std::string& run_dir) {
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::evaluation

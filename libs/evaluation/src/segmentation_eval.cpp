@@ -20,7 +20,7 @@
 #include "region_render.h"
 #include "reveal_map.h"
 
-namespace asf {
+namespace asf::evaluation {
 
 namespace fs = std::filesystem;
 using Grid = mrpt::maps::COccupancyGridMap2D;
@@ -155,25 +155,6 @@ SegmentationScore scoreSegmentation(const io::LabelRaster& segmentation,
   else
     sc.mcc = (fp == 0 && fn == 0 && universe > 0) ? 1.0 : 0.0;
   return sc;
-}
-
-MeanStd meanStd(const std::vector<double>& values) {
-  MeanStd m;
-  if (values.empty()) return m;
-  for (double v : values) m.mean += v;
-  m.mean /= static_cast<double>(values.size());
-  double ss = 0;
-  for (double v : values) ss += (v - m.mean) * (v - m.mean);
-  m.std = std::sqrt(ss / static_cast<double>(values.size()));
-  return m;
-}
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const double rank = std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * values.size());
-  const auto i = static_cast<std::size_t>(std::max(1.0, rank)) - 1;
-  return values[std::min(i, values.size() - 1)];
 }
 
 // ---------------------------------------------------------------- overlay, JSON -----------
@@ -454,4 +435,4 @@ IncrementalResult evaluateIncremental(Segmenter& segmenter, const io::GrayImage&
   return evaluateIncremental(segmenter, sim, rooms, progress);
 }
 
-}  // namespace asf
+}  // namespace asf::evaluation

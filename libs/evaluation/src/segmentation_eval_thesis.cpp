@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-namespace asf {
+namespace asf::evaluation {
 
 ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
                                         const io::GrayImage& gt) {
@@ -56,4 +56,4 @@ ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::evaluation

@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-namespace asf::plot {
+namespace asf::evaluation::plot {
 
 namespace {
 
@@ -317,4 +317,4 @@ void writeSvg(const Figure& f, const std::string& path) {
   writeFileAtomically(path, svg(f), "plot");
 }
 
-}  // namespace asf::plot
+}  // namespace asf::evaluation::plot

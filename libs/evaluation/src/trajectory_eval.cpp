@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace asf {
+namespace asf::evaluation {
 
 using mrpt::poses::CPose2D;
 
@@ -124,4 +124,4 @@ std::vector<TimedPose> readTrajectory(const std::string& path) {
   return out;
 }
 
-}  // namespace asf
+}  // namespace asf::evaluation

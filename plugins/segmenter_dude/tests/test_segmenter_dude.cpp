@@ -284,9 +284,9 @@ TEST(SegmenterDude, ChangedBoxUpdateEqualsWholeMapUpdateThroughAnExploration) {
     SCOPED_TRACE(variant);
     auto boxed = make({{"variant", variant}});
     auto whole = make({{"variant", variant}});
-    asf::ExplorationOptions opt;
+    asf::evaluation::ExplorationOptions opt;
     opt.sensor_range = 3.0;
-    asf::ExplorationSimulator sim(floorPlan(), 0.05, opt);
+    asf::evaluation::ExplorationSimulator sim(floorPlan(), 0.05, opt);
     asf::Segmentation a, b;
     int steps = 0, incremental = 0;
     while (sim.step()) {

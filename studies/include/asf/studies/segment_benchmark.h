@@ -22,18 +22,18 @@ struct SegmentBenchmarkOptions {
   bool incremental = false;
   std::string exploration = "frontier";  ///< frontier | raster_disks
   std::string incremental_on = "plain";  ///< plain | furnished | both
-  ExplorationOptions explore;            ///< exploration = frontier
+  evaluation::ExplorationOptions explore;            ///< exploration = frontier
 };
 
 /// One map variant's scores.
 struct BenchmarkMapResult {
   std::string name, variant;
-  SegmentationScore score;
-  ThesisProtocolScore thesis;  ///< the thesis' own scoring (Table 4.1)
+  evaluation::SegmentationScore score;
+  evaluation::ThesisProtocolScore thesis;  ///< the thesis' own scoring (Table 4.1)
   double time_ms = 0;
   bool incremental = false;
-  IncrementalResult inc;  ///< update_ms and final_score when `incremental`
-  ThesisProtocolScore inc_thesis;
+  evaluation::IncrementalResult inc;  ///< update_ms and final_score when `incremental`
+  evaluation::ThesisProtocolScore inc_thesis;
 };
 
 /// The plain maps' names, sorted, or `only` (each checked to exist). Throws InputError for a

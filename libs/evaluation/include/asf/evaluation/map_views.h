@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::evaluation {
 
 /// Writes PREFIXmap.png and, when `seg` has labels, PREFIXregions.png and
 /// PREFIXtopology.svg; nothing without a grid. Throws asf::Error when a file cannot be
@@ -49,4 +49,4 @@ void writeViewPng(const std::string& file, const ViewImage& image);
 /// written; `map` must have a grid.
 void writeGridPng(const std::string& file, const GridMap& map);
 
-}  // namespace asf
+}  // namespace asf::evaluation

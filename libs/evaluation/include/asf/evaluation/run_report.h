@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::evaluation {
 
 /// Writes RUN_DIR/report.html: the summary table, map.png and regions.png, and the plots
 /// coverage vs distance, pose error vs distance, pose error / distance vs distance, per-stage
@@ -37,4 +37,4 @@ const char* css();
 
 }  // namespace report
 
-}  // namespace asf
+}  // namespace asf::evaluation

@@ -11,6 +11,7 @@
 #include <asf/io/image_io.h>
 #include <asf/io/occupancy_io.h>
 #include <asf/segmentation.h>
+#include <asf/statistics.h>
 #include <asf/topo_graph.h>
 #include <asf/graph/topology_json.h>
 
@@ -21,8 +22,10 @@
 #include <vector>
 
 namespace asf {
-
 class Segmenter;
+}  // namespace asf
+
+namespace asf::evaluation {
 
 /// Ground-truth rooms and scored segments must have more than this many pixels.
 constexpr int kBenchmarkMinRegionPixels = 100;
@@ -83,14 +86,6 @@ struct ThesisProtocolScore {
 /// `segmentation` (image orientation) and `gt` must have the same size (else Error).
 ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
                                         const io::GrayImage& gt);
-
-/// Mean and population standard deviation (divides by n); 0, 0 for no values.
-struct MeanStd {
-  double mean = 0, std = 0;
-};
-MeanStd meanStd(const std::vector<double>& values);
-/// Nearest-rank percentile (p in [0, 100]) of unsorted values; 0 for none.
-double percentile(std::vector<double> values, double p);
 
 /// Writes a PNG of the map with the regions coloured, their ids at their centroids, the
 /// topological graph's edges (if `topo`) and the outlines of ground-truth rooms (if `rooms`,
@@ -218,4 +213,4 @@ IncrementalResult evaluateIncremental(
     double resolution, const ExplorationOptions& options = {},
     const std::function<void(std::size_t, double)>& progress = {});
 
-}  // namespace asf
+}  // namespace asf::evaluation

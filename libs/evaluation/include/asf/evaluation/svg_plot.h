@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-namespace asf::plot {
+namespace asf::evaluation::plot {
 
 struct Series {
   std::string label;
@@ -46,4 +46,4 @@ std::vector<double> niceTicks(double lo, double hi, int target = 5);
 /// Writes svg(f) to path; throws asf::Error naming the file when it cannot.
 void writeSvg(const Figure& f, const std::string& path);
 
-}  // namespace asf::plot
+}  // namespace asf::evaluation::plot

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::evaluation {
 
 struct TimedPose {
   double t = 0;
@@ -68,4 +68,4 @@ RelativePoseError relativePoseError(const std::vector<mrpt::poses::CPose2D>& est
 /// Throws asf::InputError naming file:line.
 std::vector<TimedPose> readTrajectory(const std::string& path);
 
-}  // namespace asf
+}  // namespace asf::evaluation
