@@ -7,7 +7,7 @@
 //
 //   build/bench/bench_backends [--benchmark_filter=city10000]
 #include <asf/backend.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -32,11 +32,13 @@ const Backend kSparseNoLago{"sparse_lm_no_lago", "backend_sparse_lm.so", "sparse
                             {{"lago_init", "false"}}};
 const Backend kMrpt{"mrpt_levmarq", "backend_mrpt_levmarq.so", "mrpt_levmarq", {}};
 
-asf::PluginHandle<asf::Backend> make(const Backend& b) {
-  static std::map<std::string, std::shared_ptr<const asf::PluginInfo>> infos;
+asf::framework::PluginHandle<asf::Backend> make(const Backend& b) {
+  static std::map<std::string, std::shared_ptr<const asf::framework::PluginInfo>> infos;
   auto& info = infos[b.plugin_file];
-  if (!info) info = asf::Registry::loadFile(std::string(ASF_BENCH_PLUGIN_DIR) + "/" + b.plugin_file);
-  auto h = asf::Registry::create<asf::Backend>(info);
+  if (!info)
+    info =
+        asf::framework::Registry::loadFile(std::string(ASF_BENCH_PLUGIN_DIR) + "/" + b.plugin_file);
+  auto h = asf::framework::Registry::create<asf::Backend>(info);
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   h->configure(asf::Params::fromSpecs(b.section, info->descriptor->keys,
                                       info->descriptor->num_keys, b.keys),
@@ -51,7 +53,8 @@ const asf::PoseGraph* dataset(benchmark::State& state, const std::string& name) 
   if (it == cache.end()) {
     const std::string f = kDir + name + ".g2o";
     if (!std::filesystem::exists(f)) {
-      state.SkipWithError(("missing " + f + " (the shared datasets beside the repository)").c_str());
+      state.SkipWithError(
+          ("missing " + f + " (the shared datasets beside the repository)").c_str());
       return nullptr;
     }
     it = cache.emplace(name, asf::readG2o(f)).first;

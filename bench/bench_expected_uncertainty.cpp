@@ -10,7 +10,7 @@
 //   build/bench/bench_expected_uncertainty [--benchmark_filter=Intel|Cave]
 #include <asf/backend.h>
 #include <asf/planning/expected_uncertainty.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/planning/voronoi_graph.h>
 #include <benchmark/benchmark.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -107,8 +107,8 @@ struct Intel {
   Intel() {
     if (!std::filesystem::exists(kIntel)) return;
     g = asf::readG2o(kIntel);
-    auto info = asf::Registry::loadFile(ASF_BENCH_PLUGIN_DIR "/backend_sparse_lm.so");
-    auto be = asf::Registry::create<asf::Backend>(info);
+    auto info = asf::framework::Registry::loadFile(ASF_BENCH_PLUGIN_DIR "/backend_sparse_lm.so");
+    auto be = asf::framework::Registry::create<asf::Backend>(info);
     be->setMinLoggingLevel(mrpt::system::LVL_ERROR);
     be->configure(asf::Params::fromSpecs("sparse_lm", info->descriptor->keys,
                                          info->descriptor->num_keys),

@@ -14,7 +14,7 @@
 //   ASF_BENCH_GRAPH=/tmp/run/graph.g2o build/bench/bench_incremental --benchmark_filter=env
 //   ASF_BENCH_SET="incremental_update_nodes=32;incremental_update_touched=8" ... (other keys)
 #include <asf/backend.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -29,11 +29,12 @@ namespace {
 
 const std::string kDir = ASF_BENCH_SOURCE_DIR "/../shared/datasets/g2o/";
 
-asf::PluginHandle<asf::Backend> make(const std::map<std::string, std::string>& keys) {
-  static std::shared_ptr<const asf::PluginInfo> info;
+asf::framework::PluginHandle<asf::Backend> make(const std::map<std::string, std::string>& keys) {
+  static std::shared_ptr<const asf::framework::PluginInfo> info;
   if (!info)
-    info = asf::Registry::loadFile(std::string(ASF_BENCH_PLUGIN_DIR) + "/backend_sparse_lm.so");
-  auto h = asf::Registry::create<asf::Backend>(info);
+    info = asf::framework::Registry::loadFile(std::string(ASF_BENCH_PLUGIN_DIR) +
+                                              "/backend_sparse_lm.so");
+  auto h = asf::framework::Registry::create<asf::Backend>(info);
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   h->configure(
       asf::Params::fromSpecs("sparse_lm", info->descriptor->keys, info->descriptor->num_keys, keys),

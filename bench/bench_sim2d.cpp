@@ -3,7 +3,7 @@
 // 270 degrees) and without it, with and without recording the rawlog.
 //
 //   build/bench/bench_sim2d
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <benchmark/benchmark.h>
 
@@ -14,9 +14,9 @@
 
 namespace {
 
-asf::PluginHandle<asf::Source> makeCave(const std::map<std::string, std::string>& extra,
+asf::framework::PluginHandle<asf::Source> makeCave(const std::map<std::string, std::string>& extra,
                                         const std::string& out_dir) {
-  static auto info = asf::Registry::loadFile(ASF_BENCH_PLUGIN_DIR "/source_sim2d.so");
+  static auto info = asf::framework::Registry::loadFile(ASF_BENCH_PLUGIN_DIR "/source_sim2d.so");
   std::map<std::string, std::string> kv{
       {"map_image", ASF_BENCH_SOURCE_DIR "/datasets/cave/cave_filled.png"},
       {"resolution", "0.04"},
@@ -29,7 +29,7 @@ asf::PluginHandle<asf::Source> makeCave(const std::map<std::string, std::string>
       {"max_steps", "1000000000"},
       {"record", out_dir.empty() ? "false" : "true"}};
   for (const auto& [k, v] : extra) kv[k] = v;
-  auto h = asf::Registry::create<asf::Source>(info);
+  auto h = asf::framework::Registry::create<asf::Source>(info);
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   asf::PluginContext ctx;
   ctx.seed = 1;

@@ -3,7 +3,7 @@
 // commands. CARMEN logs: test_carmen.cpp.
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <asf/io/carmen.h>
 #include <asf/io/rawseeds.h>
@@ -76,8 +76,9 @@ double angleDiff(double a, double b) { return std::abs(mrpt::math::wrapToPi(a - 
 /// 181-ray / 180-degree laser (6 m range, so some rays are invalid), laser 0.08 m ahead.
 std::vector<asf::SensorFrame> simulate(int n) {
   // Kept loaded for the whole test program: frames hold objects made by the plugin.
-  static auto info = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_segment_world.so");
-  auto src = asf::Registry::create<asf::Source>(info);
+  static auto info =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_segment_world.so");
+  auto src = asf::framework::Registry::create<asf::Source>(info);
   asf::PluginContext ctx;
   ctx.seed = 11;
   src->configure(asf::Params::fromSpecs("segment_world", info->descriptor->keys,
@@ -630,6 +631,7 @@ TEST(ConvertCommands, ExitCodesAndMessages) {
   EXPECT_EQ(asf::io::readGroundTruth(tmp / "small.gt.txt").size(), 2u);
   r = runAsf("rawseeds2rawlog --dir " + tmp.str() + " --dataset SMALL --gt-only");
   EXPECT_EQ(r.code, 2) << r.out;
-  r = runAsf("rawseeds2rawlog --dir " + tmp.str() + " --dataset SMALL");  // neither -o nor --gt-only
+  r = runAsf("rawseeds2rawlog --dir " + tmp.str() +
+             " --dataset SMALL");  // neither -o nor --gt-only
   EXPECT_EQ(r.code, 2) << r.out;
 }

@@ -3,7 +3,7 @@
 // own stop rule with (nearly) the whole reachable area mapped.
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <asf/evaluation/run_report.h>
 #include <gtest/gtest.h>
 
@@ -53,10 +53,10 @@ fs::path writeWorld(const fs::path& dir) {
 }
 
 nlohmann::json runConfig(const asf::IniConfig& ini, const fs::path& out) {
-  asf::Registry reg;
-  const auto cfg = asf::resolveConfig(ini, reg);
-  asf::Pipeline p(cfg, out.string());
-  const asf::RunSummary s = p.run();
+  asf::framework::Registry reg;
+  const auto cfg = asf::framework::resolveConfig(ini, reg);
+  asf::framework::Pipeline p(cfg, out.string());
+  const asf::framework::RunSummary s = p.run();
   std::ifstream f(out / "summary.json");
   nlohmann::json j = nlohmann::json::parse(f);
   EXPECT_TRUE(fs::exists(out / "timeseries.csv"));
@@ -315,10 +315,10 @@ TEST(Exploration, ResumeErrorsNameTheKeyOrTheFile) {
   EXPECT_GT(fs::file_size(run / "sim2d.rawlog"), 0u);
   // Stopped while replaying (Ctrl-C): an interrupted run, its files written.
   {
-    asf::Registry reg;
-    asf::Pipeline p(asf::resolveConfig(ini, reg), (dir / "stopped").string());
+    asf::framework::Registry reg;
+    asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), (dir / "stopped").string());
     const std::atomic<bool> stop{true};
-    const asf::RunSummary s = p.run(&stop);
+    const asf::framework::RunSummary s = p.run(&stop);
     EXPECT_EQ(s.stop_reason, "interrupted");
     EXPECT_FALSE(s.finished);
     EXPECT_TRUE(fs::exists(dir / "stopped" / "summary.json"));

@@ -4,7 +4,7 @@
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
 #include <asf/mapping/map_builder.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <asf/io/rawlog_io.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
@@ -186,7 +186,9 @@ TEST(Map3dPipeline, MergeKeepsEveryObstacle) {
   EXPECT_NEAR(m->getResolution(), 0.1, 1e-6);
   EXPECT_LE(m->getXMin(), 0.0f + 1e-4);
   EXPECT_GE(m->getXMax(), 1.5f - 0.1f);
-  auto at = [&](double x, double y) { return m->getPos(static_cast<float>(x), static_cast<float>(y)); };
+  auto at = [&](double x, double y) {
+    return m->getPos(static_cast<float>(x), static_cast<float>(y));
+  };
   EXPECT_NEAR(at(0.25, 0.25), 0.9, 0.02);
   EXPECT_NEAR(at(0.65, 0.55), 0.1, 0.02);
   EXPECT_NEAR(at(0.75, 0.15), 0.2, 0.02);
@@ -297,11 +299,13 @@ TEST(Map3dPipeline, ObservationOnlyLogFramesFromThe3dSensor) {
 TEST(Map3dPipeline, ALogWithoutAFrameSaysWhatItHolds) {
   const fs::path dir = tempDir("noframe");
   const Scene scene;
-  const std::string clouds = (dir / "clouds.rawlog").string(), hokuyo = (dir / "hokuyo.rawlog").string();
+  const std::string clouds = (dir / "clouds.rawlog").string(),
+                    hokuyo = (dir / "hokuyo.rawlog").string();
   {
     mrpt::io::CFileGZOutputStream out(clouds);
     auto ar = mrpt::serialization::archiveFrom(out);
-    for (int k = 0; k < 4; ++k) ar << *scene.cloud(CPose2D(1 + 0.4 * k, -1, 0), CPose3D(0, 0, 0.5, 0, 0, 0), k);
+    for (int k = 0; k < 4; ++k)
+      ar << *scene.cloud(CPose2D(1 + 0.4 * k, -1, 0), CPose3D(0, 0, 0.5, 0, 0, 0), k);
   }
   {  // the observation-only layout: scans as records of their own
     mrpt::io::CFileGZOutputStream out(hokuyo);
@@ -316,34 +320,41 @@ TEST(Map3dPipeline, ALogWithoutAFrameSaysWhatItHolds) {
     }
   }
   auto run = [&](const std::string& log, const std::string& extra) {
-    const std::string ini = "[pipeline]\nsource = rawlog\nfrontend = odometry\nprogress_interval = 0\n"
-                            "[rawlog]\nfile = " + log + "\n" + extra;
-    asf::Registry reg;
-    const auto rc = asf::resolveConfig(asf::IniConfig::fromText(ini, (dir / "r.ini").string()), reg);
-    asf::Pipeline p(rc, (dir / "out").string());
+    const std::string ini =
+        "[pipeline]\nsource = rawlog\nfrontend = odometry\nprogress_interval = 0\n"
+        "[rawlog]\nfile = " +
+        log + "\n" + extra;
+    asf::framework::Registry reg;
+    const auto rc =
+        asf::framework::resolveConfig(asf::IniConfig::fromText(ini, (dir / "r.ini").string()), reg);
+    asf::framework::Pipeline p(rc, (dir / "out").string());
     return asf_test::errorOf<asf::InputError>([&] { p.run(); });
   };
   const std::string e = run(clouds, "");
-  EXPECT_TRUE(asf_test::has(e, "[rawlog] file = '" + clouds + "': no frame: it has no 2D laser scan; it "
-                               "holds 3D observations (4): scan_from_3d = true"))
+  EXPECT_TRUE(asf_test::has(e, "[rawlog] file = '" + clouds +
+                                   "': no frame: it has no 2D laser scan; it "
+                                   "holds 3D observations (4): scan_from_3d = true"))
       << e;
   const std::string e2 = run(hokuyo, "laser_label = LASER\n");
-  EXPECT_TRUE(asf_test::has(e2, "no 2D laser scan labelled 'LASER' (laser_label; labels in the file: 'HOKUYO')"))
+  EXPECT_TRUE(asf_test::has(
+      e2, "no 2D laser scan labelled 'LASER' (laser_label; labels in the file: 'HOKUYO')"))
       << e2;
 }
 
 TEST(Map3dPipeline, NavigationMapNeedsTheMap3d) {
-  asf::Registry reg;
+  asf::framework::Registry reg;
   const auto ini = asf::IniConfig::fromText(
       "[pipeline]\nsource = rawlog\nfrontend = odometry\nnavigation_map = merged\n"
       "[rawlog]\nfile = x.rawlog\n",
       "p.ini");
-  const std::string msg = asf_test::errorOf<asf::Error>([&] { asf::resolveConfig(ini, reg); });
+  const std::string msg =
+      asf_test::errorOf<asf::Error>([&] { asf::framework::resolveConfig(ini, reg); });
   EXPECT_TRUE(asf_test::has(msg, "navigation_map")) << msg;
   EXPECT_TRUE(asf_test::has(msg, "map3d = true")) << msg;
   const auto typo = asf::IniConfig::fromText(
       "[pipeline]\nsource = rawlog\nfrontend = odometry\n[map3d]\nresolutoin = 0.1\n", "q.ini");
-  const std::string msg2 = asf_test::errorOf<asf::Error>([&] { asf::resolveConfig(typo, reg); });
+  const std::string msg2 =
+      asf_test::errorOf<asf::Error>([&] { asf::framework::resolveConfig(typo, reg); });
   EXPECT_TRUE(asf_test::has(msg2, "resolutoin")) << msg2;
   EXPECT_TRUE(asf_test::has(msg2, "resolution")) << msg2;  // did you mean
 }
@@ -374,15 +385,17 @@ TEST(Map3dPipeline, RobotWithOnlyA3dSensor) {
         "slice_min_z = 0.3\nslice_max_z = 1.0\nslice_rays = 360\n"
         "[odometry]\nkeyframe_distance = 0.5\n"
         "[map3d]\nresolution = 0.05\nmax_range = 8\nmin_height = 0.05\nmax_height = 1.0\n";
-    asf::Registry reg;
-    const auto rc = asf::resolveConfig(asf::IniConfig::fromText(ini, (dir / (name + ".ini")).string()), reg);
-    asf::Pipeline p(rc, (dir / name).string());
+    asf::framework::Registry reg;
+    const auto rc = asf::framework::resolveConfig(
+        asf::IniConfig::fromText(ini, (dir / (name + ".ini")).string()), reg);
+    asf::framework::Pipeline p(rc, (dir / name).string());
     return p.run();
   };
-  const asf::RunSummary merged = run("merged", "merged");
+  const asf::framework::RunSummary merged = run("merged", "merged");
   EXPECT_EQ(merged.steps, 17);
   const fs::path out = dir / "merged";
-  for (const char* f : {"map3d.bt", "map3d.ot", "map3d.json", "map3d_grid.png", "map.png", "report.html"})
+  for (const char* f :
+       {"map3d.bt", "map3d.ot", "map3d.json", "map3d_grid.png", "map.png", "report.html"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   std::ifstream in(out / "map3d.json");
   const auto j = nlohmann::json::parse(in);
@@ -404,7 +417,8 @@ TEST(Map3dPipeline, RobotWithOnlyA3dSensor) {
   };
   double face = 0;
   for (double x : {1.27, 1.32, 1.37, 1.42})
-    for (double z : {0.025, 0.075, 0.125}) face = std::max({face, occ(x, 1.37, z), occ(x, 1.42, z)});
+    for (double z : {0.025, 0.075, 0.125})
+      face = std::max({face, occ(x, 1.37, z), occ(x, 1.42, z)});
   EXPECT_GT(face, 0.5);
   EXPECT_GE(occ(1.35, 0.0, 0.3), 0.0);
   EXPECT_LT(occ(1.35, 0.0, 0.3), 0.5);
@@ -414,15 +428,16 @@ TEST(Map3dPipeline, RobotWithOnlyA3dSensor) {
   // The 2D laser slice (0.3..1.0 m) never sees the box, the 3D map does: in the merged grid
   // (map.png, the grid the segmenter, policy and coverage use) the box is an obstacle, in
   // the scans' grid alone it is free floor.
-  const asf::RunSummary scan2d = [&] {
+  const asf::framework::RunSummary scan2d = [&] {
     const std::string ini =
         "[pipeline]\nsource = rawlog\nfrontend = odometry\nprogress_interval = 0\n"
         "[rawlog]\nfile = " + log + "\nscan_from_3d = true\n"
         "slice_min_z = 0.3\nslice_max_z = 1.0\nslice_rays = 360\n"
         "[odometry]\nkeyframe_distance = 0.5\n";
-    asf::Registry reg;
-    asf::Pipeline p(asf::resolveConfig(asf::IniConfig::fromText(ini, (dir / "s.ini").string()), reg),
-                    (dir / "scan2d").string());
+    asf::framework::Registry reg;
+    asf::framework::Pipeline p(
+        asf::framework::resolveConfig(asf::IniConfig::fromText(ini, (dir / "s.ini").string()), reg),
+        (dir / "scan2d").string());
     return p.run();
   }();
   EXPECT_EQ(scan2d.nodes, merged.nodes);
@@ -470,11 +485,11 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
       ini.set("pipeline", "map3d", "false");
       ini.set("pipeline", "navigation_map", "scan2d");
     }
-    asf::Registry reg;
-    asf::Pipeline p(asf::resolveConfig(ini, reg), tempDir(name).string());
+    asf::framework::Registry reg;
+    asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), tempDir(name).string());
     return p.run();
   };
-  const asf::RunSummary with3d = run(true, "low3d");
+  const asf::framework::RunSummary with3d = run(true, "low3d");
   EXPECT_TRUE(with3d.finished) << with3d.stop_reason;
   EXPECT_GE(with3d.coverage, 0.98);
   EXPECT_TRUE(fs::exists(fs::temp_directory_path() / "asf_test_map3d_pipeline_low3d" /
@@ -501,9 +516,9 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
   ASSERT_EQ(kf.size(), with3d.nodes);
   auto ini = asf::IniConfig::fromFile(ASF_TEST_SOURCE_DIR "/configs/low_obstacles.ini");
   ini.set("map3d", "rebuild_threshold", "1e-6");
-  asf::Registry reg;
+  asf::framework::Registry reg;
   asf::mapping::Map3d fresh;
-  fresh.configure(asf::resolveConfig(ini, reg).map3d);
+  fresh.configure(asf::framework::resolveConfig(ini, reg).map3d);
   asf::io::RawlogReaderOptions o;
   o.observations3d = true;
   o.laser_label = "LASER";
@@ -525,6 +540,6 @@ TEST(Map3dPipeline, TiltedLaserAndMergedMapAvoidTheLowBoxes) {
   EXPECT_EQ(run_occupied, fresh.stats().occupied_voxels);
   EXPECT_EQ(fresh.stats().occupied_voxels, j["stats"]["occupied_voxels"].get<std::size_t>());
 
-  const asf::RunSummary only2d = run(false, "low2d");
+  const asf::framework::RunSummary only2d = run(false, "low2d");
   EXPECT_LT(only2d.coverage, 0.9) << "the 2D laser alone was expected to miss the boxes";
 }

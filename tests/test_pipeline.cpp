@@ -2,7 +2,7 @@
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/evaluation/trajectory_eval.h>
 #include <gtest/gtest.h>
@@ -47,16 +47,17 @@ std::size_t lineCount(const fs::path& f) {
 }  // namespace
 
 TEST(PipelineConfig, DefaultConfigResolves) {
-  asf::Registry reg;
-  const auto rc = asf::resolveConfig(asf::IniConfig::fromFile(kDefault), reg);
+  asf::framework::Registry reg;
+  const auto rc = asf::framework::resolveConfig(asf::IniConfig::fromFile(kDefault), reg);
   EXPECT_EQ(rc.slots.size(), 6u) << "one plugin per slot";
   EXPECT_TRUE(rc.warnings.empty());
   const std::string ini = rc.toIni();
   EXPECT_TRUE(has(ini, "[segment_world]"));
   EXPECT_TRUE(has(ini, "max_steps = 100000"));
   // The resolved text is itself a valid configuration that resolves to the same values.
-  asf::Registry reg2;
-  const auto rc2 = asf::resolveConfig(asf::IniConfig::fromText(ini, "resolved.ini"), reg2);
+  asf::framework::Registry reg2;
+  const auto rc2 =
+      asf::framework::resolveConfig(asf::IniConfig::fromText(ini, "resolved.ini"), reg2);
   auto texts = [](const asf::Params& p) {
     std::map<std::string, std::string> m;
     for (const auto& [k, v] : p.values()) m[k] = v.text;
@@ -70,12 +71,12 @@ TEST(PipelineConfig, DefaultConfigResolves) {
 }
 
 TEST(PipelineConfig, ErrorsNameFileSectionKeyAndSuggest) {
-  asf::Registry reg;
+  asf::framework::Registry reg;
   const auto ini = asf::IniConfig::fromText(
       "[pipeline]\nsource = segment_world\nfrontend = odometri\nbackend = dense_gn\n"
       "seed = -3\n[segment_wrld]\nx = 1\n[dense_gn]\nmax_iteratons = 3\n",
       "p.ini");
-  const std::string msg = errorOf([&] { asf::resolveConfig(ini, reg); });
+  const std::string msg = errorOf([&] { asf::framework::resolveConfig(ini, reg); });
   EXPECT_TRUE(has(msg, "p.ini:5: [pipeline] seed = '-3': out of range")) << msg;
   EXPECT_TRUE(has(msg,
                   "p.ini:3: [pipeline] frontend: unknown frontend plugin 'odometri'; "
@@ -94,13 +95,13 @@ TEST(PipelineConfig, ErrorsNameFileSectionKeyAndSuggest) {
 }
 
 TEST(PipelineConfig, MissingSlotsAndWrongKinds) {
-  asf::Registry reg;
-  std::string msg =
-      errorOf([&] { asf::resolveConfig(asf::IniConfig::fromText("[map]\n", "p.ini"), reg); });
+  asf::framework::Registry reg;
+  std::string msg = errorOf(
+      [&] { asf::framework::resolveConfig(asf::IniConfig::fromText("[map]\n", "p.ini"), reg); });
   EXPECT_TRUE(has(msg, "p.ini: no [pipeline] section")) << msg;
   EXPECT_TRUE(has(msg, "missing required key 'source'")) << msg;
   msg = errorOf([&] {
-    asf::resolveConfig(
+    asf::framework::resolveConfig(
         asf::IniConfig::fromText("[pipeline]\nsource = dense_gn\nfrontend = odometry\n", "p.ini"),
         reg);
   });
@@ -109,23 +110,23 @@ TEST(PipelineConfig, MissingSlotsAndWrongKinds) {
 }
 
 TEST(PipelineConfig, SectionOfAnUnusedPluginIsValidatedAndWarned) {
-  asf::Registry reg;
+  asf::framework::Registry reg;
   const auto ini = asf::IniConfig::fromText(
       "[pipeline]\nsource = segment_world\nfrontend = odometry\n[shortest]\n", "p.ini");
-  const auto rc = asf::resolveConfig(ini, reg);
+  const auto rc = asf::framework::resolveConfig(ini, reg);
   ASSERT_EQ(rc.warnings.size(), 1u);
   EXPECT_TRUE(
       has(rc.warnings[0], "configures plugin 'shortest', which this pipeline does not use"));
 }
 
 TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
-  asf::Registry reg;
+  asf::framework::Registry reg;
   auto ini = asf::IniConfig::fromFile(kDefault);
   ini.set("pipeline", "progress_interval", "0");
-  const auto rc = asf::resolveConfig(ini, reg);
+  const auto rc = asf::framework::resolveConfig(ini, reg);
   const fs::path out = tempDir("default");
-  asf::Pipeline p(rc, out.string());
-  const asf::RunSummary s = p.run();
+  asf::framework::Pipeline p(rc, out.string());
+  const asf::framework::RunSummary s = p.run();
   EXPECT_TRUE(s.finished) << s.stop_reason;
   EXPECT_TRUE(has(s.stop_reason, "policy done")) << s.stop_reason;
   EXPECT_GT(s.distance_m, 15.0) << "the route is about 20 m long";
@@ -133,7 +134,7 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   EXPECT_GE(s.regions, 1u);
   EXPECT_GE(s.final_pose_error_m, 0.0);
   EXPECT_LT(s.final_pose_error_m, 1.0) << "2% odometry noise over ~20 m";
-  for (const auto& f : asf::Pipeline::outputFiles())
+  for (const auto& f : asf::framework::Pipeline::outputFiles())
     EXPECT_TRUE(fs::exists(out / f)) << f << " missing";
   EXPECT_EQ(lineCount(out / "trajectory.csv"), static_cast<std::size_t>(s.steps) + 1);
   const auto j = readJson(out / "summary.json");
@@ -170,9 +171,9 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
 
   // Same seed, same run: deterministic to the last digit.
   const fs::path out2 = tempDir("default2");
-  asf::Registry reg2;
-  asf::Pipeline p2(asf::resolveConfig(ini, reg2), out2.string());
-  const asf::RunSummary s2 = p2.run();
+  asf::framework::Registry reg2;
+  asf::framework::Pipeline p2(asf::framework::resolveConfig(ini, reg2), out2.string());
+  const asf::framework::RunSummary s2 = p2.run();
   EXPECT_EQ(s2.steps, s.steps);
   EXPECT_EQ(s2.final_pose_error_m, s.final_pose_error_m);
   std::ifstream a(out / "trajectory.csv"), b(out2 / "trajectory.csv");
@@ -183,13 +184,13 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
 }
 
 TEST(Pipeline, InterruptedRunLeavesValidOutputs) {
-  asf::Registry reg;
+  asf::framework::Registry reg;
   auto ini = asf::IniConfig::fromFile(kDefault);
   ini.set("pipeline", "progress_interval", "0");
   const fs::path out = tempDir("interrupted");
-  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+  asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), out.string());
   std::atomic<bool> stop{true};
-  const asf::RunSummary s = p.run(&stop);
+  const asf::framework::RunSummary s = p.run(&stop);
   EXPECT_EQ(s.stop_reason, "interrupted");
   EXPECT_FALSE(s.finished);
   const auto j = readJson(out / "summary.json");
@@ -203,15 +204,15 @@ TEST(Pipeline, InterruptedRunLeavesValidOutputs) {
 TEST(Pipeline, PolicyThatNeverMovesTheRobotIsStopped) {
   // A looping route whose only waypoint is where the robot stands: every goal is reached at
   // once and the policy would go on forever; the host stops it.
-  asf::Registry reg;
+  asf::framework::Registry reg;
   auto ini = asf::IniConfig::fromFile(kDefault);
   ini.set("pipeline", "progress_interval", "0");
   ini.set("pipeline", "max_idle_decisions", "20");
   ini.set("waypoints", "waypoints", "0 0");
   ini.set("waypoints", "loop", "true");
   const fs::path out = tempDir("idle");
-  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
-  const asf::RunSummary s = p.run();
+  asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), out.string());
+  const asf::framework::RunSummary s = p.run();
   EXPECT_FALSE(s.finished);
   EXPECT_TRUE(has(s.stop_reason, "no progress: the policy's last 20 decisions")) << s.stop_reason;
   EXPECT_EQ(s.decisions, 20);
@@ -223,7 +224,7 @@ TEST(Pipeline, PolicySeesThePipelinesPlanner) {
   // policy asks it for the path from the newest node home at each decision and writes the
   // answer into the decision's reason; without a planner it is told there is none.
   for (const std::string planner : {"shortest", ""}) {
-    asf::Registry reg;
+    asf::framework::Registry reg;
     auto ini = asf::IniConfig::fromFile(kDefault);
     ini.set("pipeline", "policy", "test_policy");
     ini.set("pipeline", "planner", planner);
@@ -232,7 +233,7 @@ TEST(Pipeline, PolicySeesThePipelinesPlanner) {
     ini.set("test_policy", "fail_after", "4");
     ini.set("test_policy", "plan_home", "true");
     const fs::path out = tempDir("policy_planner");
-    asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+    asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), out.string());
     errorOf([&] { p.run(); });  // the test policy throws after its 4 decisions
     std::ifstream in(out / "decisions.csv");
     const std::string csv((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -254,14 +255,14 @@ TEST(Pipeline, PolicySeesThePipelinesPlanner) {
 TEST(Pipeline, PluginFailureMidRunKeepsWhatWasProduced) {
   // The test policy shuttles for 3 goals and throws on its 4th decision; the run must
   // report the error and still leave the steps driven so far on disk.
-  asf::Registry reg;
+  asf::framework::Registry reg;
   auto ini = asf::IniConfig::fromFile(kDefault);
   ini.set("pipeline", "policy", "test_policy");
   ini.set("pipeline", "plugin_path", ASF_TEST_BINARY_DIR "/tests/plugins/good");
   ini.set("pipeline", "progress_interval", "0");
   ini.set("test_policy", "fail_after", "3");
   const fs::path out = tempDir("failure");
-  asf::Pipeline p(asf::resolveConfig(ini, reg), out.string());
+  asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), out.string());
   const std::string msg = errorOf([&] { p.run(); });
   EXPECT_TRUE(has(msg, "test policy fails on purpose")) << msg;
   const auto j = readJson(out / "summary.json");

@@ -1,7 +1,7 @@
 // End to end: a simulated run (sim2d) records a rawlog and a ground-truth file; replaying
 // them through the `rawlog` source gives the pipeline the same stream, so the same
 // trajectory.
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,10 +21,10 @@ fs::path tempDir(const std::string& name) {
   return d;
 }
 
-asf::RunSummary runIni(const std::string& text, const fs::path& out) {
-  asf::Registry reg;
-  const auto rc = asf::resolveConfig(asf::IniConfig::fromText(text, "test.ini"), reg);
-  asf::Pipeline p(rc, out.string());
+asf::framework::RunSummary runIni(const std::string& text, const fs::path& out) {
+  asf::framework::Registry reg;
+  const auto rc = asf::framework::resolveConfig(asf::IniConfig::fromText(text, "test.ini"), reg);
+  asf::framework::Pipeline p(rc, out.string());
   return p.run();
 }
 

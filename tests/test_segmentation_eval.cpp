@@ -6,7 +6,7 @@
 // The synthetic PNGs are written with asf::io::writeGrayImage (OpenCV inside the framework): this
 // target does not link OpenCV itself.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
@@ -76,14 +76,15 @@ asf::io::GrayImage twoRoomsGt() {
   return g;
 }
 
-std::shared_ptr<const asf::PluginInfo> freeComponents() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_free_components.so");
+std::shared_ptr<const asf::framework::PluginInfo> freeComponents() {
+  static auto i =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_free_components.so");
   return i;
 }
 
-asf::PluginHandle<asf::Segmenter> makeFreeComponents(
+asf::framework::PluginHandle<asf::Segmenter> makeFreeComponents(
     const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Segmenter>(freeComponents());
+  auto h = asf::framework::Registry::create<asf::Segmenter>(freeComponents());
   h->configure(asf::Params::fromSpecs("free_components", freeComponents()->descriptor->keys,
                                       freeComponents()->descriptor->num_keys, kv),
                asf::PluginContext{});

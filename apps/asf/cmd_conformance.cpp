@@ -33,25 +33,26 @@ int cmdConformance(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(static_cast<int>(ours.size()), ours.data());
 
-  std::vector<std::shared_ptr<const PluginInfo>> plugins;
-  Registry reg;
+  std::vector<std::shared_ptr<const framework::PluginInfo>> plugins;
+  framework::Registry reg;
   bool scanned = false;
   auto scan = [&] {
     if (scanned) return;
     scanned = true;
-    for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+    for (const auto& d : framework::Registry::defaultSearchPath()) reg.scanDirectory(d);
     for (const auto& d : path.getValue()) reg.scanDirectory(d);
   };
   for (const auto& t : targets.getValue()) {
     if (t.find('/') != std::string::npos || (t.size() > 3 && t.substr(t.size() - 3) == ".so")) {
-      plugins.push_back(Registry::loadFile(t));
+      plugins.push_back(framework::Registry::loadFile(t));
     } else {
       scan();
       auto p = reg.find(t);
       if (!p) {
         std::string avail;
         for (const auto& q : reg.plugins()) avail += (avail.empty() ? "" : ", ") + q->name();
-        throw PluginError("unknown plugin '" + t + "'; available: " + (avail.empty() ? "(none)" : avail));
+        throw PluginError("unknown plugin '" + t +
+                          "'; available: " + (avail.empty() ? "(none)" : avail));
       }
       plugins.push_back(p);
     }

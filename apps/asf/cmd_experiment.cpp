@@ -5,7 +5,7 @@
 #include <asf/errors.h>
 #include <asf/studies/experiment.h>
 #include <asf/studies/experiment_slurm.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <tclap/CmdLine.h>
 
 #include <atomic>
@@ -37,9 +37,9 @@ void checkPipeline(const studies::ExperimentConfig& cfg) {
     ini.set("pipeline", "policy", p, "[experiment] policies");
     ini.set("pipeline", "seed", std::to_string(cfg.first_seed), "[experiment] first_seed");
     for (const auto& o : cfg.overrides) ini.applyOverride(o);
-    Registry reg;
+    framework::Registry reg;
     try {
-      resolveConfig(ini, reg);
+      framework::resolveConfig(ini, reg);
     } catch (const ConfigError& e) {
       throw ConfigError(std::string(e.what()) + "\n(pipeline " + cfg.pipeline_ini +
                         " with policy " + p + ")");

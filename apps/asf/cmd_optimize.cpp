@@ -4,7 +4,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/pose_graph.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -50,15 +50,15 @@ int cmdOptimize(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  Registry reg;
+  framework::Registry reg;
   scanPlugins(reg, path.getValue());
   const auto info = reg.find(backend.getValue(), PluginKind::Backend);
   const std::string name = info->name();
   // The back-end's keys, validated like an INI section ([name] key = value).
   const Params params = setOverrides(set.getValue(), name, "back-end")
                             .resolve(name, info->descriptor->keys, info->descriptor->num_keys);
-  auto be = Registry::create<Backend>(info);
-  logPluginToStderr(*be, name);
+  auto be = framework::Registry::create<Backend>(info);
+  framework::logPluginToStderr(*be, name);
   be->configure(params, PluginContext{});
 
   PoseGraph g = readG2o(file.getValue());

@@ -10,7 +10,7 @@
 #include <asf/studies/plan_query.h>
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/evaluation/segmentation_eval.h>
 #include <tclap/CmdLine.h>
 
@@ -41,8 +41,8 @@ GridMap readMapArgument(const std::string& path, double resolution) {
 
 /// The planner's keys with the command line's overrides; with --voronoi, voronoi_edges=true
 /// (only for a planner that has the key).
-Params plannerParams(const PluginInfo& pinfo, std::vector<std::string> overrides, bool voronoi,
-                     bool have_map) {
+Params plannerParams(const framework::PluginInfo& pinfo, std::vector<std::string> overrides,
+                     bool voronoi, bool have_map) {
   if (voronoi) {
     if (!have_map) throw ConfigError("--voronoi needs --map MAP.png");
     bool declared = false;
@@ -233,7 +233,7 @@ int cmdPlan(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  Registry reg;
+  framework::Registry reg;
   scanPlugins(reg, path.getValue());
   const auto pinfo = reg.find(planner.getValue(), PluginKind::Planner);
   const auto binfo = reg.find(backend.getValue(), PluginKind::Backend);
@@ -242,11 +242,11 @@ int cmdPlan(int argc, char** argv) {
   if (!(resolution.getValue() > 0)) throw ConfigError("--resolution must be > 0");
   PluginContext ctx;
   ctx.seed = seed.getValue();
-  auto pl = Registry::create<Planner>(pinfo);
-  logPluginToStderr(*pl, pinfo->name());
+  auto pl = framework::Registry::create<Planner>(pinfo);
+  framework::logPluginToStderr(*pl, pinfo->name());
   pl->configure(pparams, ctx);
-  auto be = Registry::create<Backend>(binfo);
-  logPluginToStderr(*be, binfo->name());
+  auto be = framework::Registry::create<Backend>(binfo);
+  framework::logPluginToStderr(*be, binfo->name());
   be->configure(
       Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys),
       PluginContext{});

@@ -4,7 +4,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/studies/plan_eval.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <tclap/CmdLine.h>
 
 #include <iostream>
@@ -44,7 +44,7 @@ int cmdPlanEval(int argc, char** argv) {
       throw ConfigError("--set " + s + ": expected section.key=value");
     ini.applyOverride(s);
   }
-  Registry reg;
+  framework::Registry reg;
   scanPlugins(reg, path.getValue());
   const studies::PlanEvalOutput out =
       studies::runPlanEval(ini, reg, out_arg.getValue(), config.getValue());

@@ -1,4 +1,4 @@
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <tclap/CmdLine.h>
 
 #include <algorithm>
@@ -23,8 +23,8 @@ int cmdPlugins(int argc, char** argv) {
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  Registry reg;
-  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+  framework::Registry reg;
+  for (const auto& d : framework::Registry::defaultSearchPath()) reg.scanDirectory(d);
   for (const auto& d : path.getValue()) reg.scanDirectory(d);
   auto plugins = reg.plugins();
   std::sort(plugins.begin(), plugins.end(), [](const auto& a, const auto& b) {

@@ -1,6 +1,6 @@
 #include <asf/errors.h>
 #include <asf/evaluation/map_views.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <dlfcn.h>
 #include <tclap/CmdLine.h>
 
@@ -87,7 +87,7 @@ void resumeSettings(const std::string& run, std::string& config_file, std::strin
 }
 
 /// The run's outcome and where its files are, on stdout.
-void printOutcome(const RunSummary& s, const std::string& dir) {
+void printOutcome(const framework::RunSummary& s, const std::string& dir) {
   std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, " << s.distance_m
             << " m, " << s.nodes << " nodes, " << s.edges << " edges, " << s.regions << " regions";
   if (s.final_pose_error_m >= 0)
@@ -100,7 +100,7 @@ void printOutcome(const RunSummary& s, const std::string& dir) {
   std::cout << " in " << s.wall_time_s << " s\n";
   std::cout << "asf run: results in " << std::filesystem::absolute(dir).lexically_normal().string()
             << "/ (";
-  const auto files = Pipeline::outputFiles();
+  const auto files = framework::Pipeline::outputFiles();
   for (std::size_t i = 0; i < files.size(); ++i) std::cout << (i ? ", " : "") << files[i];
   std::cout << ")\n";
   const auto report = (std::filesystem::absolute(dir) / "report.html").lexically_normal();
@@ -167,8 +167,8 @@ int cmdRun(int argc, char** argv) {
   }
   for (const auto& s : set.getValue()) ini.applyOverride(s);
   if (!verb.getValue().empty()) ini.set("pipeline", "verbosity", verb.getValue(), "--verbosity");
-  Registry reg;
-  const ResolvedConfig rc = resolveConfig(ini, reg);
+  framework::Registry reg;
+  const framework::ResolvedConfig rc = framework::resolveConfig(ini, reg);
 
   if (dir.empty()) dir = "results/" + std::filesystem::path(config_file).stem().string();
   // The window first: without a display nothing is created, not even the output folder.
@@ -179,7 +179,7 @@ int cmdRun(int argc, char** argv) {
                        ": must be > 0 seconds");
     window = std::make_unique<LiveWindow>("asf run " + config_file);
   }
-  Pipeline pipeline(rc, dir);
+  framework::Pipeline pipeline(rc, dir);
   if (window) {
     LiveWindow* w = window.get();
     pipeline.setLiveView([w](const evaluation::ViewImage& v) { w->show(v); },
@@ -190,7 +190,7 @@ int cmdRun(int argc, char** argv) {
   std::signal(SIGTERM, onSignal);
   std::signal(SIGUSR1, onPauseSignal);
   std::signal(SIGUSR2, onHomeSignal);
-  const RunSummary s = pipeline.run(&g_stop, &g_pause, &g_home);
+  const framework::RunSummary s = pipeline.run(&g_stop, &g_pause, &g_home);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   std::signal(SIGUSR1, SIG_DFL);

@@ -6,7 +6,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/evaluation/run_report.h>
 #include <asf/studies/segment_benchmark.h>
 #include <asf/evaluation/segmentation_eval.h>
@@ -35,12 +35,12 @@ namespace fs = std::filesystem;
 /// A segmenter plugin with its validated keys, and the [topology] keys; creates a fresh,
 /// configured instance per map (segmenters keep id state between calls).
 struct SegmenterSetup {
-  std::shared_ptr<const PluginInfo> info;
+  std::shared_ptr<const framework::PluginInfo> info;
   Params params, topology;
 
-  PluginHandle<Segmenter> create() const {
-    auto s = Registry::create<Segmenter>(info);
-    logPluginToStderr(*s, info->name());
+  framework::PluginHandle<Segmenter> create() const {
+    auto s = framework::Registry::create<Segmenter>(info);
+    framework::logPluginToStderr(*s, info->name());
     s->configure(params, PluginContext{});
     return s;
   }
@@ -52,7 +52,7 @@ const char* kSetHelp =
 
 SegmenterSetup setupSegmenter(const std::string& name, const std::vector<std::string>& sets,
                               const std::vector<std::string>& plugin_paths, bool with_topology) {
-  Registry reg;
+  framework::Registry reg;
   scanPlugins(reg, plugin_paths);
   SegmenterSetup s;
   s.info = reg.find(name, PluginKind::Segmenter);

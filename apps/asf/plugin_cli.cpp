@@ -7,8 +7,8 @@
 
 namespace asf::app {
 
-void scanPlugins(Registry& reg, const std::vector<std::string>& extra) {
-  for (const auto& d : Registry::defaultSearchPath()) reg.scanDirectory(d);
+void scanPlugins(framework::Registry& reg, const std::vector<std::string>& extra) {
+  for (const auto& d : framework::Registry::defaultSearchPath()) reg.scanDirectory(d);
   for (const auto& d : extra) reg.scanDirectory(d);
 }
 

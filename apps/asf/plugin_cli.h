@@ -3,7 +3,7 @@
 // validated as INI overrides, plugin log lines on stderr (stdout stays the report).
 #include <asf/config.h>
 #include <asf/plugin.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/text.h>
 
 #include <chrono>
@@ -13,7 +13,7 @@
 namespace asf::app {
 
 /// Scans the default plugin folders, then `extra` (--plugin-path).
-void scanPlugins(Registry& reg, const std::vector<std::string>& extra);
+void scanPlugins(framework::Registry& reg, const std::vector<std::string>& extra);
 
 /// --set arguments as INI overrides: "key=value" goes to [plugin], "section.key=value" to
 /// that section, which must be the plugin's (any case) or one of `extra_sections`; anything
@@ -23,7 +23,7 @@ IniConfig setOverrides(const std::vector<std::string>& sets, const std::string& 
                        const std::string& what, const std::vector<std::string>& extra_sections = {},
                        const std::string& hint = "");
 
-// Plugin log lines on stderr: asf::logPluginToStderr (registry.h); lowercase and
+// Plugin log lines on stderr: asf::framework::logPluginToStderr (registry.h); lowercase and
 // secondsSince: asf/text.h.
 
 }  // namespace asf::app

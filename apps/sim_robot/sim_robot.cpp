@@ -8,8 +8,8 @@
 #include <asf/abi.h>
 #include <asf/config.h>
 #include <asf/errors.h>
-#include <asf/pipeline_config.h>
-#include <asf/registry.h>
+#include <asf/framework/pipeline_config.h>
+#include <asf/framework/registry.h>
 #include <asf/ros2/messages.h>
 #include <asf/source.h>
 #include <asf/statistics.h>
@@ -179,10 +179,10 @@ class SimRobot {
   void loadSource() {
     asf::IniConfig ini = asf::IniConfig::fromFile(o_.config);
     for (const auto& s : o_.sets) ini.applyOverride(s);
-    asf::ResolvedConfig cfg = asf::resolveConfig(ini, registry_);
+    asf::framework::ResolvedConfig cfg = asf::framework::resolveConfig(ini, registry_);
     const auto it = cfg.slots.find("source");
     if (it == cfg.slots.end()) throw asf::ConfigError(o_.config + ": [pipeline] names no source");
-    plugin_ = asf::Registry::instantiate(*it->second);
+    plugin_ = asf::framework::Registry::instantiate(*it->second);
     source_ = dynamic_cast<asf::Source*>(plugin_.get());
     if (!source_) throw asf::ConfigError(o_.config + ": the source is not a source plugin");
     asf::PluginContext ctx;
@@ -534,7 +534,7 @@ class SimRobot {
 
   Options o_;
   asf::simrobot::FastNode node_;
-  asf::Registry registry_;
+  asf::framework::Registry registry_;
   std::unique_ptr<asf::Plugin> plugin_;
   asf::Source* source_ = nullptr;
   mrpt::poses::CPose3D mount_;

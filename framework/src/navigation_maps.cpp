@@ -6,7 +6,7 @@
 
 #include <chrono>
 
-namespace asf {
+namespace asf::framework {
 
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -133,4 +133,4 @@ bool NavigationMaps::updateMerged() {
 
 Recorder::Map3dInfo NavigationMaps::map3dInfo() const { return counts_; }
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -17,7 +17,7 @@
 
 #include "recorder.h"
 
-namespace asf {
+namespace asf::framework {
 
 class NavigationMaps {
  public:
@@ -73,4 +73,4 @@ class NavigationMaps {
   std::vector<std::pair<mapping::Map3d::KeyframeId, NodeId>> keyframes3d_;  ///< in id order
 };
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 
 #include "pipeline_impl.h"
 
-namespace asf {
+namespace asf::framework {
 
 namespace {
 
@@ -140,4 +140,4 @@ RunSummary Pipeline::run(const std::atomic<bool>* stop, const std::atomic<bool>*
   return runPipeline(*impl_, stop, pause, home);
 }
 
-}  // namespace asf
+}  // namespace asf::framework

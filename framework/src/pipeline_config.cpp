@@ -1,7 +1,7 @@
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
 #include <asf/mapping/map_builder.h>
-#include <asf/pipeline_config.h>
+#include <asf/framework/pipeline_config.h>
 #include <asf/plugin.h>
 #include <asf/mapping/topo_builder.h>
 
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <sstream>
 
-namespace asf {
+namespace asf::framework {
 
 namespace fs = std::filesystem;
 
@@ -232,4 +232,4 @@ ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
   return rc;
 }
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -4,7 +4,7 @@
 #include <asf/backend.h>
 #include <asf/mapping/coverage.h>
 #include <asf/frontend.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <asf/planner.h>
 #include <asf/policy.h>
 #include <asf/segmenter.h>
@@ -21,7 +21,7 @@
 #include "navigation_maps.h"
 #include "run_log.h"
 
-namespace asf {
+namespace asf::framework {
 
 /// What Pipeline::Impl holds, at namespace scope so the run (RunState) can name it.
 struct PipelineParts : public mrpt::system::COutputLogger {
@@ -69,4 +69,4 @@ RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
                        const std::atomic<bool>* pause = nullptr,
                        const std::atomic<bool>* home = nullptr);
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -8,7 +8,7 @@
 
 #include "run_state.h"
 
-namespace asf::run {
+namespace asf::framework::run {
 
 bool RunState::replayRecorded() {
   const std::string& dir = limits_.resume;
@@ -44,7 +44,8 @@ bool RunState::replayRecorded() {
       goal_map = m_.navMap();  // what the recorded run's navigation planned on
       if (d.type == Decision::Type::Done) {
         if (!limits_.return_home) return void(ended = true);
-        home_reason_ = "policy done: " + d.reason;  // the recorded frames that follow are the way home
+        home_reason_ =
+            "policy done: " + d.reason;  // the recorded frames that follow are the way home
         home_finishes_ = true;
         returning_home_ = true;
         home_from_distance_ = sum_.distance_m;
@@ -80,4 +81,4 @@ bool RunState::replayRecorded() {
   return true;
 }
 
-}  // namespace asf::run
+}  // namespace asf::framework::run

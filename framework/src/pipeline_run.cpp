@@ -16,7 +16,7 @@
 
 #include "run_state.h"
 
-namespace asf::run {
+namespace asf::framework::run {
 
 RunSummary RunState::run() {
   try {
@@ -474,13 +474,13 @@ void RunState::checkPathHome() {
   m_.logStr(mrpt::system::LVL_INFO, os.str());
 }
 
-}  // namespace asf::run
+}  // namespace asf::framework::run
 
-namespace asf {
+namespace asf::framework {
 
 RunSummary runPipeline(PipelineParts& parts, const std::atomic<bool>* stop,
                        const std::atomic<bool>* pause, const std::atomic<bool>* home) {
   return run::RunState(parts, stop, pause, home).run();
 }
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-namespace asf {
+namespace asf::framework {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -319,4 +319,4 @@ void Recorder::finishMap3d(const mapping::Map3d& map, const GridMap& projected,
   });
 }
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -2,7 +2,7 @@
 // Writes a run's outputs. Private to the framework: stages never know about files.
 #include <asf/goal.h>
 #include <asf/mapping/map3d.h>
-#include <asf/pipeline.h>
+#include <asf/framework/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/segmentation.h>
 #include <asf/topo_graph.h>
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::framework {
 
 /// The run's segmentations: how many were incremental or full (Segmentation::Mode), their
 /// times and changed cells; rows of timeseries.csv and the summary read it.
@@ -106,4 +106,4 @@ class Recorder {
   std::map<std::string, std::string> slots_;
 };
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -1,5 +1,5 @@
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -11,7 +11,7 @@
 #include <regex>
 #include <sstream>
 
-namespace asf {
+namespace asf::framework {
 
 namespace fs = std::filesystem;
 
@@ -216,4 +216,4 @@ void logPluginToStderr(Plugin& p, const std::string& name) {
   p.setLoggerName(name);
 }
 
-}  // namespace asf
+}  // namespace asf::framework

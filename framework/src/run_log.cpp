@@ -5,7 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
-namespace asf {
+namespace asf::framework {
 
 namespace {
 
@@ -95,4 +95,4 @@ void RunLog::endProgress() {
   progress_open_ = false;
 }
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace asf {
+namespace asf::framework {
 
 class RunLog {
  public:
@@ -48,4 +48,4 @@ class RunLog {
 std::string formatLogLine(std::string_view msg, mrpt::system::VerbosityLevel level,
                           std::string_view logger);
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -7,7 +7,7 @@
 
 #include "run_state.h"
 
-namespace asf::run {
+namespace asf::framework::run {
 
 bool RunState::operatorTurn() {
   if (!takeRequests()) return false;
@@ -21,7 +21,8 @@ bool RunState::operatorTurn() {
   if (!home_request_.empty()) {
     const std::string from = std::exchange(home_request_, "");
     if (!exploring_) {
-      m_.logStr(mrpt::system::LVL_WARN, "return home (" + from + "): the source does not drive; ignored");
+      m_.logStr(mrpt::system::LVL_WARN,
+                "return home (" + from + "): the source does not drive; ignored");
     } else if (!returning_home_ && !m_.graph.empty()) {
       const auto robot = m_.frontend->currentPose(m_.graph);
       if (!goHome("the operator asked to return home (" + from + ")", false, robot)) return false;
@@ -82,7 +83,8 @@ void RunState::leavePause() {
 
 void RunState::waitWhilePaused() {
   while (!(stop_ && stop_->load()) && takeRequests()) {
-    if (!operator_paused_ && !(pause_ && pause_->load()) && home_request_.empty() && !homeSignalPending())
+    if (!operator_paused_ && !(pause_ && pause_->load()) && home_request_.empty() &&
+        !homeSignalPending())
       return;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -117,4 +119,4 @@ bool RunState::arrivedHome(NavStatus st) {
   return false;
 }
 
-}  // namespace asf::run
+}  // namespace asf::framework::run

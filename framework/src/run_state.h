@@ -12,7 +12,7 @@
 #include "pipeline_impl.h"
 #include "recorder.h"
 
-namespace asf::run {
+namespace asf::framework::run {
 
 using Clock = std::chrono::steady_clock;
 
@@ -178,4 +178,4 @@ class RunState {
   Clock::time_point last_live_{};
 };
 
-}  // namespace asf::run
+}  // namespace asf::framework::run

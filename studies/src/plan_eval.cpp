@@ -14,7 +14,7 @@
 #include <asf/planner.h>
 #include <asf/pose_graph.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/text.h>
 #include <asf/planning/unreliable_zone.h>
 
@@ -161,9 +161,9 @@ std::vector<int> componentsOutside(const PoseGraph& g, const std::vector<char>& 
 
 struct PlannerSlot {
   std::string name;
-  std::shared_ptr<const PluginInfo> info;
+  std::shared_ptr<const framework::PluginInfo> info;
   Params params;
-  PluginHandle<Planner> planner;
+  framework::PluginHandle<Planner> planner;
   std::size_t warnings = 0;
   std::string first_warning;
 };
@@ -185,8 +185,8 @@ std::vector<planning::Zone> zonesFrom(const Params& p) {
 }
 
 /// The planner plugins, and every section of the file accounted for.
-std::vector<PlannerSlot> plannersFrom(const IniConfig& ini, const Params& p, Registry& reg,
-                                      const std::string& backend_name) {
+std::vector<PlannerSlot> plannersFrom(const IniConfig& ini, const Params& p,
+                                      framework::Registry& reg, const std::string& backend_name) {
   std::vector<PlannerSlot> slots;
   for (const auto& name : splitNames(p.getString("planners"))) {
     PlannerSlot s;
@@ -240,7 +240,8 @@ planning::ZoneMaskOptions maskOptionsFrom(const Params& p, double factor) {
                                        : planning::ZoneCovariance::Scaled;
   o.touching = p.getString("zone_edges") == "touching";
   o.drop_loop_closures = p.getBool("drop_zone_loop_closures");
-  if (o.covariance == planning::ZoneCovariance::WheelOdometry && !(o.touching && o.drop_loop_closures))
+  if (o.covariance == planning::ZoneCovariance::WheelOdometry &&
+      !(o.touching && o.drop_loop_closures))
     p.fail("zone_covariance",
            "wheel_odometry ignores every scan of the zone: it needs zone_edges = touching and "
            "drop_zone_loop_closures = true");
@@ -329,12 +330,12 @@ struct Scenario {
 };
 
 void prepareScenario(Scenario& s, const RunData& run, const std::vector<char>& in_zone,
-                     const Params& p, const std::shared_ptr<const PluginInfo>& binfo,
+                     const Params& p, const std::shared_ptr<const framework::PluginInfo>& binfo,
                      const Params& bparams, const std::string& out_dir) {
   const planning::ZoneMaskOptions mo = maskOptionsFrom(p, s.factor);
   s.graph = planning::maskZone(run.graph, in_zone, mo, run.log ? &*run.log : nullptr, &s.mask);
-  auto be = Registry::create<Backend>(binfo);
-  logPluginToStderr(*be, binfo->name());
+  auto be = framework::Registry::create<Backend>(binfo);
+  framework::logPluginToStderr(*be, binfo->name());
   PluginContext bctx;
   bctx.seed = static_cast<std::uint64_t>(p.getInt("seed"));
   be->configure(bparams, bctx);
@@ -386,7 +387,7 @@ void configurePlanners(std::vector<PlannerSlot>& slots, const Scenario& s,
       val.origin = "plan-eval";
       params.set("p_recognition_file", val);
     }
-    slot.planner = Registry::create<Planner>(slot.info);
+    slot.planner = framework::Registry::create<Planner>(slot.info);
     slot.planner->logging_enable_console_output = false;
     slot.warnings = 0;
     slot.first_warning.clear();
@@ -411,7 +412,8 @@ struct Tally {
 /// Every planner on every pair of the scenario; the scenario's json record.
 json sweepPairs(std::vector<PlannerSlot>& slots, const Scenario& s, const PairSet& ps,
                 const std::vector<char>& in_zone,
-                const std::optional<planning::PathSearchOptions>& search, std::size_t progress_every) {
+                const std::optional<planning::PathSearchOptions>& search,
+                std::size_t progress_every) {
   const auto t_scen = std::chrono::steady_clock::now();
   std::vector<Tally> tally(slots.size());
   json jpairs = json::array();
@@ -554,8 +556,8 @@ const KeySpec* planEvalKeys(std::size_t& n) {
   return kKeys;
 }
 
-PlanEvalOutput runPlanEval(const IniConfig& ini, Registry& reg, const std::string& out_override,
-                           const std::string& config_name) {
+PlanEvalOutput runPlanEval(const IniConfig& ini, framework::Registry& reg,
+                           const std::string& out_override, const std::string& config_name) {
   const Params p = ini.resolve(kSection, kKeys, std::size(kKeys));
   const std::vector<planning::Zone> zones = zonesFrom(p);
   const std::vector<double> factors = p.getDoubleList("factors");

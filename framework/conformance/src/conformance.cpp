@@ -272,7 +272,7 @@ bool skipUnconfigurable(const PluginTest& t, std::string& why) {
     list = "[" + std::string(t.descriptor().name) + "] of " + t.config()->fileName() +
            (list.empty() ? "" : ", and made up: " + list);
   try {
-    auto p = Registry::instantiate(t.info());
+    auto p = framework::Registry::instantiate(t.info());
     p->setMinLoggingLevel(mrpt::system::LVL_ERROR);
     PluginContext ctx;
     ctx.seed = kSeed;
@@ -402,7 +402,7 @@ void registerDescriptorTests(const InfoPtr& info) {
 template <class T>
 void registerDescriptorTests(const InfoPtr& info) {
   addTest<T>(info, "kind_matches_descriptor", Needs::Nothing, [](KindTest<T>& t) {
-    auto p = Registry::instantiate(t.info());
+    auto p = framework::Registry::instantiate(t.info());
     ASSERT_NE(p, nullptr) << "the factory returned null";
     EXPECT_EQ(p->kind(), t.descriptor().kind)
         << "the object is a " << kindName(p->kind()) << ", the descriptor says "
@@ -528,7 +528,8 @@ void registerKind(const InfoPtr& info, void (*kindTests)(const InfoPtr&)) {
 }  // namespace
 }  // namespace detail
 
-void registerTests(const std::shared_ptr<const PluginInfo>& plugin, const IniConfig* config) {
+void registerTests(const std::shared_ptr<const framework::PluginInfo>& plugin,
+                   const IniConfig* config) {
   using namespace detail;
   if (!plugin || !plugin->descriptor)
     throw PluginError("asf::conformance::registerTests: no plugin (null descriptor)");
@@ -569,8 +570,8 @@ void registerTests(const std::shared_ptr<const PluginInfo>& plugin, const IniCon
   }
 }
 
-int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv,
-        const IniConfig* config) {
+int run(const std::vector<std::shared_ptr<const framework::PluginInfo>>& plugins, int argc,
+        char** argv, const IniConfig* config) {
   testing::InitGoogleTest(&argc, argv);
   std::set<const PluginDescriptor*> done;
   for (const auto& p : plugins)

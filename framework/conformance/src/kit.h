@@ -7,7 +7,7 @@
 #include <asf/frontend.h>
 #include <asf/planner.h>
 #include <asf/policy.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/segmenter.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
@@ -24,7 +24,7 @@
 
 namespace asf::conformance::detail {
 
-using InfoPtr = std::shared_ptr<const PluginInfo>;
+using InfoPtr = std::shared_ptr<const framework::PluginInfo>;
 
 /// The seed every instance is configured with (the kit checks determinism under it).
 constexpr std::uint64_t kSeed = 20240917;
@@ -89,7 +89,7 @@ std::string outOfRangeValue(const KeySpec& k, bool below);
 class PluginTest : public testing::Test {
  public:
   explicit PluginTest(InfoPtr info) : info_(std::move(info)) {}
-  const PluginInfo& info() const { return *info_; }
+  const framework::PluginInfo& info() const { return *info_; }
   const PluginDescriptor& descriptor() const { return *info_->descriptor; }
   const InfoPtr& infoPtr() const { return info_; }
   /// INI section name used in the kit's Params (the kind, as in a pipeline INI).
@@ -112,15 +112,15 @@ class KindTest : public PluginTest {
   using PluginTest::PluginTest;
 
   /// A new instance of the plugin, not configured, logging warnings and errors only.
-  PluginHandle<T> create() const {
-    PluginHandle<T> h = Registry::create<T>(info_);
+  framework::PluginHandle<T> create() const {
+    framework::PluginHandle<T> h = framework::Registry::create<T>(info_);
     h->setLoggerName(std::string("conformance/") + info_->name());
     h->setMinLoggingLevel(mrpt::system::LVL_WARN);
     return h;
   }
   /// A new instance configured with defaults (see defaultParams) and `seed`.
-  PluginHandle<T> make(std::uint64_t seed = kSeed) const {
-    PluginHandle<T> h = create();
+  framework::PluginHandle<T> make(std::uint64_t seed = kSeed) const {
+    framework::PluginHandle<T> h = create();
     PluginContext ctx;
     ctx.seed = seed;
     h->configure(defaultParams(), ctx);

@@ -3,7 +3,7 @@
 
 #include <asf/backend.h>
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -13,13 +13,13 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/backend_dense_gn.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/backend_dense_gn.so");
   return i;
 }
 
-asf::PluginHandle<asf::Backend> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Backend>(info());
+asf::framework::PluginHandle<asf::Backend> make(const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Backend>(info());
   h->configure(asf::Params::fromSpecs("dense_gn", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});

@@ -2,7 +2,7 @@
 // dense marginals, against dense_gn.
 #include <asf/backend.h>
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,21 +14,23 @@ namespace {
 
 using mrpt::poses::CPose2D;
 
-asf::PluginHandle<asf::Backend> make(const std::string& file, const std::string& section,
+asf::framework::PluginHandle<asf::Backend> make(const std::string& file, const std::string& section,
                                      const std::map<std::string, std::string>& kv = {}) {
-  static std::map<std::string, std::shared_ptr<const asf::PluginInfo>> infos;
+  static std::map<std::string, std::shared_ptr<const asf::framework::PluginInfo>> infos;
   auto& info = infos[file];
-  if (!info) info = asf::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
-  auto h = asf::Registry::create<asf::Backend>(info);
+  if (!info)
+    info = asf::framework::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
+  auto h = asf::framework::Registry::create<asf::Backend>(info);
   h->configure(asf::Params::fromSpecs(section, info->descriptor->keys,
                                       info->descriptor->num_keys, kv),
                asf::PluginContext{});
   return h;
 }
-asf::PluginHandle<asf::Backend> mrpt(const std::map<std::string, std::string>& kv = {}) {
+asf::framework::PluginHandle<asf::Backend> mrpt(const std::map<std::string, std::string>& kv = {}) {
   return make("backend_mrpt_levmarq.so", "mrpt_levmarq", kv);
 }
-asf::PluginHandle<asf::Backend> dense(const std::map<std::string, std::string>& kv = {}) {
+asf::framework::PluginHandle<asf::Backend> dense(
+    const std::map<std::string, std::string>& kv = {}) {
   return make("backend_dense_gn.so", "dense_gn", kv);
 }
 

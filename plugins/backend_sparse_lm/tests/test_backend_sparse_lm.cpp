@@ -4,7 +4,7 @@
 
 #include <asf/backend.h>
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/se2_edge.h>
 #include <gtest/gtest.h>
 
@@ -28,26 +28,28 @@ using asf::sparse_lm::Method;
 using asf::sparse_lm::Options;
 using asf::sparse_lm::SparseSe2;
 
-std::shared_ptr<const asf::PluginInfo> loadPlugin(const std::string& file) {
-  return asf::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
+std::shared_ptr<const asf::framework::PluginInfo> loadPlugin(const std::string& file) {
+  return asf::framework::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
 }
 
-asf::PluginHandle<asf::Backend> make(const std::string& file, const std::string& section,
+asf::framework::PluginHandle<asf::Backend> make(const std::string& file, const std::string& section,
                                      const std::map<std::string, std::string>& kv = {}) {
-  static std::map<std::string, std::shared_ptr<const asf::PluginInfo>> infos;
+  static std::map<std::string, std::shared_ptr<const asf::framework::PluginInfo>> infos;
   auto& info = infos[file];
   if (!info) info = loadPlugin(file);
-  auto h = asf::Registry::create<asf::Backend>(info);
+  auto h = asf::framework::Registry::create<asf::Backend>(info);
   h->configure(asf::Params::fromSpecs(section, info->descriptor->keys,
                                       info->descriptor->num_keys, kv),
                asf::PluginContext{});
   return h;
 }
 
-asf::PluginHandle<asf::Backend> sparse(const std::map<std::string, std::string>& kv = {}) {
+asf::framework::PluginHandle<asf::Backend> sparse(
+    const std::map<std::string, std::string>& kv = {}) {
   return make("backend_sparse_lm.so", "sparse_lm", kv);
 }
-asf::PluginHandle<asf::Backend> dense(const std::map<std::string, std::string>& kv = {}) {
+asf::framework::PluginHandle<asf::Backend> dense(
+    const std::map<std::string, std::string>& kv = {}) {
   return make("backend_dense_gn.so", "dense_gn", kv);
 }
 
@@ -536,7 +538,8 @@ class SharedDataset : public ::testing::TestWithParam<Target> {};
 
 TEST_P(SharedDataset, ReachesWithinOneTenthPercentOfG2o) {
   const std::string f = std::string(ASF_TEST_SHARED_DIR) + "/datasets/g2o/" + GetParam().file;
-  if (!std::filesystem::exists(f)) GTEST_SKIP() << "needs " << f << " (../shared is not in a user's clone)";
+  if (!std::filesystem::exists(f))
+    GTEST_SKIP() << "needs " << f << " (../shared is not in a user's clone)";
   asf::PoseGraph g = asf::readG2o(f);
   const double chi0 = g.chi2();
   const auto r = sparse()->optimize(g);
@@ -564,7 +567,8 @@ TEST(SparseLm, MarginalsOnMitMatchDenseGn) {
   const auto ms = sparse()->marginals(g, cross);
   const auto md = dense()->marginals(g, cross);
   double worst = 0;
-  for (std::size_t i = 1; i < g.size(); ++i) worst = std::max(worst, relDiff(ms.node[i], md.node[i]));
+  for (std::size_t i = 1; i < g.size(); ++i)
+    worst = std::max(worst, relDiff(ms.node[i], md.node[i]));
   EXPECT_LT(worst, 1e-7);
   for (const auto& ij : cross) EXPECT_LT(relDiff(ms.cross.at(ij), md.cross.at(ij)), 1e-7);
 }

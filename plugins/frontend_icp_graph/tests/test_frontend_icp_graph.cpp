@@ -5,7 +5,7 @@
 #include <asf/backend.h>
 #include <asf/errors.h>
 #include <asf/frontend.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/CSimplePointsMap.h>
@@ -29,18 +29,18 @@ using mrpt::poses::CPose2D;
 using KV = std::map<std::string, std::string>;
 namespace fs = std::filesystem;
 
-std::shared_ptr<const asf::PluginInfo> plugin(const std::string& file) {
-  static std::map<std::string, std::shared_ptr<const asf::PluginInfo>> cache;
+std::shared_ptr<const asf::framework::PluginInfo> plugin(const std::string& file) {
+  static std::map<std::string, std::shared_ptr<const asf::framework::PluginInfo>> cache;
   auto& p = cache[file];
-  if (!p) p = asf::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
+  if (!p) p = asf::framework::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR) + "/" + file);
   return p;
 }
 
 template <class T>
-asf::PluginHandle<T> make(const std::string& file, const std::string& name, KV kv,
+asf::framework::PluginHandle<T> make(const std::string& file, const std::string& name, KV kv,
                           std::uint64_t seed = 1) {
   auto info = plugin(file);
-  auto h = asf::Registry::create<T>(info);
+  auto h = asf::framework::Registry::create<T>(info);
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   asf::PluginContext ctx;
   ctx.seed = seed;
@@ -49,10 +49,10 @@ asf::PluginHandle<T> make(const std::string& file, const std::string& name, KV k
   return h;
 }
 
-asf::PluginHandle<asf::Frontend> icpGraph(const KV& kv = {}) {
+asf::framework::PluginHandle<asf::Frontend> icpGraph(const KV& kv = {}) {
   return make<asf::Frontend>("frontend_icp_graph.so", "icp_graph", kv);
 }
-asf::PluginHandle<asf::Frontend> odometry(const KV& kv = {}) {
+asf::framework::PluginHandle<asf::Frontend> odometry(const KV& kv = {}) {
   return make<asf::Frontend>("frontend_odometry.so", "odometry", kv);
 }
 
@@ -90,7 +90,7 @@ std::vector<asf::SensorFrame> simulate(KV kv, const std::vector<std::pair<double
 }
 
 /// Feeds frames to a front-end, optionally optimizing with dense_gn after every new node
-/// (with marginals, as asf::Pipeline does).
+/// (with marginals, as asf::framework::Pipeline does).
 asf::PoseGraph run(asf::Frontend& fe, const std::vector<asf::SensorFrame>& frames,
                    asf::Backend* be = nullptr) {
   asf::PoseGraph g;

@@ -2,7 +2,7 @@
 // Monte Carlo oracles), node payloads, currentPose.
 #include <asf/errors.h>
 #include <asf/frontend.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
@@ -13,13 +13,14 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/frontend_odometry.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/frontend_odometry.so");
   return i;
 }
 
-asf::PluginHandle<asf::Frontend> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Frontend>(info());
+asf::framework::PluginHandle<asf::Frontend> make(
+    const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Frontend>(info());
   h->configure(asf::Params::fromSpecs("odometry", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});
@@ -142,7 +143,8 @@ TEST(FrontendOdometry, AngleThresholdMakesKeyframes) {
   asf::Marginals m;
   fe->process(frame(0, 0, 0, Eigen::Matrix3d::Zero(), 0), g, m);
   const double step = 6 * M_PI / 180;
-  for (int k = 1; k <= 3; ++k) EXPECT_FALSE(fe->process(frame(0, 0, step, Eigen::Matrix3d::Zero(), k), g, m));
+  for (int k = 1; k <= 3; ++k)
+    EXPECT_FALSE(fe->process(frame(0, 0, step, Eigen::Matrix3d::Zero(), k), g, m));
   EXPECT_TRUE(fe->process(frame(0, 0, step, Eigen::Matrix3d::Zero(), 4), g, m));
   ASSERT_EQ(g.size(), 2u);
   EXPECT_NEAR(g.nodes[1].pose.phi(), 4 * step, 1e-12);

@@ -3,7 +3,7 @@
 #include <asf/errors.h>
 #include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -13,13 +13,15 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_expected_uncertainty.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_expected_uncertainty.so");
   return i;
 }
 
-asf::PluginHandle<asf::Planner> make(const std::map<std::string, std::string>& keys = {}) {
-  auto h = asf::Registry::create<asf::Planner>(info());
+asf::framework::PluginHandle<asf::Planner> make(
+    const std::map<std::string, std::string>& keys = {}) {
+  auto h = asf::framework::Registry::create<asf::Planner>(info());
   h->configure(asf::Params::fromSpecs("expected_uncertainty", info()->descriptor->keys,
                                       info()->descriptor->num_keys, keys),
                asf::PluginContext{});
@@ -37,7 +39,8 @@ asf::PoseGraph loop(double weak_sd) {
     e.from = a;
     e.to = b;
     e.mean = g.nodes[b].pose - g.nodes[a].pose;
-    e.information = Eigen::Vector3d(1 / (sd * sd), 1 / (sd * sd), 1 / (sd_phi * sd_phi)).asDiagonal();
+    e.information =
+        Eigen::Vector3d(1 / (sd * sd), 1 / (sd * sd), 1 / (sd_phi * sd_phi)).asDiagonal();
     g.addEdge(e);
   };
   for (auto [a, b] : {std::pair{0, 1}, {1, 2}, {2, 3}}) edge(a, b, weak_sd, weak_sd / 2);
@@ -75,7 +78,9 @@ TEST(PlannerExpectedUncertainty, AvoidsTheWeakSideOfALoop) {
   const auto model = asf::planning::makePathModel(g, &m, r.nodes);
   asf::planning::CriterionOptions o;
   o.reloc.seed = 0;
-  EXPECT_DOUBLE_EQ(r.cost, asf::planning::evaluatePath(asf::planning::Criterion::ExpectedUncertainty, model, o).cost);
+  EXPECT_DOUBLE_EQ(
+      r.cost,
+      asf::planning::evaluatePath(asf::planning::Criterion::ExpectedUncertainty, model, o).cost);
   // Reverse direction too.
   req.start = 3;
   req.goal = 0;
@@ -103,10 +108,12 @@ TEST(PlannerExpectedUncertainty, RecognitionFileIsUsedAndChecked) {
   std::ofstream(bad) << "4 0\n5 zero\n";
   const asf::PoseGraph g = loop(0.5);
   const asf::Marginals m = denseMarginals(g);
-  const auto r = make({{"p_recognition_file", good}})->plan(asf::PlanRequest{&g, &m, nullptr, 0, 3});
+  const auto r =
+      make({{"p_recognition_file", good}})->plan(asf::PlanRequest{&g, &m, nullptr, 0, 3});
   ASSERT_TRUE(r.found);
   const auto model = asf::planning::makePathModel(g, &m, r.nodes);
-  const auto odo = asf::planning::expectedCovariance(model, [](const asf::planning::RelocQuery&) { return 0.0; });
+  const auto odo = asf::planning::expectedCovariance(
+      model, [](const asf::planning::RelocQuery&) { return 0.0; });
   EXPECT_NEAR(r.cost, odo.mean.determinant(), 1e-15);
   try {
     make({{"p_recognition_file", bad}});

@@ -2,7 +2,7 @@
 // simple paths (brute force), and it needs marginals.
 #include <asf/planning/expected_uncertainty.h>
 #include <asf/planner.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -11,13 +11,14 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_mechanical_work.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_mechanical_work.so");
   return i;
 }
 
-asf::PluginHandle<asf::Planner> make() {
-  auto h = asf::Registry::create<asf::Planner>(info());
+asf::framework::PluginHandle<asf::Planner> make() {
+  auto h = asf::framework::Registry::create<asf::Planner>(info());
   h->configure(asf::Params::fromSpecs("mechanical_work", info()->descriptor->keys,
                                       info()->descriptor->num_keys),
                asf::PluginContext{});
@@ -57,14 +58,16 @@ TEST(PlannerMechanicalWork, ChoosesTheMinimumOverAllSimplePaths) {
     std::function<void(asf::NodeId)> dfs = [&](asf::NodeId v) {
       if (v == t) {
         const auto model = asf::planning::makePathModel(g, &m, cur);
-        best = std::min(best, asf::planning::evaluatePath(asf::planning::Criterion::MechanicalWork, model,
-                                                    asf::planning::CriterionOptions{}).cost);
+        best = std::min(best, asf::planning::evaluatePath(asf::planning::Criterion::MechanicalWork,
+                                                          model, asf::planning::CriterionOptions{})
+                                  .cost);
         return;
       }
       on[v] = 1;
       for (asf::NodeId w = 0; w < static_cast<asf::NodeId>(n); ++w) {
         bool joined = false;
-        for (const auto& e : g.edges) joined |= (e.from == v && e.to == w) || (e.from == w && e.to == v);
+        for (const auto& e : g.edges)
+          joined |= (e.from == v && e.to == w) || (e.from == w && e.to == v);
         if (!joined || on[w]) continue;
         cur.push_back(w);
         dfs(w);

@@ -1,6 +1,6 @@
 // Tests of the shortest planner against brute-force enumeration of simple paths.
 #include <asf/planner.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,13 +11,13 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_shortest.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_shortest.so");
   return i;
 }
 
-asf::PluginHandle<asf::Planner> make() {
-  auto h = asf::Registry::create<asf::Planner>(info());
+asf::framework::PluginHandle<asf::Planner> make() {
+  auto h = asf::framework::Registry::create<asf::Planner>(info());
   h->configure(asf::Params::fromSpecs("shortest", info()->descriptor->keys,
                                       info()->descriptor->num_keys),
                asf::PluginContext{});

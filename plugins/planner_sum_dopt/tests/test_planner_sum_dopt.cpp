@@ -1,18 +1,19 @@
 // Tests of the sum_dopt planner: the sum of the nodes' det(Sigma) along the chosen path is
 // the smallest, and its scalar key switches the criterion.
 #include <asf/planner.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_sum_dopt.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/planner_sum_dopt.so");
   return i;
 }
 
-asf::PluginHandle<asf::Planner> make(const std::map<std::string, std::string>& keys = {}) {
-  auto h = asf::Registry::create<asf::Planner>(info());
+asf::framework::PluginHandle<asf::Planner> make(
+    const std::map<std::string, std::string>& keys = {}) {
+  auto h = asf::framework::Registry::create<asf::Planner>(info());
   h->configure(asf::Params::fromSpecs("sum_dopt", info()->descriptor->keys,
                                       info()->descriptor->num_keys, keys),
                asf::PluginContext{});

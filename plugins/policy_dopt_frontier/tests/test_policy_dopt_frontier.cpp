@@ -5,7 +5,7 @@
 #include <asf/exploration/expected_pose_graph.h>
 #include <asf/graph/information.h>
 #include <asf/policy.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -145,13 +145,13 @@ TEST(ExpectedPoseGraph, NodesEveryNodeSpacingAndOneAtTheEnd) {
 
 // ---- the policy ------------------------------------------------------------------------
 
-std::shared_ptr<const asf::PluginInfo> info(const std::string& file) {
-  return asf::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR "/") + file);
+std::shared_ptr<const asf::framework::PluginInfo> info(const std::string& file) {
+  return asf::framework::Registry::loadFile(std::string(ASF_TEST_PLUGIN_DIR "/") + file);
 }
 
-asf::PluginHandle<asf::Policy> make(const std::string& file, const std::string& name) {
+asf::framework::PluginHandle<asf::Policy> make(const std::string& file, const std::string& name) {
   const auto i = info(file);
-  auto h = asf::Registry::create<asf::Policy>(i);
+  auto h = asf::framework::Registry::create<asf::Policy>(i);
   h->configure(asf::Params::fromSpecs(name, i->descriptor->keys, i->descriptor->num_keys, {}),
                asf::PluginContext{});
   return h;

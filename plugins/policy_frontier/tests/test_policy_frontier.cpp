@@ -3,7 +3,7 @@
 #include <asf/errors.h>
 #include <asf/policy.h>
 #include <asf/mapping/reachability.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 
@@ -19,13 +19,13 @@ constexpr float kFree = 0.95f, kOccupied = 0.05f, kUnknown = 0.5f;  // p(free), 
 using Grid = mrpt::maps::COccupancyGridMap2D;
 using Type = asf::Decision::Type;
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_frontier.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_frontier.so");
   return i;
 }
 
-asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Policy>(info());
+asf::framework::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Policy>(info());
   h->configure(asf::Params::fromSpecs("frontier", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});

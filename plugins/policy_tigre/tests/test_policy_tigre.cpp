@@ -3,7 +3,7 @@
 // that teleports to each goal (the navigation is not under test here).
 #include <asf/errors.h>
 #include <asf/policy.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/mapping/topo_builder.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -14,13 +14,13 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_tigre.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_tigre.so");
   return i;
 }
 
-asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Policy>(info());
+asf::framework::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Policy>(info());
   asf::PluginContext ctx;
   ctx.seed = 7;
   h->configure(

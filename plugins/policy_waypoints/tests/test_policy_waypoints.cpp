@@ -1,20 +1,20 @@
 // Tests of the waypoints policy: order, skipping, looping, errors.
 #include <asf/errors.h>
 #include <asf/policy.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <gtest/gtest.h>
 
 #include <map>
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_waypoints.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/policy_waypoints.so");
   return i;
 }
 
-asf::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv) {
-  auto h = asf::Registry::create<asf::Policy>(info());
+asf::framework::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv) {
+  auto h = asf::framework::Registry::create<asf::Policy>(info());
   h->configure(asf::Params::fromSpecs("waypoints", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});

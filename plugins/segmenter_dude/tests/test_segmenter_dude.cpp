@@ -1,7 +1,7 @@
 // Tests of the dude segmenter plugin on occupancy grids (MRPT) and, when ../shared is there,
 // on one map of the room segmentation benchmark.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
@@ -22,13 +22,14 @@ using Grid = mrpt::maps::COccupancyGridMap2D;
 constexpr float kFree = 0.95f, kWall = 0.05f;
 constexpr float kRes = 0.05f;
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_dude.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_dude.so");
   return i;
 }
 
-asf::PluginHandle<asf::Segmenter> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Segmenter>(info());
+asf::framework::PluginHandle<asf::Segmenter> make(
+    const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Segmenter>(info());
   h->configure(asf::Params::fromSpecs("dude", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});

@@ -1,6 +1,6 @@
 // Tests of the free_components segmenter on hand-made occupancy grids.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -16,13 +16,15 @@ using Grid = mrpt::maps::COccupancyGridMap2D;
 // MRPT cell values are p(free): 1 = certainly empty, 0 = certainly occupied.
 constexpr float kFree = 0.95f, kWall = 0.05f;
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_free_components.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_free_components.so");
   return i;
 }
 
-asf::PluginHandle<asf::Segmenter> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Segmenter>(info());
+asf::framework::PluginHandle<asf::Segmenter> make(
+    const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Segmenter>(info());
   h->configure(asf::Params::fromSpecs("free_components", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});

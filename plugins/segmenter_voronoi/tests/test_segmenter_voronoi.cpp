@@ -1,6 +1,6 @@
 // Tests of the voronoi segmenter: hand-made floor plans and one benchmark map.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/segmenter.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -22,13 +22,14 @@ using Grid = mrpt::maps::COccupancyGridMap2D;
 constexpr float kFree = 0.95f, kWall = 0.05f;
 constexpr double kRes = 0.05;
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_voronoi.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/segmenter_voronoi.so");
   return i;
 }
 
-asf::PluginHandle<asf::Segmenter> make(const std::map<std::string, std::string>& kv = {}) {
-  auto h = asf::Registry::create<asf::Segmenter>(info());
+asf::framework::PluginHandle<asf::Segmenter> make(
+    const std::map<std::string, std::string>& kv = {}) {
+  auto h = asf::framework::Registry::create<asf::Segmenter>(info());
   h->configure(asf::Params::fromSpecs("voronoi", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
                asf::PluginContext{});
@@ -298,11 +299,13 @@ Score runMap(const std::string& map_file, const std::string& gt_file, asf::Segme
       for (int c = 0; c < img.cols; ++c) {
         const int l = s.labels.at(c, img.rows - 1 - r);
         const uchar v = img.at<uchar>(r, c) >= 250 ? 255 : 0;
-        pic.at<cv::Vec3b>(r, c) = l ? cv::Vec3b(50 + l * 73 % 200, 50 + l * 151 % 200, 50 + l * 37 % 200)
-                                    : cv::Vec3b(v, v, v);
+        pic.at<cv::Vec3b>(r, c) =
+            l ? cv::Vec3b(50 + l * 73 % 200, 50 + l * 151 % 200, 50 + l * 37 % 200)
+              : cv::Vec3b(v, v, v);
         if (gt.at<uchar>(r, c) <= 250 && v) pic.at<cv::Vec3b>(r, c) = cv::Vec3b(0, 0, 255);
       }
-    cv::imwrite(std::string(dir) + "/" + std::filesystem::path(map_file).stem().string() + ".png", pic);
+    cv::imwrite(std::string(dir) + "/" + std::filesystem::path(map_file).stem().string() + ".png",
+                pic);
   }
   return score(s, gt);
 }

@@ -2,7 +2,7 @@
 #include <asf/config.h>
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
 #include <mrpt/core/Clock.h>
@@ -25,13 +25,13 @@ using mrpt::poses::CPose2D;
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_rawlog.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_rawlog.so");
   return i;
 }
 
-asf::PluginHandle<asf::Source> make(const std::map<std::string, std::string>& kv) {
-  auto h = asf::Registry::create<asf::Source>(info());
+asf::framework::PluginHandle<asf::Source> make(const std::map<std::string, std::string>& kv) {
+  auto h = asf::framework::Registry::create<asf::Source>(info());
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   h->configure(asf::Params::fromSpecs("rawlog", info()->descriptor->keys,
                                       info()->descriptor->num_keys, kv),
@@ -197,9 +197,10 @@ TEST(SourceRawlog, LaserLabelSelectsAmongLasers) {
     drain(*make({{"file", path}, {"laser_label", "SIDE"}}));
     ADD_FAILURE() << "no error for laser_label = SIDE";
   } catch (const asf::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no 2D laser scan labelled 'SIDE' (laser_label; labels in the "
-                                         "file: 'FRONT' 'REAR')"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("no 2D laser scan labelled 'SIDE' (laser_label; labels in the "
+                                   "file: 'FRONT' 'REAR')"),
+        std::string::npos)
         << e.what();
   }
 }
@@ -296,7 +297,7 @@ TEST(SourceRawlog, RelativePathsResolveAgainstTheIniFolder) {
     out << "[rawlog]\nfile = logs/a.rawlog\n";
   }
   const auto cfg = asf::IniConfig::fromFile(ini);
-  auto h = asf::Registry::create<asf::Source>(info());
+  auto h = asf::framework::Registry::create<asf::Source>(info());
   h->configure(cfg.resolve("rawlog", info()->descriptor->keys, info()->descriptor->num_keys),
                asf::PluginContext{});
   EXPECT_EQ(drain(*h).size(), 3u);

@@ -1,6 +1,6 @@
 // Tests of asf::mapping::SegmentWorld (exact geometry) and of the segment_world source plugin.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/mapping/segment_world.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
@@ -13,14 +13,15 @@
 
 namespace {
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_segment_world.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i =
+      asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_segment_world.so");
   return i;
 }
 
-asf::PluginHandle<asf::Source> make(const std::map<std::string, std::string>& kv,
+asf::framework::PluginHandle<asf::Source> make(const std::map<std::string, std::string>& kv,
                                     std::uint64_t seed = 1) {
-  auto h = asf::Registry::create<asf::Source>(info());
+  auto h = asf::framework::Registry::create<asf::Source>(info());
   asf::PluginContext ctx;
   ctx.seed = seed;
   h->configure(asf::Params::fromSpecs("segment_world", info()->descriptor->keys,

@@ -3,7 +3,7 @@
 // map_unknown says, the start at the free cell farthest from any wall when none is given, and
 // the keys the YAML sets refused beside it.
 #include <asf/errors.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -55,15 +55,15 @@ std::string mapServerWorld() {
   return yaml;
 }
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_sim2d.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_sim2d.so");
   return i;
 }
 
-asf::PluginHandle<asf::Source> make(KV kv) {
+asf::framework::PluginHandle<asf::Source> make(KV kv) {
   kv.emplace("record", "false");
   kv.emplace("map_image", mapServerWorld());
-  auto h = asf::Registry::create<asf::Source>(info());
+  auto h = asf::framework::Registry::create<asf::Source>(info());
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   asf::PluginContext ctx;
   ctx.seed = 1;

@@ -4,7 +4,7 @@
 #include <asf/errors.h>
 #include <asf/mapping/map3d.h>
 #include <asf/io/rawlog_io.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/source.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -33,14 +33,15 @@ using mrpt::poses::CPose2D;
 namespace fs = std::filesystem;
 using KV = std::map<std::string, std::string>;
 
-std::shared_ptr<const asf::PluginInfo> info() {
-  static auto i = asf::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_sim2d.so");
+std::shared_ptr<const asf::framework::PluginInfo> info() {
+  static auto i = asf::framework::Registry::loadFile(ASF_TEST_PLUGIN_DIR "/source_sim2d.so");
   return i;
 }
 
-asf::PluginHandle<asf::Source> make(KV kv, std::uint64_t seed = 1, std::string out = "") {
+asf::framework::PluginHandle<asf::Source> make(KV kv, std::uint64_t seed = 1,
+                                               std::string out = "") {
   kv.emplace("record", out.empty() ? "false" : "true");
-  auto h = asf::Registry::create<asf::Source>(info());
+  auto h = asf::framework::Registry::create<asf::Source>(info());
   h->setMinLoggingLevel(mrpt::system::LVL_ERROR);
   asf::PluginContext ctx;
   ctx.seed = seed;
@@ -416,7 +417,8 @@ TEST(Sim2dSource, WallsStopTheRobot) {
   ASSERT_EQ(st.size(), 1u);
   EXPECT_EQ(st[0], asf::NavStatus::Blocked);
   const auto w = asf::sim2d::World::room(4, 3, 0.04);
-  for (const auto& f : frames) EXPECT_GE(w.clearance(f.ground_truth->x(), f.ground_truth->y()), 0.25 - 0.04);
+  for (const auto& f : frames)
+    EXPECT_GE(w.clearance(f.ground_truth->x(), f.ground_truth->y()), 0.25 - 0.04);
   EXPECT_GT(frames.back().ground_truth->x(), 3.5);  // it did drive up to the wall
 
   // Recovery: the next goal (world (1, 1.5), the start) starts by backing away from the
@@ -509,7 +511,8 @@ TEST(Sim2dSource, DeterministicForASeed) {
   ASSERT_EQ(d.size(), a.size());
   for (std::size_t k = 0; k < a.size(); ++k) EXPECT_EQ(*d[k].ground_truth, *a[k].ground_truth);
   bool differs = a.size() != c.size();
-  for (std::size_t k = 0; !differs && k < a.size(); ++k) differs = !(a[k].odometry == c[k].odometry);
+  for (std::size_t k = 0; !differs && k < a.size(); ++k)
+    differs = !(a[k].odometry == c[k].odometry);
   EXPECT_TRUE(differs);
 }
 

@@ -5,12 +5,12 @@
 /// rules. Run it with `asf conformance FILE.so|NAME...`, or from your own test binary:
 /// \code
 ///   int main(int argc, char** argv) {
-///     auto info = asf::Registry::loadFile("my_policy.so");
+///     auto info = asf::framework::Registry::loadFile("my_policy.so");
 ///     return asf::conformance::run({info}, argc, argv);
 ///   }
 /// \endcode
 #include <asf/config.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 
 #include <memory>
 #include <vector>
@@ -26,12 +26,12 @@ namespace asf::conformance {
 /// key the kit cannot invent (a log source's data file) gets tested. The section is checked
 /// against the plugin's key table here (throws ConfigError); relative paths resolve against
 /// the INI's folder. Plugins without a section are configured as without `config`.
-void registerTests(const std::shared_ptr<const PluginInfo>& plugin,
+void registerTests(const std::shared_ptr<const framework::PluginInfo>& plugin,
                    const IniConfig* config = nullptr);
 
 /// InitGoogleTest(argc, argv) (so --gtest_filter etc. work), registerTests for each plugin,
 /// RUN_ALL_TESTS. Returns its exit code (0 = every test passed).
-int run(const std::vector<std::shared_ptr<const PluginInfo>>& plugins, int argc, char** argv,
-        const IniConfig* config = nullptr);
+int run(const std::vector<std::shared_ptr<const framework::PluginInfo>>& plugins, int argc,
+        char** argv, const IniConfig* config = nullptr);
 
 }  // namespace asf::conformance

@@ -10,7 +10,7 @@
 /// path crosses the zone.
 #include <asf/config.h>
 #include <asf/key_spec.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 
 #include <cstddef>
 #include <string>
@@ -30,7 +30,7 @@ struct PlanEvalOutput {
 /// scenario_<X>.svg (thesis Fig. 3.4) and error_example_<X>.svg (Fig. 3.5) into
 /// `out_override` or [plan_eval] out; progress on stderr. `config_name` is recorded in the
 /// JSON. Throws ConfigError naming the key for an inconsistent configuration.
-PlanEvalOutput runPlanEval(const IniConfig& ini, Registry& reg, const std::string& out_override,
-                           const std::string& config_name);
+PlanEvalOutput runPlanEval(const IniConfig& ini, framework::Registry& reg,
+                           const std::string& out_override, const std::string& config_name);
 
 }  // namespace asf::studies

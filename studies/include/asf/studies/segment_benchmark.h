@@ -4,7 +4,7 @@
 /// segmentation benchmark (Bormann et al., ICRA 2016) as ../shared/docs/roomseg-eval.md
 /// describes, per map and variant (plain, furnished), optionally also incrementally while the
 /// map is revealed (a simulated laser, or the thesis' raster of disks).
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 #include <asf/evaluation/segmentation_eval.h>
 #include <asf/segmenter.h>
 
@@ -42,7 +42,7 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
                                            const std::vector<std::string>& only);
 
 /// A fresh, configured segmenter (segmenters keep id state between calls).
-using SegmenterFactory = std::function<PluginHandle<Segmenter>()>;
+using SegmenterFactory = std::function<framework::PluginHandle<Segmenter>()>;
 /// Receives the progress lines of a benchmark (one per variant, incremental every 5 s).
 using ProgressSink = std::function<void(const std::string&)>;
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::framework {
 
 /// A loaded plugin library. Kept alive by every instance created from it.
 struct PluginInfo {
@@ -88,4 +88,4 @@ PluginHandle<T> Registry::create(const std::shared_ptr<const PluginInfo>& info) 
 /// commands whose stdout is their report).
 void logPluginToStderr(Plugin& p, const std::string& name);
 
-}  // namespace asf
+}  // namespace asf::framework

@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <string>
 
-namespace asf {
+namespace asf::framework {
 
 struct RunSummary {
   long steps = 0;
@@ -62,4 +62,4 @@ struct RunSummary {
   std::string output_errors;
 };
 
-}  // namespace asf
+}  // namespace asf::framework

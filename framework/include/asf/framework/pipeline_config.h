@@ -3,14 +3,14 @@
 /// A pipeline's INI file resolved against the framework's key tables ([pipeline], [map],
 /// [topology], [map3d]) and the key tables of the plugins its slots name.
 #include <asf/config.h>
-#include <asf/registry.h>
+#include <asf/framework/registry.h>
 
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::framework {
 
 /// Keys of the [pipeline] section.
 const KeySpec* pipelineKeys(std::size_t& n);
@@ -38,4 +38,4 @@ struct ResolvedConfig {
 /// you mean", missing required keys, bad values, unknown plugins).
 ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry);
 
-}  // namespace asf
+}  // namespace asf::framework

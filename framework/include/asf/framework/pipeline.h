@@ -14,8 +14,8 @@
 /// navigation, the segmenter and the coverage see: the 2D scans' grid, the projection, or
 /// both merged (asf::mapping::mergeOccupancy: an obstacle either sees is an obstacle).
 #include <asf/evaluation/map_views.h>
-#include <asf/pipeline_config.h>
-#include <asf/run_summary.h>
+#include <asf/framework/pipeline_config.h>
+#include <asf/framework/run_summary.h>
 
 #include <atomic>
 #include <functional>
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-namespace asf {
+namespace asf::framework {
 
 class Pipeline {
  public:
@@ -58,4 +58,4 @@ class Pipeline {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace asf
+}  // namespace asf::framework
