@@ -1,13 +1,16 @@
 // asf experiment --backend slurm, the parts that need no cluster: the array script executed
 // by bash as a Slurm task would be (with a stand-in for asf that records its arguments), the
-// quoting, the parsers of sbatch's and squeue's output, resubmission and exit codes. The
-// whole backend against a real one-node cluster: tests/scripts/slurm_local.sh.
+// quoting, the parsers of sbatch's and squeue's output, resubmission and exit codes, and the
+// submit-follow-report loop against Slurm's commands answered by the test. The whole backend
+// against a real one-node cluster: tests/scripts/slurm_local.sh.
 #include <asf/errors.h>
 #include <asf/studies/experiment.h>
 #include <asf/studies/experiment_slurm.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "process_launcher.h"
@@ -223,3 +226,101 @@ TEST(ExperimentSlurm, TheJobNameIsOneWord) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Slurm's commands answered by the test through the ProcessRunner the backend uses: sbatch
+/// prints a job id, the first squeue runs task 0's script for real (bash) and reports two tasks
+/// queued, the second an empty queue; sacct knows tasks 1 and 2. Records every command.
+class FakeSlurm : public asf::studies::ProcessRunner {
+ public:
+  std::vector<std::vector<std::string>> commands;
+  std::string script;
+  int squeues = 0;
+
+  int run(const std::vector<std::string>& argv, std::string& output) override {
+    commands.push_back(argv);
+    output.clear();
+    if (argv.at(0) == "sbatch") {
+      script = argv.back();
+      output = "4242;cluster\n";
+    } else if (argv.at(0) == "squeue" && squeues++ == 0) {
+      std::string ignored;
+      asf::app::runCommand({"env", "SLURM_ARRAY_TASK_ID=0", "bash", script}, ignored);
+      output = "RUNNING\nPENDING\n";
+    } else if (argv.at(0) == "sacct") {
+      output = "4242_1|TIMEOUT\n4242_2|CANCELLED by 0\n";
+    }
+    return 0;
+  }
+  long start(const std::vector<std::string>&, const Redirect&, std::string& error) override {
+    error = "the Slurm backend starts no process itself";
+    return -1;
+  }
+  std::optional<Exit> poll(long) override { return std::nullopt; }
+  void interrupt(long) override {}
+  void kill(long) override {}
+};
+
+/// A stand-in for asf run that finishes: a summary.json in its --out folder.
+std::string finishingAsf(const fs::path& dir) {
+  const fs::path exe = dir / "finishing asf";
+  write(exe,
+        "#!/bin/bash\n"
+        "out=''; prev=''\n"
+        "for a in \"$@\"; do [[ $prev == --out ]] && out=$a; prev=$a; done\n"
+        "echo '{\"stop_reason\": \"policy done: test\"}' > \"$out/summary.json\"\n");
+  fs::permissions(exe, fs::perms::owner_exec, fs::perm_options::add);
+  return exe.string();
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string all;
+  for (const auto& l : lines) all += l + "\n";
+  return all;
+}
+
+}  // namespace
+
+TEST(ExperimentSlurm, SubmitsFollowsAndNamesTheTasksThatDidNotFinish) {
+  const fs::path dir = tempDir("follow");
+  const asf::studies::ExperimentConfig cfg = config(dir);
+  FakeSlurm slurm;
+  std::vector<std::string> lines;
+  const std::atomic<bool> stop{false};
+  const int failed = asf::studies::runSlurmExperiment(
+      cfg, {}, false, 0.01, finishingAsf(dir), slurm,
+      [&](const std::string& l) { lines.push_back(l); }, stop);
+  const std::string all = joined(lines);
+  EXPECT_EQ(failed, 3) << all;  // task 0 ran and finished; 1-3 never ran
+  EXPECT_NE(all.find("asf experiment: 4 runs, 0 finished earlier, 4 to submit"), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("submitted as Slurm job 4242 (4 array tasks"), std::string::npos) << all;
+  EXPECT_NE(all.find("slurm job 4242: 1/4 ended, 1 running, 1 pending"), std::string::npos) << all;
+  EXPECT_NE(all.find("(task 1) did not finish (Slurm: TIMEOUT) (no exit status"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("(task 2) did not finish (Slurm: CANCELLED)"), std::string::npos) << all;
+  EXPECT_EQ(all.find("(task 0) did not finish"), std::string::npos) << all;
+  EXPECT_EQ(slurm.squeues, 2);
+  std::vector<std::string> names;
+  for (const auto& c : slurm.commands) names.push_back(c.at(0));
+  EXPECT_EQ(names, (std::vector<std::string>{"sbatch", "squeue", "squeue", "sacct"}));
+  EXPECT_EQ(slurm.commands[1], (std::vector<std::string>{"squeue", "-h", "-r", "-j", "4242", "-o",
+                                                         "%T"}));
+}
+
+TEST(ExperimentSlurm, AStopCancelsTheJob) {
+  const fs::path dir = tempDir("cancel");
+  const asf::studies::ExperimentConfig cfg = config(dir);
+  FakeSlurm slurm;
+  std::vector<std::string> lines;
+  const std::atomic<bool> stop{true};  // Ctrl-C came during the first poll
+  asf::studies::runSlurmExperiment(cfg, {}, false, 0.01, finishingAsf(dir), slurm,
+                                   [&](const std::string& l) { lines.push_back(l); }, stop);
+  std::vector<std::string> names;
+  for (const auto& c : slurm.commands) names.push_back(c.at(0));
+  EXPECT_EQ(names, (std::vector<std::string>{"sbatch", "squeue", "scancel", "sacct"}));
+  EXPECT_EQ(slurm.commands[2], (std::vector<std::string>{"scancel", "4242"}));
+  EXPECT_NE(joined(lines).find("interrupted: scancel 4242"), std::string::npos) << joined(lines);
+}
