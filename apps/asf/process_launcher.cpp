@@ -81,15 +81,18 @@ extern "C" void onStopSignal(int signo) {
 
 }  // namespace
 
+std::vector<std::string> ProcessLauncher::resolved(std::vector<std::string> argv) const {
+  if (!argv.empty() && argv[0] == "asf") argv[0] = exe_;
+  return argv;
+}
+
 long ProcessLauncher::start(const std::vector<std::string>& argv, const Redirect& io,
                             std::string& error) {
-  std::vector<std::string> args = argv;
-  if (!args.empty() && args[0] == "asf") args[0] = exe_;
-  if (args.empty()) {
+  if (argv.empty()) {
     error = "no command to start";
     return -1;
   }
-  return spawn(args, io, true, error);
+  return spawn(resolved(argv), io, true, error);
 }
 
 std::optional<studies::ProcessRunner::Exit> ProcessLauncher::poll(long handle) {
@@ -114,9 +117,7 @@ void ProcessLauncher::interrupt(long handle) { ::kill(-static_cast<pid_t>(handle
 void ProcessLauncher::kill(long handle) { ::kill(-static_cast<pid_t>(handle), SIGKILL); }
 
 int ProcessLauncher::run(const std::vector<std::string>& argv, std::string& output) {
-  std::vector<std::string> args = argv;
-  if (!args.empty() && args[0] == "asf") args[0] = exe_;
-  return runCommand(args, output);
+  return runCommand(resolved(argv), output);
 }
 
 int runCommand(const std::vector<std::string>& argv, std::string& output) {

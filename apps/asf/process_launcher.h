@@ -23,6 +23,8 @@ class ProcessLauncher final : public studies::ProcessRunner {
   int run(const std::vector<std::string>& argv, std::string& output) override;
 
  private:
+  /// argv with "asf" as argv[0] replaced by the host's binary.
+  std::vector<std::string> resolved(std::vector<std::string> argv) const;
   std::string exe_;
 };
 
