@@ -16,6 +16,61 @@
 
 namespace asf::app {
 
+namespace {
+
+/// --frame-times: the estimate's first column holds 0-based frame indices of `rawlog` (MRPT
+/// icp-slam's log_estimated_path.txt); each becomes the time of its frame.
+void timeFramesByRawlog(std::vector<evaluation::TimedPose>& estimate,
+                        const std::string& estimate_file, const std::string& rawlog) {
+  std::vector<double> times;
+  io::RawlogReader log(rawlog);
+  while (auto f = log.next()) times.push_back(f->timestamp);
+  for (evaluation::TimedPose& p : estimate) {
+    const double k = p.t;
+    if (k < 0 || k != std::floor(k) || k >= static_cast<double>(times.size()))
+      throw InputError(estimate_file + ": frame index " + std::to_string(k) +
+                       " is not one of the " + std::to_string(times.size()) + " frames of " +
+                       rawlog);
+    p.t = times[static_cast<std::size_t>(k)];
+  }
+}
+
+/// --errors: each matched pose's time and position error, one per line.
+void writePoseErrors(const std::string& file, const evaluation::TrajectoryError& r) {
+  std::ofstream f(file);
+  f << "# t error_m (after " << (r.aligned ? "SE(2) alignment" : "no alignment") << ")\n"
+    << std::setprecision(17);
+  for (std::size_t i = 0; i < r.errors_m.size(); ++i)
+    f << r.times[i] << ' ' << r.errors_m[i] << '\n';
+  if (!f) throw Error(file + ": cannot write");
+}
+
+void printAteJson(const std::string& estimate, const std::string& ground_truth,
+                  const evaluation::TrajectoryError& r) {
+  nlohmann::json j;
+  j["estimate"] = estimate;
+  j["ground_truth"] = ground_truth;
+  j["poses"] = r.poses;
+  j["unmatched"] = r.unmatched;
+  j["ate_rmse_m"] = r.ate_rmse_m;
+  j["ate_mean_m"] = r.ate_mean_m;
+  j["ate_max_m"] = r.ate_max_m;
+  j["rot_rmse_deg"] = r.rot_rmse_deg;
+  j["aligned"] = r.aligned;
+  j["alignment"] = {r.alignment.x(), r.alignment.y(), r.alignment.phi()};
+  std::cout << j.dump(2) << "\n";
+}
+
+void printAteText(const evaluation::TrajectoryError& r) {
+  std::cout << "asf ate: " << r.poses << " poses (" << r.unmatched
+            << " without ground truth), ATE RMSE " << r.ate_rmse_m << " m, mean "
+            << r.ate_mean_m << " m, max " << r.ate_max_m << " m, heading RMSE "
+            << r.rot_rmse_deg << " deg" << (r.aligned ? " (after SE(2) alignment)" : "")
+            << "\n";
+}
+
+}  // namespace
+
 int cmdAte(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Absolute trajectory error (ATE) of an estimated trajectory against ground truth: each "
@@ -50,19 +105,8 @@ int cmdAte(int argc, char** argv) {
   cmd.parse(argc, argv);
 
   auto estimate = evaluation::readTrajectory(est.getValue());
-  if (!frame_times.getValue().empty()) {
-    std::vector<double> times;
-    io::RawlogReader log(frame_times.getValue());
-    while (auto f = log.next()) times.push_back(f->timestamp);
-    for (evaluation::TimedPose& p : estimate) {
-      const double k = p.t;
-      if (k < 0 || k != std::floor(k) || k >= static_cast<double>(times.size()))
-        throw InputError(est.getValue() + ": frame index " + std::to_string(k) +
-                         " is not one of the " + std::to_string(times.size()) + " frames of " +
-                         frame_times.getValue());
-      p.t = times[static_cast<std::size_t>(k)];
-    }
-  }
+  if (!frame_times.getValue().empty())
+    timeFramesByRawlog(estimate, est.getValue(), frame_times.getValue());
   const auto truth = io::readGroundTruth(gt.getValue());
   const evaluation::TrajectoryError r =
       evaluation::evaluateTrajectory(estimate, truth, gap.getValue(), !no_align.getValue());
@@ -72,34 +116,11 @@ int cmdAte(int argc, char** argv) {
       throw InputError(est.getValue() + " against " + gt.getValue() +
                        ": the error is not a finite number (coordinates too large to square: "
                        "not a robot's trajectory in metres?)");
-  if (!per_pose.getValue().empty()) {
-    std::ofstream f(per_pose.getValue());
-    f << "# t error_m (after " << (r.aligned ? "SE(2) alignment" : "no alignment") << ")\n"
-      << std::setprecision(17);
-    for (std::size_t i = 0; i < r.errors_m.size(); ++i)
-      f << r.times[i] << ' ' << r.errors_m[i] << '\n';
-    if (!f) throw Error(per_pose.getValue() + ": cannot write");
-  }
-  if (json.getValue()) {
-    nlohmann::json j;
-    j["estimate"] = est.getValue();
-    j["ground_truth"] = gt.getValue();
-    j["poses"] = r.poses;
-    j["unmatched"] = r.unmatched;
-    j["ate_rmse_m"] = r.ate_rmse_m;
-    j["ate_mean_m"] = r.ate_mean_m;
-    j["ate_max_m"] = r.ate_max_m;
-    j["rot_rmse_deg"] = r.rot_rmse_deg;
-    j["aligned"] = r.aligned;
-    j["alignment"] = {r.alignment.x(), r.alignment.y(), r.alignment.phi()};
-    std::cout << j.dump(2) << "\n";
-  } else {
-    std::cout << "asf ate: " << r.poses << " poses (" << r.unmatched
-              << " without ground truth), ATE RMSE " << r.ate_rmse_m << " m, mean "
-              << r.ate_mean_m << " m, max " << r.ate_max_m << " m, heading RMSE "
-              << r.rot_rmse_deg << " deg" << (r.aligned ? " (after SE(2) alignment)" : "")
-              << "\n";
-  }
+  if (!per_pose.getValue().empty()) writePoseErrors(per_pose.getValue(), r);
+  if (json.getValue())
+    printAteJson(est.getValue(), gt.getValue(), r);
+  else
+    printAteText(r);
   return kOk;
 }
 

@@ -163,6 +163,93 @@ int cmdRawlog2Rawseeds(int argc, char** argv) {
 
 namespace {
 
+/// asf carmen2rawlog's options, added to `cmd` in declaration order (--help's order depends on it).
+struct CarmenArgs {
+  explicit CarmenArgs(TCLAP::CmdLine& parser) : cmd(parser) {}
+
+  TCLAP::CmdLine& cmd;
+  TCLAP::ValueArg<std::string> in{"i", "in", "CARMEN log (.gz: gunzipped)", true, "", "LOG", cmd};
+  TCLAP::ValueArg<std::string> out{"o", "out", "Output rawlog (.gz: compressed)", true, "",
+                                   "FILE.rawlog", cmd};
+  TCLAP::ValueArg<std::string> gt{"", "gt", "Also write the ground truth (timestamp x y phi)",
+                                  false, "", "FILE", cmd};
+  TCLAP::SwitchArg synth{"", "synth-odometry",
+                         "Synthesize noisy odometry from the logged poses (corrected logs)", cmd};
+  TCLAP::SwitchArg odom_lines{"", "odom-lines", "Odometry from the ODOM lines", cmd};
+  TCLAP::ValueArg<std::uint64_t> seed{"", "seed", "Seed of --synth-odometry", false, 1, "N", cmd};
+  const mapping::OdometryNoiseModel def{};  // the defaults of --a1 .. --min-std-phi
+  TCLAP::ValueArg<double> a1{"", "a1", "Odometry model: x/y std per metre [m/m]", false, def.a1,
+                             "A", cmd};
+  TCLAP::ValueArg<double> a2{"", "a2", "Odometry model: x/y std per degree [m/deg]", false, def.a2,
+                             "A", cmd};
+  TCLAP::ValueArg<double> a3{"", "a3", "Odometry model: phi std per metre [deg/m]", false, def.a3,
+                             "A", cmd};
+  TCLAP::ValueArg<double> a4{"", "a4", "Odometry model: phi std per degree [deg/deg]", false,
+                             def.a4, "A", cmd};
+  TCLAP::ValueArg<double> min_xy{"", "min-std-xy", "Odometry model: minimum x/y std [m]", false,
+                                 def.min_std_xy, "S", cmd};
+  TCLAP::ValueArg<double> min_phi{"", "min-std-phi", "Odometry model: minimum phi std [deg]", false,
+                                  def.min_std_phi_deg, "S", cmd};
+  TCLAP::ValueArg<double> fov{"", "fov-deg",
+                              "FLASER field of view [deg] (default: from PARAM lines, else 180)",
+                              false, 0, "DEG", cmd};
+  TCLAP::ValueArg<double> max_range{
+      "", "max-range", "Maximum range [m] (default: from the log, else 80)", false, 0, "M", cmd};
+  std::vector<std::string> stamp_modes{"auto", "log", "order"};
+  TCLAP::ValuesConstraint<std::string> stamp_allowed{stamp_modes};
+  TCLAP::ValueArg<std::string> stamps{
+      "", "timestamps",
+      "Scan timestamps: log (the laser lines' ipc_timestamp), order (the log's order, "
+      "--scan-period apart), auto (log unless a stamp is not a time or more than 10% do not "
+      "increase)",
+      false, "auto", &stamp_allowed, cmd};
+  TCLAP::ValueArg<double> period{"", "scan-period",
+                                 "Seconds between scans when stamped by order (default: the "
+                                 "log's median step if steady, else 1)",
+                                 false, 0, "S", cmd};
+  TCLAP::SwitchArg skip{"", "skip-bad-lines", "Skip and count malformed lines instead of failing",
+                        cmd};
+  TCLAP::SwitchArg quiet{"q", "quiet", "No progress lines", cmd};
+};
+
+/// The option values carmen2rawlog refuses, as command-line errors.
+void checkCarmenArgs(const CarmenArgs& a) {
+  if (a.synth.getValue() && a.odom_lines.getValue())
+    throw TCLAP::CmdLineParseException("use one of them", "--synth-odometry/--odom-lines");
+  for (const auto* v :
+       {&a.a1, &a.a2, &a.a3, &a.a4, &a.min_xy, &a.min_phi, &a.fov, &a.max_range, &a.period})
+    if (!(v->getValue() >= 0)) throw TCLAP::CmdLineParseException("must be >= 0", v->getName());
+}
+
+/// The conversion the options ask for.
+io::CarmenToRawlogOptions carmenOptions(const CarmenArgs& a) {
+  io::CarmenToRawlogOptions o;
+  o.input = a.in.getValue();
+  o.output = a.out.getValue();
+  o.gt_output = a.gt.getValue();
+  using Mode = io::CarmenToRawlogOptions::Odometry;
+  o.odometry = a.synth.getValue()        ? Mode::Synthetic
+               : a.odom_lines.getValue() ? Mode::OdomLines
+                                         : Mode::Laser;
+  o.seed = a.seed.getValue();
+  o.model.a1 = a.a1.getValue();
+  o.model.a2 = a.a2.getValue();
+  o.model.a3 = a.a3.getValue();
+  o.model.a4 = a.a4.getValue();
+  o.model.min_std_xy = a.min_xy.getValue();
+  o.model.min_std_phi_deg = a.min_phi.getValue();
+  o.fov_deg = a.fov.getValue();
+  o.max_range = a.max_range.getValue();
+  using Stamps = io::CarmenToRawlogOptions::Timestamps;
+  o.timestamps = a.stamps.getValue() == "log"     ? Stamps::Log
+                 : a.stamps.getValue() == "order" ? Stamps::Order
+                                                  : Stamps::Auto;
+  o.scan_period_s = a.period.getValue();
+  o.skip_bad_lines = a.skip.getValue();
+  o.progress = a.quiet.getValue() ? nullptr : &std::cerr;
+  return o;
+}
+
 void printCarmenReport(const io::CarmenToRawlogOptions& o,
                        const io::CarmenToRawlogReport& r, bool synthesized) {
   std::cout << "carmen2rawlog: " << r.scans << " scans (" << r.laser_message << ", " << r.rays
@@ -199,83 +286,16 @@ int cmdCarmen2Rawlog(int argc, char** argv) {
       "lines (--odom-lines), or synthesized (--synth-odometry) from the logged poses with "
       "Gaussian noise of MRPT's odometry model.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> in("i", "in", "CARMEN log (.gz: gunzipped)", true, "", "LOG", cmd);
-  TCLAP::ValueArg<std::string> out("o", "out", "Output rawlog (.gz: compressed)", true, "",
-                                   "FILE.rawlog", cmd);
-  TCLAP::ValueArg<std::string> gt("", "gt", "Also write the ground truth (timestamp x y phi)",
-                                  false, "", "FILE", cmd);
-  TCLAP::SwitchArg synth("", "synth-odometry",
-                         "Synthesize noisy odometry from the logged poses (corrected logs)", cmd);
-  TCLAP::SwitchArg odom_lines("", "odom-lines", "Odometry from the ODOM lines", cmd);
-  TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed of --synth-odometry", false, 1, "N", cmd);
-  const mapping::OdometryNoiseModel def;
-  TCLAP::ValueArg<double> a1("", "a1", "Odometry model: x/y std per metre [m/m]", false, def.a1,
-                             "A", cmd);
-  TCLAP::ValueArg<double> a2("", "a2", "Odometry model: x/y std per degree [m/deg]", false, def.a2,
-                             "A", cmd);
-  TCLAP::ValueArg<double> a3("", "a3", "Odometry model: phi std per metre [deg/m]", false, def.a3,
-                             "A", cmd);
-  TCLAP::ValueArg<double> a4("", "a4", "Odometry model: phi std per degree [deg/deg]", false,
-                             def.a4, "A", cmd);
-  TCLAP::ValueArg<double> min_xy("", "min-std-xy", "Odometry model: minimum x/y std [m]", false,
-                                 def.min_std_xy, "S", cmd);
-  TCLAP::ValueArg<double> min_phi("", "min-std-phi", "Odometry model: minimum phi std [deg]", false,
-                                  def.min_std_phi_deg, "S", cmd);
-  TCLAP::ValueArg<double> fov("", "fov-deg",
-                              "FLASER field of view [deg] (default: from PARAM lines, else 180)",
-                              false, 0, "DEG", cmd);
-  TCLAP::ValueArg<double> max_range(
-      "", "max-range", "Maximum range [m] (default: from the log, else 80)", false, 0, "M", cmd);
-  std::vector<std::string> stamp_modes{"auto", "log", "order"};
-  TCLAP::ValuesConstraint<std::string> stamp_allowed(stamp_modes);
-  TCLAP::ValueArg<std::string> stamps(
-      "", "timestamps",
-      "Scan timestamps: log (the laser lines' ipc_timestamp), order (the log's order, "
-      "--scan-period apart), auto (log unless a stamp is not a time or more than 10% do not "
-      "increase)",
-      false, "auto", &stamp_allowed, cmd);
-  TCLAP::ValueArg<double> period("", "scan-period",
-                                 "Seconds between scans when stamped by order (default: the "
-                                 "log's median step if steady, else 1)",
-                                 false, 0, "S", cmd);
-  TCLAP::SwitchArg skip("", "skip-bad-lines", "Skip and count malformed lines instead of failing",
-                        cmd);
-  TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
+  CarmenArgs args(cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
-  if (synth.getValue() && odom_lines.getValue())
-    throw TCLAP::CmdLineParseException("use one of them", "--synth-odometry/--odom-lines");
-  for (const auto* a : {&a1, &a2, &a3, &a4, &min_xy, &min_phi, &fov, &max_range, &period})
-    if (!(a->getValue() >= 0)) throw TCLAP::CmdLineParseException("must be >= 0", a->getName());
+  checkCarmenArgs(args);
 
-  io::CarmenToRawlogOptions o;
-  o.input = in.getValue();
-  o.output = out.getValue();
-  o.gt_output = gt.getValue();
-  using Mode = io::CarmenToRawlogOptions::Odometry;
-  o.odometry = synth.getValue()        ? Mode::Synthetic
-               : odom_lines.getValue() ? Mode::OdomLines
-                                       : Mode::Laser;
-  o.seed = seed.getValue();
-  o.model.a1 = a1.getValue();
-  o.model.a2 = a2.getValue();
-  o.model.a3 = a3.getValue();
-  o.model.a4 = a4.getValue();
-  o.model.min_std_xy = min_xy.getValue();
-  o.model.min_std_phi_deg = min_phi.getValue();
-  o.fov_deg = fov.getValue();
-  o.max_range = max_range.getValue();
-  using Stamps = io::CarmenToRawlogOptions::Timestamps;
-  o.timestamps = stamps.getValue() == "log"     ? Stamps::Log
-                 : stamps.getValue() == "order" ? Stamps::Order
-                                                : Stamps::Auto;
-  o.scan_period_s = period.getValue();
-  o.skip_bad_lines = skip.getValue();
-  o.progress = quiet.getValue() ? nullptr : &std::cerr;
+  const io::CarmenToRawlogOptions o = carmenOptions(args);
   const auto r = io::carmenToRawlog(o);
   for (const auto& w : r.warnings) std::cerr << "carmen2rawlog: warning: " << w << "\n";
 
-  printCarmenReport(o, r, synth.getValue());
+  printCarmenReport(o, r, args.synth.getValue());
   return kOk;
 }
 

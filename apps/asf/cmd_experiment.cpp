@@ -70,6 +70,22 @@ int runLocally(const studies::ExperimentConfig& cfg) {
   return g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
 }
 
+/// The Slurm backend: the unfinished runs as one job array, followed until it ends; the exit
+/// code of the command. A dry run only writes the array script (kOk, no summary).
+int runOnSlurm(const studies::ExperimentConfig& cfg, const studies::SlurmOptions& o, bool dry_run,
+               double poll_s) {
+  checkPipeline(cfg);
+  const std::string exe = asfExecutable();
+  const int failed = withStopSignals(g_stop, g_signal, [&] {
+    ProcessLauncher launcher(exe);
+    return studies::runSlurmExperiment(cfg, o, dry_run, poll_s, exe, launcher, printLine,
+                                       g_stop);
+  });
+  if (dry_run) return kOk;
+  std::cout << "\n" << studies::summarizeExperiment(cfg);
+  return g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
+}
+
 }  // namespace
 
 int cmdExperiment(int argc, char** argv) {
@@ -134,21 +150,13 @@ int cmdExperiment(int argc, char** argv) {
   if (summarize_only.getValue()) {
     std::cout << studies::summarizeExperiment(cfg);
   } else if (slurm) {
-    checkPipeline(cfg);
     studies::SlurmOptions o;
     o.partition = partition.getValue();
     o.time_limit = time_limit.getValue();
     o.max_parallel = max_parallel.getValue();
     o.sbatch_args = sbatch_arg.getValue();
-    const std::string exe = asfExecutable();
-    const int failed = withStopSignals(g_stop, g_signal, [&] {
-      ProcessLauncher launcher(exe);
-      return studies::runSlurmExperiment(cfg, o, dry_run.getValue(), poll.getValue(), exe,
-                                         launcher, printLine, g_stop);
-    });
-    if (dry_run.getValue()) return kOk;
-    std::cout << "\n" << studies::summarizeExperiment(cfg);
-    code = g_stop ? interruptedBy(g_signal) : failed ? kError : kOk;
+    code = runOnSlurm(cfg, o, dry_run.getValue(), poll.getValue());
+    if (dry_run.getValue()) return code;  // nothing submitted: no report to point at
   } else {
     code = runLocally(cfg);
   }

@@ -246,6 +246,95 @@ int runOptimal(const OptimalRequest& rq) {
   return kOk;
 }
 
+/// asf optimal's options, added to `cmd` in declaration order (--help's order depends on it).
+struct OptimalArgs {
+  explicit OptimalArgs(TCLAP::CmdLine& parser) : cmd(parser) {}
+
+  TCLAP::CmdLine& cmd;
+  TCLAP::UnlabeledValueArg<std::string> file{
+      "graph", "Graph list, g2o file, run directory or topology.json", true, "", "GRAPH", cmd};
+  TCLAP::ValueArg<std::string> criteria{"c", "criteria",
+                                        "Comma-separated criteria: T, D, A, E or numbers p <= 1",
+                                        false, "D,A,E", "LIST", cmd};
+  TCLAP::ValueArg<int> index{"i", "index", "Line number (1-based) of the graph in a graph list",
+                             false, 0, "K", cmd};
+  TCLAP::ValueArg<double> tolerance{
+      "t", "tolerance", "Target relative gap (default 5e-7 smooth criteria, 5e-6 for E)", false,
+      0.0, "TOL", cmd};
+  TCLAP::SwitchArg json{"j", "json",
+                        "Print one JSON object: file, index, n, m, connected, optimum, "
+                        "upper_bound, gap, relative_gap, converged, weights, efficiency.uniform, "
+                        "iterations, time_ms (each keyed by criterion name); pose graphs add "
+                        "edge_information and, with --theorem, theorem",
+                        cmd};
+  std::vector<std::string> models{"bounded", "unit"};
+  TCLAP::ValuesConstraint<std::string> model_c{models};
+  TCLAP::ValueArg<std::string> model{
+      "", "edge-information",
+      "Pose graphs: bounded (alpha_j from each edge's information, eq. 5.53) or unit (every "
+      "alpha_j = 1, as if all edges had the same noise: Corollary 5.2.2)",
+      false, "bounded", &model_c, cmd};
+  std::vector<std::string> refs{"median", "identity"};
+  TCLAP::ValuesConstraint<std::string> ref_c{refs};
+  TCLAP::ValueArg<std::string> reference{
+      "", "noise-reference",
+      "The common Sigma^-1 of eq. 5.52, diag(a, a, c): median (a, c the medians of the edges' "
+      "translation and rotation information) or identity (a = c, eq. 5.55)",
+      false, "median", &ref_c, cmd};
+  TCLAP::SwitchArg theorem{"", "theorem",
+                           "Pose graphs: ||.||_p of the exact information, of Theorem 5.2.1's "
+                           "edge sum and of the bound of eq. 5.54 (D at any size, other "
+                           "criteria up to 1000 poses)",
+                           cmd};
+  TCLAP::ValueArg<int> walks{"w", "walks", "Exhaustive search of every traversal of d = 1..D edges",
+                             false, 0, "D", cmd};
+  std::vector<std::string> kinds{"walk", "closed", "multiset"};
+  TCLAP::ValuesConstraint<std::string> kind_c{kinds};
+  TCLAP::ValueArg<std::string> kind{
+      "", "walk-kind",
+      "walk: edge sequences of walks (figs 5.8-5.10); closed: walks back to their start; "
+      "multiset: any d edges (figs 5.6, 5.7)",
+      false, "walk", &kind_c, cmd};
+  TCLAP::ValueArg<int> start{"", "start", "Walks start at this node (1-based; default any)", false,
+                             0, "NODE", cmd};
+  TCLAP::ValueArg<std::string> plot{"p", "plot",
+                                    "SVG of the exhaustive search: information and rate vs d, "
+                                    "with the relaxed optima dashed",
+                                    false, "", "FILE.svg", cmd};
+  TCLAP::ValueArg<std::string> draw{
+      "", "draw",
+      "SVG of the optimal weights on the graph, one panel per criterion, edge width "
+      "proportional to the weight (figs. 5.11-5.13); nodes at their poses or region centroids, "
+      "else laid out by stress majorization",
+      false, "", "FILE.svg", cmd};
+  TCLAP::ValueArg<double> progress_interval{
+      "", "progress-interval",
+      "Graphs of 500 nodes or more: seconds between progress lines on stderr while a "
+      "criterion is solved (0: every iteration)",
+      false, 5.0, "S", cmd};
+};
+
+/// What the parsed command line asks.
+OptimalRequest optimalRequest(const OptimalArgs& a) {
+  OptimalRequest rq;
+  rq.path = a.file.getValue();
+  rq.criteria = a.criteria.getValue();
+  rq.index_set = a.index.isSet();
+  rq.index = a.index.getValue();
+  rq.unit = a.model.getValue() == "unit";
+  rq.reference = a.reference.getValue();
+  rq.theorem = a.theorem.isSet();
+  rq.tolerance = a.tolerance.getValue();
+  rq.progress_interval = a.progress_interval.getValue();
+  rq.walks = a.walks.getValue();
+  rq.walk_kind = a.kind.getValue();
+  if (a.start.isSet()) rq.start = a.start.getValue();
+  rq.plot = a.plot.getValue();
+  rq.draw = a.draw.getValue();
+  rq.json = a.json.getValue();
+  return rq;
+}
+
 }  // namespace
 
 int cmdOptimal(int argc, char** argv) {
@@ -265,87 +354,11 @@ int cmdOptimal(int argc, char** argv) {
       "1..D edges exhaustively (thesis figs. 5.6-5.10) and --plot draws best information and "
       "information rate vs d. --draw draws the optimal weights on the graph (figs. 5.11-5.13).",
       ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> file(
-      "graph", "Graph list, g2o file, run directory or topology.json", true, "", "GRAPH", cmd);
-  TCLAP::ValueArg<std::string> criteria("c", "criteria",
-                                        "Comma-separated criteria: T, D, A, E or numbers p <= 1",
-                                        false, "D,A,E", "LIST", cmd);
-  TCLAP::ValueArg<int> index("i", "index", "Line number (1-based) of the graph in a graph list",
-                             false, 0, "K", cmd);
-  TCLAP::ValueArg<double> tolerance(
-      "t", "tolerance", "Target relative gap (default 5e-7 smooth criteria, 5e-6 for E)", false,
-      0.0, "TOL", cmd);
-  TCLAP::SwitchArg json("j", "json",
-                        "Print one JSON object: file, index, n, m, connected, optimum, "
-                        "upper_bound, gap, relative_gap, converged, weights, efficiency.uniform, "
-                        "iterations, time_ms (each keyed by criterion name); pose graphs add "
-                        "edge_information and, with --theorem, theorem",
-                        cmd);
-  std::vector<std::string> models{"bounded", "unit"};
-  TCLAP::ValuesConstraint<std::string> model_c(models);
-  TCLAP::ValueArg<std::string> model(
-      "", "edge-information",
-      "Pose graphs: bounded (alpha_j from each edge's information, eq. 5.53) or unit (every "
-      "alpha_j = 1, as if all edges had the same noise: Corollary 5.2.2)",
-      false, "bounded", &model_c, cmd);
-  std::vector<std::string> refs{"median", "identity"};
-  TCLAP::ValuesConstraint<std::string> ref_c(refs);
-  TCLAP::ValueArg<std::string> reference(
-      "", "noise-reference",
-      "The common Sigma^-1 of eq. 5.52, diag(a, a, c): median (a, c the medians of the edges' "
-      "translation and rotation information) or identity (a = c, eq. 5.55)",
-      false, "median", &ref_c, cmd);
-  TCLAP::SwitchArg theorem("", "theorem",
-                           "Pose graphs: ||.||_p of the exact information, of Theorem 5.2.1's "
-                           "edge sum and of the bound of eq. 5.54 (D at any size, other "
-                           "criteria up to 1000 poses)",
-                           cmd);
-  TCLAP::ValueArg<int> walks("w", "walks", "Exhaustive search of every traversal of d = 1..D edges",
-                             false, 0, "D", cmd);
-  std::vector<std::string> kinds{"walk", "closed", "multiset"};
-  TCLAP::ValuesConstraint<std::string> kind_c(kinds);
-  TCLAP::ValueArg<std::string> kind(
-      "", "walk-kind",
-      "walk: edge sequences of walks (figs 5.8-5.10); closed: walks back to their start; "
-      "multiset: any d edges (figs 5.6, 5.7)",
-      false, "walk", &kind_c, cmd);
-  TCLAP::ValueArg<int> start("", "start", "Walks start at this node (1-based; default any)", false,
-                             0, "NODE", cmd);
-  TCLAP::ValueArg<std::string> plot("p", "plot",
-                                    "SVG of the exhaustive search: information and rate vs d, "
-                                    "with the relaxed optima dashed",
-                                    false, "", "FILE.svg", cmd);
-  TCLAP::ValueArg<std::string> draw(
-      "", "draw",
-      "SVG of the optimal weights on the graph, one panel per criterion, edge width "
-      "proportional to the weight (figs. 5.11-5.13); nodes at their poses or region centroids, "
-      "else laid out by stress majorization",
-      false, "", "FILE.svg", cmd);
-  TCLAP::ValueArg<double> progress_interval(
-      "", "progress-interval",
-      "Graphs of 500 nodes or more: seconds between progress lines on stderr while a "
-      "criterion is solved (0: every iteration)",
-      false, 5.0, "S", cmd);
+  OptimalArgs args(cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  OptimalRequest rq;
-  rq.path = file.getValue();
-  rq.criteria = criteria.getValue();
-  rq.index_set = index.isSet();
-  rq.index = index.getValue();
-  rq.unit = model.getValue() == "unit";
-  rq.reference = reference.getValue();
-  rq.theorem = theorem.isSet();
-  rq.tolerance = tolerance.getValue();
-  rq.progress_interval = progress_interval.getValue();
-  rq.walks = walks.getValue();
-  rq.walk_kind = kind.getValue();
-  if (start.isSet()) rq.start = start.getValue();
-  rq.plot = plot.getValue();
-  rq.draw = draw.getValue();
-  rq.json = json.getValue();
-  return runOptimal(rq);
+  return runOptimal(optimalRequest(args));
 }
 
 }  // namespace asf::app

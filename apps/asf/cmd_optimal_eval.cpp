@@ -94,6 +94,45 @@ void writeEfficiencySvg(const std::string& path, const json& graphs,
   if (!f) throw Error(path + ": cannot write the plot");
 }
 
+/// Each route's efficiencies per criterion over the connected graphs: [route][criterion].
+using Efficiencies = std::map<std::string, std::map<std::string, std::vector<double>>>;
+
+/// The routes of kRoutes from node 1 as traversals per edge: every edge once, the Chinese
+/// postman, the TSP walk and TIGRE's modified Tarry walk (ties drawn with `seed`).
+std::vector<Eigen::VectorXd> routeCounts(const graph::Multigraph& g, std::uint32_t seed) {
+  std::vector<Eigen::VectorXd> counts;
+  counts.push_back(Eigen::VectorXd::Ones(g.m()));
+  auto asVector = [&](const graph::Walk& w) {
+    const auto x = w.weights(g.m());
+    return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()))
+        .eval();
+  };
+  counts.push_back(asVector(graph::chinesePostman(g, 0).walk));
+  counts.push_back(asVector(graph::travelingSalesman(g, 0).walk));
+  counts.push_back(asVector(graph::tarry(g, 0, graph::TarryOptions::modified(), seed).walk));
+  return counts;
+}
+
+/// The optimum of each criterion of connected graph g and the efficiency of each route
+/// (`counts`) against it, into jg and eff; the solves' time is added to optimum_ms.
+void scoreGraph(const graph::Multigraph& g, const std::vector<Eigen::VectorXd>& counts,
+                const std::vector<std::string>& names, const std::vector<double>& ps, json& jg,
+                Efficiencies& eff, double& optimum_ms) {
+  for (std::size_t c = 0; c < ps.size(); ++c) {
+    const graph::OptimalDesign d = graph::optimalDesign(g, ps[c]);
+    optimum_ms += d.time_ms;
+    jg["optimum"][names[c]] = d.value;
+    jg["gap"][names[c]] = d.relative_gap;
+    jg["weights"][names[c]] =
+        std::vector<double>(d.weights.data(), d.weights.data() + d.weights.size());
+    for (int r = 0; r < 4; ++r) {
+      const double e = graph::efficiency(g, counts[r], ps[c], d.value);
+      jg["efficiency"][kRoutes[r]][names[c]] = e;
+      eff[kRoutes[r]][names[c]].push_back(e);
+    }
+  }
+}
+
 /// One row of the text table: optima and the routes' efficiencies [%].
 void printGraphRow(const json& jg, int line, const graph::Multigraph& g,
                    const std::vector<std::string>& names) {
@@ -157,7 +196,7 @@ int cmdOptimalEval(int argc, char** argv) {
   const auto list = graph::readGraphList(file.getValue());
   const auto t_all = std::chrono::steady_clock::now();
   json graphs = json::array();
-  std::map<std::string, std::map<std::string, std::vector<double>>> eff;  // route, criterion
+  Efficiencies eff;
   std::size_t connected = 0;
   double optimum_ms = 0;  // the D/A/E solves alone (the speed goal), routes aside
   const bool text = !json_out.getValue();
@@ -176,31 +215,7 @@ int cmdOptimalEval(int argc, char** argv) {
       continue;
     }
     ++connected;
-    std::vector<Eigen::VectorXd> counts;
-    counts.push_back(Eigen::VectorXd::Ones(g.m()));
-    auto asVector = [&](const graph::Walk& w) {
-      const auto x = w.weights(g.m());
-      return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()))
-          .eval();
-    };
-    counts.push_back(asVector(graph::chinesePostman(g, 0).walk));
-    counts.push_back(asVector(graph::travelingSalesman(g, 0).walk));
-    counts.push_back(
-        asVector(graph::tarry(g, 0, graph::TarryOptions::modified(), seed.getValue()).walk));
-    std::ostringstream row;
-    for (std::size_t c = 0; c < ps.size(); ++c) {
-      const graph::OptimalDesign d = graph::optimalDesign(g, ps[c]);
-      optimum_ms += d.time_ms;
-      jg["optimum"][names[c]] = d.value;
-      jg["gap"][names[c]] = d.relative_gap;
-      jg["weights"][names[c]] =
-          std::vector<double>(d.weights.data(), d.weights.data() + d.weights.size());
-      for (int r = 0; r < 4; ++r) {
-        const double e = graph::efficiency(g, counts[r], ps[c], d.value);
-        jg["efficiency"][kRoutes[r]][names[c]] = e;
-        eff[kRoutes[r]][names[c]].push_back(e);
-      }
-    }
+    scoreGraph(g, routeCounts(g, seed.getValue()), names, ps, jg, eff, optimum_ms);
     jg["time_ms"] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (text) printGraphRow(jg, lg.line, g, names);

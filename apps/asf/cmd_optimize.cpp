@@ -21,6 +21,83 @@ namespace asf::app {
 
 namespace {
 
+/// One timed optimization: chi2 before and after, the back-end's report, the seconds of
+/// optimize() and of the marginals (< 0: not asked).
+struct TimedOptimization {
+  double chi2_before = 0, chi2_after = 0;
+  OptimizeReport report;
+  double time_s = 0, marginals_time_s = -1;
+};
+
+/// Optimizes g with the back-end `name`, timed; with `marginals` also times the recovery of
+/// every node's marginal covariance.
+TimedOptimization optimizeTimed(Backend& be, const std::string& name, PoseGraph& g,
+                                const std::string& file, bool marginals) {
+  TimedOptimization t;
+  t.chi2_before = g.chi2();
+  auto t0 = std::chrono::steady_clock::now();
+  // A back-end's error is about this graph: it names the file (the mutation sweep found a
+  // non-finite chi2 reported as "sparse_lm: ..." alone).
+  const auto naming_file = [&](const Error& e) -> Error {
+    return Error(file + ": " + e.what());
+  };
+  try {
+    t.report = be.optimize(g);
+  } catch (const Error& e) {
+    throw naming_file(e);
+  }
+  t.time_s = secondsSince(t0);
+  t.chi2_after = g.chi2();
+  if (marginals) {
+    t0 = std::chrono::steady_clock::now();
+    Marginals m;
+    try {
+      m = be.marginals(g);
+    } catch (const Error& e) {
+      throw naming_file(e);
+    }
+    t.marginals_time_s = secondsSince(t0);
+    if (m.node.size() != g.size())
+      throw Error(name + ": marginals() returned " + std::to_string(m.node.size()) +
+                  " blocks for " + std::to_string(g.size()) + " nodes");
+  }
+  return t;
+}
+
+void printOptimizeJson(const std::string& file, const std::string& name, const PoseGraph& g,
+                       const TimedOptimization& t) {
+  const OptimizeReport& r = t.report;
+  nlohmann::json j = {{"file", file},
+                      {"backend", name},
+                      {"nodes", g.size()},
+                      {"edges", g.edges.size()},
+                      {"fixed", g.fixed.size()},
+                      {"initial_chi2", t.chi2_before},
+                      {"final_chi2", t.chi2_after},
+                      {"iterations", r.iterations},
+                      {"converged", r.converged},
+                      {"time_s", t.time_s},
+                      {"marginals_time_s", nullptr},
+                      {"message", r.message}};
+  if (t.marginals_time_s >= 0) j["marginals_time_s"] = t.marginals_time_s;
+  std::cout << j.dump(2) << "\n";
+}
+
+void printOptimizeText(const std::string& file, const std::string& name, const PoseGraph& g,
+                       const TimedOptimization& t, const std::string& output) {
+  const OptimizeReport& r = t.report;
+  std::cout << std::setprecision(10) << file << ": " << g.size() << " nodes, " << g.edges.size()
+            << " edges";
+  if (!g.fixed.empty()) std::cout << ", " << g.fixed.size() << " fixed";
+  std::cout << "\n" << name << ": chi2 " << t.chi2_before << " -> " << t.chi2_after << " in "
+            << r.iterations << " iterations, " << std::setprecision(4) << t.time_s << " s ("
+            << (r.converged ? "converged" : "not converged") << ": " << r.message << ")\n";
+  if (t.marginals_time_s >= 0)
+    std::cout << "marginals: all " << g.size() << " node covariances in " << t.marginals_time_s
+              << " s\n";
+  if (!output.empty()) std::cout << "wrote " << output << "\n";
+}
+
 }  // namespace
 
 int cmdOptimize(int argc, char** argv) {
@@ -62,63 +139,13 @@ int cmdOptimize(int argc, char** argv) {
   be->configure(params, PluginContext{});
 
   PoseGraph g = readG2o(file.getValue());
-  const double chi0 = g.chi2();
-  auto t0 = std::chrono::steady_clock::now();
-  // A back-end's error is about this graph: it names the file (the mutation sweep found a
-  // non-finite chi2 reported as "sparse_lm: ..." alone).
-  const auto naming_file = [&](const Error& e) -> Error {
-    return Error(file.getValue() + ": " + e.what());
-  };
-  OptimizeReport r;
-  try {
-    r = be->optimize(g);
-  } catch (const Error& e) {
-    throw naming_file(e);
-  }
-  const double t_opt = secondsSince(t0);
-  const double chi1 = g.chi2();
-  double t_marg = -1;
-  if (marginals.getValue()) {
-    t0 = std::chrono::steady_clock::now();
-    Marginals m;
-    try {
-      m = be->marginals(g);
-    } catch (const Error& e) {
-      throw naming_file(e);
-    }
-    t_marg = secondsSince(t0);
-    if (m.node.size() != g.size())
-      throw Error(name + ": marginals() returned " + std::to_string(m.node.size()) +
-                  " blocks for " + std::to_string(g.size()) + " nodes");
-  }
+  const TimedOptimization t = optimizeTimed(*be, name, g, file.getValue(), marginals.getValue());
   if (!output.getValue().empty()) writeG2o(g, output.getValue());
 
-  if (json.getValue()) {
-    nlohmann::json j = {{"file", file.getValue()},
-                        {"backend", name},
-                        {"nodes", g.size()},
-                        {"edges", g.edges.size()},
-                        {"fixed", g.fixed.size()},
-                        {"initial_chi2", chi0},
-                        {"final_chi2", chi1},
-                        {"iterations", r.iterations},
-                        {"converged", r.converged},
-                        {"time_s", t_opt},
-                        {"marginals_time_s", nullptr},
-                        {"message", r.message}};
-    if (t_marg >= 0) j["marginals_time_s"] = t_marg;
-    std::cout << j.dump(2) << "\n";
-  } else {
-    std::cout << std::setprecision(10) << file.getValue() << ": " << g.size() << " nodes, "
-              << g.edges.size() << " edges";
-    if (!g.fixed.empty()) std::cout << ", " << g.fixed.size() << " fixed";
-    std::cout << "\n" << name << ": chi2 " << chi0 << " -> " << chi1 << " in " << r.iterations
-              << " iterations, " << std::setprecision(4) << t_opt << " s ("
-              << (r.converged ? "converged" : "not converged") << ": " << r.message << ")\n";
-    if (t_marg >= 0)
-      std::cout << "marginals: all " << g.size() << " node covariances in " << t_marg << " s\n";
-    if (!output.getValue().empty()) std::cout << "wrote " << output.getValue() << "\n";
-  }
+  if (json.getValue())
+    printOptimizeJson(file.getValue(), name, g, t);
+  else
+    printOptimizeText(file.getValue(), name, g, t, output.getValue());
   return kOk;
 }
 

@@ -179,6 +179,54 @@ void printText(const std::string& graph, const PoseGraph& g, const std::string& 
   if (!r.note.empty()) std::cout << "note: " << r.note << "\n";
 }
 
+/// asf plan's options, added to `cmd` in declaration order (--help's order depends on it).
+struct PlanArgs {
+  explicit PlanArgs(TCLAP::CmdLine& parser) : cmd(parser) {}
+
+  TCLAP::CmdLine& cmd;
+  TCLAP::ValueArg<std::string> graph{"g", "graph", "The pose graph (g2o)", true, "", "FILE.g2o",
+                                     cmd};
+  // Signed: an unsigned argument would read -1 as 4294967295.
+  TCLAP::ValueArg<long long> start{"", "start", "Start node id", true, 0, "ID", cmd};
+  TCLAP::ValueArg<long long> goal{"", "goal", "Goal node id", true, 0, "ID", cmd};
+  TCLAP::ValueArg<std::string> planner{"", "planner", "Planner plugin name", false,
+                                       "expected_uncertainty", "NAME", cmd};
+  TCLAP::MultiArg<std::string> set{"s", "set",
+                                   "Planner key: key=value or <planner>.key=value (repeatable)",
+                                   false, "KEY=VALUE", cmd};
+  TCLAP::ValueArg<std::string> backend{"b", "backend", "Back-end recovering the marginals", false,
+                                       "sparse_lm", "NAME", cmd};
+  TCLAP::ValueArg<std::uint64_t> seed{"", "seed", "Seed handed to the planner", false, 1, "N", cmd};
+  TCLAP::ValueArg<std::size_t> max_cross{
+      "", "max-cross",
+      "Request cross-covariances only if the candidate paths need at most this many blocks", false,
+      2000000, "N", cmd};
+  TCLAP::SwitchArg json{"j", "json",
+                        "Print one JSON object: path, cost, criterion, costs (every "
+                        "criterion), expected_covariance, candidates, capped, timings, note",
+                        cmd};
+  TCLAP::ValueArg<std::string> image{"", "image", "Draw the graph and the path (PNG)", false, "",
+                                     "OUT.png", cmd};
+  TCLAP::SwitchArg ellipses{"", "ellipses", "With --image: 3-sigma marginal ellipses", cmd};
+  TCLAP::ValueArg<std::string> map{
+      "", "map",
+      "Occupancy map: a map_server YAML (e.g. a run's map.yaml: resolution, origin, thresholds and "
+      "mode from it; unknown cells are not free), or an image (row 0 = top, origin (0, 0), pixels "
+      ">= 250 free, "
+      "the rest occupied, --resolution); handed to the planner (voronoi_edges) and drawn "
+      "under --image",
+      false, "", "MAP.yaml|MAP.png", cmd};
+  TCLAP::SwitchArg voronoi{
+      "", "voronoi",
+      "Partially explored map: set the planner's voronoi_edges=true (needs --map): virtual "
+      "edges of the map's generalized Voronoi graph join nodes the pose graph does not",
+      cmd};
+  TCLAP::ValueArg<double> resolution{"", "resolution", "Map resolution [m/pixel]", false, 0.05, "R",
+                                     cmd};
+  TCLAP::MultiArg<std::string> path{"p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd};
+};
+
 }  // namespace
 
 int cmdPlan(int argc, char** argv) {
@@ -189,59 +237,19 @@ int cmdPlan(int argc, char** argv) {
       "nodes of the candidate paths. Prints the path and its cost under every criterion "
       "(expected_uncertainty, mechanical_work, sum_dopt, distance); --image draws it.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> graph("g", "graph", "The pose graph (g2o)", true, "", "FILE.g2o",
-                                     cmd);
-  // Signed: an unsigned argument would read -1 as 4294967295.
-  TCLAP::ValueArg<long long> start("", "start", "Start node id", true, 0, "ID", cmd);
-  TCLAP::ValueArg<long long> goal("", "goal", "Goal node id", true, 0, "ID", cmd);
-  TCLAP::ValueArg<std::string> planner("", "planner", "Planner plugin name", false,
-                                       "expected_uncertainty", "NAME", cmd);
-  TCLAP::MultiArg<std::string> set("s", "set",
-                                   "Planner key: key=value or <planner>.key=value (repeatable)",
-                                   false, "KEY=VALUE", cmd);
-  TCLAP::ValueArg<std::string> backend("b", "backend", "Back-end recovering the marginals", false,
-                                       "sparse_lm", "NAME", cmd);
-  TCLAP::ValueArg<std::uint64_t> seed("", "seed", "Seed handed to the planner", false, 1, "N", cmd);
-  TCLAP::ValueArg<std::size_t> max_cross(
-      "", "max-cross",
-      "Request cross-covariances only if the candidate paths need at most this many blocks", false,
-      2000000, "N", cmd);
-  TCLAP::SwitchArg json("j", "json",
-                        "Print one JSON object: path, cost, criterion, costs (every "
-                        "criterion), expected_covariance, candidates, capped, timings, note",
-                        cmd);
-  TCLAP::ValueArg<std::string> image("", "image", "Draw the graph and the path (PNG)", false, "",
-                                     "OUT.png", cmd);
-  TCLAP::SwitchArg ellipses("", "ellipses", "With --image: 3-sigma marginal ellipses", cmd);
-  TCLAP::ValueArg<std::string> map(
-      "", "map",
-      "Occupancy map: a map_server YAML (e.g. a run's map.yaml: resolution, origin, thresholds and "
-      "mode from it; unknown cells are not free), or an image (row 0 = top, origin (0, 0), pixels "
-      ">= 250 free, "
-      "the rest occupied, --resolution); handed to the planner (voronoi_edges) and drawn "
-      "under --image",
-      false, "", "MAP.yaml|MAP.png", cmd);
-  TCLAP::SwitchArg voronoi(
-      "", "voronoi",
-      "Partially explored map: set the planner's voronoi_edges=true (needs --map): virtual "
-      "edges of the map's generalized Voronoi graph join nodes the pose graph does not",
-      cmd);
-  TCLAP::ValueArg<double> resolution("", "resolution", "Map resolution [m/pixel]", false, 0.05, "R",
-                                     cmd);
-  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
-                                    "DIR", cmd);
+  PlanArgs args(cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
   framework::Registry reg;
-  scanPlugins(reg, path.getValue());
-  const auto pinfo = reg.find(planner.getValue(), PluginKind::Planner);
-  const auto binfo = reg.find(backend.getValue(), PluginKind::Backend);
-  const Params pparams =
-      plannerParams(*pinfo, set.getValue(), voronoi.getValue(), !map.getValue().empty());
-  if (!(resolution.getValue() > 0)) throw ConfigError("--resolution must be > 0");
+  scanPlugins(reg, args.path.getValue());
+  const auto pinfo = reg.find(args.planner.getValue(), PluginKind::Planner);
+  const auto binfo = reg.find(args.backend.getValue(), PluginKind::Backend);
+  const Params pparams = plannerParams(*pinfo, args.set.getValue(), args.voronoi.getValue(),
+                                       !args.map.getValue().empty());
+  if (!(args.resolution.getValue() > 0)) throw ConfigError("--resolution must be > 0");
   PluginContext ctx;
-  ctx.seed = seed.getValue();
+  ctx.seed = args.seed.getValue();
   auto pl = framework::Registry::create<Planner>(pinfo);
   framework::logPluginToStderr(*pl, pinfo->name());
   pl->configure(pparams, ctx);
@@ -251,33 +259,34 @@ int cmdPlan(int argc, char** argv) {
       Params::fromSpecs(binfo->name(), binfo->descriptor->keys, binfo->descriptor->num_keys),
       PluginContext{});
 
-  const PoseGraph g = readG2o(graph.getValue());
-  for (long long v : {start.getValue(), goal.getValue()})
+  const PoseGraph g = readG2o(args.graph.getValue());
+  for (long long v : {args.start.getValue(), args.goal.getValue()})
     if (v < 0 || static_cast<unsigned long long>(v) >= g.size())
-      throw InputError(graph.getValue() + ": node " + std::to_string(v) +
+      throw InputError(args.graph.getValue() + ": node " + std::to_string(v) +
                        " does not exist (the graph has " + std::to_string(g.size()) +
                        " nodes, numbered from 0)");
-  const GridMap grid = readMapArgument(map.getValue(), resolution.getValue());
+  const GridMap grid = readMapArgument(args.map.getValue(), args.resolution.getValue());
   studies::PlanQuery q;
-  q.start = static_cast<NodeId>(start.getValue());
-  q.goal = static_cast<NodeId>(goal.getValue());
+  q.start = static_cast<NodeId>(args.start.getValue());
+  q.goal = static_cast<NodeId>(args.goal.getValue());
   q.map = grid.grid ? &grid : nullptr;
-  q.max_cross = max_cross.getValue();
+  q.max_cross = args.max_cross.getValue();
   const studies::PlanQueryResult r = studies::planOnGraph(g, *pl, pparams, ctx.seed, *be, q);
   if (r.cross_skipped)
-    std::cerr << "asf plan: the candidate paths need more than " << max_cross.getValue()
+    std::cerr << "asf plan: the candidate paths need more than " << args.max_cross.getValue()
               << " cross-covariance blocks (--max-cross); node marginals only\n";
   if (!r.plan.found)
     throw Error(pinfo->name() + ": no path from " + std::to_string(q.start) + " to " +
                 std::to_string(q.goal) + ": " + r.plan.reason);
-  if (!image.getValue().empty())
-    renderImage(image.getValue(), map.getValue(), resolution.getValue(), ellipses.getValue(), g, r);
+  if (!args.image.getValue().empty())
+    renderImage(args.image.getValue(), args.map.getValue(), args.resolution.getValue(),
+                args.ellipses.getValue(), g, r);
   const bool voronoi_edges = planning::pathSearchOptionsFrom(pparams).voronoi_edges;
-  if (json.getValue()) {
-    printJson(graph.getValue(), pinfo->name(), q, r, voronoi_edges, image.getValue());
+  if (args.json.getValue()) {
+    printJson(args.graph.getValue(), pinfo->name(), q, r, voronoi_edges, args.image.getValue());
   } else {
-    printText(graph.getValue(), g, pinfo->name(), r, voronoi_edges);
-    if (!image.getValue().empty()) std::cout << "wrote " << image.getValue() << "\n";
+    printText(args.graph.getValue(), g, pinfo->name(), r, voronoi_edges);
+    if (!args.image.getValue().empty()) std::cout << "wrote " << args.image.getValue() << "\n";
   }
   return kOk;
 }

@@ -73,6 +73,59 @@ void printSummary(const nlohmann::json& j, int samples, double seconds) {
               << sc["file"].get<std::string>() << "\n";
 }
 
+/// asf recognition's options, added to `cmd` in declaration order (--help's order depends on it).
+struct RecognitionArgs {
+  explicit RecognitionArgs(TCLAP::CmdLine& parser) : cmd(parser) {}
+
+  TCLAP::CmdLine& cmd;
+  TCLAP::UnlabeledValueArg<std::string> graph{"graph", "The run's graph.g2o", true, "", "GRAPH.g2o",
+                                              cmd};
+  TCLAP::ValueArg<std::string> rawlog{"r", "rawlog", "The log the run read (the nodes' scans)",
+                                      true, "", "FILE", cmd};
+  TCLAP::ValueArg<std::string> keyframes{"k", "keyframes",
+                                         "The run's keyframes.txt (default: beside the graph)",
+                                         false, "", "FILE", cmd};
+  TCLAP::ValueArg<std::string> label{"", "laser-label", "The run's [rawlog] laser_label", false, "",
+                                     "LABEL", cmd};
+  TCLAP::ValueArg<int> samples{"n", "samples", "ICP samples per node", false, 40, "N", cmd};
+  TCLAP::ValueArg<double> radius{"", "map-radius", "Local map: other nodes' scans within [m]",
+                                 false, 6.0, "M", cmd};
+  TCLAP::ValueArg<double> window_xy{"", "window-xy", "Half size of the window in x, y [m]", false,
+                                    0.3, "M", cmd};
+  TCLAP::ValueArg<double> window_phi{"", "window-phi-deg", "Half size of the window [deg]", false,
+                                     30, "DEG", cmd};
+  TCLAP::ValueArg<double> success_xy{"", "success-xy",
+                                     "A sample succeeds within this distance of the node [m]",
+                                     false, 0.1, "M", cmd};
+  TCLAP::ValueArg<double> success_phi{
+      "", "success-phi-deg", "... and within this heading of the node [deg]", false, 5, "DEG", cmd};
+  TCLAP::ValueArg<unsigned long> seed{"", "seed", "Seed of the draws", false, 1, "N", cmd};
+  TCLAP::ValueArg<unsigned> threads{"j", "threads", "Threads (0: one per core)", false, 0, "N",
+                                    cmd};
+  TCLAP::MultiArg<unsigned> scatter{"s", "scatter", "Draw this node's samples (repeatable)", false,
+                                    "NODE", cmd};
+  TCLAP::ValueArg<std::string> out{"o", "out", "Output folder", false, "recognition", "DIR", cmd};
+};
+
+/// The Monte Carlo trials the options ask for; ConfigError for values out of range.
+planning::RecognitionMcOptions recognitionOptions(const RecognitionArgs& a) {
+  if (a.samples.getValue() < 1) throw ConfigError("--samples: at least 1");
+  if (!(a.radius.getValue() > 0) || !(a.window_xy.getValue() >= 0) ||
+      !(a.window_phi.getValue() >= 0))
+    throw ConfigError("--map-radius must be > 0, --window-xy and --window-phi-deg >= 0");
+  if (!(a.success_xy.getValue() > 0) || !(a.success_phi.getValue() > 0))
+    throw ConfigError("--success-xy and --success-phi-deg must be > 0");
+  planning::RecognitionMcOptions o;
+  o.samples = a.samples.getValue();
+  o.map_radius = a.radius.getValue();
+  o.half_x = o.half_y = a.window_xy.getValue();
+  o.half_phi = a.window_phi.getValue() * M_PI / 180;
+  o.seed = a.seed.getValue();
+  o.success_xy = a.success_xy.getValue();
+  o.success_phi = a.success_phi.getValue() * M_PI / 180;
+  return o;
+}
+
 }  // namespace
 
 int cmdRecognition(int argc, char** argv) {
@@ -84,82 +137,44 @@ int cmdRecognition(int argc, char** argv) {
       "close to the node. Writes recognition.txt (node p, the planners' p_recognition_file), "
       "recognition.json and, for each --scatter node, Fig. 3.3 as scatter_<node>.svg.",
       ' ', ASF_VERSION_STRING);
-  TCLAP::UnlabeledValueArg<std::string> graph("graph", "The run's graph.g2o", true, "", "GRAPH.g2o",
-                                              cmd);
-  TCLAP::ValueArg<std::string> rawlog("r", "rawlog", "The log the run read (the nodes' scans)",
-                                      true, "", "FILE", cmd);
-  TCLAP::ValueArg<std::string> keyframes("k", "keyframes",
-                                         "The run's keyframes.txt (default: beside the graph)",
-                                         false, "", "FILE", cmd);
-  TCLAP::ValueArg<std::string> label("", "laser-label", "The run's [rawlog] laser_label", false, "",
-                                     "LABEL", cmd);
-  TCLAP::ValueArg<int> samples("n", "samples", "ICP samples per node", false, 40, "N", cmd);
-  TCLAP::ValueArg<double> radius("", "map-radius", "Local map: other nodes' scans within [m]",
-                                 false, 6.0, "M", cmd);
-  TCLAP::ValueArg<double> window_xy("", "window-xy", "Half size of the window in x, y [m]", false,
-                                    0.3, "M", cmd);
-  TCLAP::ValueArg<double> window_phi("", "window-phi-deg", "Half size of the window [deg]", false,
-                                     30, "DEG", cmd);
-  TCLAP::ValueArg<double> success_xy("", "success-xy",
-                                     "A sample succeeds within this distance of the node [m]",
-                                     false, 0.1, "M", cmd);
-  TCLAP::ValueArg<double> success_phi(
-      "", "success-phi-deg", "... and within this heading of the node [deg]", false, 5, "DEG", cmd);
-  TCLAP::ValueArg<unsigned long> seed("", "seed", "Seed of the draws", false, 1, "N", cmd);
-  TCLAP::ValueArg<unsigned> threads("j", "threads", "Threads (0: one per core)", false, 0, "N",
-                                    cmd);
-  TCLAP::MultiArg<unsigned> scatter("s", "scatter", "Draw this node's samples (repeatable)", false,
-                                    "NODE", cmd);
-  TCLAP::ValueArg<std::string> out("o", "out", "Output folder", false, "recognition", "DIR", cmd);
+  RecognitionArgs args(cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
 
-  if (samples.getValue() < 1) throw ConfigError("--samples: at least 1");
-  if (!(radius.getValue() > 0) || !(window_xy.getValue() >= 0) || !(window_phi.getValue() >= 0))
-    throw ConfigError("--map-radius must be > 0, --window-xy and --window-phi-deg >= 0");
-  if (!(success_xy.getValue() > 0) || !(success_phi.getValue() > 0))
-    throw ConfigError("--success-xy and --success-phi-deg must be > 0");
-  planning::RecognitionMcOptions o;
-  o.samples = samples.getValue();
-  o.map_radius = radius.getValue();
-  o.half_x = o.half_y = window_xy.getValue();
-  o.half_phi = window_phi.getValue() * M_PI / 180;
-  o.seed = seed.getValue();
-  o.success_xy = success_xy.getValue();
-  o.success_phi = success_phi.getValue() * M_PI / 180;
+  const planning::RecognitionMcOptions o = recognitionOptions(args);
 
-  const PoseGraph g = planning::readRunWithScans(graph.getValue(), keyframes.getValue(),
-                                                 rawlog.getValue(), label.getValue());
-  for (unsigned n : scatter.getValue())
+  const PoseGraph g = planning::readRunWithScans(args.graph.getValue(), args.keyframes.getValue(),
+                                                 args.rawlog.getValue(), args.label.getValue());
+  for (unsigned n : args.scatter.getValue())
     if (n >= g.size())
       throw ConfigError("--scatter " + std::to_string(n) + ": the graph has nodes 0.." +
                         std::to_string(g.size() - 1));
-  std::filesystem::create_directories(out.getValue());
+  std::filesystem::create_directories(args.out.getValue());
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<double> p = planning::recognitionProbabilities(
-      g, o, threads.getValue(), [&](std::size_t k, std::size_t n) {
+      g, o, args.threads.getValue(), [&](std::size_t k, std::size_t n) {
         std::cerr << "recognition: " << k << "/" << n << " nodes, " << std::setprecision(3)
                   << secondsSince(t0) << " s\n";
       });
   const double seconds = secondsSince(t0);
   std::map<NodeId, double> table;
   for (NodeId n = 0; n < g.size(); ++n) table[n] = p[n];
-  const std::filesystem::path dir(out.getValue());
+  const std::filesystem::path dir(args.out.getValue());
   planning::writeRecognitionProbabilities((dir / "recognition.txt").string(), table);
 
-  nlohmann::json j{{"graph", graph.getValue()},
-                   {"rawlog", rawlog.getValue()},
+  nlohmann::json j{{"graph", args.graph.getValue()},
+                   {"rawlog", args.rawlog.getValue()},
                    {"samples", o.samples},
                    {"map_radius", o.map_radius},
                    {"window_xy", o.half_x},
-                   {"window_phi_deg", window_phi.getValue()},
+                   {"window_phi_deg", args.window_phi.getValue()},
                    {"success_xy", o.success_xy},
-                   {"success_phi_deg", success_phi.getValue()},
+                   {"success_phi_deg", args.success_phi.getValue()},
                    {"seed", o.seed},
                    {"time_s", seconds},
                    {"summary", summary(g, p)},
                    {"scatter", nlohmann::json::array()}};
-  for (unsigned n : scatter.getValue()) j["scatter"].push_back(writeScatter(g, n, o, dir));
+  for (unsigned n : args.scatter.getValue()) j["scatter"].push_back(writeScatter(g, n, o, dir));
   {
     const std::string file = (dir / "recognition.json").string();
     std::ofstream f(file);

@@ -53,6 +53,38 @@ std::string defaultConfigs(const std::string& exe) {
   return (fs::path(exe).parent_path().parent_path() / "share/asf/configs").string();
 }
 
+/// --shared, else $ASF_SHARED_DIR, else ../shared; canonical. InputError if it is no folder.
+std::string sharedDir(const std::string& arg) {
+  const char* env_shared = std::getenv("ASF_SHARED_DIR");
+  const std::string shared_dir = !arg.empty()                ? arg
+                                 : env_shared && *env_shared ? env_shared
+                                                             : "../shared";
+  if (!fs::is_directory(shared_dir))
+    throw InputError("--shared " + shared_dir +
+                     ": no such folder (the datasets beside the repository: datasets/carmen, "
+                     "roomseg, optexp, g2o)");
+  return fs::canonical(shared_dir).string();
+}
+
+/// The reproduction's outcome on stdout; the exit code: interrupted (by the signal), kError
+/// when a stage is not done or a row has no asf value, else kOk.
+int reportOutcome(const rp::Report& report, std::size_t stages,
+                  const std::vector<rp::StageResult>& results, const std::string& out) {
+  const std::size_t missing = report.missing();
+  std::size_t bad_stages = 0;
+  bool interrupted = false;
+  for (const auto& r : results) {
+    bad_stages += r.status != rp::StageResult::kDone && r.status != rp::StageResult::kReused;
+    interrupted = interrupted || r.why.find("interrupted") != std::string::npos;
+  }
+  std::cout << "reproduce: " << report.rows.size() << " rows (" << missing
+            << " without an asf value), " << report.figures.size() << " figures; "
+            << stages - bad_stages << "/" << stages << " stages done\nwrote " << out
+            << "/report.md, report.html, report.json\n";
+  if (interrupted) return g_signal ? interruptedBy(g_signal) : kInterrupted;
+  return missing == 0 && bad_stages == 0 ? kOk : kError;
+}
+
 }  // namespace
 
 int cmdReproduce(int argc, char** argv) {
@@ -95,15 +127,7 @@ int cmdReproduce(int argc, char** argv) {
   rp::Settings s;
   s.quick = quick.getValue();
   s.asf = asfExecutable();
-  const char* env_shared = std::getenv("ASF_SHARED_DIR");
-  const std::string shared_dir = !shared.getValue().empty()  ? shared.getValue()
-                                 : env_shared && *env_shared ? env_shared
-                                                             : "../shared";
-  if (!fs::is_directory(shared_dir))
-    throw InputError("--shared " + shared_dir +
-                     ": no such folder (the datasets beside the repository: datasets/carmen, "
-                     "roomseg, optexp, g2o)");
-  s.shared = fs::canonical(shared_dir).string();
+  s.shared = sharedDir(shared.getValue());
   s.configs = configs.getValue().empty() ? defaultConfigs(s.asf) : configs.getValue();
   if (!fs::exists(fs::path(s.configs) / "cave_thesis.ini"))
     throw InputError("--configs " + s.configs +
@@ -127,19 +151,7 @@ int cmdReproduce(int argc, char** argv) {
   const std::vector<rp::StageResult> results = stageResults(stages, s, report_only.getValue());
   const rp::Report report = rp::collect(s, stages, results);
   rp::write(s, report, stages, results);
-  const std::size_t missing = report.missing();
-  std::size_t bad_stages = 0;
-  bool interrupted = false;
-  for (const auto& r : results) {
-    bad_stages += r.status != rp::StageResult::kDone && r.status != rp::StageResult::kReused;
-    interrupted = interrupted || r.why.find("interrupted") != std::string::npos;
-  }
-  std::cout << "reproduce: " << report.rows.size() << " rows (" << missing
-            << " without an asf value), " << report.figures.size() << " figures; "
-            << stages.size() - bad_stages << "/" << stages.size() << " stages done\nwrote " << s.out
-            << "/report.md, report.html, report.json\n";
-  if (interrupted) return g_signal ? interruptedBy(g_signal) : kInterrupted;
-  return missing == 0 && bad_stages == 0 ? kOk : kError;
+  return reportOutcome(report, stages.size(), results, s.out);
 }
 
 }  // namespace asf::app

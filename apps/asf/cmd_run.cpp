@@ -86,6 +86,36 @@ void resumeSettings(const std::string& run, std::string& config_file, std::strin
                      "(the interrupted one stays as it is)");
 }
 
+/// CONFIG with the command line's keys over it: --resume's (the run to continue), the --set
+/// overrides, then --verbosity.
+IniConfig pipelineIni(const std::string& config_file, const std::string& resume,
+                      const std::vector<std::string>& sets, const std::string& verbosity) {
+  IniConfig ini = IniConfig::fromFile(config_file);
+  if (!resume.empty()) {
+    const std::string run = std::filesystem::absolute(resume).lexically_normal().string();
+    ini.set("pipeline", "resume", run, "--resume");
+    ini.set(ini.get("pipeline", "source"), "resume_from", run, "--resume");
+  }
+  for (const auto& s : sets) ini.applyOverride(s);
+  if (!verbosity.empty()) ini.set("pipeline", "verbosity", verbosity, "--verbosity");
+  return ini;
+}
+
+/// Runs the pipeline with Ctrl-C/SIGTERM (stop), SIGUSR1 (pause, resume) and SIGUSR2 (back to
+/// the start) handled; the default handlers are back after.
+framework::RunSummary runWithSignals(framework::Pipeline& pipeline) {
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  std::signal(SIGUSR1, onPauseSignal);
+  std::signal(SIGUSR2, onHomeSignal);
+  framework::RunSummary s = pipeline.run(&g_stop, &g_pause, &g_home);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGUSR1, SIG_DFL);
+  std::signal(SIGUSR2, SIG_DFL);
+  return s;
+}
+
 /// The run's outcome and where its files are, on stdout.
 void printOutcome(const framework::RunSummary& s, const std::string& dir) {
   std::cout << "asf run: " << s.stop_reason << " after " << s.steps << " steps, " << s.distance_m
@@ -158,15 +188,7 @@ int cmdRun(int argc, char** argv) {
     resumeSettings(resume.getValue(), config_file, dir);
   else if (config_file.empty())
     throw InputError("asf run: a CONFIG.ini is required (or --resume RUN)");
-  IniConfig ini = IniConfig::fromFile(config_file);
-  if (!resume.getValue().empty()) {
-    const std::string run =
-        std::filesystem::absolute(resume.getValue()).lexically_normal().string();
-    ini.set("pipeline", "resume", run, "--resume");
-    ini.set(ini.get("pipeline", "source"), "resume_from", run, "--resume");
-  }
-  for (const auto& s : set.getValue()) ini.applyOverride(s);
-  if (!verb.getValue().empty()) ini.set("pipeline", "verbosity", verb.getValue(), "--verbosity");
+  IniConfig ini = pipelineIni(config_file, resume.getValue(), set.getValue(), verb.getValue());
   framework::Registry reg;
   const framework::ResolvedConfig rc = framework::resolveConfig(ini, reg);
 
@@ -186,16 +208,7 @@ int cmdRun(int argc, char** argv) {
                          gui_refresh.getValue(), 800);
   }
 
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  std::signal(SIGUSR1, onPauseSignal);
-  std::signal(SIGUSR2, onHomeSignal);
-  const framework::RunSummary s = pipeline.run(&g_stop, &g_pause, &g_home);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
-  std::signal(SIGUSR1, SIG_DFL);
-  std::signal(SIGUSR2, SIG_DFL);
-
+  const framework::RunSummary s = runWithSignals(pipeline);
   printOutcome(s, dir);
   if (window) window->hold(gui_hold.getValue(), g_stop);
   if (!s.output_errors.empty()) {

@@ -202,6 +202,95 @@ int scoreBenchmark(const SegmenterSetup& setup, const studies::SegmentBenchmarkO
   return kOk;
 }
 
+/// asf segment-eval's options, added to `cmd` in declaration order (--help's order depends on it).
+struct SegmentEvalArgs {
+  explicit SegmentEvalArgs(TCLAP::CmdLine& parser) : cmd(parser) {}
+
+  TCLAP::CmdLine& cmd;
+  TCLAP::ValueArg<std::string> plain{"", "plain", "Folder of the plain maps (<name>.png)", true, "",
+                                     "DIR", cmd};
+  TCLAP::ValueArg<std::string> gt{
+      "", "gt", "Folder of the ground truth (<name>_gt_segmentation.png)", true, "", "DIR", cmd};
+  TCLAP::ValueArg<std::string> furnished{"", "furnished",
+                                         "Folder of the furnished maps (<name>_furnitures.png)",
+                                         false, "", "DIR", cmd};
+  TCLAP::ValueArg<double> res{"r", "resolution", "Metres per pixel", false, 0.05, "M", cmd};
+  TCLAP::ValueArg<std::string> segmenter{"g", "segmenter", "Segmenter plugin name", true, "",
+                                         "NAME", cmd};
+  TCLAP::MultiArg<std::string> set{"s", "set",
+                                   "Segmenter key: key=value or <segmenter>.key=value "
+                                   "(repeatable)",
+                                   false, "KEY=VALUE", cmd};
+  TCLAP::MultiArg<std::string> path{"p", "plugin-path", "Extra plugin folder (repeatable)", false,
+                                    "DIR", cmd};
+  TCLAP::MultiArg<std::string> only{"m", "map", "Score only this map name (repeatable)", false,
+                                    "NAME", cmd};
+  TCLAP::ValueArg<std::string> json_out{"j", "json",
+                                        "Write the JSON report here: segmenter, params, maps "
+                                        "[{name, variant, precision, recall, precision_pooled, "
+                                        "recall_pooled, mcc, segments, rooms, time_ms, "
+                                        "incremental}], summary {plain, furnished: <key>_mean, "
+                                        "<key>_std, incremental}, complete, error. Rewritten "
+                                        "after every map: an error or interruption keeps what "
+                                        "was done",
+                                        false, "", "OUT.json", cmd};
+  TCLAP::ValueArg<std::string> images{"i", "images",
+                                      "Write overlays <name>_<variant>.png (regions, ids, "
+                                      "ground-truth room outlines in dark red) and 16-bit label "
+                                      "images <name>_<variant>_labels.png into this folder",
+                                      false, "", "DIR", cmd};
+  TCLAP::SwitchArg incremental{"", "incremental",
+                               "Also time incremental segmentation while each map is revealed "
+                               "step by step (--exploration, --incremental-on)",
+                               cmd};
+  std::vector<std::string> explorations{"frontier", "raster_disks"};
+  TCLAP::ValuesConstraint<std::string> exploration_values{explorations};
+  TCLAP::ValueArg<std::string> exploration{
+      "", "exploration",
+      "How --incremental reveals a map: frontier (a simulated laser, --sensor-range, "
+      "--scan-spacing) or raster_disks (the thesis' evaluation: disks of 100 px every 50 px "
+      "along rows, seen through walls; a segmentation after every disk once 160 free px are "
+      "revealed)",
+      false, "frontier", &exploration_values, cmd};
+  std::vector<std::string> incremental_sets{"plain", "furnished", "both"};
+  TCLAP::ValuesConstraint<std::string> incremental_on_values{incremental_sets};
+  TCLAP::ValueArg<std::string> incremental_on{"", "incremental-on",
+                                              "Maps --incremental reveals (furnished and both "
+                                              "need --furnished)",
+                                              false, "plain", &incremental_on_values, cmd};
+  TCLAP::ValueArg<double> range{"", "sensor-range", "Simulated laser range (m)", false, 5.0, "M",
+                                cmd};
+  TCLAP::ValueArg<double> spacing{"", "scan-spacing", "Travel between simulated scans (m)", false,
+                                  0.5, "M", cmd};
+};
+
+/// The option values and combinations segment-eval refuses.
+void checkSegmentEvalArgs(const SegmentEvalArgs& a) {
+  if (!(a.res.getValue() > 0)) throw ConfigError("--resolution must be > 0");
+  if (a.incremental_on.getValue() != "plain" && a.furnished.getValue().empty())
+    throw ConfigError("--incremental-on " + a.incremental_on.getValue() + " needs --furnished");
+  if (a.incremental_on.isSet() && !a.incremental.getValue())
+    throw ConfigError("--incremental-on needs --incremental");
+  if (a.exploration.isSet() && !a.incremental.getValue())
+    throw ConfigError("--exploration needs --incremental");
+}
+
+/// The benchmark the options ask for.
+studies::SegmentBenchmarkOptions benchmarkOptions(const SegmentEvalArgs& a) {
+  studies::SegmentBenchmarkOptions o;
+  o.plain_dir = a.plain.getValue();
+  o.gt_dir = a.gt.getValue();
+  o.furnished_dir = a.furnished.getValue();
+  o.images_dir = a.images.getValue();
+  o.resolution = a.res.getValue();
+  o.incremental = a.incremental.getValue();
+  o.exploration = a.exploration.getValue();
+  o.incremental_on = a.incremental_on.getValue();
+  o.explore.sensor_range = a.range.getValue();
+  o.explore.scan_spacing = a.spacing.getValue();
+  return o;
+}
+
 }  // namespace
 
 int cmdSegmentEval(int argc, char** argv) {
@@ -222,85 +311,15 @@ int cmdSegmentEval(int argc, char** argv) {
       "thesis' own protocol (disks of 5 m revealed through walls every 2.5 m along rows, at "
       "0.05 m per pixel).",
       ' ', ASF_VERSION_STRING);
-  TCLAP::ValueArg<std::string> plain("", "plain", "Folder of the plain maps (<name>.png)", true, "",
-                                     "DIR", cmd);
-  TCLAP::ValueArg<std::string> gt(
-      "", "gt", "Folder of the ground truth (<name>_gt_segmentation.png)", true, "", "DIR", cmd);
-  TCLAP::ValueArg<std::string> furnished("", "furnished",
-                                         "Folder of the furnished maps (<name>_furnitures.png)",
-                                         false, "", "DIR", cmd);
-  TCLAP::ValueArg<double> res("r", "resolution", "Metres per pixel", false, 0.05, "M", cmd);
-  TCLAP::ValueArg<std::string> segmenter("g", "segmenter", "Segmenter plugin name", true, "",
-                                         "NAME", cmd);
-  TCLAP::MultiArg<std::string> set("s", "set",
-                                   "Segmenter key: key=value or <segmenter>.key=value "
-                                   "(repeatable)",
-                                   false, "KEY=VALUE", cmd);
-  TCLAP::MultiArg<std::string> path("p", "plugin-path", "Extra plugin folder (repeatable)", false,
-                                    "DIR", cmd);
-  TCLAP::MultiArg<std::string> only("m", "map", "Score only this map name (repeatable)", false,
-                                    "NAME", cmd);
-  TCLAP::ValueArg<std::string> json_out("j", "json",
-                                        "Write the JSON report here: segmenter, params, maps "
-                                        "[{name, variant, precision, recall, precision_pooled, "
-                                        "recall_pooled, mcc, segments, rooms, time_ms, "
-                                        "incremental}], summary {plain, furnished: <key>_mean, "
-                                        "<key>_std, incremental}, complete, error. Rewritten "
-                                        "after every map: an error or interruption keeps what "
-                                        "was done",
-                                        false, "", "OUT.json", cmd);
-  TCLAP::ValueArg<std::string> images("i", "images",
-                                      "Write overlays <name>_<variant>.png (regions, ids, "
-                                      "ground-truth room outlines in dark red) and 16-bit label "
-                                      "images <name>_<variant>_labels.png into this folder",
-                                      false, "", "DIR", cmd);
-  TCLAP::SwitchArg incremental("", "incremental",
-                               "Also time incremental segmentation while each map is revealed "
-                               "step by step (--exploration, --incremental-on)",
-                               cmd);
-  std::vector<std::string> explorations{"frontier", "raster_disks"};
-  TCLAP::ValuesConstraint<std::string> exploration_values(explorations);
-  TCLAP::ValueArg<std::string> exploration(
-      "", "exploration",
-      "How --incremental reveals a map: frontier (a simulated laser, --sensor-range, "
-      "--scan-spacing) or raster_disks (the thesis' evaluation: disks of 100 px every 50 px "
-      "along rows, seen through walls; a segmentation after every disk once 160 free px are "
-      "revealed)",
-      false, "frontier", &exploration_values, cmd);
-  std::vector<std::string> incremental_sets{"plain", "furnished", "both"};
-  TCLAP::ValuesConstraint<std::string> incremental_on_values(incremental_sets);
-  TCLAP::ValueArg<std::string> incremental_on("", "incremental-on",
-                                              "Maps --incremental reveals (furnished and both "
-                                              "need --furnished)",
-                                              false, "plain", &incremental_on_values, cmd);
-  TCLAP::ValueArg<double> range("", "sensor-range", "Simulated laser range (m)", false, 5.0, "M",
-                                cmd);
-  TCLAP::ValueArg<double> spacing("", "scan-spacing", "Travel between simulated scans (m)", false,
-                                  0.5, "M", cmd);
+  SegmentEvalArgs args(cmd);
   cmd.setExceptionHandling(false);
   cmd.parse(argc, argv);
-  if (!(res.getValue() > 0)) throw ConfigError("--resolution must be > 0");
-  if (incremental_on.getValue() != "plain" && furnished.getValue().empty())
-    throw ConfigError("--incremental-on " + incremental_on.getValue() + " needs --furnished");
-  if (incremental_on.isSet() && !incremental.getValue())
-    throw ConfigError("--incremental-on needs --incremental");
-  if (exploration.isSet() && !incremental.getValue())
-    throw ConfigError("--exploration needs --incremental");
+  checkSegmentEvalArgs(args);
 
   const SegmenterSetup setup =
-      setupSegmenter(segmenter.getValue(), set.getValue(), path.getValue(), false);
-  studies::SegmentBenchmarkOptions o;
-  o.plain_dir = plain.getValue();
-  o.gt_dir = gt.getValue();
-  o.furnished_dir = furnished.getValue();
-  o.images_dir = images.getValue();
-  o.resolution = res.getValue();
-  o.incremental = incremental.getValue();
-  o.exploration = exploration.getValue();
-  o.incremental_on = incremental_on.getValue();
-  o.explore.sensor_range = range.getValue();
-  o.explore.scan_spacing = spacing.getValue();
-  return scoreBenchmark(setup, o, only.getValue(), json_out.getValue());
+      setupSegmenter(args.segmenter.getValue(), args.set.getValue(), args.path.getValue(), false);
+  const studies::SegmentBenchmarkOptions o = benchmarkOptions(args);
+  return scoreBenchmark(setup, o, args.only.getValue(), args.json_out.getValue());
 }
 
 }  // namespace asf::app

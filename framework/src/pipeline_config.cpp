@@ -135,101 +135,136 @@ std::string ResolvedConfig::toIni() const {
   return os.str();
 }
 
-ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
-  ResolvedConfig rc;
-  std::vector<std::string> errors;
-  auto attempt = [&](auto&& fn) {
+namespace {
+
+/// resolveConfig's steps; every error is collected, so one run of `asf config` names them all.
+class ConfigResolver {
+ public:
+  ConfigResolver(const IniConfig& ini, Registry& registry) : ini_(ini), registry_(registry) {}
+
+  ResolvedConfig resolve() {
+    resolveFrameworkSections();
+    scanPluginFolders();
+    findSlotPlugins();
+    checkOtherSections();
+    for (const auto& [slot, info] : rc_.slots) {
+      attempt([&, &info = info] {
+        rc_.plugin_params[info->name()] =
+            ini_.resolve(info->name(), info->descriptor->keys, info->descriptor->num_keys);
+      });
+    }
+    if (!errors_.empty()) {
+      std::string msg;
+      for (const auto& e : errors_) msg += (msg.empty() ? "" : "\n") + e;
+      throw ConfigError(msg);
+    }
+    return rc_;
+  }
+
+ private:
+  template <class Fn>
+  void attempt(Fn&& fn) {
     try {
       fn();
     } catch (const Error& e) {
-      errors.push_back(e.what());
+      errors_.push_back(e.what());
     }
-  };
-  const auto fw = frameworkSections();
-  attempt([&] { rc.pipeline = ini.resolve("pipeline", fw[0].keys, fw[0].num_keys); });
-  attempt([&] { rc.map = ini.resolve("map", fw[1].keys, fw[1].num_keys); });
-  attempt([&] { rc.topology = ini.resolve("topology", fw[2].keys, fw[2].num_keys); });
-  attempt([&] { rc.map3d = ini.resolve("map3d", fw[3].keys, fw[3].num_keys); });
-  attempt([&] {
-    if (rc.pipeline.has("navigation_map") && rc.pipeline.getString("navigation_map") != "scan2d" &&
-        !rc.pipeline.getBool("map3d"))
-      rc.pipeline.fail("navigation_map", "'" + rc.pipeline.getString("navigation_map") +
-                                             "' needs the 3D map: set [pipeline] map3d = true");
-  });
-  if (!ini.hasSection("pipeline"))
-    errors.insert(errors.begin(), ini.fileName() + ": no [pipeline] section");
+  }
 
-  for (const auto& d : Registry::defaultSearchPath()) registry.scanDirectory(d);
-  // Slots and plugin_path are read from the INI directly, so their errors are reported
-  // even when another [pipeline] key is invalid.
-  {
-    std::stringstream ss(ini.get("pipeline", "plugin_path"));
+  void resolveFrameworkSections() {
+    attempt([&] { rc_.pipeline = ini_.resolve("pipeline", fw_[0].keys, fw_[0].num_keys); });
+    attempt([&] { rc_.map = ini_.resolve("map", fw_[1].keys, fw_[1].num_keys); });
+    attempt([&] { rc_.topology = ini_.resolve("topology", fw_[2].keys, fw_[2].num_keys); });
+    attempt([&] { rc_.map3d = ini_.resolve("map3d", fw_[3].keys, fw_[3].num_keys); });
+    attempt([&] {
+      const Params& p = rc_.pipeline;
+      if (p.has("navigation_map") && p.getString("navigation_map") != "scan2d" &&
+          !p.getBool("map3d"))
+        p.fail("navigation_map", "'" + p.getString("navigation_map") +
+                                     "' needs the 3D map: set [pipeline] map3d = true");
+    });
+    if (!ini_.hasSection("pipeline"))
+      errors_.insert(errors_.begin(), ini_.fileName() + ": no [pipeline] section");
+  }
+
+  /// Slots and plugin_path are read from the INI directly, so their errors are reported
+  /// even when another [pipeline] key is invalid.
+  void scanPluginFolders() {
+    for (const auto& d : Registry::defaultSearchPath()) registry_.scanDirectory(d);
+    std::stringstream ss(ini_.get("pipeline", "plugin_path"));
     std::string d;
     while (std::getline(ss, d, ':')) {
       if (d.empty()) continue;
       fs::path p(d);
-      if (p.is_relative() && !ini.baseDir().empty()) p = fs::path(ini.baseDir()) / p;
+      if (p.is_relative() && !ini_.baseDir().empty()) p = fs::path(ini_.baseDir()) / p;
       if (!fs::is_directory(p))
-        errors.push_back(ini.where("pipeline", "plugin_path") + ": [pipeline] plugin_path: '" +
-                         p.string() + "' is not a folder");
-      registry.scanDirectory(p.string());
+        errors_.push_back(ini_.where("pipeline", "plugin_path") + ": [pipeline] plugin_path: '" +
+                          p.string() + "' is not a folder");
+      registry_.scanDirectory(p.string());
     }
   }
 
-  for (std::size_t i = 0; i < std::size(kSlots); ++i) {
-    const std::string name = ini.get("pipeline", kSlots[i]);
-    if (name.empty()) continue;
-    try {
-      rc.slots[kSlots[i]] = registry.find(name, kSlotKinds[i]);
-    } catch (const PluginError& e) {
-      errors.push_back(ini.where("pipeline", kSlots[i]) + ": [pipeline] " + kSlots[i] + ": " +
-                       e.what());
+  void findSlotPlugins() {
+    for (std::size_t i = 0; i < std::size(kSlots); ++i) {
+      const std::string name = ini_.get("pipeline", kSlots[i]);
+      if (name.empty()) continue;
+      try {
+        rc_.slots[kSlots[i]] = registry_.find(name, kSlotKinds[i]);
+      } catch (const PluginError& e) {
+        errors_.push_back(ini_.where("pipeline", kSlots[i]) + ": [pipeline] " + kSlots[i] + ": " +
+                          e.what());
+      }
     }
+    if (rc_.slots.count("policy") && rc_.slots.count("source") && !rc_.slots.count("segmenter"))
+      rc_.warnings.push_back(
+          "[pipeline] a policy without a segmenter sees a topological graph "
+          "with no regions");
   }
-  if (rc.slots.count("policy") && rc.slots.count("source") && !rc.slots.count("segmenter"))
-    rc.warnings.push_back(
-        "[pipeline] a policy without a segmenter sees a topological graph "
-        "with no regions");
 
-  std::vector<std::string> known_sections;
-  for (const auto& s : fw) known_sections.push_back(s.name);
-  for (const auto& p : registry.plugins()) known_sections.push_back(p->name());
-  for (const auto& section : ini.sections()) {
-    bool framework = false;
-    for (const auto& s : fw) framework = framework || section == s.name;
-    if (framework) continue;
-    bool selected = false;
-    for (const auto& [slot, info] : rc.slots) selected = selected || info->name() == section;
-    if (selected) continue;
-    std::shared_ptr<const PluginInfo> other;
-    try {
-      other = registry.find(section);
-    } catch (const PluginError&) {
+  /// A section of a plugin the pipeline does not use is validated and warned about; a section
+  /// of no plugin is an error naming the closest known section.
+  void checkOtherSections() {
+    std::vector<std::string> known_sections;
+    for (const auto& s : fw_) known_sections.push_back(s.name);
+    for (const auto& p : registry_.plugins()) known_sections.push_back(p->name());
+    for (const auto& section : ini_.sections()) {
+      bool framework = false;
+      for (const auto& s : fw_) framework = framework || section == s.name;
+      if (framework) continue;
+      bool selected = false;
+      for (const auto& [slot, info] : rc_.slots) selected = selected || info->name() == section;
+      if (selected) continue;
+      std::shared_ptr<const PluginInfo> other;
+      try {
+        other = registry_.find(section);
+      } catch (const PluginError&) {
+      }
+      if (other) {
+        // Validated all the same, so a typo waits for no one to switch plugins.
+        attempt(
+            [&] { ini_.resolve(section, other->descriptor->keys, other->descriptor->num_keys); });
+        rc_.warnings.push_back(ini_.where(section) + ": [" + section + "] configures plugin '" +
+                               section + "', which this pipeline does not use");
+        continue;
+      }
+      errors_.push_back(ini_.unknownSection(
+          section, known_sections,
+          "sections are [pipeline], [map], [topology], [map3d] and one per plugin, named after "
+          "it"));
     }
-    if (other) {
-      // Validated all the same, so a typo waits for no one to switch plugins.
-      attempt([&] { ini.resolve(section, other->descriptor->keys, other->descriptor->num_keys); });
-      rc.warnings.push_back(ini.where(section) + ": [" + section + "] configures plugin '" +
-                            section + "', which this pipeline does not use");
-      continue;
-    }
-    errors.push_back(ini.unknownSection(
-        section, known_sections,
-        "sections are [pipeline], [map], [topology], [map3d] and one per plugin, named after "
-        "it"));
   }
-  for (const auto& [slot, info] : rc.slots) {
-    attempt([&, &info = info] {
-      rc.plugin_params[info->name()] =
-          ini.resolve(info->name(), info->descriptor->keys, info->descriptor->num_keys);
-    });
-  }
-  if (!errors.empty()) {
-    std::string msg;
-    for (const auto& e : errors) msg += (msg.empty() ? "" : "\n") + e;
-    throw ConfigError(msg);
-  }
-  return rc;
+
+  const IniConfig& ini_;
+  Registry& registry_;
+  const std::vector<FrameworkSection> fw_ = frameworkSections();
+  ResolvedConfig rc_;
+  std::vector<std::string> errors_;
+};
+
+}  // namespace
+
+ResolvedConfig resolveConfig(const IniConfig& ini, Registry& registry) {
+  return ConfigResolver(ini, registry).resolve();
 }
 
 }  // namespace asf::framework

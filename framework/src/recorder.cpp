@@ -46,6 +46,79 @@ void writeAtomically(const std::string& path, const std::string& text) {
   writeFileAtomically(path, text);
 }
 
+/// summary.json's fields from the run's summary (null where a figure was not measured).
+json summaryJson(const RunSummary& summary, const std::map<std::string, std::string>& plugins) {
+  json j;
+  j["plugins"] = plugins;
+  j["policy"] = summary.policy.empty() ? json(nullptr) : json(summary.policy);
+  j["seed"] = summary.seed;
+  j["coverage"] = summary.coverage < 0 ? json(nullptr) : json(summary.coverage);
+  j["reachable_area_m2"] =
+      summary.reachable_area_m2 < 0 ? json(nullptr) : json(summary.reachable_area_m2);
+  j["explored_area_m2"] = summary.explored_area_m2;
+  j["map_versions"] = summary.map_versions;
+  j["map_rebuilds"] = summary.map_rebuilds;
+  j["loop_closures"] = summary.loop_closures;
+  j["decision_ms_mean"] = summary.decision_ms_mean;
+  j["decision_ms_max"] = summary.decision_ms_max;
+  j["segment_ms_median"] = summary.segment_ms_median;
+  auto orNull = [](double v) { return v < 0 ? json(nullptr) : json(v); };
+  j["segmentations"] = summary.segmentations;
+  j["segmentations_incremental"] = summary.segmentations_incremental;
+  j["segmentations_full"] = summary.segmentations_full;
+  j["incremental_share"] = summary.segmentations == 0
+                               ? json(nullptr)
+                               : json(static_cast<double>(summary.segmentations_incremental) /
+                                      static_cast<double>(summary.segmentations));
+  j["segment_ms_median_incremental"] = orNull(summary.segment_ms_median_incremental);
+  j["segment_ms_median_full"] = orNull(summary.segment_ms_median_full);
+  j["changed_cells_median"] = orNull(summary.changed_cells_median);
+  j["steps"] = summary.steps;
+  j["distance_m"] = summary.distance_m;
+  j["nodes"] = summary.nodes;
+  j["edges"] = summary.edges;
+  j["final_pose_error_m"] =
+      summary.final_pose_error_m < 0 ? json(nullptr) : json(summary.final_pose_error_m);
+  j["mean_pose_error_m"] =
+      summary.mean_pose_error_m < 0 ? json(nullptr) : json(summary.mean_pose_error_m);
+  j["ate_rmse_m"] = summary.ate_rmse_m < 0 ? json(nullptr) : json(summary.ate_rmse_m);
+  j["ate_max_m"] = summary.ate_max_m < 0 ? json(nullptr) : json(summary.ate_max_m);
+  j["ate_poses"] = summary.ate_poses;
+  j["map_cells"] = summary.map_cells;
+  j["map_information_bits"] = orNull(summary.map_information_bits);
+  j["map_entropy_bits"] = orNull(summary.map_entropy_bits);
+  j["rpe_trans_rmse_m"] = orNull(summary.rpe_trans_rmse_m);
+  j["rpe_rot_rmse_deg"] = orNull(summary.rpe_rot_rmse_deg);
+  for (int k = 0; k < 5; ++k) {  // distance_to_coverage_25_m ... time_to_coverage_99_s
+    const std::string pct =
+        std::to_string(static_cast<int>(100 * RunSummary::kCoverageMilestones[k] + 0.5));
+    j["distance_to_coverage_" + pct + "_m"] = orNull(summary.coverage_distance_m[k]);
+    j["time_to_coverage_" + pct + "_s"] = orNull(summary.coverage_time_s[k]);
+  }
+  j["regions"] = summary.regions;
+  j["decisions"] = summary.decisions;
+  if (!summary.resumed_from.empty())
+    j["resumed"] = {{"from", summary.resumed_from},
+                    {"after_steps", summary.resumed_after_steps},
+                    {"replayed_decisions", summary.replayed_decisions},
+                    {"replayed_decisions_differing", summary.replayed_decisions_differing}};
+  j["finished"] = summary.finished;
+  j["stop_reason"] = summary.stop_reason;
+  j["wall_time_s"] = summary.wall_time_s;
+return j;
+}
+
+/// keyframes.txt: absolute times, so `asf ate keyframes.txt GT.txt` evaluates them like any
+/// trajectory.
+std::string keyframesText(const PoseGraph& graph) {
+  std::ostringstream os;
+  os << "# final keyframe poses (graph nodes): t x y phi (s, m, m, rad)\n"
+     << std::setprecision(17);
+  for (const PoseNode& n : graph.nodes)
+    os << n.timestamp << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi() << '\n';
+  return os.str();
+}
+
 }  // namespace
 
 void SegmentationLog::add(const Segmentation& s, double ms) {
@@ -210,15 +283,8 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
     writeProgress(summary.finished ? "finished" : "stopped: " + summary.stop_reason, last_row_);
   });
   attempt("graph.g2o", [&] { writeG2o(graph, dir_ + "/graph.g2o"); });
-  attempt("keyframes.txt", [&] {
-    // Absolute times, so `asf ate keyframes.txt GT.txt` evaluates them like any trajectory.
-    std::ostringstream os;
-    os << "# final keyframe poses (graph nodes): t x y phi (s, m, m, rad)\n"
-       << std::setprecision(17);
-    for (const PoseNode& n : graph.nodes)
-      os << n.timestamp << ' ' << n.pose.x() << ' ' << n.pose.y() << ' ' << n.pose.phi() << '\n';
-    writeAtomically(dir_ + "/keyframes.txt", os.str());
-  });
+  attempt("keyframes.txt",
+          [&] { writeAtomically(dir_ + "/keyframes.txt", keyframesText(graph)); });
   attempt("map views (topology.svg, regions.png, map.png)",
           [&] { evaluation::writeMapViews(dir_ + "/", graph, map, seg, topo, path); });
   // The bare grid in its frame (map_server; nav2 loads it unchanged): `asf plan --map map.yaml`.
@@ -226,63 +292,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
   attempt("topology.json",
           [&] { writeAtomically(dir_ + "/topology.json", graph::topologyJson(topo)); });
   attempt("summary.json", [&] {
-    json j;
-    j["plugins"] = slots_;
-    j["policy"] = summary.policy.empty() ? json(nullptr) : json(summary.policy);
-    j["seed"] = summary.seed;
-    j["coverage"] = summary.coverage < 0 ? json(nullptr) : json(summary.coverage);
-    j["reachable_area_m2"] =
-        summary.reachable_area_m2 < 0 ? json(nullptr) : json(summary.reachable_area_m2);
-    j["explored_area_m2"] = summary.explored_area_m2;
-    j["map_versions"] = summary.map_versions;
-    j["map_rebuilds"] = summary.map_rebuilds;
-    j["loop_closures"] = summary.loop_closures;
-    j["decision_ms_mean"] = summary.decision_ms_mean;
-    j["decision_ms_max"] = summary.decision_ms_max;
-    j["segment_ms_median"] = summary.segment_ms_median;
-    auto orNull = [](double v) { return v < 0 ? json(nullptr) : json(v); };
-    j["segmentations"] = summary.segmentations;
-    j["segmentations_incremental"] = summary.segmentations_incremental;
-    j["segmentations_full"] = summary.segmentations_full;
-    j["incremental_share"] = summary.segmentations == 0
-                                 ? json(nullptr)
-                                 : json(static_cast<double>(summary.segmentations_incremental) /
-                                        static_cast<double>(summary.segmentations));
-    j["segment_ms_median_incremental"] = orNull(summary.segment_ms_median_incremental);
-    j["segment_ms_median_full"] = orNull(summary.segment_ms_median_full);
-    j["changed_cells_median"] = orNull(summary.changed_cells_median);
-    j["steps"] = summary.steps;
-    j["distance_m"] = summary.distance_m;
-    j["nodes"] = summary.nodes;
-    j["edges"] = summary.edges;
-    j["final_pose_error_m"] =
-        summary.final_pose_error_m < 0 ? json(nullptr) : json(summary.final_pose_error_m);
-    j["mean_pose_error_m"] =
-        summary.mean_pose_error_m < 0 ? json(nullptr) : json(summary.mean_pose_error_m);
-    j["ate_rmse_m"] = summary.ate_rmse_m < 0 ? json(nullptr) : json(summary.ate_rmse_m);
-    j["ate_max_m"] = summary.ate_max_m < 0 ? json(nullptr) : json(summary.ate_max_m);
-    j["ate_poses"] = summary.ate_poses;
-    j["map_cells"] = summary.map_cells;
-    j["map_information_bits"] = orNull(summary.map_information_bits);
-    j["map_entropy_bits"] = orNull(summary.map_entropy_bits);
-    j["rpe_trans_rmse_m"] = orNull(summary.rpe_trans_rmse_m);
-    j["rpe_rot_rmse_deg"] = orNull(summary.rpe_rot_rmse_deg);
-    for (int k = 0; k < 5; ++k) {  // distance_to_coverage_25_m ... time_to_coverage_99_s
-      const std::string pct =
-          std::to_string(static_cast<int>(100 * RunSummary::kCoverageMilestones[k] + 0.5));
-      j["distance_to_coverage_" + pct + "_m"] = orNull(summary.coverage_distance_m[k]);
-      j["time_to_coverage_" + pct + "_s"] = orNull(summary.coverage_time_s[k]);
-    }
-    j["regions"] = summary.regions;
-    j["decisions"] = summary.decisions;
-    if (!summary.resumed_from.empty())
-      j["resumed"] = {{"from", summary.resumed_from},
-                      {"after_steps", summary.resumed_after_steps},
-                      {"replayed_decisions", summary.replayed_decisions},
-                      {"replayed_decisions_differing", summary.replayed_decisions_differing}};
-    j["finished"] = summary.finished;
-    j["stop_reason"] = summary.stop_reason;
-    j["wall_time_s"] = summary.wall_time_s;
+    json j = summaryJson(summary, slots_);
     j["final_chi2"] = graph.chi2();
     if (map.grid)  // the grid of map.png (row 0 = top = y_min + height * resolution)
       j["map"] = gridGeometry(*map.grid);

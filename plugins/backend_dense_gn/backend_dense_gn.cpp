@@ -54,34 +54,9 @@ class DenseGnBackend final : public asf::Backend {
       Eigen::MatrixXd H;
       Eigen::VectorXd b;
       build(g, x, L, H, b);
-      Eigen::VectorXd D = H.diagonal().cwiseMax(1e-9 * std::max(1.0, H.diagonal().maxCoeff()));
-      bool accepted = false;
       double chi_new = chi;
       Poses x_new;
-      for (int attempt = 0; attempt < 12; ++attempt) {
-        Eigen::MatrixXd A = H;
-        A.diagonal() += lambda * D;
-        Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
-        if (ldlt.info() == Eigen::Success) {
-          const Eigen::VectorXd dx = ldlt.solve(-b);
-          if (dx.allFinite()) {
-            x_new = x;
-            for (std::size_t i = 0; i < x.size(); ++i) {
-              if (L.index[i] < 0) continue;
-              x_new[i] += dx.segment<3>(L.index[i]);
-              x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
-            }
-            chi_new = chi2(g, x_new);
-            if (chi_new < chi) {
-              accepted = true;
-              lambda /= 10;
-              break;
-            }
-          }
-        }
-        lambda = std::max(lambda * 10, 1e-9);
-      }
-      if (!accepted) {
+      if (!dampedStep(g, x, L, H, b, chi, lambda, x_new, chi_new)) {
         r.converged = true;
         r.message = "no step decreases chi2 further (lambda " + std::to_string(lambda) + ")";
         break;
@@ -196,6 +171,38 @@ class DenseGnBackend final : public asf::Backend {
       c += r.dot(e.information * r);
     }
     return c;
+  }
+
+  /// Damps the normal equations (H, b) at x (Marquardt scaling, tenfold more after each
+  /// failure, at most 12 tries) until a step lowers chi2 below `chi`: then x_new, chi_new, a
+  /// tenfold lower lambda, and true; false if none did.
+  static bool dampedStep(const asf::PoseGraph& g, const Poses& x, const Layout& L,
+                         const Eigen::MatrixXd& H, const Eigen::VectorXd& b, double chi,
+                         double& lambda, Poses& x_new, double& chi_new) {
+    Eigen::VectorXd D = H.diagonal().cwiseMax(1e-9 * std::max(1.0, H.diagonal().maxCoeff()));
+    for (int attempt = 0; attempt < 12; ++attempt) {
+      Eigen::MatrixXd A = H;
+      A.diagonal() += lambda * D;
+      Eigen::LDLT<Eigen::MatrixXd> ldlt(A);
+      if (ldlt.info() == Eigen::Success) {
+        const Eigen::VectorXd dx = ldlt.solve(-b);
+        if (dx.allFinite()) {
+          x_new = x;
+          for (std::size_t i = 0; i < x.size(); ++i) {
+            if (L.index[i] < 0) continue;
+            x_new[i] += dx.segment<3>(L.index[i]);
+            x_new[i].z() = asf::se2::wrapAngle(x_new[i].z());
+          }
+          chi_new = chi2(g, x_new);
+          if (chi_new < chi) {
+            lambda /= 10;
+            return true;
+          }
+        }
+      }
+      lambda = std::max(lambda * 10, 1e-9);
+    }
+    return false;
   }
 
   /// H = sum J^T Omega J, b = sum J^T Omega e over the free nodes.

@@ -49,16 +49,7 @@ class MrptLevmarqBackend final : public asf::Backend {
     }
 
     mrpt::graphs::CNetworkOfPoses2DInf net;
-    net.root = 0;
-    for (std::size_t i = 0; i < g.size(); ++i) net.nodes[i] = g.nodes[i].pose;
-    for (const auto& e : g.edges) {
-      if (e.from == e.to) continue;  // carries no information on a pose; MRPT rejects it
-      mrpt::poses::CPosePDFGaussianInf m;
-      m.mean = e.mean;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) m.cov_inv(a, b) = e.information(a, b);
-      net.insertEdgeAtEnd(e.from, e.to, m);
-    }
+    toNetwork(g, net);
     mrpt::containers::yaml params = mrpt::containers::yaml::Map();
     params["max_iterations"] = max_iterations_;
     params["initial_lambda"] = initial_lambda_;
@@ -152,6 +143,21 @@ class MrptLevmarqBackend final : public asf::Backend {
   }
 
  private:
+  /// g's nodes and edges into MRPT's graph (rooted at node 0), as optimize_graph_spa_levmarq
+  /// takes them.
+  static void toNetwork(const asf::PoseGraph& g, mrpt::graphs::CNetworkOfPoses2DInf& net) {
+    net.root = 0;
+    for (std::size_t i = 0; i < g.size(); ++i) net.nodes[i] = g.nodes[i].pose;
+    for (const auto& e : g.edges) {
+      if (e.from == e.to) continue;  // carries no information on a pose; MRPT rejects it
+      mrpt::poses::CPosePDFGaussianInf m;
+      m.mean = e.mean;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) m.cov_inv(a, b) = e.information(a, b);
+      net.insertEdgeAtEnd(e.from, e.to, m);
+    }
+  }
+
   static void check(const asf::PoseGraph& g) {
     for (const auto& e : g.edges)
       if (e.from >= g.size() || e.to >= g.size())

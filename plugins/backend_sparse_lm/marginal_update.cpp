@@ -13,6 +13,38 @@ namespace asf::sparse_lm {
 
 using asf::NodeId;
 
+namespace {
+
+/// Adds the information J^T W J of P's edges at g's poses to Lambda, where the rows of node v
+/// start at pos[v] (-1: not in Lambda).
+void addEdgeInformation(const asf::PoseGraph& g, const detail::Problem& P,
+                        const std::vector<int>& pos, const Options& o, Eigen::MatrixXd& Lambda) {
+  auto pose = [&](int v) -> Eigen::Vector3d {
+    const auto& p = g.nodes[v].pose;
+    return {p.x(), p.y(), p.phi()};
+  };
+  for (const auto& e : P.edges) {
+    const auto lin = asf::se2::linearizeEdge(pose(e.from), pose(e.to), e.z);
+    const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, lin.e.dot(e.W * lin.e)) * e.W;
+    const int a = pos[e.from], c = pos[e.to];
+    if (e.from == e.to) {
+      if (a < 0) continue;
+      const Eigen::Matrix3d J = lin.Ji + lin.Jj;
+      Lambda.block<3, 3>(a, a) += J.transpose() * W * J;
+      continue;
+    }
+    if (a >= 0) Lambda.block<3, 3>(a, a) += lin.Ji.transpose() * W * lin.Ji;
+    if (c >= 0) Lambda.block<3, 3>(c, c) += lin.Jj.transpose() * W * lin.Jj;
+    if (a >= 0 && c >= 0) {
+      const Eigen::Matrix3d off = lin.Ji.transpose() * W * lin.Jj;
+      Lambda.block<3, 3>(a, c) += off;
+      Lambda.block<3, 3>(c, a) += off.transpose();
+    }
+  }
+}
+
+}  // namespace
+
 void MarginalUpdate::start(const asf::PoseGraph& g, const asf::Marginals& m) {
   active_ = m.node.size() == g.size();
   nodes_ = g.size();
@@ -65,28 +97,7 @@ bool MarginalUpdate::update(const asf::PoseGraph& g, SparseSe2& whole, const Opt
   const Eigen::MatrixXd S0inv = s0.solve(Eigen::MatrixXd::Identity(sb, sb));
   Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(dim, dim);
   Lambda.topLeftCorner(sb, sb) = S0inv;
-  auto pose = [&](int v) -> Eigen::Vector3d {
-    const auto& p = g.nodes[v].pose;
-    return {p.x(), p.y(), p.phi()};
-  };
-  for (const auto& e : P.edges) {
-    const auto lin = asf::se2::linearizeEdge(pose(e.from), pose(e.to), e.z);
-    const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, lin.e.dot(e.W * lin.e)) * e.W;
-    const int a = pos[e.from], c = pos[e.to];
-    if (e.from == e.to) {
-      if (a < 0) continue;
-      const Eigen::Matrix3d J = lin.Ji + lin.Jj;
-      Lambda.block<3, 3>(a, a) += J.transpose() * W * J;
-      continue;
-    }
-    if (a >= 0) Lambda.block<3, 3>(a, a) += lin.Ji.transpose() * W * lin.Ji;
-    if (c >= 0) Lambda.block<3, 3>(c, c) += lin.Jj.transpose() * W * lin.Jj;
-    if (a >= 0 && c >= 0) {
-      const Eigen::Matrix3d off = lin.Ji.transpose() * W * lin.Jj;
-      Lambda.block<3, 3>(a, c) += off;
-      Lambda.block<3, 3>(c, a) += off.transpose();
-    }
-  }
+  addEdgeInformation(g, P, pos, o, Lambda);
   const Eigen::LLT<Eigen::MatrixXd> lambda(Lambda);
   if (lambda.info() != Eigen::Success) return false;
   const Eigen::MatrixXd Sigma = lambda.solve(Eigen::MatrixXd::Identity(dim, dim));

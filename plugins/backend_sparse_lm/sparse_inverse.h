@@ -1,6 +1,6 @@
 #pragma once
 // Private to backend_sparse_lm: the sparse inverse subset of a CHOLMOD supernodal factor,
-// for the marginal covariances (sparse_se2.cpp).
+// for the marginal covariances (sparse_se2_marginals.cpp).
 #include <asf/errors.h>
 #include <cholmod.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 // Private to backend_sparse_lm: the problem as the inner loops see it (edges without CPose2D
-// arithmetic) and the block structure of the normal matrix; shared by sparse_se2.cpp and
-// lago_guess.cpp.
+// arithmetic) and the block structure of the normal matrix; shared by sparse_se2.cpp,
+// sparse_se2_marginals.cpp, lago_guess.cpp and marginal_update.cpp.
 #include <asf/pose_graph.h>
 #include <asf/se2_edge.h>
 

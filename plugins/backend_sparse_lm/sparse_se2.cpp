@@ -1,4 +1,5 @@
-// Core of the sparse_lm back-end: see sparse_se2.h and README.md.
+// Core of the sparse_lm back-end (see sparse_se2.h and README.md): the CHOLMOD factorization
+// and the Levenberg-Marquardt iterations; the covariances are in sparse_se2_marginals.cpp.
 #include "sparse_se2.h"
 
 #include <asf/errors.h>
@@ -13,22 +14,14 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
-#include <map>
 #include <memory>
 #include <optional>
 #include <queue>
 #include <sstream>
 
 #include "lago_guess.h"
-#include "sparse_inverse.h"
 #include "sparse_problem.h"
-
-// libgomp's per-thread "max active levels" ICV, bound only if the OpenMP runtime is loaded
-// (it comes with Debian's CHOLMOD); weak, so a CHOLMOD without OpenMP needs nothing.
-extern "C" {
-int omp_get_max_active_levels() __attribute__((weak));
-void omp_set_max_active_levels(int) __attribute__((weak));
-}
+#include "sparse_se2_impl.h"
 
 namespace asf::sparse_lm {
 
@@ -66,265 +59,167 @@ cholmod_dense viewDense(double* x, std::size_t nrow, std::size_t ncol) {
   return B;
 }
 
-/// While alive, OpenMP parallel regions started by this thread run with one thread. SuiteSparse
-/// 5 (Debian bookworm) parallelizes small loops of CHOLMOD's supernodal factorization with a
-/// team fixed at compile time (4 threads): on a 2-core machine the wake-ups cost more than
-/// the loops (city10000: optimize 0.45 s -> 0.24 s, marginals 0.13 s -> 0.08 s, measured).
-/// The ICV is per thread (libgomp >= 11), so other threads keep their setting.
-class SerialOpenMp {
- public:
-  explicit SerialOpenMp(bool serialize)
-      : on_(serialize && omp_get_max_active_levels && omp_set_max_active_levels) {
-    if (!on_) return;
-    saved_ = omp_get_max_active_levels();
-    omp_set_max_active_levels(0);
-  }
-  ~SerialOpenMp() {
-    if (on_) omp_set_max_active_levels(saved_);
-  }
-  SerialOpenMp(const SerialOpenMp&) = delete;
-  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
-
- private:
-  bool on_;
-  int saved_ = 0;
-};
-
-/// Adds the lifetime of the object to a seconds counter.
-class Timer {
- public:
-  explicit Timer(double& acc) : acc_(acc), t0_(std::chrono::steady_clock::now()) {}
-  ~Timer() {
-    acc_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
-
- private:
-  double& acc_;
-  std::chrono::steady_clock::time_point t0_;
-};
-
 }  // namespace
 
-struct SparseSe2::Impl {
-  cholmod_common cm;
-  cholmod_factor* L = nullptr;
-  Structure S;  ///< the structure L was analysed for (valid if L)
-  double fill_at_fresh = 0;
-  Counters counters;
-  std::string last_symbolic = "none";
-  std::size_t last_cross_solved = 0;
-  bool factor_valid = false;  ///< L holds a successful numeric factorization of S's matrix
-
-  std::vector<double> H;   ///< values of H in S's pattern (undamped)
-  std::vector<double> Ax;  ///< values handed to CHOLMOD (H plus damping)
-  std::vector<double> b;   ///< J^T W e
-  std::vector<int> diag;   ///< position of each diagonal entry in H
-
-  Impl() {
-    cholmod_start(&cm);
-    cm.print = 0;
-    cm.error_handler = nullptr;
-    cm.supernodal = CHOLMOD_SUPERNODAL;
+void SparseSe2::Impl::prepare(Structure S_new, const Options& o) {
+  const Timer timer(counters.t_analysis);
+  if (L && S_new.sameAs(S)) {
+    ++counters.reused;
+    last_symbolic = "reused";
+    S = std::move(S_new);  // same pattern; edge slots may differ (edges added in place)
+    return;
   }
-  ~Impl() {
-    if (L) cholmod_free_factor(&L, &cm);
-    cholmod_finish(&cm);
-  }
-
-  [[noreturn]] void cholmodFailed(const char* what) const {
-    throw asf::Error(std::string("sparse_lm: CHOLMOD ") + what + " failed (status " +
-                     std::to_string(cm.status) + ")");
-  }
-
-  /// Makes L a symbolic factor of S: kept if S is unchanged, else analysed with the previous
-  /// order extended (growth) or a fresh block AMD order.
-  void prepare(Structure S_new, const Options& o) {
-    const Timer timer(counters.t_analysis);
-    if (L && S_new.sameAs(S)) {
-      ++counters.reused;
-      last_symbolic = "reused";
-      S = std::move(S_new);  // same pattern; edge slots may differ (edges added in place)
-      return;
-    }
-    const bool grew = L && S_new.grewFrom(S);
-    std::vector<int> order;  // free indices in elimination order
-    if (grew) {
-      std::vector<char> seen(S_new.nfree, 0);
-      const int* perm = static_cast<const int*>(L->Perm);
-      for (std::size_t k = 0; k < L->n; ++k) {
-        const int blk = perm[k] / 3;
-        if (!seen[blk]) {
-          seen[blk] = 1;
-          order.push_back(blk);
-        }
-      }
-      for (int j = S.nfree; j < S_new.nfree; ++j) order.push_back(j);
-    }
-    cholmod_factor* Lnew = analyze(S_new, order);
-    double fill = cm.lnz / static_cast<double>(S_new.Ai.size());
-    if (grew && fill > o.reorder_fill_ratio * fill_at_fresh) {
-      cholmod_free_factor(&Lnew, &cm);
-      Lnew = analyze(S_new, {});
-      fill = cm.lnz / static_cast<double>(S_new.Ai.size());
-      ++counters.fresh_orderings;
-      last_symbolic = "fresh ordering (extended one had too much fill)";
-      fill_at_fresh = fill;
-    } else if (grew) {
-      ++counters.extended_orderings;
-      last_symbolic = "extended ordering";
-    } else {
-      ++counters.fresh_orderings;
-      last_symbolic = "fresh ordering";
-      fill_at_fresh = fill;
-    }
-    if (L) cholmod_free_factor(&L, &cm);
-    L = Lnew;
-    factor_valid = false;
-    S = std::move(S_new);
-    diag.resize(S.dim());
-    for (int k = 0; k < S.dim(); ++k) diag[k] = S.Ap[k + 1] - 1;  // last entry of a column
-  }
-
-  /// Symbolic analysis of S with the given block order (empty: block AMD). Ordering the
-  /// 3x3 blocks rather than scalars keeps each pose's three columns together and works on
-  /// a graph 3 times smaller.
-  cholmod_factor* analyze(const Structure& s, std::vector<int> order) {
-    const int nb = s.nfree;
-    if (order.empty()) {
-      std::vector<int> Bp(s.col_begin), Bi(s.blocks.size());
-      for (std::size_t k = 0; k < s.blocks.size(); ++k) Bi[k] = s.blocks[k].second;
-      cholmod_sparse B{};
-      B.nrow = B.ncol = static_cast<std::size_t>(nb);
-      B.nzmax = Bi.size();
-      B.p = Bp.data();
-      B.i = Bi.data();
-      B.stype = 1;
-      B.itype = CHOLMOD_INT;
-      B.xtype = CHOLMOD_PATTERN;
-      B.dtype = CHOLMOD_DOUBLE;
-      B.sorted = 1;
-      B.packed = 1;
-      order.resize(nb);
-      if (!cholmod_amd(&B, nullptr, 0, order.data(), &cm)) cholmodFailed("AMD ordering");
-    }
-    std::vector<int> perm(3 * nb);
-    for (int k = 0; k < nb; ++k)
-      for (int c = 0; c < 3; ++c) perm[3 * k + c] = 3 * order[k] + c;
-    cm.nmethods = 1;
-    cm.method[0].ordering = CHOLMOD_GIVEN;
-    cm.postorder = 1;
-    cholmod_sparse A = viewSparse(s, nullptr);
-    cholmod_factor* F = cholmod_analyze_p(&A, perm.data(), nullptr, 0, &cm);
-    if (!F) cholmodFailed("symbolic analysis");
-    return F;
-  }
-
-  /// H and b at x (kernel weights applied); returns the cost at x.
-  double linearize(const Problem& P, const Poses& x, const Options& o) {
-    const Timer timer(counters.t_linearize);
-    H.assign(S.Ai.size(), 0.0);
-    b.assign(S.dim(), 0.0);
-    double F = 0;
-    auto addDiag = [&](int j, const Eigen::Matrix3d& M) {
-      const int k = S.diagBlock(j);
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r <= c; ++r) H[S.pos(j, k, r, c)] += M(r, c);
-    };
-    for (std::size_t k = 0; k < P.edges.size(); ++k) {
-      const auto& e = P.edges[k];
-      const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
-      const double s = lin.e.dot(e.W * lin.e);
-      F += robustCost(e.kernel, o.robust_delta, s);
-      const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, s) * e.W;
-      const int a = S.free[e.from], c = S.free[e.to];
-      if (a >= 0 && a == c) {  // self-loop: both Jacobians act on one pose
-        const Eigen::Matrix3d J = lin.Ji + lin.Jj;
-        addDiag(a, J.transpose() * W * J);
-        Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += J.transpose() * W * lin.e;
-        continue;
-      }
-      const Eigen::Matrix3d WJj = W * lin.Jj;
-      if (a >= 0) {
-        const Eigen::Matrix3d JiTW = lin.Ji.transpose() * W;
-        addDiag(a, JiTW * lin.Ji);
-        Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += JiTW * lin.e;
-        if (c >= 0) {
-          const Eigen::Matrix3d M = lin.Ji.transpose() * WJj;  // rows of a, columns of c
-          const int blk = S.off[k];
-          const int j = std::max(a, c), kk = blk - S.col_begin[j];
-          for (int cc = 0; cc < 3; ++cc)
-            for (int r = 0; r < 3; ++r) H[S.pos(j, kk, r, cc)] += a < c ? M(r, cc) : M(cc, r);
-        }
-      }
-      if (c >= 0) {
-        addDiag(c, lin.Jj.transpose() * WJj);
-        Eigen::Map<Eigen::Vector3d>(&b[3 * c]) += lin.Jj.transpose() * W * lin.e;
+  const bool grew = L && S_new.grewFrom(S);
+  std::vector<int> order;  // free indices in elimination order
+  if (grew) {
+    std::vector<char> seen(S_new.nfree, 0);
+    const int* perm = static_cast<const int*>(L->Perm);
+    for (std::size_t k = 0; k < L->n; ++k) {
+      const int blk = perm[k] / 3;
+      if (!seen[blk]) {
+        seen[blk] = 1;
+        order.push_back(blk);
       }
     }
-    return F;
+    for (int j = S.nfree; j < S_new.nfree; ++j) order.push_back(j);
   }
-
-  bool factorize(const std::vector<double>& values) {
-    const Timer timer(counters.t_factorize);
-    cholmod_sparse A = viewSparse(S, values.data());
-    const int ok = cholmod_factorize(&A, L, &cm);
-    ++counters.factorizations;
-    if (cm.status < 0 || (!ok && cm.status != CHOLMOD_NOT_POSDEF)) cholmodFailed("factorization");
-    factor_valid = cm.status == CHOLMOD_OK && L->minor == L->n;
-    return factor_valid;
+  cholmod_factor* Lnew = analyze(S_new, order);
+  double fill = cm.lnz / static_cast<double>(S_new.Ai.size());
+  if (grew && fill > o.reorder_fill_ratio * fill_at_fresh) {
+    cholmod_free_factor(&Lnew, &cm);
+    Lnew = analyze(S_new, {});
+    fill = cm.lnz / static_cast<double>(S_new.Ai.size());
+    ++counters.fresh_orderings;
+    last_symbolic = "fresh ordering (extended one had too much fill)";
+    fill_at_fresh = fill;
+  } else if (grew) {
+    ++counters.extended_orderings;
+    last_symbolic = "extended ordering";
+  } else {
+    ++counters.fresh_orderings;
+    last_symbolic = "fresh ordering";
+    fill_at_fresh = fill;
   }
+  if (L) cholmod_free_factor(&L, &cm);
+  L = Lnew;
+  factor_valid = false;
+  S = std::move(S_new);
+  diag.resize(S.dim());
+  for (int k = 0; k < S.dim(); ++k) diag[k] = S.Ap[k + 1] - 1;  // last entry of a column
+}
 
-  /// Solves H X = B for a dense column-major B with ncol columns.
-  std::vector<double> solve(std::vector<double> B, std::size_t ncol) {
-    const Timer timer(counters.t_solve);
-    const std::size_t n = static_cast<std::size_t>(S.dim());
-    cholmod_dense Bd = viewDense(B.data(), n, ncol);
-    cholmod_dense* X = cholmod_solve(CHOLMOD_A, L, &Bd, &cm);
-    if (!X) cholmodFailed("solve");
-    const double* xv = static_cast<const double*>(X->x);
-    std::copy(xv, xv + n * ncol, B.begin());
-    cholmod_free_dense(&X, &cm);
-    return B;
+cholmod_factor* SparseSe2::Impl::analyze(const Structure& s, std::vector<int> order) {
+  const int nb = s.nfree;
+  if (order.empty()) {
+    std::vector<int> Bp(s.col_begin), Bi(s.blocks.size());
+    for (std::size_t k = 0; k < s.blocks.size(); ++k) Bi[k] = s.blocks[k].second;
+    cholmod_sparse B{};
+    B.nrow = B.ncol = static_cast<std::size_t>(nb);
+    B.nzmax = Bi.size();
+    B.p = Bp.data();
+    B.i = Bi.data();
+    B.stype = 1;
+    B.itype = CHOLMOD_INT;
+    B.xtype = CHOLMOD_PATTERN;
+    B.dtype = CHOLMOD_DOUBLE;
+    B.sorted = 1;
+    B.packed = 1;
+    order.resize(nb);
+    if (!cholmod_amd(&B, nullptr, 0, order.data(), &cm)) cholmodFailed("AMD ordering");
   }
+  std::vector<int> perm(3 * nb);
+  for (int k = 0; k < nb; ++k)
+    for (int c = 0; c < 3; ++c) perm[3 * k + c] = 3 * order[k] + c;
+  cm.nmethods = 1;
+  cm.method[0].ordering = CHOLMOD_GIVEN;
+  cm.postorder = 1;
+  cholmod_sparse A = viewSparse(s, nullptr);
+  cholmod_factor* F = cholmod_analyze_p(&A, perm.data(), nullptr, 0, &cm);
+  if (!F) cholmodFailed("symbolic analysis");
+  return F;
+}
 
-  /// Columns of the factored matrix's inverse for free nodes `cols`: dim x 3 cols.size().
-  Eigen::MatrixXd columns(const std::vector<int>& cols) {
-    const std::size_t dim = static_cast<std::size_t>(S.dim());
-    constexpr std::size_t kChunk = 16;  // pose columns per solve: 48 right-hand sides
-    Eigen::MatrixXd X(dim, 3 * cols.size());
-    for (std::size_t first = 0; first < cols.size(); first += kChunk) {
-      const std::size_t k = std::min(kChunk, cols.size() - first);
-      std::vector<double> B(dim * 3 * k, 0.0);
-      for (std::size_t c = 0; c < 3 * k; ++c) B[c * dim + 3 * cols[first + c / 3] + c % 3] = 1;
-      const std::vector<double> Y = solve(std::move(B), 3 * k);
-      X.middleCols(3 * first, 3 * k) = Eigen::Map<const Eigen::MatrixXd>(Y.data(), dim, 3 * k);
-    }
-    return X;
-  }
-
-  asf::OptimizeReport optimize(asf::PoseGraph& g, const Options& o);
-  asf::OptimizeReport optimizeWindow(asf::PoseGraph& g, const std::vector<NodeId>& window,
-                                     const std::vector<std::size_t>& edges, const Options& o);
-  /// Solves P from g's poses over S_new's free nodes; writes them back to g if chi2 fell.
-  asf::OptimizeReport run(asf::PoseGraph& g, const Problem& P, Structure S_new, const Options& o,
-                          bool lago);
-  std::optional<double> decrementBound(const asf::PoseGraph& g, const Options& o);
-  double iterate(const Problem& P, Poses& x, const Options& o, asf::OptimizeReport& r, int& steps,
-                 int& accepted);
-  /// The damped step at `lambda` from the factored matrix: x_new = x + h, its cost, the
-  /// predicted decrease and the largest |h|.
-  struct Trial {
-    double F_new = 0, pred = 0, hmax = 0;
+double SparseSe2::Impl::linearize(const Problem& P, const Poses& x, const Options& o) {
+  const Timer timer(counters.t_linearize);
+  H.assign(S.Ai.size(), 0.0);
+  b.assign(S.dim(), 0.0);
+  double F = 0;
+  auto addDiag = [&](int j, const Eigen::Matrix3d& M) {
+    const int k = S.diagBlock(j);
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r <= c; ++r) H[S.pos(j, k, r, c)] += M(r, c);
   };
-  Trial tryStep(const Problem& P, const Poses& x, Poses& x_new, const Options& o, double lambda,
-                const std::vector<double>& D);
-  asf::Marginals marginals(const asf::PoseGraph& g,
-                           const std::vector<std::pair<NodeId, NodeId>>& cross, const Options& o);
-};
+  for (std::size_t k = 0; k < P.edges.size(); ++k) {
+    const auto& e = P.edges[k];
+    const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
+    const double s = lin.e.dot(e.W * lin.e);
+    F += robustCost(e.kernel, o.robust_delta, s);
+    const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, s) * e.W;
+    const int a = S.free[e.from], c = S.free[e.to];
+    if (a >= 0 && a == c) {  // self-loop: both Jacobians act on one pose
+      const Eigen::Matrix3d J = lin.Ji + lin.Jj;
+      addDiag(a, J.transpose() * W * J);
+      Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += J.transpose() * W * lin.e;
+      continue;
+    }
+    const Eigen::Matrix3d WJj = W * lin.Jj;
+    if (a >= 0) {
+      const Eigen::Matrix3d JiTW = lin.Ji.transpose() * W;
+      addDiag(a, JiTW * lin.Ji);
+      Eigen::Map<Eigen::Vector3d>(&b[3 * a]) += JiTW * lin.e;
+      if (c >= 0) {
+        const Eigen::Matrix3d M = lin.Ji.transpose() * WJj;  // rows of a, columns of c
+        const int blk = S.off[k];
+        const int j = std::max(a, c), kk = blk - S.col_begin[j];
+        for (int cc = 0; cc < 3; ++cc)
+          for (int r = 0; r < 3; ++r) H[S.pos(j, kk, r, cc)] += a < c ? M(r, cc) : M(cc, r);
+      }
+    }
+    if (c >= 0) {
+      addDiag(c, lin.Jj.transpose() * WJj);
+      Eigen::Map<Eigen::Vector3d>(&b[3 * c]) += lin.Jj.transpose() * W * lin.e;
+    }
+  }
+  return F;
+}
 
-namespace {
+bool SparseSe2::Impl::factorize(const std::vector<double>& values) {
+  const Timer timer(counters.t_factorize);
+  cholmod_sparse A = viewSparse(S, values.data());
+  const int ok = cholmod_factorize(&A, L, &cm);
+  ++counters.factorizations;
+  if (cm.status < 0 || (!ok && cm.status != CHOLMOD_NOT_POSDEF)) cholmodFailed("factorization");
+  factor_valid = cm.status == CHOLMOD_OK && L->minor == L->n;
+  return factor_valid;
+}
 
-void validate(const asf::PoseGraph& g) {
+std::vector<double> SparseSe2::Impl::solve(std::vector<double> B, std::size_t ncol) {
+  const Timer timer(counters.t_solve);
+  const std::size_t n = static_cast<std::size_t>(S.dim());
+  cholmod_dense Bd = viewDense(B.data(), n, ncol);
+  cholmod_dense* X = cholmod_solve(CHOLMOD_A, L, &Bd, &cm);
+  if (!X) cholmodFailed("solve");
+  const double* xv = static_cast<const double*>(X->x);
+  std::copy(xv, xv + n * ncol, B.begin());
+  cholmod_free_dense(&X, &cm);
+  return B;
+}
+
+Eigen::MatrixXd SparseSe2::Impl::columns(const std::vector<int>& cols) {
+  const std::size_t dim = static_cast<std::size_t>(S.dim());
+  constexpr std::size_t kChunk = 16;  // pose columns per solve: 48 right-hand sides
+  Eigen::MatrixXd X(dim, 3 * cols.size());
+  for (std::size_t first = 0; first < cols.size(); first += kChunk) {
+    const std::size_t k = std::min(kChunk, cols.size() - first);
+    std::vector<double> B(dim * 3 * k, 0.0);
+    for (std::size_t c = 0; c < 3 * k; ++c) B[c * dim + 3 * cols[first + c / 3] + c % 3] = 1;
+    const std::vector<double> Y = solve(std::move(B), 3 * k);
+    X.middleCols(3 * first, 3 * k) = Eigen::Map<const Eigen::MatrixXd>(Y.data(), dim, 3 * k);
+  }
+  return X;
+}
+
+void detail::validate(const asf::PoseGraph& g) {
   for (const auto& e : g.edges)
     if (e.from >= g.size() || e.to >= g.size())
       throw asf::Error("sparse_lm: edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
@@ -334,8 +229,6 @@ void validate(const asf::PoseGraph& g) {
       throw asf::Error("sparse_lm: fixed node " + std::to_string(f) + " does not exist");
 }
 
-}  // namespace
-
 /// Levenberg-Marquardt (or Gauss-Newton) iterations on P from x, at most o.max_iterations
 /// linearizations counted in r.iterations; r.converged and r.message say how it ended.
 /// Returns the cost at the final x.
@@ -343,101 +236,106 @@ double SparseSe2::Impl::iterate(const Problem& P, Poses& x, const Options& o,
                                 asf::OptimizeReport& r, int& steps, int& accepted) {
   const int n = S.dim();
   const bool lm = o.method == Method::LevenbergMarquardt;
-  auto log = [&](const std::string& line) {
-    if (o.log) o.log(line);
-  };
 
   r.converged = false;
   r.message = "reached max_iterations";
-  double lambda = lm ? o.lambda_init : 0.0, nu = 2;
-  double F = cost(P, x, o);
-  std::vector<double> D(n);
-  Poses x_new = x;
+  LmState s;
+  s.lambda = lm ? o.lambda_init : 0.0;
+  s.F = cost(P, x, o);
+  s.D.resize(n);
+  s.x_new = x;
   bool stop = false;
   while (!stop && r.iterations < o.max_iterations) {
     // One iteration = one linearization; LM may try several dampings on it.
-    F = linearize(P, x, o);
+    s.F = linearize(P, x, o);
     ++r.iterations;
     double dmax = 0;
     for (int k = 0; k < n; ++k) dmax = std::max(dmax, H[diag[k]]);
     // Marquardt scaling; the floor keeps a direction without information damped.
-    for (int k = 0; k < n; ++k) D[k] = std::max(H[diag[k]], 1e-9 * std::max(dmax, 1.0));
-    double xmax = 0;
-    for (const auto& p : x) xmax = std::max(xmax, p.cwiseAbs().maxCoeff());
-    for (;;) {
-      Ax = H;
-      for (int k = 0; k < n; ++k) Ax[diag[k]] += lambda * D[k];
-      ++steps;
-      if (!factorize(Ax)) {
-        // Not positive definite: H is singular (part of the graph not anchored to node 0)
-        // or rounding at a tiny lambda. Damp more and retry.
-        lambda = lambda > 0 ? lambda * nu : 1e-9;
-        nu *= 2;
-        if (o.verbosity >= 2)
-          log("sparse_lm: iteration " + std::to_string(r.iterations) +
-              ": matrix not positive definite, lambda -> " + asf::formatSignificant(lambda, 8));
-        if (lambda > 1e16) {
-          r.message = "the normal matrix is not positive definite at any damping";
-          stop = true;
-          break;
-        }
-        continue;
-      }
-      const Trial t = tryStep(P, x, x_new, o, lambda, D);
-      const double F_new = t.F_new, hmax = t.hmax;
-      const double rho = (F - F_new) / t.pred;
-      const bool ok = std::isfinite(F_new) && F_new < F;
-      // A step at the resolution of the doubles cannot improve anything.
-      const bool tiny = hmax <= 1e-12 * (1 + xmax);
-      if (o.verbosity >= 2)
-        log("sparse_lm: iteration " + std::to_string(r.iterations) + ": chi2 " +
-            asf::formatSignificant(F_new, 8) + (ok ? " accepted" : " rejected") + ", lambda " +
-            asf::formatSignificant(lambda, 8) + ", gain ratio " + asf::formatSignificant(rho, 8) +
-            ", max|dx| " + asf::formatSignificant(hmax, 8));
-      if (ok) {
-        const double rel = (F - F_new) / F;
-        x.swap(x_new);
-        x_new = x;
-        F = F_new;
-        ++accepted;
-        if (lm) {
-          lambda *= std::max(1.0 / 3, 1 - std::pow(2 * rho - 1, 3));
-          nu = 2;
-        }
-        if (rel < o.tolerance || tiny || !(F > 0)) {
-          r.converged = true;
-          r.message = !(F > 0) ? "chi2 is zero"
-                      : tiny   ? "step below numerical resolution"
-                               : "relative chi2 decrease below tolerance";
-          stop = true;
-        }
-        break;
-      }
-      if (tiny) {
-        r.converged = true;
-        r.message = "step below numerical resolution";
-        stop = true;
-        break;
-      }
-      if (!lm) {
-        // Gauss-Newton has no fallback: keep the best estimate and stop.
-        r.message = "Gauss-Newton step does not lower chi2";
-        stop = true;
-        break;
-      }
+    for (int k = 0; k < n; ++k) s.D[k] = std::max(H[diag[k]], 1e-9 * std::max(dmax, 1.0));
+    s.xmax = 0;
+    for (const auto& p : x) s.xmax = std::max(s.xmax, p.cwiseAbs().maxCoeff());
+    stop = dampedSteps(P, x, s, o, r, steps, accepted);
+  }
+  return s.F;
+}
+
+bool SparseSe2::Impl::dampedSteps(const Problem& P, Poses& x, LmState& s, const Options& o,
+                                  asf::OptimizeReport& r, int& steps, int& accepted) {
+  const int n = S.dim();
+  const bool lm = o.method == Method::LevenbergMarquardt;
+  auto log = [&](const std::string& line) {
+    if (o.log) o.log(line);
+  };
+  double &F = s.F, &lambda = s.lambda, &nu = s.nu;
+  for (;;) {
+    Ax = H;
+    for (int k = 0; k < n; ++k) Ax[diag[k]] += lambda * s.D[k];
+    ++steps;
+    if (!factorize(Ax)) {
+      // Not positive definite: H is singular (part of the graph not anchored to node 0)
+      // or rounding at a tiny lambda. Damp more and retry.
       lambda = lambda > 0 ? lambda * nu : 1e-9;
       nu *= 2;
-      // lambda is relative to diag(H): beyond this the step is below rounding anyway.
+      if (o.verbosity >= 2)
+        log("sparse_lm: iteration " + std::to_string(r.iterations) +
+            ": matrix not positive definite, lambda -> " + asf::formatSignificant(lambda, 8));
       if (lambda > 1e16) {
-        r.converged = true;
-        r.message =
-            "no step lowers chi2 further (lambda " + asf::formatSignificant(lambda, 8) + ")";
-        stop = true;
-        break;
+        r.message = "the normal matrix is not positive definite at any damping";
+        return true;
       }
+      continue;
+    }
+    const Trial t = tryStep(P, x, s.x_new, o, lambda, s.D);
+    const double F_new = t.F_new, hmax = t.hmax;
+    const double rho = (F - F_new) / t.pred;
+    const bool ok = std::isfinite(F_new) && F_new < F;
+    // A step at the resolution of the doubles cannot improve anything.
+    const bool tiny = hmax <= 1e-12 * (1 + s.xmax);
+    if (o.verbosity >= 2)
+      log("sparse_lm: iteration " + std::to_string(r.iterations) + ": chi2 " +
+          asf::formatSignificant(F_new, 8) + (ok ? " accepted" : " rejected") + ", lambda " +
+          asf::formatSignificant(lambda, 8) + ", gain ratio " + asf::formatSignificant(rho, 8) +
+          ", max|dx| " + asf::formatSignificant(hmax, 8));
+    if (ok) {
+      const double rel = (F - F_new) / F;
+      x.swap(s.x_new);
+      s.x_new = x;
+      F = F_new;
+      ++accepted;
+      if (lm) {
+        lambda *= std::max(1.0 / 3, 1 - std::pow(2 * rho - 1, 3));
+        nu = 2;
+      }
+      if (rel < o.tolerance || tiny || !(F > 0)) {
+        r.converged = true;
+        r.message = !(F > 0) ? "chi2 is zero"
+                    : tiny   ? "step below numerical resolution"
+                             : "relative chi2 decrease below tolerance";
+        return true;
+      }
+      return false;
+    }
+    if (tiny) {
+      r.converged = true;
+      r.message = "step below numerical resolution";
+      return true;
+    }
+    if (!lm) {
+      // Gauss-Newton has no fallback: keep the best estimate and stop.
+      r.message = "Gauss-Newton step does not lower chi2";
+      return true;
+    }
+    lambda = lambda > 0 ? lambda * nu : 1e-9;
+    nu *= 2;
+    // lambda is relative to diag(H): beyond this the step is below rounding anyway.
+    if (lambda > 1e16) {
+      r.converged = true;
+      r.message =
+          "no step lowers chi2 further (lambda " + asf::formatSignificant(lambda, 8) + ")";
+      return true;
     }
   }
-  return F;
 }
 
 SparseSe2::Impl::Trial SparseSe2::Impl::tryStep(const Problem& P, const Poses& x, Poses& x_new,
@@ -548,103 +446,6 @@ asf::OptimizeReport SparseSe2::Impl::run(asf::PoseGraph& g, const Problem& P, St
   return r;
 }
 
-std::optional<double> SparseSe2::Impl::decrementBound(const asf::PoseGraph& g, const Options& o) {
-  if (!L || !factor_valid || S.free.size() > g.size()) return std::nullopt;
-  const std::vector<char> held = Structure::heldNodes(g);
-  for (std::size_t i = 0; i < S.free.size(); ++i)
-    if ((S.free[i] < 0) != (held[i] != 0)) return std::nullopt;  // gauge or fixed set changed
-  const SerialOpenMp serial(!o.cholmod_openmp);
-  const Problem P(g, o);
-  const Poses x = posesOf(g);
-  const int known = static_cast<int>(S.free.size());
-  std::vector<double> rhs(S.dim(), 0.0);  // J^T W e over the factor's free nodes
-  for (const auto& e : P.edges) {
-    const int a = e.from < known ? S.free[e.from] : -1, c = e.to < known ? S.free[e.to] : -1;
-    if (a < 0 && c < 0) continue;
-    const auto lin = asf::se2::linearizeEdge(x[e.from], x[e.to], e.z);
-    const Eigen::Matrix3d W = robustWeight(e.kernel, o.robust_delta, lin.e.dot(e.W * lin.e)) * e.W;
-    const Eigen::Vector3d We = W * lin.e;
-    if (a >= 0 && a == c) {
-      Eigen::Map<Eigen::Vector3d>(&rhs[3 * a]) += (lin.Ji + lin.Jj).transpose() * We;
-      continue;
-    }
-    if (a >= 0) Eigen::Map<Eigen::Vector3d>(&rhs[3 * a]) += lin.Ji.transpose() * We;
-    if (c >= 0) Eigen::Map<Eigen::Vector3d>(&rhs[3 * c]) += lin.Jj.transpose() * We;
-  }
-  const std::vector<double> h = solve(rhs, 1);
-  double bound = 0;
-  for (std::size_t k = 0; k < rhs.size(); ++k) bound += rhs[k] * h[k];
-  return bound;
-}
-
-asf::Marginals SparseSe2::Impl::marginals(const asf::PoseGraph& g,
-                                          const std::vector<std::pair<NodeId, NodeId>>& cross,
-                                          const Options& o) {
-  validate(g);
-  const SerialOpenMp serial(!o.cholmod_openmp);
-  last_cross_solved = 0;
-  asf::Marginals m;
-  m.graph_revision = g.revision;
-  const std::size_t n = g.size();
-  for (const auto& [i, j] : cross)
-    if (i >= n || j >= n)
-      throw asf::Error("sparse_lm: cross-covariance requested for (" + std::to_string(i) + ", " +
-                       std::to_string(j) + ") but the graph has " + std::to_string(n) + " nodes");
-  if (n == 0) return m;
-  Structure S_new = Structure::of(g);
-  asf::requireAnchored(g, "sparse_lm");
-  m.node.assign(n, Eigen::Matrix3d::Zero());
-  for (const auto& ij : cross) m.cross[ij] = Eigen::Matrix3d::Zero();
-  if (S_new.nfree == 0) return m;
-
-  prepare(std::move(S_new), o);
-  const Problem P(g, o);
-  linearize(P, posesOf(g), o);
-  if (!factorize(H))
-    throw asf::Error(
-        "sparse_lm: the information matrix is not positive definite (degenerate "
-        "edge information?); no covariance defined");
-  std::unique_ptr<SparseInverse> inverse;
-  {
-    const Timer timer(counters.t_inverse);
-    inverse = std::make_unique<SparseInverse>(L);
-  }
-  const SparseInverse& Sigma = *inverse;
-  for (std::size_t i = 0; i < n; ++i) {
-    const int f = S.free[i];
-    if (f < 0) continue;
-    Eigen::Matrix3d B;
-    if (!Sigma.block(f, f, B))
-      throw asf::Error("sparse_lm: internal error: diagonal block outside the factor");
-    m.node[i] = 0.5 * (B + B.transpose());
-  }
-
-  // Cross blocks: from the sparse inverse when inside L's pattern (always the case for the
-  // two ends of an edge), otherwise from columns of H^-1 solved with the factor.
-  std::map<int, std::vector<std::pair<NodeId, NodeId>>> by_column;  // free col -> requests
-  for (const auto& ij : cross) {
-    const int fi = S.free[ij.first], fj = S.free[ij.second];
-    if (fi < 0 || fj < 0) continue;  // a held node has no variance
-    Eigen::Matrix3d B;
-    if (Sigma.block(fi, fj, B))
-      m.cross[ij] = B;
-    else
-      by_column[fj].push_back(ij);
-  }
-  std::vector<int> cols;
-  for (const auto& [f, requests] : by_column) cols.push_back(f);
-  const Eigen::MatrixXd X = columns(cols);
-  std::size_t k = 0;
-  for (const auto& [f, requests] : by_column) {
-    for (const auto& ij : requests) {
-      m.cross[ij] = X.block<3, 3>(3 * S.free[ij.first], 3 * k);
-      ++last_cross_solved;
-    }
-    ++k;
-  }
-  return m;
-}
-
 SparseSe2::SparseSe2() : impl_(std::make_unique<Impl>()) {}
 SparseSe2::~SparseSe2() = default;
 
@@ -666,23 +467,6 @@ asf::OptimizeReport SparseSe2::optimizeWindow(asf::PoseGraph& g, const std::vect
 
 std::optional<double> SparseSe2::decrementBound(const asf::PoseGraph& g, const Options& o) {
   return impl_->decrementBound(g, o);
-}
-
-Eigen::MatrixXd SparseSe2::covarianceColumns(const std::vector<NodeId>& nodes, const Options& o) {
-  Impl& m = *impl_;
-  const std::size_t known = factorNodes();
-  std::vector<int> cols;
-  for (NodeId v : nodes) {
-    if (v >= known || m.S.free[v] < 0)
-      throw asf::Error("sparse_lm: internal error: covariance column of a node outside the factor");
-    cols.push_back(m.S.free[v]);
-  }
-  const SerialOpenMp serial(!o.cholmod_openmp);
-  const Eigen::MatrixXd X = m.columns(cols);
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(3 * known, X.cols());
-  for (std::size_t i = 0; i < known; ++i)
-    if (m.S.free[i] >= 0) out.middleRows(3 * i, 3) = X.middleRows(3 * m.S.free[i], 3);
-  return out;
 }
 
 std::size_t SparseSe2::factorNodes() const {

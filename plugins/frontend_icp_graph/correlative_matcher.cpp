@@ -16,6 +16,28 @@ std::vector<std::vector<float>>& bufferPool() {
   thread_local std::vector<std::vector<float>> pool;
   return pool;
 }
+
+/// Level h of the max-pooled grids (width x height cells each) from level h - 1, s = 2^(h-1):
+/// [i, i + 2^h) is [i, i + s) and [i + s, i + 2s). Beyond the grid counts as 0, which every
+/// value is at least: a max over fewer cells there.
+void poolLevel(const std::vector<float>& prev, std::vector<float>& cur, int width, int height,
+               int s) {
+  const int inner = std::max(0, width - s);  // columns whose right neighbour is inside
+  for (int j = 0; j < height; ++j) {
+    const float* a = prev.data() + static_cast<std::size_t>(j) * width;
+    const float* b = j + s < height ? a + static_cast<std::size_t>(s) * width : nullptr;
+    float* out = cur.data() + static_cast<std::size_t>(j) * width;
+    if (b) {
+      for (int i = 0; i < inner; ++i)
+        out[i] = std::max(std::max(a[i], a[i + s]), std::max(b[i], b[i + s]));
+      for (int i = inner; i < width; ++i) out[i] = std::max(a[i], b[i]);
+    } else {
+      for (int i = 0; i < inner; ++i) out[i] = std::max(a[i], a[i + s]);
+      for (int i = inner; i < width; ++i) out[i] = a[i];
+    }
+  }
+}
+
 }  // namespace
 
 LikelihoodGrid::~LikelihoodGrid() {
@@ -92,27 +114,10 @@ LikelihoodGrid::LikelihoodGrid(Points2 ref, double resolution, double sigma, int
       }
     }
   }
-  // [i, i + 2^h) is [i, i + s) and [i + s, i + 2s) with s = 2^(h-1): each level from the last.
-  // Beyond the grid counts as 0, which every value is at least: a max over fewer cells there.
-  for (int h = 1; h < levels; ++h) {
-    const int s = 1 << (h - 1);
-    const std::vector<float>& prev = level_[static_cast<std::size_t>(h - 1)];
-    std::vector<float>& cur = level_[static_cast<std::size_t>(h)];
-    const int inner = std::max(0, w_ - s);  // columns whose right neighbour is inside
-    for (int j = 0; j < h_; ++j) {
-      const float* a = prev.data() + static_cast<std::size_t>(j) * w_;
-      const float* b = j + s < h_ ? a + static_cast<std::size_t>(s) * w_ : nullptr;
-      float* out = cur.data() + static_cast<std::size_t>(j) * w_;
-      if (b) {
-        for (int i = 0; i < inner; ++i)
-          out[i] = std::max(std::max(a[i], a[i + s]), std::max(b[i], b[i + s]));
-        for (int i = inner; i < w_; ++i) out[i] = std::max(a[i], b[i]);
-      } else {
-        for (int i = 0; i < inner; ++i) out[i] = std::max(a[i], a[i + s]);
-        for (int i = inner; i < w_; ++i) out[i] = a[i];
-      }
-    }
-  }
+  // Each level from the last.
+  for (int h = 1; h < levels; ++h)
+    poolLevel(level_[static_cast<std::size_t>(h - 1)], level_[static_cast<std::size_t>(h)], w_, h_,
+              1 << (h - 1));
 }
 
 int LikelihoodGrid::cellX(double x) const { return static_cast<int>(std::floor((x - x0_) / res_)); }

@@ -189,19 +189,9 @@ double unionConcavity(const cv::Mat& labels, const cv::Rect& box, int a, int b, 
   return asf::dude::maxReflexConcavity(ring);
 }
 
-}  // namespace
-
-/// Room layer: neighbouring pieces whose union DuDe would not cut again (no reflex vertex
-/// deeper than merge_concavity, no hole wider than min_hole_extent) are merged, cheapest
-/// union first. Undoes cuts that were chosen for a pocket minimum resolved elsewhere
-/// (furniture corners). Only labels >= first_fresh are considered: regions kept by an
-/// incremental update keep their cells.
-void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, double res,
-                           const RoomLayerOptions& o) {
-  if (o.merge_concavity <= 0) return;
+/// The bounding box of each label > 0 in `labels` (box and present indexed by label).
+void labelBoxes(const cv::Mat& labels, std::vector<cv::Rect>& box, std::vector<char>& present) {
   const int W = labels.cols, H = labels.rows;
-  std::vector<cv::Rect> box(next_label);
-  std::vector<char> present(next_label, 0);
   for (int y = 0; y < H; ++y) {
     const int* l = labels.ptr<int>(y);
     for (int x = 0; x < W; ++x) {
@@ -213,7 +203,11 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
         box[v] |= cv::Rect(x, y, 1, 1);
     }
   }
-  // Border lengths between labels (4-neighbourhood), kept up to date through merges.
+}
+
+/// Border lengths between the labels > 0 (4-neighbourhood): [a][b] cell sides a shares with b.
+std::map<int, std::map<int, int>> labelBorders(const cv::Mat& labels) {
+  const int W = labels.cols, H = labels.rows;
   std::map<int, std::map<int, int>> adj;
   for (int y = 0; y < H; ++y) {
     const int* l = labels.ptr<int>(y);
@@ -225,6 +219,24 @@ void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, dou
       if (below && below[x] > 0 && below[x] != a) ++adj[a][below[x]], ++adj[below[x]][a];
     }
   }
+  return adj;
+}
+
+}  // namespace
+
+/// Room layer: neighbouring pieces whose union DuDe would not cut again (no reflex vertex
+/// deeper than merge_concavity, no hole wider than min_hole_extent) are merged, cheapest
+/// union first. Undoes cuts that were chosen for a pocket minimum resolved elsewhere
+/// (furniture corners). Only labels >= first_fresh are considered: regions kept by an
+/// incremental update keep their cells.
+void mergeConvexNeighbours(cv::Mat& labels, int next_label, int first_fresh, double res,
+                           const RoomLayerOptions& o) {
+  if (o.merge_concavity <= 0) return;
+  std::vector<cv::Rect> box(next_label);
+  std::vector<char> present(next_label, 0);
+  labelBoxes(labels, box, present);
+  // Border lengths between labels, kept up to date through merges.
+  std::map<int, std::map<int, int>> adj = labelBorders(labels);
   // Pieces meeting along less than this are joined by a doorway-sized opening: kept apart
   // without the (costly) union test.
   const int min_border_px = std::max(3, static_cast<int>(std::lround(o.merge_min_border / res)));

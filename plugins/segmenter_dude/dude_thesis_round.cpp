@@ -1,6 +1,7 @@
 // One round of DuDe 2D on one piece, as the reference (c_dude::build) computes it: bridges,
 // pockets and their recursive decomposition, pocket minima, hole minima, feature points,
-// diagonals from two constrained Delaunay triangulations, cut sets per pocket minimum.
+// diagonals from two constrained Delaunay triangulations, cut sets per pocket minimum (built in
+// dude_thesis_cutsets.cpp).
 #include "dude_thesis_round.h"
 
 #include <algorithm>
@@ -328,155 +329,6 @@ bool breaksBridge(const RoundState& st, const OuterRing& outer, const std::vecto
   return true;
 }
 
-/// Reference isHoleDiagonalValid: from a hole feature, not to a vertex of the same hole between
-/// it and its neighbouring features.
-bool holeDiagonalValid(const RoundState& st, int u, int v) {
-  int m = -1, o = -1;
-  if (st.info[u].hole >= 0 && st.info[u].feature) m = u, o = v;
-  else if (st.info[v].hole >= 0 && st.info[v].feature) m = v, o = u;
-  if (m < 0) return true;
-  const Poly& P = *st.P;
-  for (int w = P.pv[m]; w != m; w = P.pv[w]) {
-    if (w == o) return false;
-    if (w == st.info[m].pre_feature) break;
-  }
-  for (int w = P.nx[m]; w != m; w = P.nx[w]) {
-    if (w == o) return false;
-    if (w == st.info[m].next_feature) break;
-  }
-  return true;
-}
-
-double cutsetWeight(const RoundState& st, const CutSet& c) {
-  const auto conc = [&](int x) { return st.info[x].concavity; };
-  const auto len = [&](const std::pair<int, int>& d) {
-    return std::hypot(st.P->p[d.first].x - st.P->p[d.second].x, st.P->p[d.first].y - st.P->p[d.second].y);
-  };
-  const double my = conc(c.v);
-  const int o1 = c.diagonals.front().second;
-  const double l1 = len(c.diagonals.front());
-  if (c.diagonals.size() == 1) {
-    if (c.resolves == 2) return (my + conc(o1)) / l1;
-    if (c.resolves == 1) return (my + (c.type == CutSet::SinglePM ? conc(o1) / 2 : 0)) / l1;
-    return (my / 2 + (c.type == CutSet::SinglePM ? conc(o1) / 2 : 0)) / l1;  // resolves 0
-  }
-  const int o2 = c.diagonals.back().second;
-  const double l = l1 + len(c.diagonals.back());
-  if (c.resolves == 3) return ((my + conc(o1)) + (my + conc(o2))) / l;
-  if (c.resolves == 2) {
-    double w = my;
-    if (st.info[o1].isPM() && resolves(st, o1, c.v)) {
-      w += conc(o1);
-      if (c.type == CutSet::DoublePMPM) w += conc(o2) / 2;
-    } else {
-      w += conc(o2);
-      if (c.type == CutSet::DoublePMPM) w += conc(o1) / 2;
-    }
-    return w / l;
-  }
-  double w = my;
-  if (c.type == CutSet::DoublePMPM) w += conc(o1) / 2 + conc(o2) / 2;
-  else if (c.type == CutSet::DoublePMTip) w += (st.info[o1].isPM() ? conc(o1) : conc(o2)) / 2;
-  return w / l;
-}
-
-/// Two diagonals (v,o1), (v,o2) together resolve v (reference is_resolving with two cuts).
-bool resolvesPair(const RoundState& st, int v, int o1, int o2) {
-  if (!st.info[v].isPM()) return true;
-  const Poly& P = *st.P;
-  const Vec2 v0 = P.p[v], v1 = P.p[st.info[v].pre_feature], v2 = P.p[st.info[v].next_feature];
-  const Vec2 a = P.p[o1], b = P.p[o2];
-  const double a1 = angleAt(v1, v0, a), a2 = angleAt(a, v0, b), a3 = angleAt(b, v0, v2);
-  if (a1 < M_PI && a2 < M_PI && a3 < M_PI) return true;
-  if (a1 >= M_PI && dist2Seg(v1, a, v0) > st.tau) return false;
-  if (a2 >= M_PI && dist2Seg(a, b, v0) > st.tau) return false;
-  if (a3 >= M_PI && dist2Seg(b, v2, v0) > st.tau) return false;
-  return true;
-}
-
-/// Cut sets of pocket minimum v (reference build_cutsets, residual-concavity version).
-void buildCutsets(RoundState& st, int v) {
-  const Poly& P = *st.P;
-  const VertexInfo& I = st.info[v];
-  const Vec2 start = P.p[I.pre_feature], end = P.p[I.next_feature], at = P.p[v];
-  const double total = angleAt(start, at, end);
-  std::vector<std::pair<double, int>> ang;
-  for (int o : st.diagonals[v]) {
-    const double a = angleAt(start, at, P.p[o]);
-    if (a <= total) ang.push_back({a, o});
-  }
-  std::sort(ang.begin(), ang.end());
-  const auto len = [&](int o) { return std::hypot(P.p[o].x - at.x, P.p[o].y - at.y); };
-  auto make = [&](std::vector<int> others) {
-    CutSet c;
-    c.v = v;
-    for (int o : others) c.diagonals.push_back({v, o});
-    const bool pm1 = st.info[others.front()].isPM();
-    if (others.size() == 1) {
-      c.type = pm1 ? CutSet::SinglePM : CutSet::SingleTip;
-      c.resolves = pm1 && resolves(st, others[0], v) ? 2 : 1;
-    } else {
-      const bool pm2 = st.info[others.back()].isPM();
-      c.type = pm1 && pm2 ? CutSet::DoublePMPM : (pm1 || pm2 ? CutSet::DoublePMTip : CutSet::DoubleTipTip);
-      if (c.type == CutSet::DoublePMPM) {
-        const bool r1 = resolves(st, others[0], v), r2 = resolves(st, others[1], v);
-        c.resolves = r1 && r2 ? 3 : (r1 || r2 ? 2 : 1);
-      } else if (c.type == CutSet::DoublePMTip) {
-        const int pm = pm1 ? others[0] : others[1];
-        c.resolves = resolves(st, pm, v) ? 2 : 1;
-      }
-    }
-    c.weight = cutsetWeight(st, c);
-    return c;
-  };
-  const int n = static_cast<int>(ang.size());
-  std::vector<char> single(n, 0);
-  std::vector<CutSet> out;
-  CutSet best_tip;
-  double shortest_tip = 1e300;
-  for (int i = 0; i < n; ++i) {
-    const int o = ang[i].second;
-    if (!resolves(st, v, o) || !holeDiagonalValid(st, v, o)) continue;
-    single[i] = 1;
-    CutSet c = make({o});
-    if (c.type == CutSet::SinglePM) out.push_back(c);
-    else if (len(o) < shortest_tip) shortest_tip = len(o), best_tip = c;
-  }
-  if (best_tip.v >= 0) out.push_back(best_tip);
-  CutSet best_pmtip, best_tiptip;
-  double short_pmtip = 1e300, short_tiptip = 1e300;
-  for (int i = 0; i < n; ++i) {
-    if (single[i]) continue;
-    for (int j = i + 1; j < n; ++j) {
-      if (single[j]) continue;
-      const int o1 = ang[i].second, o2 = ang[j].second;
-      if (!resolvesPair(st, v, o1, o2)) continue;
-      CutSet c = make({o1, o2});
-      const double l = len(o1) + len(o2);
-      if (c.type == CutSet::DoublePMPM) out.push_back(c);
-      else if (c.type == CutSet::DoublePMTip) {
-        if (c.resolves == 2) out.push_back(c);
-        else if (l < short_pmtip) short_pmtip = l, best_pmtip = c;
-      } else if (l < short_tiptip) short_tiptip = l, best_tiptip = c;
-    }
-  }
-  if (best_pmtip.v >= 0) out.push_back(best_pmtip);
-  if (best_tiptip.v >= 0) out.push_back(best_tiptip);
-  if (out.empty()) {  // nothing resolves v: the best single diagonal, credited one less
-    CutSet best;
-    double best_w = -1e300;
-    for (int i = 0; i < n; ++i) {
-      CutSet c = make({ang[i].second});
-      c.resolves -= 1;
-      c.weight = cutsetWeight(st, c);
-      if (c.weight > best_w) best_w = c.weight, best = c;
-    }
-    if (best.v >= 0) out.push_back(best);
-  }
-  st.cutsets[v] = out;
-  st.all_cutsets.insert(st.all_cutsets.end(), out.begin(), out.end());
-}
-
 bool adjacent(const Poly& P, int a, int b) { return P.nx[a] == b || P.nx[b] == a; }
 
 /// Reference checkCutSkinny: the ends are close along the boundary (2 tau one way, 3 tau back).
@@ -538,15 +390,22 @@ void clipCuts(const Poly& P, const std::vector<std::vector<int>>& rings, double 
 
 }  // namespace
 
-bool resolves(const RoundState& st, int v, int o) {
-  if (!st.info[v].isPM()) return true;
+/// Reference isHoleDiagonalValid: from a hole feature, not to a vertex of the same hole between
+/// it and its neighbouring features.
+bool holeDiagonalValid(const RoundState& st, int u, int v) {
+  int m = -1, o = -1;
+  if (st.info[u].hole >= 0 && st.info[u].feature) m = u, o = v;
+  else if (st.info[v].hole >= 0 && st.info[v].feature) m = v, o = u;
+  if (m < 0) return true;
   const Poly& P = *st.P;
-  const Vec2 v0 = P.p[v], v1 = P.p[st.info[v].pre_feature], v2 = P.p[st.info[v].next_feature];
-  const Vec2 q = P.p[o];
-  const double a1 = angleAt(v1, v0, q), a2 = angleAt(q, v0, v2);
-  if (a1 < M_PI && a2 < M_PI) return true;
-  if (a1 >= M_PI && dist2Seg(v1, q, v0) > st.tau) return false;
-  if (a2 >= M_PI && dist2Seg(v2, q, v0) > st.tau) return false;
+  for (int w = P.pv[m]; w != m; w = P.pv[w]) {
+    if (w == o) return false;
+    if (w == st.info[m].pre_feature) break;
+  }
+  for (int w = P.nx[m]; w != m; w = P.nx[w]) {
+    if (w == o) return false;
+    if (w == st.info[m].next_feature) break;
+  }
   return true;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Internal to the `thesis` variant: one round of DuDe 2D on one piece (the reference's
-// c_dude::build) and the cut sets it builds, shared by the round (dude_thesis_round.cpp)
-// and the selection (dude_thesis_select.cpp).
+// c_dude::build) and the cut sets it builds, shared by the round (dude_thesis_round.cpp), the
+// cut sets (dude_thesis_cutsets.cpp) and the selection (dude_thesis.cpp).
 #include "dude_thesis_geometry.h"
 
 #include <utility>
@@ -53,5 +53,13 @@ std::vector<std::pair<int, int>> selectCuts(RoundState& st);
 
 /// Does diagonal (v, o) resolve v (residual concavity below tau on both sides)?
 bool resolves(const RoundState& st, int v, int o);
+
+/// Reference isHoleDiagonalValid: from a hole feature, not to a vertex of the same hole between
+/// it and its neighbouring features.
+bool holeDiagonalValid(const RoundState& st, int u, int v);
+
+/// Fills st.cutsets[v] (and appends to st.all_cutsets) with the cut sets of pocket minimum v
+/// from its diagonals st.diagonals[v] (reference build_cutsets, residual-concavity version).
+void buildCutsets(RoundState& st, int v);
 
 }  // namespace asf::dude::thesis::detail

@@ -1,6 +1,6 @@
 #pragma once
 // Private to asf_dude: 2D vector arithmetic and angles of the `rooms` decomposition (dude.cpp,
-// dude_concavity.cpp).
+// dude_candidates.cpp, dude_concavity.cpp).
 #include <cmath>
 #include <cstddef>
 

@@ -19,7 +19,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 #include <sstream>
@@ -29,6 +28,7 @@
 #include "live_core.h"
 #include "run_publisher.h"
 #include "source_ros2_keys.h"
+#include "source_ros2_options.h"
 #include "velocity_drive.h"
 
 namespace {
@@ -246,19 +246,7 @@ class Ros2Source final : public asf::Source {
     goal_timeout_ = p.getDouble("goal_timeout_s");
     radius_ = p.getDouble("robot_radius");
     model_ = asf::mapping::OdometryNoiseModel::fromParams(p);
-    for (const char* k : {"scan_topic", "odom_topic", "tf_topic", "tf_static_topic", "clock_topic",
-                          "goal_topic", "cmd_vel_topic", "command_topic", "nav_status_topic", "map_topic", "marker_topic", "status_topic",
-                          "ground_truth_topic", "world_map_topic"}) {
-      const std::string v = p.getString(k);
-      if (v.empty() && (std::string(k) == "ground_truth_topic" || std::string(k) == "world_map_topic" ||
-                        std::string(k) == "clock_topic"))
-        continue;
-      try {
-        ros2::ddsTopic(v);
-      } catch (const std::invalid_argument& e) {
-        p.fail(k, e.what());
-      }
-    }
+    asf::ros2live::checkTopicNames(p);
     if (!world_topic_.empty() && gt_topic_.empty())
       p.fail("world_map_topic", "needs ground_truth_topic (the world map is placed by the robot's true start)");
   }
@@ -285,13 +273,7 @@ class Ros2Source final : public asf::Source {
   }
 
   void connect(const asf::Params& p) {
-    asf::ros2live::LinkOptions o;
-    o.domain_id = static_cast<int>(p.getInt("domain_id"));
-    if (o.domain_id < 0) {
-      const char* env = std::getenv("ROS_DOMAIN_ID");
-      o.domain_id = env && *env ? std::atoi(env) : 0;
-    }
-    o.loopback = p.getString("discovery") == "loopback";
+    const asf::ros2live::LinkOptions o = asf::ros2live::linkOptions(p);
     try {
       link_ = std::make_unique<asf::ros2live::CycloneLink>(o);
       subscribe(p);
@@ -306,7 +288,8 @@ class Ros2Source final : public asf::Source {
       if (p.getString("drive") == "cmd_vel") {
         const int wr = link_->advertiseTwist(cmd_vel_topic_);
         velocity_ = std::make_unique<asf::ros2live::VelocityDrive>(
-            velocityOptions(p), [this, wr](const asf::navigation::Velocity& v) {
+            asf::ros2live::velocityDriveOptions(p, radius_, goal_timeout_),
+            [this, wr](const asf::navigation::Velocity& v) {
               link_->publishTwist(wr, v.forward, v.turn);
             });
       }
@@ -321,23 +304,6 @@ class Ros2Source final : public asf::Source {
     o.tf_topic = tf_topic_, o.map_topic = map_topic_, o.marker_topic = marker_topic_;
     o.map_frame = map_frame_, o.odom_frame = odom_frame_;
     o.map_period = p.getDouble("map_period_s"), o.marker_period = p.getDouble("marker_period_s");
-    return o;
-  }
-
-  // drive = cmd_vel: the planner keeps the simulator's margins (nav_*), the follower the
-  // robot's speeds.
-  asf::ros2live::VelocityDriveOptions velocityOptions(const asf::Params& p) const {
-    asf::ros2live::VelocityDriveOptions o;
-    o.nav.robot_radius = radius_ + p.getDouble("nav_safety_margin");
-    o.nav.inflation_margin = p.getDouble("nav_inflation_margin");
-    o.nav.unknown_cost = p.getDouble("nav_unknown_cost");
-    o.follow.max_forward = p.getDouble("max_speed");
-    o.follow.max_turn = p.getDouble("max_turn_rate_deg") * M_PI / 180;
-    o.follow.heading_tolerance = p.getDouble("heading_tolerance_deg") * M_PI / 180;
-    o.follow.lookahead = p.getDouble("lookahead");
-    o.follow.stuck_time = p.getDouble("stuck_timeout_s");
-    o.replan_period = p.getDouble("replan_period_s");
-    o.goal_timeout = goal_timeout_;
     return o;
   }
 

@@ -296,7 +296,8 @@ const std::regex kSemver("^(0|[1-9][0-9]*)\\.(0|[1-9][0-9]*)\\.(0|[1-9][0-9]*)$"
 bool isSnake(const char* s) { return s && std::regex_match(s, kSnake); }
 std::string show(const char* s) { return s ? "'" + std::string(s) + "'" : "(null)"; }
 
-/// Descriptor tests: they read the descriptor only, so they run for every plugin.
+/// Descriptor tests: they read the descriptor only, so they run for every plugin (as do the
+/// key table tests).
 void registerDescriptorTests(const InfoPtr& info) {
   // The kind does not matter for these; use the Source fixture for all of them (the suite's
   // fixture type is PluginTest whatever the template argument).
@@ -339,6 +340,11 @@ void registerDescriptorTests(const InfoPtr& info) {
           EXPECT_NE(d.keys, nullptr) << "num_keys > 0 but keys is null";
         }
       });
+}
+
+/// Key table tests: names, docs, enum choices and defaults of the ASF_PLUGIN key table.
+void registerKeyTableTests(const InfoPtr& info) {
+  using K = Source;  // as in registerDescriptorTests: the fixture type does not matter
   addTest<K>(info, "descriptor_key_names_are_unique_lower_snake_case", Needs::Nothing,
              [](PluginTest& t) {
                const auto& d = t.descriptor();
@@ -546,6 +552,7 @@ void registerTests(const std::shared_ptr<const framework::PluginInfo>& plugin,
     givenConfigs()[plugin->descriptor] = std::make_shared<IniConfig>(*config);
   }
   registerDescriptorTests(plugin);
+  registerKeyTableTests(plugin);
   switch (plugin->kind()) {
     case PluginKind::Source:
       registerKind<Source>(plugin, registerSourceTests);

@@ -42,6 +42,43 @@ struct FeedResult {
   std::string exception;  ///< set when process()/currentPose() threw (feeding stopped)
 };
 
+/// Growth: ids consecutive, nothing removed, existing nodes never move.
+void checkGrowth(const std::string& at, const PoseGraph& before, const PoseGraph& graph,
+                 Problems& pr) {
+  if (graph.nodes.size() < before.nodes.size())
+    note(pr.growth, at + "nodes were removed");
+  if (graph.edges.size() < before.edges.size())
+    note(pr.growth, at + "edges were removed");
+  for (std::size_t i = before.nodes.size(); i < graph.nodes.size(); ++i)
+    if (graph.nodes[i].id != i)
+      note(pr.growth, at + "node at index " + std::to_string(i) + " has id " +
+                          std::to_string(graph.nodes[i].id));
+  for (std::size_t i = 0; i < std::min(before.nodes.size(), graph.nodes.size()); ++i)
+    if (!samePose(graph.nodes[i].pose, before.nodes[i].pose, 1e-12))
+      note(pr.growth, at + "existing node " + std::to_string(i) + " moved from " +
+                          str(before.nodes[i].pose) + " to " + str(graph.nodes[i].pose));
+  for (std::size_t i = 0; i < std::min(before.edges.size(), graph.edges.size()); ++i)
+    if (graph.edges[i].from != before.edges[i].from || graph.edges[i].to != before.edges[i].to)
+      note(pr.growth, at + "existing edge " + std::to_string(i) + " was changed");
+}
+
+/// The edges a frame added: between existing nodes, finite means, SPD information.
+void checkNewEdges(const std::string& at, const PoseGraph& before, const PoseGraph& graph,
+                   Problems& pr) {
+  for (std::size_t i = before.edges.size(); i < graph.edges.size(); ++i) {
+    const PoseEdge& e = graph.edges[i];
+    const std::string ed = at + "edge " + std::to_string(i) + " (" + std::to_string(e.from) +
+                           " -> " + std::to_string(e.to) + "): ";
+    if (e.from >= graph.nodes.size() || e.to >= graph.nodes.size())
+      note(pr.edges, ed + "references a node that does not exist");
+    if (!(std::isfinite(e.mean.x()) && std::isfinite(e.mean.y()) &&
+          std::isfinite(e.mean.phi())))
+      note(pr.edges, ed + "mean is not finite");
+    if (auto r = isSymmetricPd(e.information); !r)
+      note(pr.edges, ed + "information " + r.message());
+  }
+}
+
 /// Feeds a sequence to a frontend, checking the contract after every frame. No GoogleTest
 /// assertions here: it also runs in the kit's worker threads.
 FeedResult feed(Frontend& p, const FrameSequence& seq) {
@@ -74,22 +111,7 @@ FeedResult feed(Frontend& p, const FrameSequence& seq) {
         note(pr.first_frame, "node 0 is at " + str(graph.nodes[0].pose) + ", not the origin");
       if (!changed) note(pr.first_frame, "process() returned false on the first frame");
     }
-    // Growth: ids consecutive, nothing removed, existing nodes never move.
-    if (graph.nodes.size() < before.nodes.size())
-      note(pr.growth, at + "nodes were removed");
-    if (graph.edges.size() < before.edges.size())
-      note(pr.growth, at + "edges were removed");
-    for (std::size_t i = before.nodes.size(); i < graph.nodes.size(); ++i)
-      if (graph.nodes[i].id != i)
-        note(pr.growth, at + "node at index " + std::to_string(i) + " has id " +
-                            std::to_string(graph.nodes[i].id));
-    for (std::size_t i = 0; i < std::min(before.nodes.size(), graph.nodes.size()); ++i)
-      if (!samePose(graph.nodes[i].pose, before.nodes[i].pose, 1e-12))
-        note(pr.growth, at + "existing node " + std::to_string(i) + " moved from " +
-                            str(before.nodes[i].pose) + " to " + str(graph.nodes[i].pose));
-    for (std::size_t i = 0; i < std::min(before.edges.size(), graph.edges.size()); ++i)
-      if (graph.edges[i].from != before.edges[i].from || graph.edges[i].to != before.edges[i].to)
-        note(pr.growth, at + "existing edge " + std::to_string(i) + " was changed");
+    checkGrowth(at, before, graph, pr);
 
     // Revision and return value.
     const bool grew = graph.nodes.size() != before.nodes.size() ||
@@ -101,19 +123,7 @@ FeedResult feed(Frontend& p, const FrameSequence& seq) {
       note(pr.revision, at + "process() returned false but revision changed");
     if (!changed && grew) note(pr.revision, at + "the graph grew but process() returned false");
 
-    // New edges.
-    for (std::size_t i = before.edges.size(); i < graph.edges.size(); ++i) {
-      const PoseEdge& e = graph.edges[i];
-      const std::string ed = at + "edge " + std::to_string(i) + " (" + std::to_string(e.from) +
-                             " -> " + std::to_string(e.to) + "): ";
-      if (e.from >= graph.nodes.size() || e.to >= graph.nodes.size())
-        note(pr.edges, ed + "references a node that does not exist");
-      if (!(std::isfinite(e.mean.x()) && std::isfinite(e.mean.y()) &&
-            std::isfinite(e.mean.phi())))
-        note(pr.edges, ed + "mean is not finite");
-      if (auto r = isSymmetricPd(e.information); !r)
-        note(pr.edges, ed + "information " + r.message());
-    }
+    checkNewEdges(at, before, graph, pr);
 
     // Pose estimate against the truth.
     const CPose2D& truth = seq.truth[k];

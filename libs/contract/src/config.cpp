@@ -75,6 +75,59 @@ IniConfig IniConfig::fromFile(const std::string& path) {
   return c;
 }
 
+namespace {
+
+/// Where each section and key first appears, for messages (MRPT does the real parsing); the
+/// mistakes MRPT would pass over silently are errors naming the line.
+struct SourceLines {
+  std::map<std::string, int> section;
+  std::map<std::pair<std::string, std::string>, int> key;
+};
+
+SourceLines scanIniLines(const std::string& text, const std::string& name) {
+  SourceLines lines;
+  std::istringstream is(text);
+  std::string line, section;
+  int n = 0;
+  while (std::getline(is, line)) {
+    ++n;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == ';' || t[0] == '#' || t.rfind("//", 0) == 0) continue;
+    if (t[0] == '@') {  // MRPT's one directive; any other would be ignored silently
+      const std::string word = t.substr(0, t.find_first_of(" \t"));
+      if (word != "@define")
+        throw ConfigError(name + ":" + std::to_string(n) + ": unknown directive '" + word +
+                          "' (MRPT INI files know @define only)");
+      continue;
+    }
+    if (t[0] == '[') {
+      const auto close = t.find(']');
+      if (close == std::string::npos)
+        throw ConfigError(name + ":" + std::to_string(n) + ": unterminated section header '" + t +
+                          "'");
+      section = lower(trim(t.substr(1, close - 1)));
+      lines.section.emplace(section, n);
+      continue;
+    }
+    const auto eq = t.find('=');
+    if (eq == std::string::npos)
+      throw ConfigError(name + ":" + std::to_string(n) + ": expected 'key = value', got '" + t +
+                        "'");
+    const std::string key = lower(trim(t.substr(0, eq)));
+    if (section.empty())
+      throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key +
+                        "' before any [section]");
+    const auto [it, fresh] = lines.key.emplace(std::make_pair(section, key), n);
+    if (!fresh)
+      throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key + "' of [" + section +
+                        "] is already set at line " + std::to_string(it->second) +
+                        " (only one value would count)");
+  }
+  return lines;
+}
+
+}  // namespace
+
 IniConfig IniConfig::fromText(const std::string& text, const std::string& name) {
   // A UTF-8 byte order mark (editors on Windows write one) is not part of the first line.
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) return fromText(text.substr(3), name);
@@ -87,48 +140,9 @@ IniConfig IniConfig::fromText(const std::string& text, const std::string& name) 
                       std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
                       ": a NUL byte: not a text INI file (everything after it would be lost)");
 
-  // Where each section and key first appears, for messages. MRPT does the real parsing.
-  std::map<std::string, int> section_line;
-  std::map<std::pair<std::string, std::string>, int> key_line;
-  {
-    std::istringstream is(text);
-    std::string line, section;
-    int n = 0;
-    while (std::getline(is, line)) {
-      ++n;
-      const std::string t = trim(line);
-      if (t.empty() || t[0] == ';' || t[0] == '#' || t.rfind("//", 0) == 0) continue;
-      if (t[0] == '@') {  // MRPT's one directive; any other would be ignored silently
-        const std::string word = t.substr(0, t.find_first_of(" \t"));
-        if (word != "@define")
-          throw ConfigError(name + ":" + std::to_string(n) + ": unknown directive '" + word +
-                            "' (MRPT INI files know @define only)");
-        continue;
-      }
-      if (t[0] == '[') {
-        const auto close = t.find(']');
-        if (close == std::string::npos)
-          throw ConfigError(name + ":" + std::to_string(n) + ": unterminated section header '" + t +
-                            "'");
-        section = lower(trim(t.substr(1, close - 1)));
-        section_line.emplace(section, n);
-        continue;
-      }
-      const auto eq = t.find('=');
-      if (eq == std::string::npos)
-        throw ConfigError(name + ":" + std::to_string(n) + ": expected 'key = value', got '" + t +
-                          "'");
-      const std::string key = lower(trim(t.substr(0, eq)));
-      if (section.empty())
-        throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key +
-                          "' before any [section]");
-      const auto [it, fresh] = key_line.emplace(std::make_pair(section, key), n);
-      if (!fresh)
-        throw ConfigError(name + ":" + std::to_string(n) + ": key '" + key + "' of [" + section +
-                          "] is already set at line " + std::to_string(it->second) +
-                          " (only one value would count)");
-    }
-  }
+  const SourceLines lines = scanIniLines(text, name);
+  const auto& section_line = lines.section;
+  const auto& key_line = lines.key;
 
   std::unique_ptr<mrpt::config::CConfigFileMemory> mem;
   try {

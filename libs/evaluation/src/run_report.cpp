@@ -415,6 +415,59 @@ std::string nowText() {
   return b;
 }
 
+/// summary.json of the run, or false with a note saying why not.
+bool readSummary(const fs::path& dir, json& summary, std::vector<std::string>& notes) {
+  std::ifstream in(dir / "summary.json");
+  if (!in) {
+    notes.push_back("summary.json: missing (the run did not finish writing its outputs)");
+    return false;
+  }
+  try {
+    in >> summary;
+    if (summary.is_object()) return true;
+    notes.push_back("summary.json: not a JSON object");
+  } catch (const std::exception& e) {
+    notes.push_back(std::string("summary.json: invalid JSON: ") + e.what());
+  }
+  return false;
+}
+
+/// "policy tigre · seed 1 · all_regions_explored" from the summary's keys it has.
+std::string runSubtitle(const json& summary) {
+  std::string sub;
+  auto str = [&](const char* k) {
+    return summary.contains(k) && !summary[k].is_null() ? fmtValue(k, summary[k]) : "";
+  };
+  for (const auto& [k, label] : {std::pair<const char*, const char*>{"policy", "policy "},
+                                 {"seed", "seed "},
+                                 {"stop_reason", ""}})
+    if (!str(k).empty()) sub += (sub.empty() ? "" : " · ") + std::string(label) + str(k);
+  return sub;
+}
+
+/// The run's map pictures embedded; a missing one is a note (map3d_grid.png only in runs with
+/// [pipeline] map3d).
+std::string mapsSection(const fs::path& dir, std::vector<std::string>& notes) {
+  std::ostringstream body;
+  body << "<h2>Maps</h2>\n<div class=\"grid\">\n";
+  for (const auto& [file, caption] :
+       {std::pair<const char*, const char*>{"map.png", "map.png: occupancy grid, path, keyframes"},
+        {"regions.png", "regions.png: regions and topological graph"},
+        {"map3d_grid.png", "map3d_grid.png: the 3D map projected to 2D (robot body band)"}}) {
+    const bool optional = std::string(file) == "map3d_grid.png";
+    if (optional && !fs::exists(dir / file)) continue;
+    const std::string img = report::embeddedPng((dir / file).string(), file);
+    if (img.empty()) {
+      notes.push_back(std::string(file) + ": missing");
+      continue;
+    }
+    body << "<div><figure>" << img << "<figcaption>" << htmlEscape(caption)
+         << "</figcaption></figure></div>\n";
+  }
+  body << "</div>\n";
+  return body.str();
+}
+
 }  // namespace
 
 std::string writeRunReport(const std::string& run_dir) {
@@ -423,34 +476,10 @@ std::string writeRunReport(const std::string& run_dir) {
   std::ostringstream body;
 
   json summary;
-  bool have_summary = false;
-  {
-    const fs::path p = dir / "summary.json";
-    std::ifstream in(p);
-    if (!in) {
-      notes.push_back("summary.json: missing (the run did not finish writing its outputs)");
-    } else {
-      try {
-        in >> summary;
-        have_summary = summary.is_object();
-        if (!have_summary) notes.push_back("summary.json: not a JSON object");
-      } catch (const std::exception& e) {
-        notes.push_back(std::string("summary.json: invalid JSON: ") + e.what());
-      }
-    }
-  }
+  const bool have_summary = readSummary(dir, summary, notes);
   std::string name = fs::absolute(dir).lexically_normal().filename().string();
   if (name.empty()) name = fs::absolute(dir).lexically_normal().parent_path().filename().string();
-  std::string sub;
-  if (have_summary) {
-    auto str = [&](const char* k) {
-      return summary.contains(k) && !summary[k].is_null() ? fmtValue(k, summary[k]) : "";
-    };
-    for (const auto& [k, label] : {std::pair<const char*, const char*>{"policy", "policy "},
-                                   {"seed", "seed "},
-                                   {"stop_reason", ""}})
-      if (!str(k).empty()) sub += (sub.empty() ? "" : " · ") + std::string(label) + str(k);
-  }
+  const std::string sub = have_summary ? runSubtitle(summary) : "";
 
   body << "<h1>asf run: " << htmlEscape(name) << "</h1>\n";
   if (!sub.empty()) body << "<p class=\"sub\">" << htmlEscape(sub) << "</p>\n";
@@ -462,23 +491,7 @@ std::string writeRunReport(const std::string& run_dir) {
     body << summaryTable(summary);
   else
     body << "<p class=\"note\">No summary (see the notes below).</p>\n";
-
-  body << "<h2>Maps</h2>\n<div class=\"grid\">\n";
-  for (const auto& [file, caption] :
-       {std::pair<const char*, const char*>{"map.png", "map.png: occupancy grid, path, keyframes"},
-        {"regions.png", "regions.png: regions and topological graph"},
-        {"map3d_grid.png", "map3d_grid.png: the 3D map projected to 2D (robot body band)"}}) {
-    const bool optional = std::string(file) == "map3d_grid.png";  // runs with [pipeline] map3d
-    if (optional && !fs::exists(dir / file)) continue;
-    const std::string img = report::embeddedPng((dir / file).string(), file);
-    if (img.empty()) {
-      notes.push_back(std::string(file) + ": missing");
-      continue;
-    }
-    body << "<div><figure>" << img << "<figcaption>" << htmlEscape(caption)
-         << "</figcaption></figure></div>\n";
-  }
-  body << "</div>\n";
+  body << mapsSection(dir, notes);
 
   body << "<h2>Progress</h2>\n";
   const double map_cells =

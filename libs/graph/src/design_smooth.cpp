@@ -8,53 +8,58 @@
 
 namespace asf::graph::detail {
 
-SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivatives,
-                      bool gradient_only) {
+namespace {
+
+/// p = 0 (log det, D) and p = -1 (minus the trace of the inverse, A): one Cholesky factor.
+SmoothEval evalByCholesky(const Design& D, const MatrixXd& L, double p, bool derivatives,
+                          bool gradient_only) {
   SmoothEval r;
-  derivatives = derivatives || gradient_only;
-  const int k = D.k(), m = D.m;
-  MatrixXd L = D.sumOuter(x);
-  if (p == 0.0 || p == -1.0) {
-    MatrixXd Lp = L;
-    D.pad(Lp);
-    Eigen::LLT<MatrixXd> c(Lp);
-    if (c.info() != Eigen::Success) return r;
-    const double logdet = 2.0 * c.matrixLLT().diagonal().array().log().sum();
-    if (p == 0.0 && !derivatives) {
-      r.ok = std::isfinite(logdet);
-      r.F = logdet;
-      r.phi = std::exp(logdet / k);
-      return r;
-    }
-    MatrixXd P = inverseFromLLT(c);
-    D.pad(P, -1.0);  // P = M^+ on 1-perp
-    if (p == 0.0) {
-      r.F = logdet;
-      r.phi = std::exp(logdet / k);
-      if (gradient_only) {
-        r.g = D.diagQuad(P);
-      } else if (derivatives) {
-        const MatrixXd R = D.quad(P);
-        r.g = R.diagonal();
-        r.H = -R.cwiseProduct(R);
-      }
-    } else {
-      const double tr = P.trace();
-      if (!(tr > 0)) return r;
-      r.F = -tr;
-      r.phi = k / tr;
-      if (gradient_only) {
-        r.g = D.rows(P).rowwise().squaredNorm();  // a_j^T P^2 a_j = |P a_j|^2
-      } else if (derivatives) {
-        const MatrixXd R = D.quad(P), R2 = D.quad(P * P);
-        r.g = R2.diagonal();
-        r.H = -2.0 * R.cwiseProduct(R2);
-      }
-    }
-    r.ok = std::isfinite(r.F);
+  const int k = D.k();
+  MatrixXd Lp = L;
+  D.pad(Lp);
+  Eigen::LLT<MatrixXd> c(Lp);
+  if (c.info() != Eigen::Success) return r;
+  const double logdet = 2.0 * c.matrixLLT().diagonal().array().log().sum();
+  if (p == 0.0 && !derivatives) {
+    r.ok = std::isfinite(logdet);
+    r.F = logdet;
+    r.phi = std::exp(logdet / k);
     return r;
   }
-  // General p: spectral decomposition on the problem space.
+  MatrixXd P = inverseFromLLT(c);
+  D.pad(P, -1.0);  // P = M^+ on 1-perp
+  if (p == 0.0) {
+    r.F = logdet;
+    r.phi = std::exp(logdet / k);
+    if (gradient_only) {
+      r.g = D.diagQuad(P);
+    } else if (derivatives) {
+      const MatrixXd R = D.quad(P);
+      r.g = R.diagonal();
+      r.H = -R.cwiseProduct(R);
+    }
+  } else {
+    const double tr = P.trace();
+    if (!(tr > 0)) return r;
+    r.F = -tr;
+    r.phi = k / tr;
+    if (gradient_only) {
+      r.g = D.rows(P).rowwise().squaredNorm();  // a_j^T P^2 a_j = |P a_j|^2
+    } else if (derivatives) {
+      const MatrixXd R = D.quad(P), R2 = D.quad(P * P);
+      r.g = R2.diagonal();
+      r.H = -2.0 * R.cwiseProduct(R2);
+    }
+  }
+  r.ok = std::isfinite(r.F);
+  return r;
+}
+
+/// General p: spectral decomposition on the problem space.
+SmoothEval evalSpectral(const Design& D, const MatrixXd& L, double p, bool derivatives,
+                        bool gradient_only) {
+  SmoothEval r;
+  const int k = D.k(), m = D.m;
   MatrixXd Y = L;
   double s = 0;
   if (D.graph) {
@@ -92,6 +97,16 @@ SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivat
     r.H.noalias() += (C * G.row(i).transpose().asDiagonal()) * C.transpose();
   }
   return r;
+}
+
+}  // namespace
+
+SmoothEval evalSmooth(const Design& D, const VectorXd& x, double p, bool derivatives,
+                      bool gradient_only) {
+  derivatives = derivatives || gradient_only;
+  const MatrixXd L = D.sumOuter(x);
+  if (p == 0.0 || p == -1.0) return evalByCholesky(D, L, p, derivatives, gradient_only);
+  return evalSpectral(D, L, p, derivatives, gradient_only);
 }
 
 namespace {

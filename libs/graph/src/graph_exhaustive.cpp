@@ -17,8 +17,9 @@ namespace asf::graph {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-ExhaustiveResult exhaustiveSearch(const Multigraph& g, const ExhaustiveOptions& o) {
-  const int m = g.m();
+namespace {
+
+void checkExhaustiveOptions(const Multigraph& g, const ExhaustiveOptions& o) {
   if (g.n < 1 || g.n > 250) throw InputError("exhaustive search: needs 1..250 nodes");
   if (o.max_d < 1 || o.max_d > 250) throw InputError("exhaustive search: max_d must be 1..250");
   if (o.start < -1 || o.start >= g.n)
@@ -26,53 +27,55 @@ ExhaustiveResult exhaustiveSearch(const Multigraph& g, const ExhaustiveOptions& 
                      " is not a node");
   for (double p : o.criteria)
     if (std::isnan(p) || p > 1) throw InputError("exhaustive search: criterion p must be <= 1");
-  ExhaustiveResult r;
-  r.criteria = o.criteria;
-  const int nc = static_cast<int>(o.criteria.size());
-  r.information = MatrixXd::Zero(o.max_d, nc);
-  r.rate = MatrixXd::Zero(o.max_d, nc);
-  r.best.assign(o.max_d, std::vector<VectorXd>(nc, VectorXd::Zero(m)));
+}
 
-  auto evaluate = [&](int di, const std::unordered_set<std::string>& counts) {
-    for (const std::string& key : counts) {
-      VectorXd x(m);
-      for (int j = 0; j < m; ++j) x[j] = static_cast<unsigned char>(key[j]);
-      if (!supportConnected(g, x)) continue;
-      const VectorXd mu = reducedSpectrum(g, x);
-      for (int c = 0; c < nc; ++c) {
-        const double v = std::max(0.0, powerMean(mu, o.criteria[c]));
-        if (v > r.information(di, c)) {
-          r.information(di, c) = v;
-          r.best[di][c] = x;
-        }
+/// Scores each layer's edge-count vectors (one byte per edge) by every criterion into r.
+void scoreLayer(const Multigraph& g, const ExhaustiveOptions& o, int di,
+                const std::unordered_set<std::string>& counts, ExhaustiveResult& r) {
+  const int m = g.m();
+  const int nc = static_cast<int>(o.criteria.size());
+  for (const std::string& key : counts) {
+    VectorXd x(m);
+    for (int j = 0; j < m; ++j) x[j] = static_cast<unsigned char>(key[j]);
+    if (!supportConnected(g, x)) continue;
+    const VectorXd mu = reducedSpectrum(g, x);
+    for (int c = 0; c < nc; ++c) {
+      const double v = std::max(0.0, powerMean(mu, o.criteria[c]));
+      if (v > r.information(di, c)) {
+        r.information(di, c) = v;
+        r.best[di][c] = x;
       }
     }
-    const int d = di + 1;
-    r.rate.row(di) = r.information.row(di) / d;
-    r.d.push_back(d);
-    r.candidates.push_back(counts.size());
-  };
-
-  if (o.kind == TraversalKind::Multiset) {
-    // Compositions of d into m parts, by extending those of d-1 with one more edge.
-    std::unordered_set<std::string> layer{std::string(m, '\0')};
-    for (int d = 1; d <= o.max_d; ++d) {
-      std::unordered_set<std::string> next;
-      for (const std::string& s : layer)
-        for (int j = 0; j < m; ++j) {
-          std::string t = s;
-          ++t[j];
-          next.insert(std::move(t));
-          if (next.size() > o.max_states)
-            throw Error("exhaustive search: more than " + std::to_string(o.max_states) +
-                        " multisets at d = " + std::to_string(d));
-        }
-      layer.swap(next);
-      evaluate(d - 1, layer);
-    }
-    return r;
   }
-  // Walks: state = [start, end, counts...]; the start only matters for closed walks.
+  const int d = di + 1;
+  r.rate.row(di) = r.information.row(di) / d;
+  r.d.push_back(d);
+  r.candidates.push_back(counts.size());
+}
+
+/// Compositions of d into m parts, by extending those of d-1 with one more edge.
+void searchMultisets(const Multigraph& g, const ExhaustiveOptions& o, ExhaustiveResult& r) {
+  const int m = g.m();
+  std::unordered_set<std::string> layer{std::string(m, '\0')};
+  for (int d = 1; d <= o.max_d; ++d) {
+    std::unordered_set<std::string> next;
+    for (const std::string& s : layer)
+      for (int j = 0; j < m; ++j) {
+        std::string t = s;
+        ++t[j];
+        next.insert(std::move(t));
+        if (next.size() > o.max_states)
+          throw Error("exhaustive search: more than " + std::to_string(o.max_states) +
+                      " multisets at d = " + std::to_string(d));
+      }
+    layer.swap(next);
+    scoreLayer(g, o, d - 1, layer, r);
+  }
+}
+
+/// Walks: state = [start, end, counts...]; the start only matters for closed walks.
+void searchWalks(const Multigraph& g, const ExhaustiveOptions& o, ExhaustiveResult& r) {
+  const int m = g.m();
   const bool closed = o.kind == TraversalKind::ClosedWalk;
   const auto inc = g.incidence();
   std::unordered_set<std::string> layer;
@@ -103,8 +106,25 @@ ExhaustiveResult exhaustiveSearch(const Multigraph& g, const ExhaustiveOptions& 
       if (closed && s[0] != s[1]) continue;
       counts.insert(s.substr(2));
     }
-    evaluate(d - 1, counts);
+    scoreLayer(g, o, d - 1, counts, r);
   }
+}
+
+}  // namespace
+
+ExhaustiveResult exhaustiveSearch(const Multigraph& g, const ExhaustiveOptions& o) {
+  checkExhaustiveOptions(g, o);
+  const int m = g.m();
+  ExhaustiveResult r;
+  r.criteria = o.criteria;
+  const int nc = static_cast<int>(o.criteria.size());
+  r.information = MatrixXd::Zero(o.max_d, nc);
+  r.rate = MatrixXd::Zero(o.max_d, nc);
+  r.best.assign(o.max_d, std::vector<VectorXd>(nc, VectorXd::Zero(m)));
+  if (o.kind == TraversalKind::Multiset)
+    searchMultisets(g, o, r);
+  else
+    searchWalks(g, o, r);
   return r;
 }
 

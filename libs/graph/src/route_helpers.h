@@ -1,6 +1,6 @@
 #pragma once
-// Private to the graph library: the checks and walk helpers of graph_routes.cpp that the
-// other route files (graph_tsp.cpp) share.
+// Private to the graph library: the checks and walk helpers the route files (graph_routes.cpp,
+// graph_explorers.cpp, graph_tsp.cpp) share.
 #include <asf/graph/routes.h>
 
 #include <limits>
@@ -25,5 +25,22 @@ int otherEnd(const Edge& e, int v);
 void step(const Multigraph& g, Walk& w, int e);
 /// Nodes of odd degree, in increasing order.
 std::vector<int> oddVertices(const Multigraph& g);
+
+/// Bookkeeping of a walk as it is taken (the explorers', and every route's coverage): the
+/// walk, coverage and the step counts (graph_explorers.cpp).
+struct Tracker {
+  const Multigraph& g;
+  Walk w;
+  std::vector<int> count;
+  std::vector<char> seen;
+  int uncovered, unseen;
+  ExploreResult r;
+
+  Tracker(const Multigraph& graph, int start);
+  int at() const { return w.nodes.back(); }
+  /// One step along edge e; bounded: a walk longer than twice the edges is a logic error.
+  void go(int e, bool bounded = true);
+  ExploreResult finish();
+};
 
 }  // namespace asf::graph::detail

@@ -177,6 +177,52 @@ using namespace detail;
 
 // ---------------------------------------------------------------------------------------
 
+namespace {
+
+/// Genz's separation of variables for P(a <= L y <= b), y standard normal and L lower
+/// triangular: one variable at a time, each on the part of its interval the previous ones leave.
+struct GenzSeparation {
+  const Eigen::MatrixXd& L;
+  const Eigen::VectorXd& a;
+  const Eigen::VectorXd& b;
+
+  /// The part of variable i's interval left once the previous y's are fixed (their sum s).
+  void interval(Eigen::Index i, double s, double& d, double& e) const {
+    if (L(i, i) > 0) {
+      d = normalCdf((a(i) - s) / L(i, i));
+      e = normalCdf((b(i) - s) / L(i, i));
+    } else {  // point mass at s
+      d = 0;
+      e = (a(i) <= s && s <= b(i)) ? 1 : 0;
+    }
+  }
+
+  /// The integrand at lattice point q of generator gen under the shift; y is scratch space.
+  double at(int q, const std::vector<double>& gen, const std::vector<double>& shift, double d0,
+            double e0, Eigen::VectorXd& y) const {
+    const Eigen::Index n = L.rows();
+    double f = e0 - d0;
+    double d = d0, e = e0;
+    for (Eigen::Index i = 0; i < n && f > 0; ++i) {
+      if (i > 0) {
+        const double s = L.row(i).head(i).dot(y.head(i));
+        interval(i, s, d, e);
+        f *= e - d;
+        if (f <= 0) break;
+      }
+      if (i + 1 < n) {
+        // Baker's tent transform of the shifted lattice point: periodizes the integrand.
+        double w = std::fmod(q * gen[i] + shift[i], 1.0);
+        w = 1 - std::abs(2 * w - 1);
+        y(i) = L(i, i) > 0 ? normalQuantile(d + w * (e - d)) : 0.0;
+      }
+    }
+    return f;
+  }
+};
+
+}  // namespace
+
 BoxProbability gaussianBoxProbability(const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov,
                                       const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
                                       int points, int shifts, std::uint64_t seed) {
@@ -194,26 +240,16 @@ BoxProbability gaussianBoxProbability(const Eigen::VectorXd& mean, const Eigen::
   }
   const Eigen::MatrixXd L = semiCholesky(cov);
   const Eigen::VectorXd a = lower - mean, b = upper - mean;
-
-  // The part of each variable's interval left once the previous y's are fixed.
-  auto interval = [&](Eigen::Index i, double s, double& d, double& e) {
-    if (L(i, i) > 0) {
-      d = normalCdf((a(i) - s) / L(i, i));
-      e = normalCdf((b(i) - s) / L(i, i));
-    } else {  // point mass at s
-      d = 0;
-      e = (a(i) <= s && s <= b(i)) ? 1 : 0;
-    }
-  };
+  const GenzSeparation genz{L, a, b};
   double d0, e0;
-  interval(0, 0, d0, e0);
+  genz.interval(0, 0, d0, e0);
   // Exact when the variables decouple (diagonal factor) or in one dimension.
   const bool diagonal = L.isDiagonal(0.0) || n == 1;
   if (diagonal) {
     double v = e0 - d0;
     for (Eigen::Index i = 1; i < n; ++i) {
       double d, e;
-      interval(i, 0, d, e);
+      genz.interval(i, 0, d, e);
       v *= e - d;
     }
     r.value = v;
@@ -232,25 +268,7 @@ BoxProbability gaussianBoxProbability(const Eigen::VectorXd& mean, const Eigen::
   for (int sh = 0; sh < shifts; ++sh) {
     for (auto& v : shift) v = unif(rng);
     double acc = 0;
-    for (int q = 1; q <= per_shift; ++q) {
-      double f = e0 - d0;
-      double d = d0, e = e0;
-      for (Eigen::Index i = 0; i < n && f > 0; ++i) {
-        if (i > 0) {
-          const double s = L.row(i).head(i).dot(y.head(i));
-          interval(i, s, d, e);
-          f *= e - d;
-          if (f <= 0) break;
-        }
-        if (i + 1 < n) {
-          // Baker's tent transform of the shifted lattice point: periodizes the integrand.
-          double w = std::fmod(q * gen[i] + shift[i], 1.0);
-          w = 1 - std::abs(2 * w - 1);
-          y(i) = L(i, i) > 0 ? normalQuantile(d + w * (e - d)) : 0.0;
-        }
-      }
-      acc += std::max(f, 0.0);
-    }
+    for (int q = 1; q <= per_shift; ++q) acc += std::max(genz.at(q, gen, shift, d0, e0, y), 0.0);
     const double est = acc / per_shift;
     sum += est;
     sum2 += est * est;

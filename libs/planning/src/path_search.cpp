@@ -154,15 +154,25 @@ std::vector<NodeId> dijkstraNodes(const PoseGraph& g, const std::vector<std::vec
 
 namespace {
 
-/// buildSearchGraph; edges at index >= first_virtual are virtual: never loop closures.
-SearchGraph buildSearchGraphImpl(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
-                                 bool collapse, std::size_t first_virtual) {
-  checkNodes(g, start, goal);
+/// Clusters of nodes aliased by short loop closures, with explicit member lists: label[v] is
+/// v's cluster, relabelled on merges (smaller into larger), so a lookup is O(1) and all merges
+/// O(n log n).
+struct AliasClusters {
+  std::vector<NodeId> label;
+  std::vector<std::vector<NodeId>> mem;
+};
+
+/// Merges the ends of loop closures no longer than merge_radius, shortest first, while every
+/// pair of the two clusters' members stays within merge_radius and start and goal stay apart.
+/// Edges at index >= first_virtual are virtual: never loop closures.
+AliasClusters aliasClusters(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
+                            std::size_t first_virtual) {
   const std::size_t n = g.size();
-  // Clusters with explicit member lists: label[v] is v's cluster, relabelled on merges
-  // (smaller into larger), so a lookup is O(1) and all merges O(n log n).
-  std::vector<NodeId> label(n);
-  std::vector<std::vector<NodeId>> mem(n);
+  AliasClusters clusters;
+  std::vector<NodeId>& label = clusters.label;
+  std::vector<std::vector<NodeId>>& mem = clusters.mem;
+  label.resize(n);
+  mem.resize(n);
   for (std::size_t v = 0; v < n; ++v) {
     label[v] = static_cast<NodeId>(v);
     mem[v] = {static_cast<NodeId>(v)};
@@ -198,6 +208,15 @@ SearchGraph buildSearchGraphImpl(const PoseGraph& g, NodeId start, NodeId goal, 
       mem[cb].clear();
     }
   }
+  return clusters;
+}
+
+/// buildSearchGraph; edges at index >= first_virtual are virtual: never loop closures.
+SearchGraph buildSearchGraphImpl(const PoseGraph& g, NodeId start, NodeId goal, double merge_radius,
+                                 bool collapse, std::size_t first_virtual) {
+  checkNodes(g, start, goal);
+  const std::size_t n = g.size();
+  const auto [label, mem] = aliasClusters(g, start, goal, merge_radius, first_virtual);
   // Vertices numbered in the order of their smallest node.
   SearchGraph sg;
   sg.vertex_of.assign(n, 0);
@@ -297,122 +316,6 @@ std::vector<NodeId> expandRoute(const PoseGraph& g, const SearchGraph& sg,
 std::vector<NodeId> shortestPath(const PoseGraph& g, NodeId start, NodeId goal) {
   checkNodes(g, start, goal);
   return dijkstraNodes(g, simpleAdjacency(g), start, goal, [](NodeId, NodeId) { return true; });
-}
-
-std::vector<std::vector<std::size_t>> kShortestSimplePaths(std::size_t n,
-                                                           const std::vector<WeightedEdge>& e,
-                                                           std::uint32_t s, std::uint32_t t,
-                                                           std::size_t k) {
-  using EdgePath = std::vector<std::size_t>;
-  std::vector<std::vector<std::pair<std::uint32_t, std::size_t>>> adj(n);
-  for (std::size_t i = 0; i < e.size(); ++i) {
-    if (e[i].a >= n || e[i].b >= n)
-      throw Error("kShortestSimplePaths: edge " + std::to_string(i) +
-                  " names a vertex >= " + std::to_string(n));
-    if (!(e[i].w >= 0)) throw Error("kShortestSimplePaths: negative or NaN weight");
-    if (e[i].a == e[i].b) continue;  // never on a simple path
-    adj[e[i].a].emplace_back(e[i].b, i);
-    adj[e[i].b].emplace_back(e[i].a, i);
-  }
-  std::vector<EdgePath> A;
-  if (s >= n || t >= n || k == 0) return A;
-  if (s == t) {
-    A.emplace_back();
-    return A;
-  }
-  auto cost = [&](const EdgePath& p) {
-    double c = 0;
-    for (std::size_t i : p) c += e[i].w;
-    return c;
-  };
-  // Dijkstra from src to t avoiding banned vertices and edges; ties by (distance, vertex).
-  std::vector<char> banned_v(n, 0), banned_e(e.size(), 0);
-  auto dijkstra = [&](std::uint32_t src, EdgePath& out) {
-    constexpr double kInf = std::numeric_limits<double>::infinity();
-    std::vector<double> dist(n, kInf);
-    std::vector<std::size_t> via(n, 0);
-    using Item = std::pair<double, std::uint32_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-    dist[src] = 0;
-    open.emplace(0.0, src);
-    while (!open.empty()) {
-      const auto [d, v] = open.top();
-      open.pop();
-      if (d > dist[v]) continue;
-      if (v == t) break;
-      for (const auto& [w, i] : adj[v]) {
-        if (banned_v[w] || banned_e[i]) continue;
-        if (d + e[i].w < dist[w]) {
-          dist[w] = d + e[i].w;
-          via[w] = i;
-          open.emplace(dist[w], w);
-        }
-      }
-    }
-    out.clear();
-    if (dist[t] == kInf) return false;
-    for (std::uint32_t v = t; v != src;) {
-      out.push_back(via[v]);
-      v = e[via[v]].a == v ? e[via[v]].b : e[via[v]].a;
-    }
-    std::reverse(out.begin(), out.end());
-    return true;
-  };
-  struct Candidate {
-    double cost;
-    EdgePath path;
-    bool operator<(const Candidate& o) const {
-      if (cost != o.cost) return cost < o.cost;
-      if (path.size() != o.path.size()) return path.size() < o.path.size();
-      return path < o.path;
-    }
-  };
-  EdgePath first;
-  if (!dijkstra(s, first)) return A;
-  A.push_back(first);
-  std::set<EdgePath> seen{first};
-  std::set<Candidate> B;
-  while (A.size() < k) {
-    const EdgePath prev = A.back();
-    std::vector<std::uint32_t> verts{s};
-    for (std::size_t i : prev) verts.push_back(e[i].a == verts.back() ? e[i].b : e[i].a);
-    for (std::size_t i = 0; i < prev.size(); ++i) {
-      // Root: prev's first i edges; spur vertex verts[i]. Ban the root's vertices (simple
-      // paths) and the next edge of every accepted path sharing this root.
-      std::fill(banned_v.begin(), banned_v.end(), 0);
-      std::fill(banned_e.begin(), banned_e.end(), 0);
-      for (std::size_t j = 0; j < i; ++j) banned_v[verts[j]] = 1;
-      for (const EdgePath& p : A)
-        if (p.size() > i && std::equal(p.begin(), p.begin() + static_cast<long>(i), prev.begin()))
-          banned_e[p[i]] = 1;
-      EdgePath spur;
-      if (!dijkstra(verts[i], spur)) continue;
-      EdgePath total(prev.begin(), prev.begin() + static_cast<long>(i));
-      total.insert(total.end(), spur.begin(), spur.end());
-      if (seen.insert(total).second) B.insert({cost(total), std::move(total)});
-    }
-    if (B.empty()) break;
-    A.push_back(B.begin()->path);
-    B.erase(B.begin());
-  }
-  return A;
-}
-
-std::vector<std::vector<std::size_t>> diversePaths(std::size_t n,
-                                                   const std::vector<WeightedEdge>& e,
-                                                   std::uint32_t s, std::uint32_t t,
-                                                   std::size_t count, double penalty) {
-  if (!(penalty > 0)) throw Error("diversePaths: the penalty must be positive");
-  std::vector<WeightedEdge> w = e;
-  std::vector<std::vector<std::size_t>> out;
-  std::set<std::vector<std::size_t>> seen;
-  for (std::size_t i = 0; i < count; ++i) {
-    const auto p = kShortestSimplePaths(n, w, s, t, 1);
-    if (p.empty()) break;
-    if (seen.insert(p[0]).second) out.push_back(p[0]);
-    for (std::size_t k : p[0]) w[k].w *= 1 + penalty;
-  }
-  return out;
 }
 
 namespace {
