@@ -5,6 +5,8 @@
 #   <commit> asf_runtime <s> whole_tree <s> cores <n> load_before <1-min load average>
 # Usage: scripts/build-time.sh [-j N] COMMIT...   (default -j: nproc)
 # Builds run one after the other, never two at once; say what else ran on the machine.
+# (scripts/first-run-time.sh times the README's first run on a fresh system instead: apt,
+# build and run of one commit.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)
