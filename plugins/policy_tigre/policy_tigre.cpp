@@ -82,17 +82,21 @@ class TigrePolicy final : public asf::Policy {
     if (here <= 0 || !topo.node(here)) return toNearestRegion(s, reach, robot);
     waits_ = 0;
 
-    int untraversed = 0, given_up = 0;
-    const std::vector<Option> options = edgeOptions(topo, reach, untraversed, given_up);
-    if (untraversed == 0) {
+    EdgeCounts n;
+    const std::vector<Option> options = edgeOptions(topo, reach, n);
+    if (n.untraversed == 0) {
       std::ostringstream why;
       why << "every edge traversed";
-      if (given_up) why << " except " << given_up << " given up after failures";
+      if (n.given_up) why << " except " << n.given_up << " given up after failures";
       why << " (" << topo.edges.size() << " edges)";
+      // Said, not hidden: frontiers the map still has where no untried goal is reachable.
+      if (n.frontiers_left)
+        why << "; " << n.frontiers_left << " frontier" << (n.frontiers_left > 1 ? "s" : "")
+            << " left, tried or out of reach";
       return asf::Decision::done(why.str());
     }
     if (auto d = tarryStep(topo, options, here)) return *d;
-    return relocate(topo, options, untraversed, here);
+    return relocate(topo, options, n.untraversed, here);
   }
 
  private:
@@ -115,6 +119,11 @@ class TigrePolicy final : public asf::Policy {
     bool was_visited = false;  ///< `region` had been visited when the edge was chosen
   };
   enum class NextGoal { Centre, CentreNew, Entry, None };
+  struct EdgeCounts {
+    int untraversed = 0;     ///< edges with a goal, frontiers included
+    int given_up = 0;        ///< after max_edge_failures
+    int frontiers_left = 0;  ///< frontiers without a reachable goal away from those tried
+  };
 
   /// Phase 2 of an edge crossing: into the next region, unless already there.
   std::optional<asf::Decision> enterPendingRegion(const asf::ExplorationState& s,
@@ -169,10 +178,9 @@ class TigrePolicy final : public asf::Policy {
   }
 
   /// Every edge of the graph not given up: where its goal is and whether it is still
-  /// untraversed (counted in `untraversed`; the given-up ones in `given_up`).
+  /// untraversed (counted in `n`, with the given-up edges and the frontiers without a goal).
   std::vector<Option> edgeOptions(const asf::TopoGraph& topo,
-                                  const asf::mapping::Reachability& reach, int& untraversed,
-                                  int& given_up) {
+                                  const asf::mapping::Reachability& reach, EdgeCounts& n) {
     std::vector<Option> options;
     for (std::size_t i = 0; i < topo.edges.size(); ++i) {
       const asf::TopoEdge& e = topo.edges[i];
@@ -181,18 +189,21 @@ class TigrePolicy final : public asf::Policy {
       // crosses elsewhere, the border is thin) is given up like a failing one.
       if (failures_[k] >= failureBudget(e) ||
           (!e.frontier() && e.traversals.empty() && chosen_[k] >= max_edge_failures_ + 1)) {
-        ++given_up;
+        ++n.given_up;
         continue;
       }
       Option o;
       o.index = static_cast<int>(i);
       o.key = k;
       if (e.frontier()) {
-        if (!frontierGoal(e, reach, o)) continue;
+        if (!frontierGoal(e, reach, o)) {
+          ++n.frontiers_left;
+          continue;
+        }
       } else {
         regionEdgeGoal(e, reach, o);
       }
-      if (o.untraversed) ++untraversed;
+      if (o.untraversed) ++n.untraversed;
       options.push_back(o);
     }
     return options;

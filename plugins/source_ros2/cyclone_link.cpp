@@ -4,6 +4,7 @@
 
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -384,6 +385,27 @@ std::size_t CycloneLink::subscriberCount(const std::string& ros_topic) const {
 
 namespace asf::ros2live {
 
+namespace {
+/// "pkg/Type" is "pkg::msg::dds_::Type_" on the wire.
+std::string wireType(const std::string& type) {
+  const std::size_t slash = type.find('/');
+  return type.substr(0, slash) + "::msg::dds_::" + type.substr(slash + 1) + "_";
+}
+}  // namespace
+
+std::string CycloneLink::whyStampsGoBack(const std::string& topic, const std::string& type,
+                                         std::uint64_t back) const {
+  const auto types = publisherTypes(topic);
+  const auto n = std::count(types.begin(), types.end(), wireType(type));
+  if (n < 2) return {};
+  std::ostringstream os;
+  os << "[ros2] topic " << topic << ": " << n << " publishers of " << type << ", and " << back
+     << " messages were stamped before the one received ahead of them: two robots (or two "
+        "drivers) on one topic. asf maps the laser of one robot: give each robot its own domain "
+        "id (ros2.domain_id) or its own topics (ros2.scan_topic, ros2.odom_topic)";
+  return os.str();
+}
+
 std::string CycloneLink::whySilent(const std::string& topic, const std::string& type, double waited) const {
   std::ostringstream os;
   os << "[ros2] topic " << topic << ": no " << type << " for " << waited << " s; ";
@@ -393,9 +415,7 @@ std::string CycloneLink::whySilent(const std::string& topic, const std::string& 
           "network?)";
     return os.str();
   }
-  // "pkg/Type" is "pkg::msg::dds_::Type_" on the wire.
-  const std::size_t slash = type.find('/');
-  const std::string wire = type.substr(0, slash) + "::msg::dds_::" + type.substr(slash + 1) + "_";
+  const std::string wire = wireType(type);
   for (const std::string& t : types)
     if (t != wire) {
       os << "it is published with type " << t << ", not " << wire << " (" << type << ")";

@@ -71,6 +71,11 @@ class CycloneLink {
   /// no publisher discovered, publishers of another type, or publishers that sent nothing
   /// we received (stopped, or QoS that does not match). Starts "[ros2] topic T: ".
   std::string whySilent(const std::string& ros_topic, const std::string& type, double waited) const;
+  /// Why messages of `type` on a ROS 2 topic go back in time (`back` of them so far), when
+  /// more than one publisher of that type is discovered: two robots or drivers on one topic.
+  /// Empty with one publisher (a datagram reordered on the wire is no fault).
+  std::string whyStampsGoBack(const std::string& ros_topic, const std::string& type,
+                              std::uint64_t back) const;
   /// Readers of a ROS 2 topic this participant writes, discovered anywhere.
   std::size_t subscriberCount(const std::string& ros_topic) const;
 

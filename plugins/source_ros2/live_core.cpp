@@ -264,4 +264,24 @@ double processCpuSeconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+std::string bridgeCpuLine(const std::map<std::string, double>& threads, double run_thread_s,
+                          double recording_s) {
+  double dds = 0, other = 0;
+  std::ostringstream names;
+  for (const auto& [name, s] : threads) {
+    if (!isCycloneThread(name)) {
+      other += s;
+      continue;
+    }
+    names << (names.tellp() > 0 ? ", " : "") << name << " " << s;
+    dds += s;
+  }
+  std::ostringstream os;
+  os << "bridge CPU: " << run_thread_s << " s on the run's thread (conversions, publishing, "
+     << "the bag; the rawlog's " << recording_s << " s apart), " << dds
+     << " s on Cyclone DDS's threads (" << names.str() << "), of " << processCpuSeconds()
+     << " s for the whole run (" << other << " s on its other threads)";
+  return os.str();
+}
+
 }  // namespace asf::ros2live

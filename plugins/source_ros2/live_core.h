@@ -164,5 +164,10 @@ std::map<std::string, double> otherThreadsCpuByName();
 bool isCycloneThread(const std::string& name);
 /// CPU seconds of the whole process.
 double processCpuSeconds();
+/// run.log's "bridge CPU" line: `run_thread_s` of the bridge's work on the run's thread,
+/// `recording_s` of it recording the rawlog, Cyclone DDS's threads among `threads`
+/// (otherThreadsCpuByName), against the whole process.
+std::string bridgeCpuLine(const std::map<std::string, double>& threads, double run_thread_s,
+                          double recording_s);
 
 }  // namespace asf::ros2live

@@ -85,21 +85,7 @@ class Ros2Source final : public asf::Source {
   // The bridge's CPU: its part of the run's thread, and Cyclone DDS's threads (receiving and
   // delivering to the callbacks, timed events), by name; the other threads are the pipeline's.
   void logCpu(const std::map<std::string, double>& threads) {
-    double dds = 0, other = 0;
-    std::ostringstream names;
-    for (const auto& [name, s] : threads) {
-      if (!asf::ros2live::isCycloneThread(name)) {
-        other += s;
-        continue;
-      }
-      names << (names.tellp() > 0 ? ", " : "") << name << " " << s;
-      dds += s;
-    }
-    MRPT_LOG_INFO_STREAM("bridge CPU: " << bridge_cpu_ << " s on the run's thread (conversions, publishing, "
-                         "the bag; the rawlog's " << recording_cpu_ << " s apart), " << dds
-                         << " s on Cyclone DDS's threads (" << names.str() << "), of "
-                         << asf::ros2live::processCpuSeconds() << " s for the whole run (" << other
-                         << " s on its other threads)");
+    MRPT_LOG_INFO(asf::ros2live::bridgeCpuLine(threads, bridge_cpu_, recording_cpu_));
     MRPT_LOG_INFO_STREAM("scan-to-tf in asf (a scan queued by the receive thread to the map -> odom stamped "
                          "with it published): " << asf::ros2live::latencySummary(tf_latency_ms_));
   }
@@ -431,8 +417,11 @@ class Ros2Source final : public asf::Source {
       if (!s) throw asf::InputError(link_->whySilent(scan_topic_, "sensor_msgs/LaserScan", wait));
       const double t = ros2::toSeconds(s->msg.stamp);
       if (frames_ > 0 && t < last_t_) {
-        ++out_of_order_;  // the contract: timestamps never go back
-        continue;
+        ++out_of_order_;  // the contract: timestamps never go back; two robots break it
+        if (out_of_order_ < 10) continue;
+        const std::string two = link_->whyStampsGoBack(scan_topic_, "sensor_msgs/LaserScan", out_of_order_);
+        if (two.empty()) continue;
+        throw asf::InputError(two);
       }
       const std::optional<CPose2D> odom = odometryAt(t);
       if (!odom) {

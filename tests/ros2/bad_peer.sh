@@ -11,6 +11,8 @@
 #   stuck        the robot accepts goals and never drives: every goal times out
 #   interrupted  Ctrl-C (SIGINT) in the middle of a live run: exit 130, every output written
 #   mount_on_tf  not a fault: the laser's mounting only on /tf (asf reads /tf then), 60 steps
+#   two_robots   a second robot on the same domain, started 4 s after the first: its scans
+#                are stamped 32 simulated seconds behind
 set -euo pipefail
 source "$(dirname "$0")/stop_robot.sh"
 asf=$1 src=$2 out=$3 domain=$4 case=$5
@@ -46,6 +48,9 @@ case $case in
     args=(--set ros2.world_map_topic= --set pipeline.max_steps=60); robot_args=(--mount-on-tf)
     expect='reading /tf for the laser.s mounting'; written="summary.json map.pgm ros2.rawlog"
     fail_exit=0 ;;
+  two_robots)
+    expect='topic /scan: 2 publishers of sensor_msgs/LaserScan, and [0-9]+ messages were stamped before'
+    written="summary.json map.pgm ros2.rawlog" ;;
   interrupted)
     expect='interrupted after [0-9]+ steps'; written="summary.json map.pgm ros2.rawlog report.html" ;;
   *) echo "unknown case $case"; exit 2 ;;
@@ -57,6 +62,12 @@ if [[ $case != no_robot ]]; then
   robot=$!
   trap 'stop_robot $robot' EXIT
 fi
+if [[ $case == two_robots ]]; then
+  (sleep 4 && exec "$asf" sim-robot "$src/configs/default.ini" --loopback --domain "$domain" \
+    --rate "$rate" --duration 200 >"$out/robot2.log" 2>&1) &
+  robot2=$!
+  trap 'stop_robot $robot; stop_robot $robot2' EXIT
+fi
 rc=0
 start=$(date +%s)
 limit=(120) && [[ $case == interrupted ]] && limit=(--preserve-status -s INT 12)
@@ -64,6 +75,7 @@ timeout "${limit[@]}" "$asf" run "$src/configs/ros2_nav2.ini" "${common[@]}" ${a
   >"$out/asf.log" 2>&1 || rc=$?
 took=$(( $(date +%s) - start ))
 stop_robot "$robot"
+[[ $case != two_robots ]] || stop_robot "$robot2"
 trap - EXIT
 fail() { echo "FAILED ($case): $*"; tail -20 "$out/asf.log"; exit 1; }
 if [[ $case == interrupted ]]; then

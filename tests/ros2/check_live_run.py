@@ -19,8 +19,15 @@ problems = []
 if not s.get("finished"):
     problems.append(f"not finished: {s.get('stop_reason')}")
 cov = s.get("coverage")
-if cov is None or cov < 0.99:
-    problems.append(f"coverage {cov} < 0.99")
+# The 99 % coverage goal is measured over seeds by scripts/ros2-live-seeds.sh: a live run is
+# not repeatable, and a few end lower (docs/ROS2.md: 9 of 10 cmd_vel runs reached 99 %, the
+# lowest 96.6 %; one CI run 98.0 %; TIGRE's stop reason now counts the frontiers it left, and
+# this script prints them). One run fails below 95 %, as a bridge that loses or garbles data
+# does (a run fed by two robots at once covered 69 %).
+if cov is None or cov < 0.95:
+    problems.append(f"coverage {cov} < 0.95")
+elif cov < 0.99:
+    print(f"note: coverage {cov} below the 99 % goal")
 ate = s.get("ate_rmse_m")
 replay_ate = None
 if ate is not None and ate > 0.15 and len(sys.argv) > 3:
@@ -52,6 +59,15 @@ else:
                         f"{dropped} dropped, {disorder} out of order")
 print(json.dumps({"finished": s.get("finished"), "stop_reason": s.get("stop_reason"), "coverage": cov,
                   "ate_m": ate, "replay_ate_m": replay_ate, "distance_m": s.get("distance_m"), "scans": m.groups() if m else None}))
+if cov is not None and cov < 0.99:
+    # What the policy left: the frontier edges of the final topological graph and its last
+    # decisions, so that a run which ended early says where.
+    topo = json.load(open(f"{out}/asf/topology.json"))
+    for e in topo["edges"]:
+        if e["frontier"]:
+            print(f"frontier left: region {e['a']} at ({e['midpoint'][0]:.2f}, {e['midpoint'][1]:.2f}), "
+                  f"{e['width_m']:.2f} m wide")
+    print("last decisions:\n" + "".join(open(f"{out}/asf/decisions.csv").readlines()[-6:]), end="")
 if problems:
     print("FAILED: " + "; ".join(problems))
     sys.exit(1)

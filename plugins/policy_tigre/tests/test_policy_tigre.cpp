@@ -137,6 +137,8 @@ TEST(PolicyTigre, CorridorOfRoomsIsWalkedOutAndDoneWhenEveryEdgeIsTraversed) {
   ASSERT_TRUE(r.done);
   EXPECT_NE(r.decisions.back().reason.find("every edge traversed"), std::string::npos)
       << r.decisions.back().reason;
+  EXPECT_EQ(r.decisions.back().reason.find("frontier"), std::string::npos)
+      << r.decisions.back().reason;
   // Fraenkel-style stop: each edge once, no walk back.
   for (const auto& e : w.topo.graph().edges) EXPECT_EQ(e.traversals.size(), 1u);
   EXPECT_EQ(w.topo.graph().current, 3);
@@ -290,7 +292,12 @@ TEST(PolicyTigre, FrontierEdgeGoalIsOnTheFrontierAndNotRetriedAfterReaching) {
   int n = 0;
   for (; n < 50; ++n) {
     const asf::Decision e = p->decide(s);
-    if (e.type == asf::Decision::Type::Done) break;
+    if (e.type == asf::Decision::Type::Done) {
+      // The frontier is still in the map: the stop reason says so.
+      EXPECT_NE(e.reason.find("; 1 frontier left, tried or out of reach"), std::string::npos)
+          << e.reason;
+      break;
+    }
     EXPECT_TRUE(
         goals.insert({static_cast<int>(e.goal.x * 10), static_cast<int>(e.goal.y * 10)}).second)
         << "goal repeated: " << e.reason;
