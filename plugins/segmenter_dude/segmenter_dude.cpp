@@ -5,7 +5,9 @@
 // merged with it and decomposed again; the others keep their cells, and so their ids.
 #include "dude.h"
 #include "dude_raster.h"
+#include "dude_reference_change.h"
 #include "dude_thesis.h"
+#include "segmenter_dude_keys.h"
 
 #include <asf/errors.h>
 #include <asf/mapping/region_labels.h>
@@ -55,6 +57,8 @@ class DudeSegmenter final : public asf::Segmenter {
     merge_concavity_ = p.getDouble("merge_concavity");
     merge_min_border_ = p.getDouble("merge_min_border");
     thesis_ = p.getString("variant") == "thesis";
+    reference_rule_ = p.getString("change_rule") == "reference";
+    new_space_side_ = p.getDouble("new_space_side");
     thesis_options_.max_concavity = options_.max_concavity;
     thesis_options_.approximation = p.getString("approximation") == "douglas_peucker"
                                         ? asf::dude::thesis::Approximation::DouglasPeucker
@@ -87,7 +91,8 @@ class DudeSegmenter final : public asf::Segmenter {
     }
     if (incremental_ && state_.valid && previous && previous->map_version == state_.version) {
       try {
-        if (update(map, grid, f, out)) return out;
+        if (reference_rule_ ? updateByReference(map, grid, f, out) : update(map, grid, f, out))
+          return out;
       } catch (...) {
         state_ = State{};  // half-updated: the next call starts afresh
         throw;
@@ -103,6 +108,7 @@ class DudeSegmenter final : public asf::Segmenter {
     std::uint64_t version = 0;
     Frame frame;
     cv::Mat free, obstacle, proc;  ///< masks (CV_8U) of the last call
+    cv::Mat outline;  ///< change_rule = reference: the regions' cells, no longer free ones too
     asf::Segmentation last;         ///< its result: labels hold the final region ids
     asf::RegionBoxes boxes;         ///< cell box of every region of `last`
     int max_id = 0;
@@ -153,6 +159,7 @@ class DudeSegmenter final : public asf::Segmenter {
     state_.free = free;
     state_.obstacle = obstacle;
     state_.proc = proc;
+    state_.outline.release();  // the reference rule starts again from the labels
     state_.last = out;
     state_.boxes = std::move(boxes);
     state_.max_id = out.regions.empty() ? 0 : out.regions.back().id;
@@ -339,6 +346,7 @@ class DudeSegmenter final : public asf::Segmenter {
     move(state_.free);
     move(state_.obstacle);
     move(state_.proc);
+    if (!state_.outline.empty()) move(state_.outline);
     asf::LabelImage& L = state_.last.labels;
     asf::LabelImage shifted = emptyLabels(f);
     for (int y = 0; y < o.height; ++y)
@@ -398,20 +406,76 @@ class DudeSegmenter final : public asf::Segmenter {
       work = redecompose(f, free_diff, dirty, raw_box, &next_label, &lab_w);
       if (work.area() > 0) postProcess(state_.free(work).clone(), lab_w, &next_label, first_fresh, f.resolution);
     }
+    commitWindow(map.version, f, work, lab_w, changed, out);
+    return true;
+  }
+
+  /// The labels of window `work` replaced by `lab_w`: the regions measured again there, the
+  /// others kept (ids included), and the result stored as the state for the next update.
+  void commitWindow(std::uint64_t version, const Frame& f, const cv::Rect& work,
+                    const cv::Mat& lab_w, std::int64_t changed, asf::Segmentation& out) {
     asf::LabelImage L = state_.last.labels;
     for (int y = 0; y < work.height; ++y)
       std::copy(lab_w.ptr<int>(y), lab_w.ptr<int>(y) + work.width,
                 L.labels.begin() + static_cast<std::size_t>(work.y + y) * f.width + work.x);
     out = asf::mapping::regionsFromLabelsInWindow(std::move(L), state_.last, state_.boxes,
                                          {work.x, work.y, work.width, work.height}, &max_issued_,
-                                         map.version, thesis_ ? 0.0 : min_component_area_);
+                                         version, thesis_ ? 0.0 : min_component_area_);
     out.mode = asf::Segmentation::Mode::Incremental;
     out.changed_cells = changed;
-    state_.version = map.version;
+    state_.version = version;
     state_.last.regions = out.regions;
     state_.last.labels.labels = out.labels.labels;  // same size: no allocation
-    state_.last.map_version = map.version;
+    state_.last.map_version = version;
     state_.max_id = out.regions.empty() ? 0 : out.regions.back().id;
+  }
+
+  /// change_rule = reference (dude_reference_change.h): the regions keep their outlines (in
+  /// state_.outline, cells that are no longer free included); the blobs of new free space the
+  /// rule keeps are decomposed again with the regions they touch. The result labels free cells
+  /// only (the contract). Works on the whole frame. False: segment the whole map instead.
+  bool updateByReference(const asf::GridMap& map, const Grid& grid, const Frame& f,
+                         asf::Segmentation& out) {
+    bool moved = false;
+    if (!alignState(f, &moved)) return false;
+    const cv::Rect full(0, 0, f.width, f.height);
+    cv::Mat free, obstacle;
+    thresholdGrid(grid, full, free, obstacle);
+    const std::int64_t changed = cv::countNonZero(free != state_.free);
+    if (map.rebuilt && changed > rebuild_full_fraction_ * std::max(1, cv::countNonZero(free)))
+      return false;
+    state_.free = free;
+    state_.obstacle = obstacle;
+    state_.proc = preprocess(free, obstacle, f.resolution);
+    const cv::Mat last(f.height, f.width, CV_32S, state_.last.labels.labels.data());
+    if (state_.outline.size() != last.size()) state_.outline = last.clone();
+    cv::Mat outline = state_.outline.clone();
+    const int side = static_cast<int>(new_space_side_ / f.resolution);  // rounded down, as the author's
+    const auto change = asf::dude::incremental::referenceChange(state_.proc, outline, side);
+    if (change.box.area() > 0) {
+      const cv::Rect work = grow(change.box, 1, full);
+      cv::Mat lab_w = outline(work).clone();  // continuous, as completeLabels needs
+      const cv::Mat redo = change.redo(work);
+      lab_w.setTo(0, redo);
+      int next_label = state_.max_id + 1;
+      const int first_fresh = next_label;
+      decomposeInto(state_.proc(work) & redo, work.tl(), f, lab_w, &next_label);
+      // Post-processing over the cells decomposed again only: the kept regions' cells count
+      // as free (completeLabels clears labels elsewhere), the dropped blobs stay out.
+      const cv::Mat keep = (free(work) & redo) | ((lab_w > 0) & (redo == 0));
+      postProcess(keep & 1, lab_w, &next_label, first_fresh, f.resolution);
+      lab_w.copyTo(outline(work));
+    }
+    cv::Mat clipped = outline.clone();
+    clipped.setTo(0, free == 0);
+    const cv::Rect window = cv::boundingRect(clipped != last);
+    commitWindow(map.version, f, window, clipped(window), changed, out);
+    // The next outline: the result's ids, and the stable cells no longer free outside `redo`.
+    const cv::Mat result(f.height, f.width, CV_32S, out.labels.labels.data());
+    cv::Mat kept_outline = (result == 0) & (outline > 0);
+    if (!change.redo.empty()) kept_outline &= (change.redo == 0);
+    result.copyTo(state_.outline);
+    outline.copyTo(state_.outline, kept_outline);
     return true;
   }
 
@@ -489,75 +553,11 @@ class DudeSegmenter final : public asf::Segmenter {
   int first_fresh_ = 1;  ///< first provisional label of the current incremental update
   asf::dude::Options options_;
   bool thesis_ = false;  ///< variant = thesis: the reference's cuts, no post-processing
+  bool reference_rule_ = false;  ///< change_rule = reference (dude_reference_change.h)
+  double new_space_side_ = 0.5;
   asf::dude::thesis::Options thesis_options_;
   asf::RegionId max_issued_ = 0;
   State state_;
-};
-
-const asf::KeySpec kKeys[] = {
-    asf::keyEnum("variant", "rooms", "rooms|thesis",
-                 "thesis: DuDe as published and as the thesis ran it (the reference's pocket "
-                 "minima, Delaunay diagonals, cut sets and knapsack selection; no "
-                 "post-processing); rooms: asf's heuristic cuts plus the room layer (README)"),
-    asf::keyDouble("max_concavity", "2.5",
-                   "DuDe's one parameter: boundary points deeper than this below the convex "
-                   "hull (through the bridge hierarchy) are resolved by cuts [m]",
-                   0.01, 1e6),
-    asf::keyEnum("approximation", "chains", "chains|douglas_peucker",
-                 "variant = thesis: how boundary chains are simplified into feature points: "
-                 "the reference's default (chains grown around the farthest vertices) or its "
-                 "Douglas-Peucker option"),
-    asf::keyDouble("free_threshold", "0.4",
-                   "A cell is free when its occupancy probability (1 - MRPT cell value) is below this",
-                   0.0, 1.0),
-    asf::keyDouble("occupied_threshold", "0.6",
-                   "A cell is an obstacle (grown by obstacle_dilation) when its occupancy "
-                   "probability is above this; cells in between are unknown, never free",
-                   0.0, 1.0),
-    asf::keyDouble("gap_closing", "0.1",
-                   "Gaps between obstacles narrower than this (cracks in walls) are closed "
-                   "before the contours are traced (closing of the obstacle mask) [m]",
-                   0.0, 10.0),
-    asf::keyDouble("obstacle_dilation", "0.0",
-                   "Obstacles grown by this before the contours are traced [m]; the cells "
-                   "given up still get the label of the nearest region",
-                   0.0, 10.0),
-    asf::keyDouble("simplify_tolerance", "0.1",
-                   "Douglas-Peucker tolerance of the contours [m]; 0 keeps every contour vertex",
-                   0.0, 10.0),
-    asf::keyDouble("min_hole_extent", "-1",
-                   "Holes (obstacles inside free space) narrower than this are not cut to and "
-                   "stay inside one region [m]; < 0: max_concavity",
-                   -1.0, 1e6),
-    asf::keyDouble("resolve_radius", "0.5",
-                   "Pocket minima this close to a chosen cut's ends wait for the next round "
-                   "(no parallel cuts a wall's width apart) [m]",
-                   0.0, 1e6),
-    asf::keyDouble("min_region_area", "1.0",
-                   "Pieces smaller than this join the neighbour they share most border with [m^2]",
-                   0.0, 1e9),
-    asf::keyDouble("min_component_area", "0.25",
-                   "Free components smaller than this are left unlabelled [m^2]", 0.0, 1e9),
-    asf::keyDouble("merge_concavity", "1.0",
-                   "Room layer: neighbouring pieces whose union has no reflex vertex deeper "
-                   "than this are merged [m]; 0: off",
-                   0.0, 1e6),
-    asf::keyDouble("merge_min_border", "1.2",
-                   "Room layer: only pieces sharing at least this much border are merge "
-                   "candidates (a doorway is narrower) [m]",
-                   0.0, 1e6),
-    asf::keyBool("incremental", "true",
-                 "Re-decompose only the regions touching changed free space (thesis Algorithm "
-                 "3)"),
-    asf::keyDouble("rebuild_full_fraction", "0.25",
-                   "After a rebuilt map (a loop closure moved keyframes) the update stays "
-                   "incremental unless more than this fraction of the free cells changed "
-                   "state; 0: always segment a rebuilt map in full",
-                   0.0, 1.0),
-    asf::keyInt("max_cells", "100000000",
-                "Largest map segmented (cells; about 12 bytes each while segmenting): a larger "
-                "one is an input error naming its size (1e8: 500 m x 500 m at 5 cm)",
-                1, 2e9),
 };
 
 }  // namespace
