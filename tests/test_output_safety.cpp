@@ -179,6 +179,43 @@ TEST(RunExit, SigtermWritesTheOutputsAndExits143) {
   EXPECT_TRUE(fs::exists(d / "out" / "graph.g2o")) << out;
 }
 
+// Two runs into one folder would interleave their files: the second stops before writing
+// anything, naming the folder and the first run's process; once that one has ended (here by
+// SIGTERM), the folder takes a new run.
+TEST(RunExit, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstRuns) {
+  const fs::path d = tempDir("lock");
+  std::string route;
+  for (int i = 0; i < 400; ++i) route += i % 2 ? "0 0; " : "2.5 0.5; ";
+  route += "0 0";
+  const std::string config = ASF_TEST_SOURCE_DIR "/configs/two_rooms_scripted.ini";
+  const std::string out = (d / "out").string();
+  const pid_t pid = asf_test::spawnHost(
+      {"run", config, "--out", out, "--set", "waypoints.waypoints=" + route},
+      (d / "first.log").string());
+  ASSERT_GT(pid, 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::error_code ec;
+  auto started = [&] { return fs::file_size(d / "out" / "trajectory.csv", ec) >= 2000 && !ec; };
+  while (!started() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(started()) << readText(d / "first.log");
+  const std::string log_before = readText(d / "out" / "run.log");
+  const auto second = asf_test::runHost("run " + config + " --out " + out);
+  EXPECT_EQ(second.code, 1) << second.out;
+  EXPECT_TRUE(asf_test::has(second.out, out + ": another asf run is writing into this output "
+                                              "folder (process " + std::to_string(pid) + ")"))
+      << second.out;
+  // Nothing of the second run in the first one's log (it only grew).
+  EXPECT_EQ(readText(d / "out" / "run.log").compare(0, log_before.size(), log_before), 0);
+  kill(pid, SIGTERM);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 143) << readText(d / "first.log");
+  EXPECT_TRUE(fs::exists(d / "out" / "summary.json"));
+  const auto third = asf_test::runHost("run " + config + " --out " + out);
+  EXPECT_EQ(third.code, 0) << third.out;
+}
+
 // Issue 23: SIGUSR1 pauses a run between two steps (progress.json says "paused", no step is
 // written meanwhile) and a second SIGUSR1 resumes it; the run then ends exactly as one that
 // was never paused.

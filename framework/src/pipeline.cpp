@@ -60,6 +60,7 @@ Pipeline::Pipeline(const ResolvedConfig& cfg, const std::string& out_dir)
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
     if (ec) throw Error(out_dir + ": cannot create the output folder: " + ec.message());
+    m.out_lock = std::make_unique<OutputLock>(out_dir);  // before anything is written there
   }
   const mrpt::system::VerbosityLevel level = parseVerbosity(cfg.pipeline.getString("verbosity"));
   m.setMinLoggingLevel(level);

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "navigation_maps.h"
+#include "output_lock.h"
 #include "run_log.h"
 
 namespace asf::framework {
@@ -28,6 +29,7 @@ struct PipelineParts : public mrpt::system::COutputLogger {
   PipelineParts() : COutputLogger("asf") {}
   ResolvedConfig cfg;
   std::string out_dir;
+  std::unique_ptr<OutputLock> out_lock;  ///< held while the pipeline lives (output_lock.h)
   /// run.log and the console, for the host's and every plugin's lines (kept alive by them).
   std::shared_ptr<RunLog> log;
   PluginHandle<Source> source;
