@@ -27,7 +27,7 @@ import sys
 import tempfile
 
 SKIP_EXT = (".png", ".svg", ".html", ".md", ".log", ".pdf", ".bt", ".ot", ".rawlog", ".gz", ".mcap")
-SKIP_NAMES = {"progress.json", "run.log", "config.ini", "array.sh"}
+SKIP_NAMES = {"progress.json", "run.log", "config.ini", "array.sh", ".asf-run.lock"}  # the lock holds a pid
 TIMING = re.compile(r"(wall|_ms$|_ms_|fps|cpu|date|written|seconds_per|per_second)", re.I)
 
 
