@@ -17,8 +17,11 @@
 #include <asf/io/rawlog_io.h>
 #include <asf/evaluation/segmentation_eval.h>
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -105,6 +108,15 @@ std::string unreadable(const fs::path& f) {
         if (std::string(e.what()).find("the file ends inside this record") == std::string::npos)
           return e.what();
       }
+    } else if (name == ".asf-run.lock") {
+      // The folder's lock: a pid (or nothing, killed before it was written), and free again:
+      // the kernel dropped the killed run's lock.
+      const std::string t = readText(f);
+      if (t.find_first_not_of("0123456789\n") != std::string::npos) return "not a pid: " + t;
+      const int fd = ::open(f.c_str(), O_RDWR | O_CLOEXEC);
+      const bool free = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0;
+      if (fd >= 0) ::close(fd);
+      if (!free) return "still locked after the run was killed";
     } else {
       return "no reader known for this kind of file: add one to this test";
     }
