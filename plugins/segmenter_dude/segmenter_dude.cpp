@@ -470,9 +470,10 @@ class DudeSegmenter final : public asf::Segmenter {
     clipped.setTo(0, free == 0);
     const cv::Rect window = cv::boundingRect(clipped != last);
     commitWindow(map.version, f, window, clipped(window), changed, out);
-    // The next outline: the result's ids, and the stable cells no longer free outside `redo`.
+    // The next outline: the result's ids, and the stable cells no longer free outside `redo`
+    // (free cells the result left out, a region below min_component_area, are no region's).
     const cv::Mat result(f.height, f.width, CV_32S, out.labels.labels.data());
-    cv::Mat kept_outline = (result == 0) & (outline > 0);
+    cv::Mat kept_outline = (result == 0) & (outline > 0) & (free == 0);
     if (!change.redo.empty()) kept_outline &= (change.redo == 0);
     result.copyTo(state_.outline);
     outline.copyTo(state_.outline, kept_outline);
