@@ -7,6 +7,7 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileInputStream.h>
 #include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3D.h>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -634,6 +636,46 @@ TEST(OdometryNoiseModel, MatchesMrptsDocumentedGaussianModel) {
   }
   EXPECT_TRUE(
       def.covariance(CPose2D(0.4, 0.1, 0.3)).isApprox(documentedModel(def, 0.4, 0.1, 0.3), 1e-12));
+}
+
+/// MRPT's own CActionRobotMovement2D, the oracle: OdometryNoiseModel writes its formula out
+/// (no PDFs built per call) and must give the same covariance to the last bit, so that every
+/// run's graph is the one MRPT's model gives.
+Eigen::Matrix3d mrptModel(const asf::mapping::OdometryNoiseModel& m, const CPose2D& d) {
+  mrpt::obs::CActionRobotMovement2D::TMotionModelOptions o;
+  o.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+  o.gaussianModel.a1 = m.a1;
+  o.gaussianModel.a2 = mrpt::RAD2DEG(m.a2);
+  o.gaussianModel.a3 = mrpt::DEG2RAD(m.a3);
+  o.gaussianModel.a4 = m.a4;
+  o.gaussianModel.minStdXY = m.min_std_xy;
+  o.gaussianModel.minStdPHI = mrpt::DEG2RAD(m.min_std_phi_deg);
+  mrpt::obs::CActionRobotMovement2D act;
+  act.computeFromOdometry(d, o);
+  mrpt::math::CMatrixDouble33 cov;
+  CPose2D mean;
+  act.poseChange->getCovarianceAndMean(cov, mean);
+  Eigen::Matrix3d out;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) out(r, k) = cov(r, k);
+  return out;
+}
+
+TEST(OdometryNoiseModel, IsMrptsModelToTheLastBit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> step(-0.5, 0.5), turn(-3.1, 3.1), param(0.0, 0.1);
+  for (int i = 0; i < 2000; ++i) {
+    asf::mapping::OdometryNoiseModel m;
+    if (i % 2) {  // the defaults, and random models
+      m.a1 = param(rng), m.a2 = param(rng) / 10, m.a3 = 20 * param(rng), m.a4 = param(rng);
+      m.min_std_xy = param(rng) / 10, m.min_std_phi_deg = 5 * param(rng);
+    }
+    const CPose2D d = i % 7 == 0 ? CPose2D(0, 0, 0) : CPose2D(step(rng), step(rng), turn(rng));
+    const Eigen::Matrix3d got = m.covariance(d), want = mrptModel(m, d);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(got(r, k), want(r, k)) << "increment " << d << ", entry (" << r << ", " << k << ")";
+  }
 }
 
 // ---------------------------------------------------------------- MRPT's sample datasets

@@ -484,7 +484,6 @@ class Ros2Source final : public asf::Source {
   }
 
   asf::SensorFrame frame(const asf::ros2live::ArrivedScan& s, double t, const CPose2D& odom) {
-    const double rec_before = recording_cpu_;
     const double cpu0 = asf::ros2live::threadCpuSeconds();
     asf::SensorFrame f;
     f.timestamp = t;
@@ -502,16 +501,17 @@ class Ros2Source final : public asf::Source {
       std::lock_guard<std::mutex> lock(mu_);
       f.ground_truth = gt_.at(t, odom_tolerance_);
     }
-    const double rec0 = asf::ros2live::threadCpuSeconds();
-    if (writer_) writer_->write(f);
-    if (gt_writer_ && f.ground_truth) gt_writer_->write(t, *f.ground_truth);
-    recording_cpu_ += asf::ros2live::threadCpuSeconds() - rec0;  // what every run records
     last_odom_ = odom;
     last_scan_ = f.scan;
     pending_arrival_ = s.arrived_at;
     if (frames_ == 0) first_t_ = t;
     last_t_ = t;
-    bridge_cpu_ += asf::ros2live::threadCpuSeconds() - cpu0 - (recording_cpu_ - rec_before);
+    // Three clock reads, not four: each is a system call, and the bridge's count includes them.
+    const double rec0 = asf::ros2live::threadCpuSeconds();
+    bridge_cpu_ += rec0 - cpu0;
+    if (writer_) writer_->write(f);
+    if (gt_writer_ && f.ground_truth) gt_writer_->write(t, *f.ground_truth);
+    recording_cpu_ += asf::ros2live::threadCpuSeconds() - rec0;  // what every run records
     {
       std::lock_guard<std::mutex> lock(mu_);
       ++frames_;

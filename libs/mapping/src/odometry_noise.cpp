@@ -1,11 +1,10 @@
 #include <asf/mapping/odometry_noise.h>
 #include <asf/params.h>
 #include <mrpt/core/bits_math.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <cmath>
 
 namespace asf::mapping {
 
-using mrpt::obs::CActionRobotMovement2D;
 using mrpt::poses::CPose2D;
 
 OdometryNoiseModel OdometryNoiseModel::fromParams(const Params& p) {
@@ -20,25 +19,30 @@ OdometryNoiseModel OdometryNoiseModel::fromParams(const Params& p) {
 }
 
 Eigen::Matrix3d OdometryNoiseModel::covariance(const CPose2D& delta) const {
-  CActionRobotMovement2D::TMotionModelOptions o;
-  o.modelSelection = CActionRobotMovement2D::mmGaussian;
-  // MRPT documents these fields in degrees but its formula uses them with radians (its own
-  // defaults are written RAD2DEG(0.001), DEG2RAD(1.0), DEG2RAD(0.2)): convert our documented
-  // units the same way.
-  o.gaussianModel.a1 = a1;
-  o.gaussianModel.a2 = mrpt::RAD2DEG(a2);  // m/deg -> m/rad
-  o.gaussianModel.a3 = mrpt::DEG2RAD(a3);  // deg/m -> rad/m
-  o.gaussianModel.a4 = a4;                 // deg/deg == rad/rad
-  o.gaussianModel.minStdXY = min_std_xy;
-  o.gaussianModel.minStdPHI = mrpt::DEG2RAD(min_std_phi_deg);
-  CActionRobotMovement2D act;
-  act.computeFromOdometry(delta, o);
-  mrpt::math::CMatrixDouble33 cov;
-  CPose2D mean;
-  act.poseChange->getCovarianceAndMean(cov, mean);
-  Eigen::Matrix3d out;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) out(r, k) = cov(r, k);
+  // MRPT's computeFromOdometry_modelGaussian, written out: it builds two heap-allocated PDFs
+  // per call, which a live source pays at every scan. MRPT documents a2, a3 and the minimum
+  // heading std in degrees but its formula uses them as radians (its own defaults are written
+  // RAD2DEG(0.001), DEG2RAD(1.0), DEG2RAD(0.2)): convert our documented units the same way.
+  // The same operations in the same order as MRPT, so the result is MRPT's to the last bit
+  // (test_rawlog_io checks it against CActionRobotMovement2D).
+  const double a2_rad = mrpt::RAD2DEG(a2), a3_rad = mrpt::DEG2RAD(a3);
+  const double min_std_phi = mrpt::DEG2RAD(min_std_phi_deg);
+  const double travelled = delta.norm(), turned = std::fabs(delta.phi());
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  c(0, 0) = mrpt::square(min_std_xy + a1 * travelled + a2_rad * turned);
+  c(1, 1) = mrpt::square(min_std_xy + a1 * travelled + a2_rad * turned);
+  c(2, 2) = mrpt::square(min_std_phi + a3_rad * travelled + a4 * turned);
+  // The increment's noise is along the half-angle heading: J rotates it by phi / 2 and adds
+  // the heading's lever arm.
+  const double cos_half = std::cos(delta.phi() / 2), sin_half = std::sin(delta.phi() / 2);
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> j = Eigen::Matrix3d::Zero();
+  j(0, 0) = j(1, 1) = cos_half;
+  j(0, 1) = -(j(1, 0) = sin_half);
+  j(2, 2) = 1;
+  j(0, 2) = -sin_half * delta.x() - cos_half * delta.y();
+  j(1, 2) = cos_half * delta.x() - sin_half * delta.y();
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> c_rm = c;
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> out = (j * c_rm * j.transpose()).eval();
   return out;
 }
 

@@ -17,7 +17,7 @@ namespace asf::mapping {
 struct OdometryNoiseModel {
   double a1 = 0.01, a2 = 0.001, a3 = 1.0, a4 = 0.05;
   double min_std_xy = 0.01, min_std_phi_deg = 0.2;
-  /// Covariance (x, y, phi) of the increment `delta`, computed by MRPT's motion model.
+  /// Covariance (x, y, phi) of the increment `delta`: MRPT's motion model, written out.
   Eigen::Matrix3d covariance(const mrpt::poses::CPose2D& delta) const;
   /// The model of a source's section: its keys odo_a1 .. odo_a4, odo_min_std_xy,
   /// odo_min_std_phi_deg (each source's key table documents them).
