@@ -56,6 +56,8 @@ class TigrePolicy final : public asf::Policy {
     entry_depth_ = p.getDouble("entry_depth");
     options_ = asf::graph::TarryOptions::modified();
     options_.loop_closing_first = p.getBool("loop_closing_first");
+    options_.nearest_first = p.getString("ties") == "nearest";
+    relocate_ = p.getBool("relocate");
     max_waits_ = static_cast<int>(p.getInt("max_waits"));
     rng_.seed(static_cast<std::mt19937::result_type>(ctx.seed));
     failures_.clear();
@@ -96,6 +98,10 @@ class TigrePolicy final : public asf::Policy {
       return asf::Decision::done(why.str());
     }
     if (auto d = tarryStep(topo, options, here)) return *d;
+    if (!relocate_)  // the thesis' Algorithm 4: no valid edge here ends the exploration
+      return asf::Decision::done("region " + std::to_string(here) + ": no edge left by Tarry's rule; " +
+                                 std::to_string(n.untraversed) +
+                                 " untraversed elsewhere (relocate = false)");
     return relocate(topo, options, n.untraversed, here);
   }
 
@@ -416,6 +422,7 @@ class TigrePolicy final : public asf::Policy {
   double tolerance_ = 0.3, region_tolerance_ = 0.1, snap_ = 0.5, blacklist_radius_ = 0.5;
   int max_edge_failures_ = 2, max_waits_ = 20, waits_ = 0, failure_streak_ = 0;
   NextGoal next_goal_ = NextGoal::CentreNew;
+  bool relocate_ = true;
   double entry_depth_ = 0.6;
   std::mt19937 rng_;
   std::map<EdgeKey, int> failures_, chosen_;
@@ -459,6 +466,13 @@ const asf::KeySpec kKeys[] = {
     asf::keyBool("loop_closing_first", "true",
                  "Prefer edges to visited regions (loop closing) over the others (thesis' "
                  "tie-break; false: plain Tarry with nearest-first)"),
+    asf::keyEnum("ties", "nearest", "nearest|random",
+                 "Among the edges Tarry's rule and loop closing leave equal: the nearest, or "
+                 "one drawn from the seed (thesis sec. 6.2.2: Tarry's random choice)"),
+    asf::keyBool("relocate", "true",
+                 "When Tarry's rule leaves no edge of the current region but edges elsewhere "
+                 "are untraversed (the graph changed under the walk), drive to the nearest of "
+                 "them; false: the exploration ends there, as the thesis' Algorithm 4 does"),
     asf::keyInt("max_waits", "20", "Steps to wait for a map with regions before giving up", 1,
                 100000),
 };

@@ -20,6 +20,11 @@ namespace asf::studies::reproduce {
 namespace fs = std::filesystem;
 using Argv = std::vector<std::string>;
 
+const char* const kThesisCaveOverrides =
+    "dude.variant=thesis; dude.change_rule=reference; dude.rebuild_full_fraction=0; "
+    "tigre.ties=random; tigre.relocate=false; tigre.next_goal=centre; tigre.robot_radius=0.325; "
+    "frontier.robot_radius=0.325";
+
 std::string Settings::fingerprint() const {
   std::ostringstream f;
   f << (quick ? "quick" : "full") << " pairs=" << pairs << " recognition=" << recognition_samples
@@ -36,7 +41,8 @@ Command cmd(Argv argv, std::string stdout_file = "") {
 
 /// What the cave runs depend on: where they stop.
 std::string caveRunSettings(const Settings& s) {
-  return "max_distance=" + formatSignificant(s.max_distance, 6);
+  return "max_distance=" + formatSignificant(s.max_distance, 6) + " overrides=" +
+         kThesisCaveOverrides;
 }
 
 /// The line of the thesis' graph list (optexp/graphs.txt) that Figs. 5.11-5.13 draw: the
@@ -320,7 +326,7 @@ std::string writeExperimentIni(const Settings& s, const std::string& file,
   std::ofstream f(file);
   f << "; written by asf reproduce\n[experiment]\npipeline = " << s.configs << "/cave_thesis.ini"
     << "\npolicies = " << policies << "\nreplications = " << s.replications << "\nfirst_seed = 1\n"
-    << "overrides = frontier.robot_radius=0.325; pipeline.progress_interval=0"
+    << "overrides = " << kThesisCaveOverrides << "; pipeline.progress_interval=0"
     << (s.max_distance > 0 ? "; pipeline.max_distance=" + formatSignificant(s.max_distance, 6) : "")
     << "\n";
   if (!f) throw Error(file + ": cannot write");
@@ -376,6 +382,14 @@ Stage fig61Stage(const Settings& s) {
       "pipeline.progress_interval=0",
       "--set",
       std::string("pipeline.snapshot_distances=") + (s.max_distance > 0 ? "10,20,30" : "15,40,90")};
+  // The overrides of the experiments, one --set each: the same TIGRE as Figs. 6.2-6.4.
+  std::string overrides = kThesisCaveOverrides;
+  for (std::size_t at = 0; at < overrides.size();) {
+    const std::size_t end = std::min(overrides.find(';', at), overrides.size());
+    const std::string kv = trim(overrides.substr(at, end - at));
+    if (!kv.empty()) a.insert(a.end(), {"--set", kv});
+    at = end + 1;
+  }
   if (s.max_distance > 0)
     a.insert(a.end(), {"--set", "pipeline.max_distance=" + formatSignificant(s.max_distance, 6)});
   st.commands.push_back(cmd(a, "run.txt"));

@@ -19,10 +19,11 @@ std::shared_ptr<const asf::framework::PluginInfo> info() {
   return i;
 }
 
-asf::framework::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {}) {
+asf::framework::PluginHandle<asf::Policy> make(const std::map<std::string, std::string>& kv = {},
+                                               std::uint64_t seed = 7) {
   auto h = asf::framework::Registry::create<asf::Policy>(info());
   asf::PluginContext ctx;
-  ctx.seed = 7;
+  ctx.seed = seed;
   h->configure(
       asf::Params::fromSpecs("tigre", info()->descriptor->keys, info()->descriptor->num_keys, kv),
       ctx);
@@ -217,6 +218,62 @@ TEST(PolicyTigre, EntranceEdgeOnlyAsLastResort) {
   ASSERT_EQ(d.type, asf::Decision::Type::GoTo) << d.reason;
   EXPECT_GT(d.goal.x, 5.0) << d.reason;  // the door 2-3 at x ~ 5.9, not 1-2 at x ~ 2.9
   EXPECT_NE(d.reason.find("edge 2-3"), std::string::npos) << d.reason;
+}
+
+// Back in region 1 after 1 -> 2 -> 1: Tarry's rule allows nothing here (1-2 was left by), while
+// 2-3 is untraversed. asf relocates to it; relocate = false ends the exploration, as the
+// thesis' Algorithm 4 does when the current region has no valid edge.
+TEST(PolicyTigre, RelocatesToEdgesElsewhereUnlessSwitchedOff) {
+  World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
+  w.put(1.5, 1.5);
+  w.put(3.3, 1.5);  // 1 -> 2
+  w.put(1.5, 1.5);  // 2 -> 1
+  const asf::TopoGraph& g = w.topo.graph();
+  ASSERT_EQ(g.current, 1);
+  asf::ExplorationState s;
+  s.topo = &g;
+  s.robot = mrpt::poses::CPose2D(1.5, 1.5, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  auto asf_rule = make();
+  const asf::Decision moved = asf_rule->decide(s);
+  ASSERT_EQ(moved.type, asf::Decision::Type::GoTo) << moved.reason;
+  EXPECT_NE(moved.reason.find("relocating to edge 2-3"), std::string::npos) << moved.reason;
+  auto thesis = make({{"relocate", "false"}});
+  const asf::Decision ended = thesis->decide(s);
+  ASSERT_EQ(ended.type, asf::Decision::Type::Done) << ended.reason;
+  EXPECT_NE(ended.reason.find("1 untraversed elsewhere (relocate = false)"), std::string::npos)
+      << ended.reason;
+}
+
+// Starting in the middle of three rooms, next to the door to room 1: both doors lead to
+// unvisited rooms. ties = nearest takes the near door whatever the seed; ties = random (Tarry's
+// own choice) takes each door for some seeds, and the same one for the same seed.
+TEST(PolicyTigre, TiesGoToTheNearestOrAreDrawnFromTheSeed) {
+  World w(9.0, 3.0, [](double x, double y) { return rowOfRooms(x, y, 3); });
+  w.put(3.3, 1.5);
+  const asf::TopoGraph& g = w.topo.graph();
+  ASSERT_EQ(g.current, 2);
+  asf::ExplorationState s;
+  s.topo = &g;
+  s.robot = mrpt::poses::CPose2D(3.3, 1.5, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  std::map<std::string, int> nearest, random;
+  auto edgeOf = [](const asf::Decision& d) {
+    const auto at = d.reason.find("edge ");
+    return at == std::string::npos ? d.reason : d.reason.substr(at, 8);
+  };
+  for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+    ++nearest[edgeOf(make({}, seed)->decide(s))];
+    const std::string drawn = edgeOf(make({{"ties", "random"}}, seed)->decide(s));
+    ++random[drawn];
+    EXPECT_EQ(edgeOf(make({{"ties", "random"}}, seed)->decide(s)), drawn) << "seed " << seed;
+  }
+  EXPECT_EQ(nearest, (std::map<std::string, int>{{"edge 1-2", 24}}));
+  ASSERT_EQ(random.size(), 2u);
+  EXPECT_GT(random["edge 1-2"], 0);
+  EXPECT_GT(random["edge 2-3"], 0);
 }
 
 // Region 5 (centre of a plus) after arriving from 1: edges to 2 (visited, far) and to 3

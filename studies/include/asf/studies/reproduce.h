@@ -34,6 +34,13 @@ struct Settings {
   std::string fingerprint() const;
 };
 
+/// Chapter 6's setup on top of configs/cave_thesis.ini: TIGRE as the thesis defines it (DuDe's
+/// thesis variant with its author's incremental change rule and a full segmentation after
+/// every loop closure; Tarry's rule with the loop-closing tie-break only, no relocation,
+/// region centres) and the robot's radius for both goal-planning policies, as
+/// `[experiment] overrides`. configs/experiment_cave_as_thesis.ini holds the same (tested).
+extern const char* const kThesisCaveOverrides;
+
 /// One command of a stage. `argv` is built when the command starts (it may read what an
 /// earlier command of the stage wrote); argv[0] == "asf" runs this executable. Its standard
 /// output goes to `stdout_file` (relative to the stage folder; empty: the stage log).
