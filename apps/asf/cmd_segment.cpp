@@ -239,6 +239,14 @@ struct SegmentEvalArgs {
                                       "ground-truth room outlines in dark red) and 16-bit label "
                                       "images <name>_<variant>_labels.png into this folder",
                                       false, "", "DIR", cmd};
+  TCLAP::ValueArg<std::string> reference{
+      "", "reference",
+      "Folder of the reference DuDe's own outputs (one colour per region, black none: "
+      "<name>_DuDe.png, <name>_DuDe_furnitures.png; with --incremental <name>_Inc.png, "
+      "<name>_Inc_furnitures.png): each segmentation is compared with its counterpart region "
+      "by region (area-weighted best-match IoU, adjusted Rand index) and the reference is "
+      "scored as the segmenter is",
+      false, "", "DIR", cmd};
   TCLAP::SwitchArg incremental{"", "incremental",
                                "Also time incremental segmentation while each map is revealed "
                                "step by step (--exploration, --incremental-on)",
@@ -282,6 +290,7 @@ studies::SegmentBenchmarkOptions benchmarkOptions(const SegmentEvalArgs& a) {
   o.gt_dir = a.gt.getValue();
   o.furnished_dir = a.furnished.getValue();
   o.images_dir = a.images.getValue();
+  o.reference_dir = a.reference.getValue();
   o.resolution = a.res.getValue();
   o.incremental = a.incremental.getValue();
   o.exploration = a.exploration.getValue();

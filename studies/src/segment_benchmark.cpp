@@ -31,6 +31,24 @@ struct MapContext {
   }
 };
 
+/// The reference output of `stem` (e.g. lab_a_DuDe) for `what`, checked against the map's size.
+io::LabelRaster referenceRegions(const MapContext& m, const std::string& stem, const io::GrayImage& image) {
+  const std::string file = (fs::path(m.o.reference_dir) / (stem + ".png")).string();
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw InputError(file + ": no such file (--reference " + m.o.reference_dir + ")");
+  io::LabelRaster r = io::readColourRegions(file);
+  if (r.width != image.width || r.height != image.height)
+    throw InputError(file + ": " + std::to_string(r.width) + " x " + std::to_string(r.height) +
+                     " px, but the map is " + std::to_string(image.width) + " x " +
+                     std::to_string(image.height));
+  return r;
+}
+
+std::string referenceStem(const std::string& name, const std::string& variant, bool incremental) {
+  return name + (incremental ? "_Inc" : "_DuDe") + (variant == "plain" ? "" : "_furnitures");
+}
+
 /// Reveals the map step by step, segmenting after every update (`r.inc`, `r.inc_thesis`).
 void scoreIncremental(const MapContext& m, const std::string& variant, const io::GrayImage& image,
                       const std::string& file, BenchmarkMapResult& r) {
@@ -49,8 +67,13 @@ void scoreIncremental(const MapContext& m, const std::string& variant, const io:
                    " updates, " + formatFixed(100 * coverage, 0) + "% explored");
       });
   r.incremental = true;
-  r.inc_thesis = evaluation::scoreThesisProtocol(
-      segmentationRaster(r.inc.final_segmentation, image, file), m.gt_image);
+  const io::LabelRaster final_labels = segmentationRaster(r.inc.final_segmentation, image, file);
+  r.inc_thesis = evaluation::scoreThesisProtocol(final_labels, m.gt_image);
+  if (!m.o.reference_dir.empty()) {
+    r.inc_agreement = evaluation::compareSegmentations(
+        final_labels, referenceRegions(m, referenceStem(m.name, variant, true), image));
+    r.has_inc_reference = true;
+  }
   if (!m.o.images_dir.empty())
     evaluation::writeSegmentationOverlay(
         m.imagePath(variant == "plain" ? "incremental" : variant + "_incremental"), r.inc.final_map,
@@ -97,6 +120,13 @@ BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
   const io::LabelRaster labels = segmentationRaster(s, image, file);
   r.score = evaluation::scoreSegmentation(labels, m.rooms);
   r.thesis = evaluation::scoreThesisProtocol(labels, m.gt_image);
+  if (!m.o.reference_dir.empty()) {
+    const io::LabelRaster ref = referenceRegions(m, referenceStem(m.name, variant, false), image);
+    r.agreement = evaluation::compareSegmentations(labels, ref);
+    r.reference_score = evaluation::scoreSegmentation(ref, m.rooms);
+    r.reference_thesis = evaluation::scoreThesisProtocol(ref, m.gt_image);
+    r.has_reference = true;
+  }
   if (!m.o.images_dir.empty()) {
     evaluation::writeSegmentationOverlay(m.imagePath(variant), map, s, nullptr, &m.rooms);
     io::writeLabelImage(m.imagePath(variant + "_labels"), labels);
@@ -104,7 +134,11 @@ BenchmarkMapResult scoreVariant(const MapContext& m, const std::string& variant,
   m.progress(m.prefix + " " + variant + ": " + std::to_string(r.score.segments) + " segments / " +
              std::to_string(r.score.rooms) + " rooms, precision " +
              formatFixed(r.score.precision, 3) + ", recall " + formatFixed(r.score.recall, 3) +
-             ", mcc " + formatFixed(r.score.mcc, 3) + " (" + formatFixed(r.time_ms, 1) + " ms)");
+             ", mcc " + formatFixed(r.score.mcc, 3) + " (" + formatFixed(r.time_ms, 1) + " ms)" +
+             (r.has_reference ? "; against the reference: IoU " +
+                                    formatFixed(r.agreement.iou_reference, 3) + ", ARI " +
+                                    formatFixed(r.agreement.ari, 3)
+                              : ""));
   const std::string& on = m.o.incremental_on;
   if (m.o.incremental && (on == "both" || on == variant))
     scoreIncremental(m, variant, image, file, r);
@@ -121,6 +155,8 @@ std::vector<std::string> benchmarkMapNames(const SegmentBenchmarkOptions& o,
   if (!fs::is_directory(o.gt_dir, ec)) throw InputError(o.gt_dir + ": no such folder (--gt)");
   if (!o.furnished_dir.empty() && !fs::is_directory(o.furnished_dir, ec))
     throw InputError(o.furnished_dir + ": no such folder (--furnished)");
+  if (!o.reference_dir.empty() && !fs::is_directory(o.reference_dir, ec))
+    throw InputError(o.reference_dir + ": no such folder (--reference)");
   // A YAML's image is not a map of its own (unless a YAML of that name exists too).
   std::vector<std::string> names, yaml_stems, images;
   for (const auto& e : fs::directory_iterator(o.plain_dir)) {

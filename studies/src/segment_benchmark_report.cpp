@@ -33,6 +33,15 @@ json scoreJson(const evaluation::SegmentationScore& s) {
           {"rooms", s.rooms}};
 }
 
+json agreementJson(const evaluation::SegmentationAgreement& a) {
+  return {{"iou", a.iou_reference},
+          {"iou_segments", a.iou_segmentation},
+          {"ari", a.ari},
+          {"segments", a.segments},
+          {"reference_regions", a.reference_regions},
+          {"pixels_compared", a.pixels_compared}};
+}
+
 json incrementalJson(const evaluation::IncrementalResult& r,
                      const evaluation::ThesisProtocolScore& t) {
   json j = scoreJson(r.final_score);
@@ -63,7 +72,20 @@ json summaryJson(const std::vector<MapResult>& all, const std::string& variant) 
     v["time_ms"].push_back(m.time_ms);
     v["thesis_precision"].push_back(m.thesis.precision);
     v["thesis_recall"].push_back(m.thesis.recall);
+    if (m.has_reference) {
+      v["reference_iou"].push_back(m.agreement.iou_reference);
+      v["reference_iou_segments"].push_back(m.agreement.iou_segmentation);
+      v["reference_ari"].push_back(m.agreement.ari);
+      v["reference_precision"].push_back(m.reference_score.precision);
+      v["reference_recall"].push_back(m.reference_score.recall);
+      v["reference_thesis_precision"].push_back(m.reference_thesis.precision);
+      v["reference_thesis_recall"].push_back(m.reference_thesis.recall);
+    }
     if (!m.incremental) continue;
+    if (m.has_inc_reference) {
+      inc["reference_iou"].push_back(m.inc_agreement.iou_reference);
+      inc["reference_ari"].push_back(m.inc_agreement.ari);
+    }
     inc["thesis_precision"].push_back(m.inc_thesis.precision);
     inc["thesis_recall"].push_back(m.inc_thesis.recall);
     inc["precision"].push_back(m.inc.final_score.precision);
@@ -82,6 +104,10 @@ json summaryJson(const std::vector<MapResult>& all, const std::string& variant) 
     const MeanStd ms = meanStd(vals);
     j[k + "_mean"] = ms.mean;
     j[k + "_std"] = ms.std;
+  }
+  if (!v["reference_iou"].empty()) {
+    j["reference_maps"] = v["reference_iou"].size();
+    j["reference_iou_min"] = *std::min_element(v["reference_iou"].begin(), v["reference_iou"].end());
   }
   if (!inc.empty()) {
     json i;
@@ -121,6 +147,13 @@ std::string benchmarkReportJson(const std::vector<MapResult>& all, const std::st
     e["time_ms"] = m.time_ms;
     e["thesis_protocol"] = thesisJson(m.thesis);
     if (m.incremental) e["incremental"] = incrementalJson(m.inc, m.inc_thesis);
+    if (m.has_reference) {
+      json r = agreementJson(m.agreement);
+      r["score"] = scoreJson(m.reference_score);
+      r["thesis_protocol"] = thesisJson(m.reference_thesis);
+      e["reference"] = r;
+    }
+    if (m.has_inc_reference) e["incremental"]["reference"] = agreementJson(m.inc_agreement);
     j["maps"].push_back(e);
   }
   json summary;
@@ -156,6 +189,17 @@ std::string benchmarkReportText(const std::vector<MapResult>& all) {
           << formatFixed(m.inc.final_score.precision, 3) << ", recall "
           << formatFixed(m.inc.final_score.recall, 3) << ", coverage "
           << formatFixed(m.inc.coverage, 3) << "\n";
+    if (m.has_reference)
+      out << "  against the reference: IoU " << formatFixed(m.agreement.iou_reference, 3)
+          << " (its regions), " << formatFixed(m.agreement.iou_segmentation, 3)
+          << " (these segments), ARI " << formatFixed(m.agreement.ari, 3) << "; "
+          << m.agreement.reference_regions << " reference regions, scored: precision "
+          << formatFixed(m.reference_score.precision, 3) << ", recall "
+          << formatFixed(m.reference_score.recall, 3) << "\n";
+    if (m.has_inc_reference)
+      out << "  incremental against the reference's: IoU "
+          << formatFixed(m.inc_agreement.iou_reference, 3) << ", ARI "
+          << formatFixed(m.inc_agreement.ari, 3) << "\n";
   }
   for (const char* v : {"plain", "furnished"}) {
     const json s = summaryJson(all, v);
@@ -177,6 +221,21 @@ std::string benchmarkReportText(const std::vector<MapResult>& all) {
           << formatFixed(s["incremental"]["thesis_recall_mean"].get<double>(), 3) << " +- "
           << formatFixed(s["incremental"]["thesis_recall_std"].get<double>(), 3);
     out << "\n";
+    if (s.contains("reference_maps"))
+      out << "summary " << v << " against the reference (" << s["reference_maps"]
+          << " maps): IoU " << pm("reference_iou") << " (min "
+          << formatFixed(s["reference_iou_min"].get<double>(), 3) << "), from the segments' side "
+          << pm("reference_iou_segments") << ", ARI " << pm("reference_ari")
+          << "; the reference scored: precision " << pm("reference_precision") << ", recall "
+          << pm("reference_recall") << ", thesis protocol precision (per room) "
+          << pm("reference_thesis_precision") << ", recall (per segment) "
+          << pm("reference_thesis_recall") << "\n";
+    if (s.contains("incremental") && s["incremental"].contains("reference_iou_mean"))
+      out << "summary " << v << " incremental against the reference's: IoU "
+          << formatFixed(s["incremental"]["reference_iou_mean"].get<double>(), 3) << " +- "
+          << formatFixed(s["incremental"]["reference_iou_std"].get<double>(), 3) << ", ARI "
+          << formatFixed(s["incremental"]["reference_ari_mean"].get<double>(), 3) << " +- "
+          << formatFixed(s["incremental"]["reference_ari_std"].get<double>(), 3) << "\n";
     if (s.contains("incremental")) {
       const json& i = s["incremental"];
       auto ipm = [&](const std::string& k) {

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <utility>
+#include <vector>
 
 
 namespace asf::io {
@@ -104,6 +106,42 @@ LabelRaster readLabelImage(const std::string& path) {
   for (int r = 0; r < m.rows; ++r)
     std::copy(m32.ptr<std::int32_t>(r), m32.ptr<std::int32_t>(r) + m.cols,
               L.labels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
+  return L;
+}
+
+LabelRaster readColourRegions(const std::string& path) {
+  const cv::Mat m = readImage(path, cv::IMREAD_COLOR);
+  LabelRaster L;
+  L.width = m.cols;
+  L.height = m.rows;
+  L.labels.assign(static_cast<std::size_t>(m.cols) * m.rows, 0);
+  const auto colour = [&](int c, int r) {
+    const cv::Vec3b& p = m.at<cv::Vec3b>(r, c);
+    return p[0] | (p[1] << 8) | (p[2] << 16);
+  };
+  std::vector<std::pair<int, int>> stack;
+  std::int32_t next = 0;
+  for (int r = 0; r < m.rows; ++r)
+    for (int c = 0; c < m.cols; ++c) {
+      const int k = colour(c, r);
+      if (k == 0 || L.labels[static_cast<std::size_t>(r) * m.cols + c] != 0) continue;
+      // One region: the 8-connected pixels of this colour.
+      L.labels[static_cast<std::size_t>(r) * m.cols + c] = ++next;
+      stack.assign(1, {c, r});
+      while (!stack.empty()) {
+        const auto [x, y] = stack.back();
+        stack.pop_back();
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= m.cols || ny >= m.rows) continue;
+            std::int32_t& l = L.labels[static_cast<std::size_t>(ny) * m.cols + nx];
+            if (l != 0 || colour(nx, ny) != k) continue;
+            l = next;
+            stack.push_back({nx, ny});
+          }
+      }
+    }
   return L;
 }
 

@@ -18,6 +18,10 @@ struct SegmentBenchmarkOptions {
   std::string plain_dir, gt_dir;  ///< <name>.png; <name>_gt_segmentation.png
   std::string furnished_dir;      ///< <name>_furnitures.png; empty: plain maps only
   std::string images_dir;         ///< overlays and label images; empty: none
+  /// The reference DuDe's own outputs (one colour per region): <name>_DuDe.png and
+  /// <name>_DuDe_furnitures.png, incrementally <name>_Inc.png and <name>_Inc_furnitures.png;
+  /// each segmentation is compared with its counterpart region by region. Empty: none.
+  std::string reference_dir;
   double resolution = 0.05;       ///< metres per pixel
   bool incremental = false;
   std::string exploration = "frontier";  ///< frontier | raster_disks
@@ -34,6 +38,13 @@ struct BenchmarkMapResult {
   bool incremental = false;
   evaluation::IncrementalResult inc;  ///< update_ms and final_score when `incremental`
   evaluation::ThesisProtocolScore inc_thesis;
+  /// With a reference: the agreement with its output, and its output scored as asf's is.
+  bool has_reference = false;
+  evaluation::SegmentationAgreement agreement;
+  evaluation::SegmentationScore reference_score;
+  evaluation::ThesisProtocolScore reference_thesis;
+  bool has_inc_reference = false;  ///< incremental and a reference: the final segmentation's
+  evaluation::SegmentationAgreement inc_agreement;
 };
 
 /// The plain maps' names, sorted, or `only` (each checked to exist). Throws InputError for a

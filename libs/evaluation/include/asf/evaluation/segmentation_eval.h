@@ -87,6 +87,25 @@ struct ThesisProtocolScore {
 ThesisProtocolScore scoreThesisProtocol(const io::LabelRaster& segmentation,
                                         const io::GrayImage& gt);
 
+/// How closely a segmentation reproduces another one region by region (asf's against the
+/// reference implementation's own outputs, issue 48). Regions are labels > 0 with more than
+/// `min_pixels` pixels on either side; IoU(A, B) = |A and B| / |A or B| over whole regions.
+/// - iou_reference: each reference region's best IoU with a segment, averaged weighted by the
+///   reference region's size (a region cut in two halves, or merged with an equal neighbour,
+///   counts 0.5: both over- and under-segmentation lower it);
+/// - iou_segmentation: the same from the segments' side;
+/// - ari: the adjusted Rand index (Hubert and Arabie 1985) of the two partitions of the pixels
+///   in a counted region on both sides; 1 for the same partition, about 0 for unrelated ones.
+struct SegmentationAgreement {
+  double iou_reference = 0, iou_segmentation = 0, ari = 0;
+  int segments = 0, reference_regions = 0;  ///< counted regions
+  std::size_t pixels_compared = 0;          ///< pixels in a counted region on both sides
+};
+/// `segmentation` and `reference` must have the same size (else Error).
+SegmentationAgreement compareSegmentations(const io::LabelRaster& segmentation,
+                                           const io::LabelRaster& reference,
+                                           int min_pixels = kBenchmarkMinRegionPixels);
+
 /// Writes a PNG of the map with the regions coloured, their ids at their centroids, the
 /// topological graph's edges (if `topo`) and the outlines of ground-truth rooms (if `rooms`,
 /// image orientation, same size as the map).

@@ -35,6 +35,10 @@ GrayImage readGrayImage(const std::string& path);
 void writeGrayImage(const std::string& path, const GrayImage& image);
 /// Reads a label PNG (16-bit or 8-bit, single channel, values are labels). Throws InputError.
 LabelRaster readLabelImage(const std::string& path);
+/// Reads a picture whose regions are each drawn in one colour (the reference DuDe's published
+/// outputs): black is no region; every 8-connected piece of one colour becomes a label 1, 2,
+/// ... in the order of its first pixel, row by row from the top. Throws InputError.
+LabelRaster readColourRegions(const std::string& path);
 /// Writes a 16-bit single-channel PNG; throws Error when a label is < 0 or > 65535.
 void writeLabelImage(const std::string& path, const LabelRaster& labels);
 
