@@ -59,14 +59,20 @@ TEST(Reproduce, QuickGivesEveryRowBothValuesAndResumes) {
         "Fig. 4.4",      "Fig. 4.5",  "Table 5.1", "Theorem 5.2.1", "Figs. 5.5-5.10",
         "Fig. 5.11",     "Fig. 5.12", "Fig. 5.13", "Figs. 6.2-6.4", "Fig. 6.1"})
     EXPECT_EQ(sections.count(s), 1u) << "no row for " << s;
-  // 2 logs x (16 cells + 2 claims) of Table 3.1, 12 cells of Table 4.1, 4 policies x 3 of ch. 6.
-  std::size_t t31 = 0, t41 = 0;
+  // 2 logs x (16 cells + 2 claims) of Table 3.1, 12 cells of Table 4.1 and, with the reference
+  // DuDe's outputs in the data, 2 scenarios x (2 of them scored + 1 comparison), 4 policies x 3
+  // of ch. 6.
+  std::size_t t31 = 0, t41 = 0, reference = 0;
   for (const auto& row : j["rows"]) {
     t31 += row["section"] == "Table 3.1";
     t41 += row["section"] == "Table 4.1";
+    reference += row["section"] == "Table 4.1" &&
+                 has(row["item"].get<std::string>(), "reference");
   }
   EXPECT_EQ(t31, 36u);
-  EXPECT_EQ(t41, 12u);
+  const bool has_reference = fs::is_directory(kShared + "/datasets/roomseg/reference_dude");
+  EXPECT_EQ(reference, has_reference ? 6u : 0u);
+  EXPECT_EQ(t41, 12u + reference);
   // Fig. 3.4: both zones of both logs drawn (scenarios A and C).
   std::set<std::string> figures;
   for (const auto& f : j["figures"]) figures.insert(f["file"].get<std::string>());

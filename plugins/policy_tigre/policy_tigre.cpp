@@ -99,7 +99,8 @@ class TigrePolicy final : public asf::Policy {
     }
     if (auto d = tarryStep(topo, options, here)) return *d;
     if (!relocate_)  // the thesis' Algorithm 4: no valid edge here ends the exploration
-      return asf::Decision::done("region " + std::to_string(here) + ": no edge left by Tarry's rule; " +
+      return asf::Decision::done("region " + std::to_string(here) +
+                                 ": no edge left by Tarry's rule; " +
                                  std::to_string(n.untraversed) +
                                  " untraversed elsewhere (relocate = false)");
     return relocate(topo, options, n.untraversed, here);

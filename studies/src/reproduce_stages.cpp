@@ -187,7 +187,11 @@ Stage table41Stage(const Settings& s) {
            {d + "/plain", d + "/gt", d + "/furnished"},
            {},
            1};
-  st.settings = "outputs=2";  // the batch segmentations drawn (Fig. 4.3)
+  // The reference DuDe's own outputs, when this copy of the data has them: the thesis variant
+  // compared with them region by region (issue 48).
+  std::error_code ec;
+  const bool reference = fs::is_directory(d + "/reference_dude", ec);
+  st.settings = std::string("outputs=2 reference=") + (reference ? "1" : "0");  // outputs: Fig. 4.3
   auto eval = [&](const std::string& label, const std::string& seg, Argv extra) {
     Argv a{"asf",          "segment-eval",
            "--plain",      d + "/plain",
@@ -204,6 +208,7 @@ Stage table41Stage(const Settings& s) {
   thesis.insert(thesis.end(), inc.begin(), inc.end());
   rooms.insert(rooms.end(), inc.begin(), inc.end());
   thesis.insert(thesis.end(), {"--images", dir + "/images"});  // Fig. 4.3
+  if (reference) thesis.insert(thesis.end(), {"--reference", d + "/reference_dude"});
   eval("dude_thesis", "dude", thesis);
   eval("dude_rooms", "dude", rooms);
   eval("voronoi", "voronoi", {});

@@ -31,8 +31,9 @@ struct MapContext {
   }
 };
 
-/// The reference output of `stem` (e.g. lab_a_DuDe) for `what`, checked against the map's size.
-io::LabelRaster referenceRegions(const MapContext& m, const std::string& stem, const io::GrayImage& image) {
+/// The reference output `stem`.png (e.g. lab_a_DuDe) as regions, checked against the map's size.
+io::LabelRaster referenceRegions(const MapContext& m, const std::string& stem,
+                                 const io::GrayImage& image) {
   const std::string file = (fs::path(m.o.reference_dir) / (stem + ".png")).string();
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))

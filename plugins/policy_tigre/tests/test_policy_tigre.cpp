@@ -121,6 +121,16 @@ Walked drive(asf::Policy& p, World& w, double x, double y, int max = 200) {
   return run;
 }
 
+/// The policy's view with the robot standing at (x, y) in `w`'s graph as it is now.
+asf::ExplorationState standingAt(const World& w, double x, double y) {
+  asf::ExplorationState s;
+  s.topo = &w.topo.graph();
+  s.robot = mrpt::poses::CPose2D(x, y, 0);
+  s.map = &w.map;
+  s.segmentation = &w.seg;
+  return s;
+}
+
 // Rooms in a row, 3 m each, separated by 0.2 m walls with a 1 m door in the middle.
 asf::RegionId rowOfRooms(double x, double y, int rooms) {
   const int i = static_cast<int>(x / 3.0);
@@ -209,12 +219,7 @@ TEST(PolicyTigre, EntranceEdgeOnlyAsLastResort) {
   ASSERT_EQ(g.current, 2);
   ASSERT_GE(g.node(2)->entrance_edge, 0);
   auto p = make();
-  asf::ExplorationState s;
-  s.topo = &g;
-  s.robot = mrpt::poses::CPose2D(3.3, 1.5, 0);
-  s.map = &w.map;
-  s.segmentation = &w.seg;
-  const asf::Decision d = p->decide(s);
+  const asf::Decision d = p->decide(standingAt(w, 3.3, 1.5));
   ASSERT_EQ(d.type, asf::Decision::Type::GoTo) << d.reason;
   EXPECT_GT(d.goal.x, 5.0) << d.reason;  // the door 2-3 at x ~ 5.9, not 1-2 at x ~ 2.9
   EXPECT_NE(d.reason.find("edge 2-3"), std::string::npos) << d.reason;
@@ -230,11 +235,7 @@ TEST(PolicyTigre, RelocatesToEdgesElsewhereUnlessSwitchedOff) {
   w.put(1.5, 1.5);  // 2 -> 1
   const asf::TopoGraph& g = w.topo.graph();
   ASSERT_EQ(g.current, 1);
-  asf::ExplorationState s;
-  s.topo = &g;
-  s.robot = mrpt::poses::CPose2D(1.5, 1.5, 0);
-  s.map = &w.map;
-  s.segmentation = &w.seg;
+  const asf::ExplorationState s = standingAt(w, 1.5, 1.5);
   auto asf_rule = make();
   const asf::Decision moved = asf_rule->decide(s);
   ASSERT_EQ(moved.type, asf::Decision::Type::GoTo) << moved.reason;
@@ -254,11 +255,7 @@ TEST(PolicyTigre, TiesGoToTheNearestOrAreDrawnFromTheSeed) {
   w.put(3.3, 1.5);
   const asf::TopoGraph& g = w.topo.graph();
   ASSERT_EQ(g.current, 2);
-  asf::ExplorationState s;
-  s.topo = &g;
-  s.robot = mrpt::poses::CPose2D(3.3, 1.5, 0);
-  s.map = &w.map;
-  s.segmentation = &w.seg;
+  const asf::ExplorationState s = standingAt(w, 3.3, 1.5);
   std::map<std::string, int> nearest, random;
   auto edgeOf = [](const asf::Decision& d) {
     const auto at = d.reason.find("edge ");
