@@ -102,7 +102,7 @@ void referenceRows(Collector& c) {
           "best-match IoU " + pm(iou, num(s, {"reference_iou_std"}), 3) + " (min " + fmt(low, 3) +
               "), ARI " + pm(num(s, {"reference_ari_mean"}), num(s, {"reference_ari_std"}), 3),
           holds ? "agrees" : "differs",
-          "issue 48's goal: IoU >= 0.90 on average, none below 0.75; the reference's "
+          "asf's target: IoU >= 0.90 on average, none below 0.75; the reference's "
           "pre-processing and non-convex holes are not asf's yet (docs/benchmarks/segmentation.md)");
   }
 }
