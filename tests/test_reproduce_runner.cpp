@@ -156,11 +156,8 @@ TEST(ReproduceRunner, StopInterruptsTheRunningCommandsAndStartsNothing) {
 // docs/benchmarks/exploration.md gives) the same again.
 TEST(ReproducePlan, ChapterSixRunsTheThesisConfigurationEverywhere) {
   const auto split = [](const std::string& list) {
-    std::set<std::string> kv;
-    std::istringstream in(list);
-    for (std::string item; std::getline(in, item, ';');)
-      if (!asf::trim(item).empty()) kv.insert(asf::trim(item));
-    return kv;
+    const std::vector<std::string> items = asf::splitTrimmed(list, ';');
+    return std::set<std::string>(items.begin(), items.end());
   };
   const std::set<std::string> want = split(rp::kThesisCaveOverrides);
   ASSERT_TRUE(want.count("tigre.relocate=false") && want.count("dude.change_rule=reference") &&

@@ -63,6 +63,15 @@ TEST(Text, TrimRemovesEveryKindOfWhiteSpaceAtBothEndsOnly) {
   EXPECT_EQ(asf::trim("\va\f"), "a");
 }
 
+TEST(Text, SplitTrimmedKeepsTheTrimmedNonEmptyItemsInOrder) {
+  using V = std::vector<std::string>;
+  EXPECT_EQ(asf::splitTrimmed(" a.b=1;  c = 2 ;; \t;d", ';'), (V{"a.b=1", "c = 2", "d"}));
+  EXPECT_EQ(asf::splitTrimmed("tigre, frontier,", ','), (V{"tigre", "frontier"}));
+  EXPECT_EQ(asf::splitTrimmed("x;y", ','), (V{"x;y"}));
+  EXPECT_TRUE(asf::splitTrimmed(" ; ;", ';').empty());
+  EXPECT_TRUE(asf::splitTrimmed("", ';').empty());
+}
+
 TEST(Text, FormatFixedPrintsAsIostreamsFixed) {
   for (double v : sampleValues())
     for (int digits : {0, 1, 2, 3, 6, 17}) {

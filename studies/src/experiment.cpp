@@ -40,15 +40,6 @@ const KeySpec kExperimentKeys[] = {
               "';'-separated section.key=value applied to every run (as asf run --set)"),
 };
 
-std::vector<std::string> splitTrim(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep))
-    if (!trim(item).empty()) out.push_back(trim(item));
-  return out;
-}
-
 /// How long runs get after SIGINT to write their outputs before they are killed.
 constexpr std::chrono::seconds kStopGrace{120};
 
@@ -239,7 +230,7 @@ ExperimentConfig readExperimentConfig(const std::string& ini_path) {
   std::error_code ec;
   if (!fs::is_regular_file(cfg.pipeline_ini, ec)) p.fail("pipeline", "no such file");
 
-  cfg.policies = splitTrim(p.getString("policies"), ',');
+  cfg.policies = splitTrimmed(p.getString("policies"), ',');
   if (cfg.policies.empty()) p.fail("policies", "names no policy");
   std::set<std::string> seen;
   for (const auto& pol : cfg.policies) {
@@ -252,7 +243,7 @@ ExperimentConfig readExperimentConfig(const std::string& ini_path) {
   cfg.jobs = static_cast<int>(p.getInt("jobs"));
   cfg.out_dir = p.getString("out");
   if (cfg.out_dir.empty()) cfg.out_dir = "results/" + fs::path(ini_path).stem().string();
-  for (const auto& o : splitTrim(p.getString("overrides"), ';')) {
+  for (const auto& o : splitTrimmed(p.getString("overrides"), ';')) {
     const auto eq = o.find('='), dot = o.find('.');
     if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= eq)
       p.fail("overrides", "'" + o + "' is not section.key=value");

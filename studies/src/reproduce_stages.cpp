@@ -388,13 +388,7 @@ Stage fig61Stage(const Settings& s) {
       "--set",
       std::string("pipeline.snapshot_distances=") + (s.max_distance > 0 ? "10,20,30" : "15,40,90")};
   // The overrides of the experiments, one --set each: the same TIGRE as Figs. 6.2-6.4.
-  std::string overrides = kThesisCaveOverrides;
-  for (std::size_t at = 0; at < overrides.size();) {
-    const std::size_t end = std::min(overrides.find(';', at), overrides.size());
-    const std::string kv = trim(overrides.substr(at, end - at));
-    if (!kv.empty()) a.insert(a.end(), {"--set", kv});
-    at = end + 1;
-  }
+  for (const std::string& kv : splitTrimmed(kThesisCaveOverrides, ';')) a.insert(a.end(), {"--set", kv});
   if (s.max_distance > 0)
     a.insert(a.end(), {"--set", "pipeline.max_distance=" + formatSignificant(s.max_distance, 6)});
   st.commands.push_back(cmd(a, "run.txt"));

@@ -13,6 +13,14 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(space) - b + 1);
 }
 
+std::vector<std::string> splitTrimmed(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, sep);)
+    if (!trim(item).empty()) out.push_back(trim(item));
+  return out;
+}
+
 std::string formatFixed(double v, int digits) {
   char b[512];  // %.*f of 1e308 with 17 decimals fits
   std::snprintf(b, sizeof b, "%.*f", digits, v);

@@ -3,11 +3,16 @@
 /// Small text and timing helpers, defined once for the host, the libraries and the plugins.
 #include <chrono>
 #include <string>
+#include <vector>
 
 namespace asf {
 
 /// `s` without leading and trailing white space (space, \t, \r, \n, \f, \v).
 std::string trim(const std::string& s);
+
+/// The items of `s` between the separators `sep`, trimmed, the empty ones left out
+/// ("a; b;; c" -> a, b, c): INI lists such as an experiment's policies and overrides.
+std::vector<std::string> splitTrimmed(const std::string& s, char sep);
 
 /// `v` in fixed notation with `digits` decimals (printf's "%.*f"; "inf", "nan" as printf).
 std::string formatFixed(double v, int digits);
