@@ -8,16 +8,25 @@
 #   ASF_TEST_SHARED_DIR  ../shared beside the repository (may not exist: GTEST_SKIP then)
 include_guard(GLOBAL)
 include(GoogleTest)
+include(AsfPrecompiledHeaders)
+
+# The definitions every test compiles with (also the tests' precompiled header's).
+function(asf_test_definitions target)
+  target_compile_definitions(${target} PRIVATE
+    ASF_TEST_PLUGIN_DIR="${ASF_PLUGIN_OUTPUT_DIRECTORY}"
+    ASF_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}"
+    ASF_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    ASF_TEST_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared")
+endfunction()
 
 function(asf_add_gtest name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;DEPENDS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE asf_framework GTest::gtest GTest::gtest_main ${ARG_LIBRARIES})
-  target_compile_definitions(${name} PRIVATE
-    ASF_TEST_PLUGIN_DIR="${ASF_PLUGIN_OUTPUT_DIRECTORY}"
-    ASF_TEST_BINARY_DIR="${PROJECT_BINARY_DIR}"
-    ASF_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-    ASF_TEST_SHARED_DIR="${PROJECT_SOURCE_DIR}/../shared")
+  asf_test_definitions(${name})
+  if(TARGET asf_test_headers)
+    target_precompile_headers(${name} REUSE_FROM asf_test_headers)
+  endif()
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
   if(ARG_DEPENDS)
     add_dependencies(${name} ${ARG_DEPENDS})
