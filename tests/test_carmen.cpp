@@ -503,3 +503,26 @@ TEST(CarmenCommand, ExitCodesAndMessages) {
                         tmp / "q.rawlog");
   EXPECT_EQ(r.code, 2) << r.out;
 }
+
+// A full disk (/dev/full behind a link) is an error naming the output, the link and the device
+// stay what they were, and a conversion that failed keeps the ground truth written before.
+TEST(CarmenCommand, AFullDiskIsAnErrorAndKeepsWhatWasThere) {
+  if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full on this machine";
+  TempDir tmp;
+  writeText(tmp / "s.log", smallCarmen());
+  fs::create_symlink("/dev/full", tmp / "full.rawlog");
+  writeText(tmp / "old.gt.txt", "# the previous conversion's ground truth\n");
+  auto r = asf_test::runHost("carmen2rawlog -q -i " + tmp / "s.log" + " -o " + tmp / "full.rawlog" +
+                             " --gt " + tmp / "old.gt.txt");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, tmp / "full.rawlog" + ": write failed (disk full")) << r.out;
+  EXPECT_TRUE(fs::is_symlink(tmp / "full.rawlog"));
+  EXPECT_TRUE(fs::is_character_file("/dev/full")) << "/dev/full was replaced by a file";
+  EXPECT_EQ(readText(tmp / "old.gt.txt"), "# the previous conversion's ground truth\n");
+  EXPECT_FALSE(fs::exists(tmp / "old.gt.txt.tmp"));
+  // The ground truth to the full disk, the rawlog fine: an error too.
+  r = asf_test::runHost("carmen2rawlog -q -i " + tmp / "s.log" + " -o " + tmp / "s.rawlog" +
+                        " --gt " + tmp / "full.rawlog");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}

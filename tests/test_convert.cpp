@@ -635,3 +635,42 @@ TEST(ConvertCommands, ExitCodesAndMessages) {
              " --dataset SMALL");  // neither -o nor --gt-only
   EXPECT_EQ(r.code, 2) << r.out;
 }
+
+// Converters writing to a full disk (/dev/full behind links) fail naming the output and replace
+// neither the links nor the device; rawlog-normalize keeps the old output when it fails.
+TEST(ConvertCommands, AFullDiskIsAnErrorAndNothingIsReplaced) {
+  if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full on this machine";
+  TempDir tmp;
+  writeSmallSession(tmp.str());
+  fs::create_symlink("/dev/full", tmp / "full.rawlog");
+  auto r = runAsf("rawseeds2rawlog -q --dir " + tmp.str() + " --dataset SMALL --laser SICK_FRONT "
+                  "--laser SICK_REAR -o " + tmp / "full.rawlog");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, tmp / "full.rawlog" + ": write failed (disk full")) << r.out;
+  EXPECT_TRUE(fs::is_symlink(tmp / "full.rawlog"));
+  EXPECT_TRUE(fs::is_character_file("/dev/full")) << "/dev/full was replaced by a file";
+
+  r = runAsf("rawseeds2rawlog -q --dir " + tmp.str() + " --dataset SMALL --laser SICK_FRONT "
+             "--laser SICK_REAR -o " + tmp / "small.rawlog");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = runAsf("rawlog-normalize " + tmp / "small.rawlog" + " " + tmp / "full.rawlog");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, "full.rawlog: write failed")) << r.out;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+
+  fs::create_directories(tmp / "out");
+  fs::create_symlink("/dev/full", tmp / "out/BACK-SICK_FRONT.csv");
+  r = runAsf("rawlog2rawseeds --rawlog " + tmp / "small.rawlog" + " --dir " + tmp / "out" +
+             " --dataset BACK");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_TRUE(has(r.out, "BACK-SICK_FRONT.csv: write error")) << r.out;
+  EXPECT_TRUE(fs::is_symlink(tmp / "out/BACK-SICK_FRONT.csv"));
+
+  // Not a rawlog: the normalized output of before stays whole, no temporary file.
+  writeText(tmp / "old.rawlog", "the previous output");
+  writeText(tmp / "junk.rawlog", std::string(4096, '\x7f'));
+  r = runAsf("rawlog-normalize " + tmp / "junk.rawlog" + " " + tmp / "old.rawlog");
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_EQ(readText(tmp / "old.rawlog"), "the previous output");
+  EXPECT_FALSE(fs::exists(tmp / "old.rawlog.tmp"));
+}

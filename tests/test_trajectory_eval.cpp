@@ -198,4 +198,11 @@ TEST(TrajectoryEval, AteCommandAlignsAndWritesPerPoseErrors) {
   EXPECT_TRUE(has(inf.out, "huge.txt against")) << inf.out;
   EXPECT_TRUE(has(inf.out, "not a finite number")) << inf.out;
   EXPECT_FALSE(has(inf.out, "inf m")) << inf.out;
+  // Issue 51, item 4: the per-pose errors to a full disk are an error, not exit 0.
+  if (fs::is_character_file("/dev/full")) {
+    const auto full = asf_test::runHost("ate " + ef.string() + " " + gf.string() + " -e /dev/full");
+    EXPECT_EQ(full.code, 1) << full.out;
+    EXPECT_TRUE(has(full.out, "/dev/full: cannot write the pose errors")) << full.out;
+    EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  }
 }

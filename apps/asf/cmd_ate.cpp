@@ -1,5 +1,6 @@
 // asf ate: absolute trajectory error of any trajectory file against a ground-truth file; the
 // command behind the SLAM accuracy figures (asf's keyframes.txt, icp-slam's estimated path).
+#include <asf/atomic_file.h>
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
@@ -7,7 +8,7 @@
 #include <tclap/CmdLine.h>
 
 #include <cmath>
-#include <fstream>
+#include <sstream>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -37,12 +38,12 @@ void timeFramesByRawlog(std::vector<evaluation::TimedPose>& estimate,
 
 /// --errors: each matched pose's time and position error, one per line.
 void writePoseErrors(const std::string& file, const evaluation::TrajectoryError& r) {
-  std::ofstream f(file);
+  std::ostringstream f;
   f << "# t error_m (after " << (r.aligned ? "SE(2) alignment" : "no alignment") << ")\n"
     << std::setprecision(17);
   for (std::size_t i = 0; i < r.errors_m.size(); ++i)
     f << r.times[i] << ' ' << r.errors_m[i] << '\n';
-  if (!f) throw Error(file + ": cannot write");
+  writeFileAtomically(file, f.str(), "pose errors");
 }
 
 void printAteJson(const std::string& estimate, const std::string& ground_truth,

@@ -1,5 +1,6 @@
 // Log conversions: Rawseeds <-> rawlog, CARMEN -> rawlog (logic in libs/io).
 #include <asf/abi.h>
+#include <asf/atomic_file.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/io/carmen.h>
 #include <asf/io/rawseeds.h>
@@ -114,14 +115,20 @@ int cmdRawlogNormalize(int argc, char** argv) {
   io::RawlogReaderOptions o;
   o.laser_label = label.getValue();
   io::RawlogReader reader(in.getValue(), o);
-  io::RawlogWriter writer(out.getValue());
-  std::size_t scans = 0;
-  while (auto f = reader.next()) {
-    scans += f->scan ? 1 : 0;
-    writer.write(*f);
+  // Beside the output, renamed over it at the end: a failure never truncates the old file.
+  AtomicOutput target(out.getValue(), "rawlog");
+  std::size_t scans = 0, frames = 0;
+  {
+    io::RawlogWriter writer(target.file());
+    while (auto f = reader.next()) {
+      scans += f->scan ? 1 : 0;
+      writer.write(*f);
+    }
+    writer.flush();  // throws when anything written was lost
+    frames = writer.framesWritten();
   }
-  writer.flush();
-  std::cout << "rawlog-normalize: " << writer.framesWritten() << " frames (" << scans
+  target.commit();
+  std::cout << "rawlog-normalize: " << frames << " frames (" << scans
             << " scans) written to " << out.getValue() << "\n";
   return kOk;
 }

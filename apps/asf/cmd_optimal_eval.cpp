@@ -1,6 +1,7 @@
 // asf optimal-eval: the optimal-exploration analysis of a set of graphs (thesis Table 5.1):
 // certified D/A/E optima and the efficiency of the routes a robot could take on each graph;
 // asf graph-gen: the seeded graph families to run it on.
+#include <asf/atomic_file.h>
 #include <asf/abi.h>
 #include <asf/errors.h>
 #include <asf/graph/families.h>
@@ -11,7 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -89,9 +89,7 @@ void writeEfficiencySvg(const std::string& path, const json& graphs,
     os << "</g>\n";
   }
   os << "</svg>\n";
-  std::ofstream f(path);
-  f << os.str();
-  if (!f) throw Error(path + ": cannot write the plot");
+  writeFileAtomically(path, os.str(), "plot");
 }
 
 /// Each route's efficiencies per criterion over the connected graphs: [route][criterion].

@@ -1,6 +1,7 @@
 // asf recognition: place recognition by Monte Carlo ICP (thesis ch. 3.4.2) on every node of a
 // SLAM run, from the nodes' own scans in the log the run read; Fig. 3.3 (the scatter of
 // one node's samples) as SVG for the nodes asked.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/planning/place_recognition.h>
 #include <asf/planning/unreliable_zone.h>
@@ -11,7 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -51,9 +52,8 @@ nlohmann::json writeScatter(const PoseGraph& g, unsigned n, const planning::Reco
   std::ostringstream title;
   title << "Monte Carlo place recognition at node " << n << " (" << std::fixed
         << std::setprecision(2) << g.nodes[n].pose.x() << ", " << g.nodes[n].pose.y() << ")";
-  std::ofstream f(file);
-  f << studies::recognitionScatterSvg(t, g.nodes[n], o, title.str());
-  if (!f) throw Error(file + ": cannot write");
+  writeFileAtomically(file, studies::recognitionScatterSvg(t, g.nodes[n], o, title.str()),
+                      "scatter");
   std::size_t ok = 0;
   for (const auto& s : t.samples) ok += s.success;
   return {{"node", n}, {"p", t.p}, {"successes", ok}, {"file", file}};
@@ -177,9 +177,7 @@ int cmdRecognition(int argc, char** argv) {
   for (unsigned n : args.scatter.getValue()) j["scatter"].push_back(writeScatter(g, n, o, dir));
   {
     const std::string file = (dir / "recognition.json").string();
-    std::ofstream f(file);
-    f << j.dump(1) << "\n";
-    if (!f) throw Error(file + ": cannot write");
+    writeFileAtomically(file, j.dump(1) + "\n", "recognition summary");
   }
   printSummary(j, o.samples, seconds);
   std::cout << "wrote " << (dir / "recognition.txt").string() << "\n";

@@ -5,6 +5,7 @@
 // scan (asf/planning/place_recognition.h); for every start/goal pair of a node subset outside the
 // zone each planner plugin picks its path, and its error rate is the share of pairs whose
 // path crosses the zone.
+#include <asf/atomic_file.h>
 #include <asf/backend.h>
 #include <asf/config.h>
 #include <asf/errors.h>
@@ -25,7 +26,6 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -544,9 +544,7 @@ json scenarioRecord(const Scenario& s, const std::vector<char>& in_zone, json sw
 }
 
 void writeText(const std::string& file, const std::string& text) {
-  std::ofstream f(file);
-  f << text;
-  if (!f) throw Error(file + ": cannot write");
+  writeFileAtomically(file, text, "file");
 }
 
 }  // namespace

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/evaluation/run_report.h>
 #include <asf/evaluation/segmentation_eval.h>
@@ -8,7 +9,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <map>
@@ -180,9 +180,7 @@ void writeSegmentationOverlay(const std::string& path, const GridMap& map, const
   if (ext == ".svg" || ext == ".SVG") {
     // Vector graph over the raster regions: ids and edges stay sharp when zoomed.
     const TopoGraph none;
-    std::ofstream f(path);
-    f << render::topologySvg(m, m.img, topo ? *topo : none);
-    if (!f) throw Error(path + ": cannot write the SVG");
+    writeFileAtomically(path, render::topologySvg(m, m.img, topo ? *topo : none), "SVG");
     return;
   }
   if (topo) render::drawTopology(m, *topo);

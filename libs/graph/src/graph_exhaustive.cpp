@@ -1,11 +1,11 @@
 // Exhaustive search of traversals of a graph (thesis figs. 5.6-5.10) and its plot.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/graph/information.h>
 
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -199,10 +199,7 @@ void writeExhaustiveSvg(const ExhaustiveResult& r, const std::string& path,
     os << "<text x=\"" << W - 20 << "\" y=\"" << Hh - 12
        << "\" text-anchor=\"end\">dashed: relaxed optimum (max over the simplex)</text>\n";
   os << "</svg>\n";
-  std::ofstream f(path);
-  if (!f) throw Error(path + ": cannot write SVG");
-  f << os.str();
-  if (!f) throw Error(path + ": write failed");
+  writeFileAtomically(path, os.str(), "SVG");
 }
 
 }  // namespace asf::graph

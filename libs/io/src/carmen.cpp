@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/text.h>
 #include <asf/io/carmen.h>
@@ -261,7 +262,11 @@ class Converter {
 
   explicit Converter(const CarmenToRawlogOptions& opt)
       : opt_(opt), in_(opt.input), out_(opt.output), rng_(opt.seed), progress_(opt.progress) {
-    if (!opt.gt_output.empty()) gt_ = std::make_unique<GroundTruthWriter>(opt.gt_output);
+    if (!opt.gt_output.empty()) {
+      // Put in place after the rawlog: a failed conversion keeps the ground truth there was.
+      gt_target_ = std::make_unique<AtomicOutput>(opt.gt_output, "ground truth");
+      gt_ = std::make_unique<GroundTruthWriter>(gt_target_->file());
+    }
     chooseTimestamps();
   }
 
@@ -287,7 +292,10 @@ class Converter {
     if (rep_.scans == 0)
       throw InputError(opt_.input + ": no FLASER or ROBOTLASER1 line: not a CARMEN laser log?");
     out_.close();
-    if (gt_) gt_->flush();
+    if (gt_) {
+      gt_.reset();  // every line was flushed and checked
+      gt_target_->commit();
+    }
     return rep_;
   }
 
@@ -463,6 +471,7 @@ class Converter {
   const CarmenToRawlogOptions& opt_;
   LineReader in_;
   ObsRawlogWriter out_;
+  std::unique_ptr<AtomicOutput> gt_target_;
   std::unique_ptr<GroundTruthWriter> gt_;
   CarmenToRawlogReport rep_;
   FlaserParams params_;

@@ -5,8 +5,6 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -28,6 +26,8 @@
 #include <sstream>
 
 #include <asf/io/rawlog_guard.h>
+
+#include "checked_output.h"
 
 namespace asf::io {
 
@@ -359,20 +359,14 @@ struct RawlogWriter::Impl {
   bool gz = false;
   std::size_t flush_every = 50;
   std::size_t written = 0;
-  mrpt::io::CFileGZOutputStream gz_out;
-  mrpt::io::CFileOutputStream plain_out;
+  std::unique_ptr<CheckedFileOutput> out;  // reports every lost write, MRPT's streams do not
 
-  mrpt::io::CStream& stream() { return gz ? static_cast<mrpt::io::CStream&>(gz_out) : plain_out; }
-
-  bool open(mrpt::io::OpenMode mode) {
-    return gz ? gz_out.open(path, 1, std::nullopt, mode) : plain_out.open(path, mode);
-  }
+  void open(bool append) { out = std::make_unique<CheckedFileOutput>(path, gz, path, append); }
 
   void close() {
-    if (gz)
-      gz_out.close();
-    else
-      plain_out.close();
+    if (!out) return;
+    auto o = std::move(out);
+    o->close();  // throws when the last buffer or the close failed
   }
 };
 
@@ -381,8 +375,11 @@ RawlogWriter::RawlogWriter(const std::string& path, std::size_t flush_every)
   impl_->path = path;
   impl_->gz = endsWith(path, ".gz");
   impl_->flush_every = flush_every;
-  if (!impl_->open(mrpt::io::OpenMode::TRUNCATE))
+  try {
+    impl_->open(false);
+  } catch (const InputError&) {
     throw InputError(path + ": cannot create the rawlog");
+  }
 }
 
 RawlogWriter::~RawlogWriter() {
@@ -422,7 +419,7 @@ void RawlogWriter::write(const SensorFrame& frame) {
   for (const auto& o : frame.observations3d)
     if (o) sf.insert(std::const_pointer_cast<mrpt::obs::CObservation>(o));
   try {
-    auto ar = mrpt::serialization::archiveFrom(impl_->stream());
+    auto ar = mrpt::serialization::archiveFrom(*impl_->out);
     ar << acts << sf;
   } catch (const std::exception& e) {
     throw Error(impl_->path + ": write failed: " + mrptExceptionCause(e.what()));
@@ -432,11 +429,14 @@ void RawlogWriter::write(const SensorFrame& frame) {
 }
 
 void RawlogWriter::flush() {
-  // MRPT's file streams have no flush(): close and reopen for appending. For .gz this starts
-  // a new gzip member, which gzip readers (and MRPT's) read as one stream.
+  // Close and reopen for appending: for .gz this ends the gzip member, so what was written
+  // reads back after a crash (gzip readers, MRPT's too, read the members as one stream).
   impl_->close();
-  if (!impl_->open(mrpt::io::OpenMode::APPEND))
+  try {
+    impl_->open(true);
+  } catch (const InputError&) {
     throw Error(impl_->path + ": cannot reopen the rawlog for appending");
+  }
 }
 
 std::size_t RawlogWriter::framesWritten() const { return impl_->written; }

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/io/rawlog_io.h>
 #include <asf/text.h>
@@ -201,21 +202,19 @@ CsvStream::Parser groundTruthParser() {
   };
 }
 
-/// A text output written to "<path>.part" and renamed by close(); removed if never closed.
+/// A text output written as asf::AtomicOutput writes: to "<path>.tmp", renamed by close();
+/// removed if never closed (a device is written in place).
 class TextOut {
  public:
-  explicit TextOut(const std::string& path) : path_(path), part_(path + ".part") {
+  explicit TextOut(const std::string& path) : path_(path), target_(path, "CSV stream") {
     if (path.size() > 4 && path.compare(path.size() - 4, 4, ".bz2") == 0)
-      bz_ = std::make_unique<Bz2Writer>(part_);
-    else if (!(f_ = std::fopen(part_.c_str(), "wb")))
+      bz_ = std::make_unique<Bz2Writer>(target_.file());
+    else if (!(f_ = std::fopen(target_.file().c_str(), "wb")))
       throw InputError(path + ": cannot open for writing");
   }
   ~TextOut() {
-    if (done_) return;
     bz_.reset();
     if (f_) std::fclose(f_);
-    std::error_code ec;
-    std::filesystem::remove(part_, ec);
   }
   void line(const std::string& s) {
     buf_ += s;
@@ -230,10 +229,7 @@ class TextOut {
       throw InputError(path_ + ": write error");
     }
     f_ = nullptr;
-    std::error_code ec;
-    std::filesystem::rename(part_, path_, ec);
-    if (ec) throw InputError(path_ + ": cannot rename " + part_ + " to it: " + ec.message());
-    done_ = true;
+    target_.commit();
   }
 
  private:
@@ -244,10 +240,10 @@ class TextOut {
       throw InputError(path_ + ": write error");
     buf_.clear();
   }
-  std::string path_, part_, buf_;
+  std::string path_, buf_;
+  AtomicOutput target_;
   std::unique_ptr<Bz2Writer> bz_;
   FILE* f_ = nullptr;
-  bool done_ = false;
 };
 
 std::string percent(double p) {

@@ -1,8 +1,7 @@
 #include <asf/errors.h>
 #include <asf/io/text_io.h>
+#include <asf/atomic_file.h>
 #include <bzlib.h>
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/serialization/CSerializable.h>
 #include <zlib.h>
@@ -14,7 +13,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <ostream>
+
+#include "checked_output.h"
 
 namespace asf::io {
 
@@ -409,42 +411,27 @@ std::optional<Stamp> parseStamp(std::string_view s) {
 // ------------------------------------------------------------------------- ObsRawlogWriter
 
 struct ObsRawlogWriter::Impl {
-  std::string path, part;
-  std::unique_ptr<mrpt::io::CStream> out;
+  explicit Impl(const std::string& path)
+      : target(path, "rawlog"), out(target.file(), endsWith(path, ".gz"), path) {}
+  AtomicOutput target;
+  CheckedFileOutput out;
   std::unique_ptr<mrpt::serialization::CArchive> arch;
   std::size_t records = 0;
   bool closed = false;
 };
 
-ObsRawlogWriter::ObsRawlogWriter(const std::string& path) : impl_(std::make_unique<Impl>()) {
-  Impl& d = *impl_;
-  d.path = path;
-  d.part = path + ".part";
-  if (endsWith(path, ".gz")) {
-    auto s = std::make_unique<mrpt::io::CFileGZOutputStream>();
-    if (!s->open(d.part)) throw InputError(path + ": cannot open for writing");
-    d.out = std::move(s);
-  } else {
-    auto s = std::make_unique<mrpt::io::CFileOutputStream>();
-    if (!s->open(d.part)) throw InputError(path + ": cannot open for writing");
-    d.out = std::move(s);
-  }
-  d.arch = mrpt::serialization::archiveUniquePtrFrom(*d.out);
+ObsRawlogWriter::ObsRawlogWriter(const std::string& path) : impl_(std::make_unique<Impl>(path)) {
+  impl_->arch = mrpt::serialization::archiveUniquePtrFrom(impl_->out);
 }
 
-ObsRawlogWriter::~ObsRawlogWriter() {
-  if (impl_->closed) return;
-  impl_->arch.reset();
-  impl_->out.reset();
-  std::error_code ec;
-  std::filesystem::remove(impl_->part, ec);
-}
+// Without close(): Impl's members close the file and remove the temporary one.
+ObsRawlogWriter::~ObsRawlogWriter() = default;
 
 void ObsRawlogWriter::write(const mrpt::serialization::CSerializable& obj) {
   try {
     impl_->arch->WriteObject(&obj);
-  } catch (const std::exception& e) {
-    throw InputError(impl_->path + ": write error: " + e.what());
+  } catch (const std::exception&) {
+    throw InputError(impl_->target.path() + ": write failed (disk full or not writable?)");
   }
   ++impl_->records;
 }
@@ -453,10 +440,8 @@ void ObsRawlogWriter::close() {
   Impl& d = *impl_;
   if (d.closed) return;
   d.arch.reset();
-  d.out.reset();  // flushes and closes the file
-  std::error_code ec;
-  std::filesystem::rename(d.part, d.path, ec);
-  if (ec) throw InputError(d.path + ": cannot rename " + d.part + " to it: " + ec.message());
+  d.out.close();  // throws when the last buffer or the close failed
+  d.target.commit();
   d.closed = true;
 }
 

@@ -1,3 +1,4 @@
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/planning/place_recognition.h>
 #include <mrpt/maps/CSimplePointsMap.h>
@@ -11,7 +12,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
-#include <fstream>
+#include <sstream>
 #include <iomanip>
 #include <random>
 
@@ -156,10 +157,10 @@ std::vector<double> recognitionProbabilities(
 }
 
 void writeRecognitionProbabilities(const std::string& path, const std::map<NodeId, double>& p) {
-  std::ofstream f(path);
+  std::ostringstream f;
   f << "# node_id p_recognition (Monte Carlo place recognition, asf)\n" << std::setprecision(6);
   for (const auto& [n, v] : p) f << n << ' ' << v << '\n';
-  if (!f) throw Error(path + ": cannot write the recognition probabilities");
+  writeFileAtomically(path, f.str(), "recognition probabilities");
 }
 
 }  // namespace asf::planning

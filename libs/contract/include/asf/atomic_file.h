@@ -20,6 +20,30 @@ namespace asf {
 void writeFileVia(const std::string& path, const std::string& what,
                   const std::function<bool(const std::string& file)>& write);
 
+/// writeFileVia's rules for a writer that streams its output over a while (a converter):
+/// file() is where to write (PATH.tmp beside the file, or the device itself), commit() puts it
+/// in place. Destroyed without commit() (an error, an exception), the temporary file is
+/// removed and whatever PATH held before is left as it was.
+class AtomicOutput {
+ public:
+  /// Throws asf::Error when `path` is a directory (`what` names the output: "rawlog", ...).
+  AtomicOutput(const std::string& path, const std::string& what);
+  ~AtomicOutput();
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  /// True for a device, FIFO or socket: written in place, nothing to rename.
+  bool inPlace() const { return in_place_; }
+  /// Renames the temporary file over the target; throws asf::Error naming the path.
+  void commit();
+
+ private:
+  std::string path_, what_, target_, file_;
+  bool in_place_ = false, committed_ = false;
+};
+
 /// writeFileVia with `text` as the whole content (binary; the stream's close checked).
 void writeFileAtomically(const std::string& path, const std::string& text,
                          const std::string& what = "file");

@@ -99,8 +99,10 @@ constexpr double kMaxStampSeconds = 1e11;
 std::optional<Stamp> parseStamp(std::string_view s);
 
 /// Writes an observation-only MRPT rawlog: one serialized object per record, gz-compressed
-/// when the name ends in ".gz". The data go to "<path>.part", renamed to `path` by close(),
-/// so an interrupted conversion never leaves a file that looks complete.
+/// when the name ends in ".gz". Written as asf::AtomicOutput writes (atomic_file.h): into
+/// "<path>.tmp", renamed to `path` by close(), so an interrupted or failed conversion never
+/// leaves a file that looks complete nor loses the one that was there; a device (/dev/stdout)
+/// is written in place. Every failed write, also the last buffer's, throws.
 class ObsRawlogWriter {
  public:
   explicit ObsRawlogWriter(const std::string& path);  ///< throws asf::InputError
