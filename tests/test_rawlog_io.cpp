@@ -221,6 +221,39 @@ TEST(RawlogWriter, FlushedFramesAreReadableWhileWriting) {
   EXPECT_EQ(readAll(path).size(), 7u);
 }
 
+// A full disk (/dev/full behind a link): the failed flush is an error naming the file, and so
+// is every write after it (the stream is gone: a write must not reach it).
+TEST(RawlogWriter, AFullDiskFailsTheFlushAndEveryWriteAfterIt) {
+  if (!std::filesystem::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  TempDir dir;
+  const std::string path = dir.file("full.rawlog");
+  std::filesystem::create_symlink("/dev/full", path);
+  const auto frames = makeFrames(2);
+  asf::io::RawlogWriter w(path, 0);
+  try {
+    w.write(frames[0]);  // buffered, or already failing: both are fine
+  } catch (const asf::Error&) {
+  }
+  EXPECT_TRUE(has(errorOf<asf::Error>([&] { w.flush(); }), path));
+  const auto after = errorOf<asf::Error>([&] { w.write(frames[1]); });
+  EXPECT_TRUE(has(after, path + ": not open for writing (closed, or a write failed)")) << after;
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/full"));
+}
+
+TEST(RawlogWriter, CloseEndsTheFileAndAWriteAfterItIsAnError) {
+  TempDir dir;
+  const std::string path = dir.file("closed.rawlog.gz");
+  const auto frames = makeFrames(3);
+  asf::io::RawlogWriter w(path, 0);
+  w.write(frames[0]);
+  w.write(frames[1]);
+  w.close();
+  EXPECT_EQ(readAll(path).size(), 2u);
+  EXPECT_TRUE(has(errorOf<asf::Error>([&] { w.write(frames[2]); }), path + ": not open"));
+  EXPECT_NO_THROW(w.close());  // closing again changes nothing
+  EXPECT_EQ(readAll(path).size(), 2u);
+}
+
 TEST(RawlogWriter, UnwritableFileIsAnInputErrorNamingIt) {
   const std::string bad = "/nonexistent-dir/x.rawlog";
   EXPECT_TRUE(has(errorOf<asf::InputError>([&] { asf::io::RawlogWriter w(bad); }), bad));

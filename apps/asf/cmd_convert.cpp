@@ -124,7 +124,7 @@ int cmdRawlogNormalize(int argc, char** argv) {
       scans += f->scan ? 1 : 0;
       writer.write(*f);
     }
-    writer.flush();  // throws when anything written was lost
+    writer.close();  // throws when anything written was lost
     frames = writer.framesWritten();
   }
   target.commit();

@@ -543,10 +543,6 @@ json scenarioRecord(const Scenario& s, const std::vector<char>& in_zone, json sw
   return js;
 }
 
-void writeText(const std::string& file, const std::string& text) {
-  writeFileAtomically(file, text, "file");
-}
-
 }  // namespace
 
 const KeySpec* planEvalKeys(std::size_t& n) {
@@ -648,8 +644,8 @@ PlanEvalOutput runPlanEval(const IniConfig& ini, framework::Registry& reg,
   out.markdown = planEvalMarkdown(j);
   out.md_file = (fs::path(out_dir) / "plan_eval.md").string();
   out.json_file = (fs::path(out_dir) / "plan_eval.json").string();
-  writeText(out.md_file, out.markdown);
-  writeText(out.json_file, j.dump(1) + "\n");
+  writeFileAtomically(out.md_file, out.markdown, "file");
+  writeFileAtomically(out.json_file, j.dump(1) + "\n", "file");
   return out;
 }
 

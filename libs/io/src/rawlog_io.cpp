@@ -418,6 +418,8 @@ void RawlogWriter::write(const SensorFrame& frame) {
   // the frame as they are.
   for (const auto& o : frame.observations3d)
     if (o) sf.insert(std::const_pointer_cast<mrpt::obs::CObservation>(o));
+  // Closed, or closed by a failed flush: say so rather than write to nothing.
+  if (!impl_->out) throw Error(impl_->path + ": not open for writing (closed, or a write failed)");
   try {
     auto ar = mrpt::serialization::archiveFrom(*impl_->out);
     ar << acts << sf;
@@ -438,6 +440,8 @@ void RawlogWriter::flush() {
     throw Error(impl_->path + ": cannot reopen the rawlog for appending");
   }
 }
+
+void RawlogWriter::close() { impl_->close(); }
 
 std::size_t RawlogWriter::framesWritten() const { return impl_->written; }
 

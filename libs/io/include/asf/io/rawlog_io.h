@@ -125,8 +125,12 @@ class RawlogWriter {
   RawlogWriter(const RawlogWriter&) = delete;
   RawlogWriter& operator=(const RawlogWriter&) = delete;
 
+  /// Throws asf::Error naming the file when a write fails or the writer is closed.
   void write(const SensorFrame& frame);
   void flush();
+  /// Closes the file; throws asf::Error naming it when anything written was lost (the
+  /// destructor closes too, but cannot report).
+  void close();
   std::size_t framesWritten() const;
 
  private:
