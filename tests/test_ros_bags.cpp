@@ -15,6 +15,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/serialization/CArchive.h>
 #include <unistd.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -487,6 +488,53 @@ TEST(RosBag2Compression, ZstdMessagesAndFilesAreRead) {
     checkConverted("ros2", storage);
     if (HasFatalFailure() || IsSkipped()) return;
   }
+}
+
+/// This process's decompressed copies of FILE-mode bags in the temporary folder.
+std::size_t scratchFiles() {
+  const std::string prefix = "asf_rosbag2_" + std::to_string(::getpid()) + "_";
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+    n += e.path().filename().string().rfind(prefix, 0) == 0;
+  return n;
+}
+
+// A FILE-mode bag's copy leaves the temporary folder once SQLite has it open: the reader still
+// reads every message, and a kill leaves nothing behind.
+TEST(RosBag2Compression, TheDecompressedCopyIsGoneWhileTheReaderReads) {
+  FIXTURE_OR_SKIP(fx, "ros2", "plain@sqlite3_zfile");
+  asf::io::Rosbag2Reader reader(fx.bag.string());
+  EXPECT_EQ(scratchFiles(), 0u);
+  const auto* scan = reader.topic("/scan");
+  ASSERT_NE(scan, nullptr);
+  std::size_t seen = 0;
+  reader.forEach({"/scan"}, [&](const std::string&, std::int64_t, const std::uint8_t*,
+                                std::size_t) { ++seen; });
+  EXPECT_EQ(seen, scan->messages);
+  EXPECT_GT(seen, 0u);
+  fs::remove_all(fx.dir);
+}
+
+// A storage file of zeros, 3 KiB of zstd for 80 MiB: refused past 64 MiB (1000-fold of its size
+// is less), naming the file, with no copy left in the temporary folder.
+TEST(RosBag2Compression, AFileExpandingBeyondAnyRecordersIsRefused) {
+  const fs::path dir = asf_test::freshTempDir("asf_test_zstd_bomb_" + std::to_string(::getpid()));
+  const std::string zeros(80u << 20, '\0');
+  std::string z(ZSTD_compressBound(zeros.size()), '\0');
+  const std::size_t n = ZSTD_compress(z.data(), z.size(), zeros.data(), zeros.size(), 1);
+  ASSERT_FALSE(ZSTD_isError(n));
+  z.resize(n);
+  asf_test::writeFile(dir / "bomb_0.db3.zstd", z);
+  asf_test::writeFile(dir / "metadata.yaml",
+            "rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: sqlite3\n"
+            "  relative_file_paths:\n    - bomb_0.db3.zstd\n  compression_format: zstd\n"
+            "  compression_mode: FILE\n");
+  const std::string e = errorOf([&] { asf::io::Rosbag2Reader r(dir.string()); });
+  EXPECT_NE(e.find((dir / "bomb_0.db3.zstd").string() + ": expands more than 1000-fold"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(scratchFiles(), 0u);
+  fs::remove_all(dir);
 }
 
 // MCAP: chunks uncompressed, LZ4 or zstd, the folder or the .mcap file itself; a damaged file

@@ -9,12 +9,14 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -247,7 +249,8 @@ std::vector<std::string> yamlList(const std::string& text, const std::string& ke
 }  // namespace
 
 struct Rosbag2Reader::Impl {
-  std::vector<std::string> files;
+  std::vector<std::string> files;  ///< what SQLite opens
+  std::vector<std::string> names;  ///< what errors name: the bag's file, never a temporary
   std::vector<std::unique_ptr<Db>> dbs;
   std::vector<BagTopic> topics;
   bool zstd_messages = false;        ///< compression_mode MESSAGE: every blob a zstd frame
@@ -288,26 +291,70 @@ Folder readFolder(const std::string& path) {
   return out;
 }
 
+// A recorder's zstd expands a few times; more than this (past the floor) is refused before it
+// fills the memory or the disk.
+constexpr std::uint64_t kMaxExpansion = 1000, kExpansionFloor = std::uint64_t{64} << 20;
+
+using ZstdStream = std::unique_ptr<ZSTD_DStream, std::size_t (*)(ZSTD_DStream*)>;
+
 /// `n` bytes of zstd frames decompressed (the frame's size when it says it, else streamed).
 std::vector<std::uint8_t> unzstd(const std::uint8_t* in, std::size_t n, const std::string& where) {
-  ZSTD_DStream* ds = ZSTD_createDStream();
+  ZstdStream ds(ZSTD_createDStream(), &ZSTD_freeDStream);
   std::vector<std::uint8_t> out;
   std::vector<std::uint8_t> buf(ZSTD_DStreamOutSize());
   ZSTD_inBuffer ib{in, n, 0};
   std::size_t rc = 0;
   for (;;) {
     ZSTD_outBuffer ob{buf.data(), buf.size(), 0};
-    rc = ZSTD_decompressStream(ds, &ob, &ib);
+    rc = ZSTD_decompressStream(ds.get(), &ob, &ib);
     if (ZSTD_isError(rc)) break;
     out.insert(out.end(), buf.data(), buf.data() + ob.pos);
+    if (out.size() > std::max<std::size_t>(kMaxExpansion * n, kExpansionFloor))
+      throw InputError(where + ": expands more than " + std::to_string(kMaxExpansion) +
+                       "-fold: not what a recorder writes");
     // All input read and room left in the output: done (rc != 0: the frame is cut short).
     if (ib.pos == ib.size && ob.pos < ob.size) break;
   }
-  ZSTD_freeDStream(ds);
   if (ZSTD_isError(rc) || rc != 0)
     throw InputError(where + ": not a whole zstd frame (" +
                      (ZSTD_isError(rc) ? ZSTD_getErrorName(rc) : "truncated") + ")");
   return out;
+}
+
+/// compression_mode FILE: the zstd stream `file` decompressed into `tmp`, one buffer at a time.
+/// Bounded as unzstd is.
+void unzstdFile(const std::string& file, const std::string& tmp) {
+  std::error_code ec;
+  const std::uint64_t size = fs::file_size(file, ec);
+  if (ec) throw InputError(file + ": cannot open (" + ec.message() + ")");
+  const std::uint64_t limit = std::max(kMaxExpansion * size, kExpansionFloor);
+  std::ifstream in(file, std::ios::binary);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> out(std::fopen(tmp.c_str(), "wb"), &std::fclose);
+  if (!in || !out) throw InputError(file + ": cannot " + (in ? "create " + tmp : "open"));
+  ZstdStream ds(ZSTD_createDStream(), &ZSTD_freeDStream);
+  std::vector<char> ibuf(ZSTD_DStreamInSize()), obuf(ZSTD_DStreamOutSize());
+  std::uint64_t written = 0;
+  std::size_t rc = 0;
+  while (in.read(ibuf.data(), static_cast<std::streamsize>(ibuf.size())) || in.gcount() > 0) {
+    ZSTD_inBuffer ib{ibuf.data(), static_cast<std::size_t>(in.gcount()), 0};
+    while (ib.pos < ib.size || rc > 0) {
+      ZSTD_outBuffer ob{obuf.data(), obuf.size(), 0};
+      rc = ZSTD_decompressStream(ds.get(), &ob, &ib);
+      if (ZSTD_isError(rc))
+        throw InputError(file + ": not a whole zstd frame (" + ZSTD_getErrorName(rc) + ")");
+      if ((written += ob.pos) > limit)
+        throw InputError(file + ": expands more than " + std::to_string(kMaxExpansion) +
+                         "-fold (past " + std::to_string(limit >> 20) + " MiB from " +
+                         std::to_string(size) + " bytes): not a bag a recorder writes");
+      if (std::fwrite(obuf.data(), 1, ob.pos, out.get()) != ob.pos)
+        throw InputError(file + ": decompressing it into " + tmp + " failed: " +
+                         std::strerror(errno));
+      if (ob.pos < ob.size && ib.pos == ib.size) break;  // this input is used up
+    }
+  }
+  if (rc != 0) throw InputError(file + ": not a whole zstd frame (truncated)");
+  if (std::fclose(out.release()) != 0)
+    throw InputError(file + ": decompressing it into " + tmp + " failed: " + std::strerror(errno));
 }
 
 }  // namespace
@@ -325,47 +372,49 @@ Rosbag2Reader::Rosbag2Reader(const std::string& path) : impl_(std::make_unique<I
     for (const auto& file : folder.files) {
       if (folder.mode != "FILE") {
         m.files.push_back(file);
+        m.names.push_back(file);
         continue;
       }
       // FILE mode: each storage file is one zstd stream; SQLite needs it on disk, whole.
-      std::ifstream in(file, std::ios::binary);
-      if (!in) throw InputError(file + ": cannot open");
-      const std::string z((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      const auto raw = unzstd(reinterpret_cast<const std::uint8_t*>(z.data()), z.size(), file);
       const fs::path tmp =
           fs::temp_directory_path() /
           ("asf_rosbag2_" + std::to_string(::getpid()) + "_" + std::to_string(m.scratch.size()) +
            "_" + std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".db3");
-      std::ofstream(tmp, std::ios::binary)
-          .write(reinterpret_cast<const char*>(raw.data()),
-                 static_cast<std::streamsize>(raw.size()));
-      m.scratch.push_back(tmp.string());
+      m.scratch.push_back(tmp.string());  // removed by ~Impl, also when this throws
+      unzstdFile(file, tmp.string());
       m.files.push_back(tmp.string());
+      m.names.push_back(file);
     }
   } else if (fs::exists(path, ec)) {
     m.files.push_back(path);
+    m.names.push_back(path);
   } else {
     throw InputError(path + ": no such bag (a rosbag2 folder or a .db3 file)");
   }
   std::map<std::string, std::size_t> by_name;
-  for (const auto& file : m.files) {
+  for (std::size_t k = 0; k < m.files.size(); ++k) {
+    const std::string& file = m.files[k];
+    const std::string& name = m.names[k];
     auto db = std::make_unique<Db>();
     if (sqlite3_open_v2(file.c_str(), &db->db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
-      throw InputError(file + ": cannot open (" + sqlite3_errmsg(db->db) + ")");
+      throw InputError(name + ": cannot open (" + sqlite3_errmsg(db->db) + ")");
     Stmt t(db->db,
            "SELECT t.name, t.type, t.serialization_format, COUNT(m.id) FROM topics t "
            "LEFT JOIN messages m ON m.topic_id = t.id GROUP BY t.id ORDER BY t.id",
-           file);
+           name);
     while (sqlite3_step(t.s) == SQLITE_ROW) {
-      const std::string name = t.text(0);
-      auto it = by_name.find(name);
+      const std::string topic = t.text(0);
+      auto it = by_name.find(topic);
       if (it == by_name.end()) {
-        it = by_name.emplace(name, m.topics.size()).first;
-        m.topics.push_back({name, t.text(1), t.text(2), 0});
+        it = by_name.emplace(topic, m.topics.size()).first;
+        m.topics.push_back({topic, t.text(1), t.text(2), 0});
       }
       m.topics[it->second].messages += static_cast<std::uint64_t>(sqlite3_column_int64(t.s, 3));
     }
     m.dbs.push_back(std::move(db));
+    // A decompressed copy leaves the folder once open: SQLite reads it through its open file,
+    // and the space comes back on any exit, a kill -9 included.
+    if (file != name) std::remove(file.c_str());
   }
 }
 
@@ -398,7 +447,7 @@ std::unique_ptr<BagReader> openBag(const std::string& path) {
 void Rosbag2Reader::visit(const std::vector<std::string>& topics, Visitor v, void* ctx) const {
   for (std::size_t k = 0; k < impl_->dbs.size(); ++k) {
     sqlite3* db = impl_->dbs[k]->db;
-    const std::string& file = impl_->files[k];
+    const std::string& file = impl_->names[k];
     std::string in;
     for (const auto& t : topics) {
       char* q = sqlite3_mprintf("%Q", t.c_str());
