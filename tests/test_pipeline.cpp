@@ -2,6 +2,7 @@
 // finished run, an interrupted run, and a run whose plugin fails midway.
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
+#include <asf/io/rawlog_io.h>
 #include <asf/framework/pipeline.h>
 #include <asf/pose_graph.h>
 #include <asf/evaluation/trajectory_eval.h>
@@ -119,6 +120,29 @@ TEST(PipelineConfig, SectionOfAnUnusedPluginIsValidatedAndWarned) {
       has(rc.warnings[0], "configures plugin 'shortest', which this pipeline does not use"));
 }
 
+// The source's recording is whole when the run says it finished, while the pipeline (and so
+// the source) still lives: 137 frames, not a multiple of the writer's 50 per flush.
+TEST(Pipeline, TheSourcesRecordingIsWholeWhenTheRunEnds) {
+  const auto ini = asf::IniConfig::fromText(
+      "[pipeline]\nsource = sim2d\nfrontend = odometry\nbackend = dense_gn\n"
+      "segmenter = dude\nplanner = shortest\npolicy = waypoints\nseed = 1\nmax_steps = 137\n"
+      "progress_interval = 0\nverbosity = WARN\n[waypoints]\nwaypoints = 3 0; 3 3; 0 3\n",
+      "record.ini");
+  asf::framework::Registry reg;
+  const fs::path out = tempDir("recording");
+  asf::framework::Pipeline p(asf::framework::resolveConfig(ini, reg), out.string());
+  const asf::framework::RunSummary s = p.run();
+  ASSERT_EQ(s.steps, 137) << s.stop_reason;
+  asf::io::RawlogReader rec((out / "sim2d.rawlog").string());
+  long recorded = 0;
+  while (rec.next()) ++recorded;
+  EXPECT_EQ(recorded, s.steps) << "the recording was not closed when the run ended";
+  EXPECT_EQ(readJson(out / "progress.json")["status"], "stopped: " + s.stop_reason);
+  std::ifstream gt(out / "sim2d.gt.txt");
+  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(gt), {}, '\n'), s.steps + 1)
+      << "a header and one pose per frame";
+}
+
 TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   asf::framework::Registry reg;
   auto ini = asf::IniConfig::fromFile(kDefault);
@@ -143,6 +167,11 @@ TEST(Pipeline, DefaultRunFinishesAndWritesEveryOutput) {
   const auto progress = readJson(out / "progress.json");
   EXPECT_EQ(progress["status"], "finished");
   EXPECT_GT(progress["step"].get<long>(), 0);
+  // "finished" only once every output is in place: progress.json is the last file written.
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().filename() != "run.log")  // the log goes on (the path home is logged after)
+      EXPECT_LE(fs::last_write_time(e.path()), fs::last_write_time(out / "progress.json"))
+          << e.path().filename() << " written after progress.json said finished";
   EXPECT_EQ(j["plugins"]["policy"], "waypoints");
   const auto g = asf::readG2o((out / "graph.g2o").string());
   EXPECT_EQ(g.nodes.size(), s.nodes);

@@ -415,6 +415,12 @@ void RunState::summarize() {
 
 void RunState::writeOutputs() {
   std::string err;
+  // The source's recordings close first, so summary.json says whether one lost anything.
+  try {
+    if (m_.source) m_.source->endRecording();
+  } catch (const std::exception& e) {
+    err = std::string("recording: ") + e.what();
+  }
   rec_.finish(m_.graph, m_.navMap(), m_.seg, m_.topo.graph(), m_.path, sum_, err);
   if (m_.maps.hasMap3d()) {
     const Recorder::Map3dInfo info = m_.maps.map3dInfo();
@@ -429,6 +435,7 @@ void RunState::writeOutputs() {
   } catch (const std::exception& e) {
     err += std::string(err.empty() ? "" : "; ") + "report.html: " + e.what();
   }
+  rec_.finalStatus(sum_, err);
   if (!err.empty()) m_.logStr(mrpt::system::LVL_ERROR, "writing outputs: " + err);
   sum_.output_errors = err;
 }

@@ -279,9 +279,7 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
                       const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
                       const RunSummary& summary, std::string& error) {
   auto attempt = [&](const char* what, auto&& fn) { writeOrNote(error, what, fn); };
-  attempt("progress.json", [&] {
-    writeProgress(summary.finished ? "finished" : "stopped: " + summary.stop_reason, last_row_);
-  });
+  attempt("progress.json", [&] { writeProgress("writing outputs", last_row_); });
   attempt("graph.g2o", [&] { writeG2o(graph, dir_ + "/graph.g2o"); });
   attempt("keyframes.txt",
           [&] { writeAtomically(dir_ + "/keyframes.txt", keyframesText(graph)); });
@@ -298,6 +296,12 @@ void Recorder::finish(const PoseGraph& graph, const GridMap& map, const Segmenta
       j["map"] = gridGeometry(*map.grid);
     if (!error.empty()) j["output_errors"] = error;
     writeAtomically(dir_ + "/summary.json", j.dump(2) + "\n");
+  });
+}
+
+void Recorder::finalStatus(const RunSummary& summary, std::string& error) {
+  writeOrNote(error, "progress.json", [&] {
+    writeProgress(summary.finished ? "finished" : "stopped: " + summary.stop_reason, last_row_);
   });
 }
 

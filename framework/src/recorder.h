@@ -56,7 +56,7 @@ class Recorder {
   };
   /// Also rewrites progress.json (status "running" and the row's figures) at the first row
   /// and then every 5 s of wall time: what a killed run leaves about itself. finish() sets
-  /// its final status.
+  /// it to "writing outputs", finalStatus() to the run's end once every output is in place.
   void series(const SeriesRow& r);
   void decision(long step, double time, const Decision& d, NavStatus previous);
   /// Final files: graph, map, regions, topology, summary. Never throws (logs instead):
@@ -64,6 +64,9 @@ class Recorder {
   void finish(const PoseGraph& graph, const GridMap& map, const Segmentation& seg,
               const TopoGraph& topo, const std::vector<mrpt::poses::CPose2D>& path,
               const RunSummary& summary, std::string& error);
+  /// progress.json's last status, "finished" or "stopped: <reason>": written after every other
+  /// output, so a run killed while writing them never says it finished. Never throws.
+  void finalStatus(const RunSummary& summary, std::string& error);
   /// snapshots/at_<d>m_{map.png, regions.png, topology.svg}: the run as it stands after d
   /// metres ([pipeline] snapshot_distances). Never throws: a failure is logged to stderr.
   void snapshot(double distance, const PoseGraph& graph, const GridMap& map,

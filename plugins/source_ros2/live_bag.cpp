@@ -57,8 +57,9 @@ void LiveBag::goal(const ros2::Stamp& stamp, const std::string& frame, const ros
 
 std::uint64_t LiveBag::close() {
   if (!w_) return 0;
-  w_->close();
-  return w_->messages();
+  const auto w = std::move(w_);  // closed once, even when the close throws
+  w->close();
+  return w->messages();
 }
 
 }  // namespace asf::ros2live

@@ -27,7 +27,7 @@ class LiveBag {
   void map(const ros2::OccupancyGrid& m);
   void markers(const std::vector<ros2::Marker>& m);
   void goal(const ros2::Stamp& stamp, const std::string& frame, const ros2::Transform& pose);
-  /// Writes metadata.yaml; returns the messages written (0 without a bag).
+  /// Writes metadata.yaml; returns the messages written (0 without a bag or when closed).
   std::uint64_t close();
   const std::string& folder() const { return folder_; }
   bool isOpen() const { return w_ != nullptr; }

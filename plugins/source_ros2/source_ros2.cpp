@@ -50,18 +50,10 @@ CPose2D planar(const ros2::Transform& t) {
 class Ros2Source final : public asf::Source {
  public:
   ~Ros2Source() override {
-    const auto threads = asf::ros2live::otherThreadsCpuByName();  // before Cyclone's threads go
-    if (velocity_) {
-      velocity_->halt();  // the robot stops before asf leaves
-      MRPT_LOG_INFO_STREAM(velocity_->commandsSent() << " velocity commands sent on " << cmd_vel_topic_);
-    }
-    link_.reset();  // no callback after this
-    if (frames_ > 0) logCpu(threads);
     try {
-      if (const std::uint64_t n = bag_.close())
-        MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
+      endRecording();
     } catch (const std::exception& e) {
-      MRPT_LOG_ERROR_STREAM("the bag " << bag_.folder() << ": " << e.what());
+      MRPT_LOG_ERROR(e.what());
     }
     if (frames_ > 0 || scans_.arrived() > 0)
       MRPT_LOG_INFO_STREAM("topic " << scan_topic_ << ": " << scans_.arrived() << " scans received, "
@@ -73,6 +65,27 @@ class Ros2Source final : public asf::Source {
                                     << map_topic_);
     if (writer_)
       MRPT_LOG_INFO_STREAM("recorded " << writer_->framesWritten() << " frames to " << rawlog_path_);
+  }
+
+  // The robot stops and the link goes (no callback writes to the bag after it), then the files.
+  void endRecording() override {
+    if (link_) {
+      const auto threads = asf::ros2live::otherThreadsCpuByName();  // before Cyclone's threads go
+      if (velocity_) {
+        velocity_->halt();  // the robot stops before asf leaves
+        MRPT_LOG_INFO_STREAM(velocity_->commandsSent() << " velocity commands sent on " << cmd_vel_topic_);
+      }
+      link_.reset();
+      if (frames_ > 0) logCpu(threads);
+    }
+    try {
+      if (const std::uint64_t n = bag_.close())
+        MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
+    } catch (const std::exception& e) {
+      throw asf::Error("the bag " + bag_.folder() + ": " + e.what());
+    }
+    if (writer_) writer_->close();
+    if (gt_writer_) gt_writer_->close();
   }
 
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {

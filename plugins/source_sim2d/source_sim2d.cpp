@@ -278,6 +278,12 @@ class Sim2dSource final : public asf::Source {
                                        << " (ground truth: " << gt_path_ << ")");
   }
 
+  // The rawlog first: the ground truth alone is of no use.
+  void endRecording() override {
+    if (writer_) writer_->close();
+    if (gt_writer_) gt_writer_->close();
+  }
+
   bool isActive() const override { return true; }
 
   // The base's limits are its own navigation's: a step_length and a turn_step per dt.

@@ -171,6 +171,16 @@ void registerSourceTests(const InfoPtr& info) {
                EXPECT_NE(st, NavStatus::Idle)
                    << "status() is Idle after " << frames << " frames with a goal";
              });
+
+  // The run calls it once, its destructor may call it again: the second call changes nothing.
+  addTest<T>(info, "end_recording_after_frames_twice_without_error", Needs::Instance,
+             [](KindTest<T>& t) {
+               auto h = t.make();
+               for (int k = 0; k < 3; ++k)
+                 if (!h->next()) break;
+               EXPECT_NO_THROW(h->endRecording()) << "endRecording() after frames";
+               EXPECT_NO_THROW(h->endRecording()) << "endRecording() a second time";
+             });
 }
 
 }  // namespace asf::conformance::detail

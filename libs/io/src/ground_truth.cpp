@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace asf::io {
 
@@ -80,12 +81,21 @@ GroundTruthWriter::~GroundTruthWriter() {
 }
 
 void GroundTruthWriter::write(double t, const CPose2D& pose) {
+  if (!impl_->f) throw Error(impl_->path + ": not open for writing (closed)");
   // Flushed per line: a crashed run keeps every pose written so far.
   if (std::fprintf(impl_->f, "%.9f %.9f %.9f %.9f\n", t, pose.x(), pose.y(), pose.phi()) < 0 ||
       std::fflush(impl_->f) != 0)
     throw Error(impl_->path + ": write failed");
 }
 
-void GroundTruthWriter::flush() { std::fflush(impl_->f); }
+void GroundTruthWriter::flush() {
+  if (impl_->f) std::fflush(impl_->f);
+}
+
+void GroundTruthWriter::close() {
+  if (!impl_->f) return;
+  std::FILE* f = std::exchange(impl_->f, nullptr);
+  if (std::fclose(f) != 0) throw Error(impl_->path + ": close failed");
+}
 
 }  // namespace asf::io

@@ -5,7 +5,7 @@
 /// plugins built against another version.
 #include <cstdint>
 
-#define ASF_ABI_VERSION 6u
+#define ASF_ABI_VERSION 7u
 #define ASF_VERSION_STRING "0.1.0"
 
 #define ASF_EXPORT __attribute__((visibility("default")))

@@ -23,6 +23,10 @@
 ///   takes them) is halted when the run pauses (halt(): the robot stops, status() is Idle)
 ///   and stepped on meanwhile (the run maps, decides nothing); any other source is held
 ///   between two steps and goes on afterwards as if it had not been paused.
+/// - endRecording() closes what the source writes into the run's folder (a rawlog, a bag,
+///   ground truth), once, after the run's last frame and before the run says it finished: it
+///   throws asf::Error naming the file when anything written was lost. next() is not called
+///   after it; a source that records nothing keeps the default, which does nothing.
 #include <asf/goal.h>
 #include <asf/grid_map.h>
 #include <asf/plugin.h>
@@ -117,6 +121,8 @@ class Source : public Plugin {
   virtual bool isLive() const { return false; }
   /// The run's estimate after a step (see the contract above); the default ignores it.
   virtual void observe(const RunView& view) {}
+  /// Closes the run's recordings (see the contract above); the default has none.
+  virtual void endRecording() {}
 };
 
 }  // namespace asf

@@ -33,8 +33,12 @@ class GroundTruthWriter {
  public:
   explicit GroundTruthWriter(const std::string& path);  ///< throws asf::InputError
   ~GroundTruthWriter();
+  /// Throws asf::Error naming the file when the write fails or the writer is closed.
   void write(double t, const mrpt::poses::CPose2D& pose);
   void flush();
+  /// Closes the file; throws asf::Error naming it when the close failed. Closing again does
+  /// nothing.
+  void close();
 
  private:
   struct Impl;
