@@ -78,14 +78,12 @@ class Ros2Source final : public asf::Source {
       link_.reset();
       if (frames_ > 0) logCpu(threads);
     }
-    try {
-      if (const std::uint64_t n = bag_.close())
-        MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
-    } catch (const std::exception& e) {
-      throw asf::Error("the bag " + bag_.folder() + ": " + e.what());
-    }
-    if (writer_) writer_->close();
-    if (gt_writer_) gt_writer_->close();
+    asf::ros2live::closeEach({{"the bag " + bag_.folder() + ": ", [&] {
+                                 if (const std::uint64_t n = bag_.close())
+                                   MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
+                               }},
+                              {"", [&] { if (writer_) writer_->close(); }},
+                              {"", [&] { if (gt_writer_) gt_writer_->close(); }}});
   }
 
   void configure(const asf::Params& p, const asf::PluginContext& ctx) override {

@@ -278,9 +278,17 @@ class Sim2dSource final : public asf::Source {
                                        << " (ground truth: " << gt_path_ << ")");
   }
 
-  // The rawlog first: the ground truth alone is of no use.
+  // Both closed even when the first fails; its error is the one reported.
   void endRecording() override {
-    if (writer_) writer_->close();
+    try {
+      if (writer_) writer_->close();
+    } catch (...) {
+      try {
+        if (gt_writer_) gt_writer_->close();
+      } catch (...) {  // the rawlog's loss is the one reported
+      }
+      throw;
+    }
     if (gt_writer_) gt_writer_->close();
   }
 

@@ -25,8 +25,9 @@
 ///   between two steps and goes on afterwards as if it had not been paused.
 /// - endRecording() closes what the source writes into the run's folder (a rawlog, a bag,
 ///   ground truth), once, after the run's last frame and before the run says it finished: it
-///   throws asf::Error naming the file when anything written was lost. next() is not called
-///   after it; a source that records nothing keeps the default, which does nothing.
+///   throws asf::Error naming the file when anything written was lost, after closing every
+///   file. Neither next(), navigate() nor observe() is called after it; a second call does
+///   nothing. A source that records nothing keeps the default, which does nothing.
 #include <asf/goal.h>
 #include <asf/grid_map.h>
 #include <asf/plugin.h>
