@@ -21,6 +21,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <stdexcept>
 #include <vector>
 
 #include "test_util.h"
@@ -41,6 +42,28 @@ std::string readText(const fs::path& f) {
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// A run's recordings: every one is closed even when one before fails, and the first loss is
+// the error, after its label.
+TEST(CloseEach, ClosesEveryFileAndReportsTheFirstLoss) {
+  std::vector<int> closed;
+  auto fail = [&](int k, const char* why) {
+    return [&closed, k, why] {
+      closed.push_back(k);
+      throw std::runtime_error(why);
+    };
+  };
+  try {
+    asf::closeEach({{"a: ", [&] { closed.push_back(1); }},
+               {"the bag b: ", fail(2, "metadata.yaml: write failed")},
+               {"", fail(3, "c.rawlog: write failed")}});
+    ADD_FAILURE() << "no error thrown";
+  } catch (const asf::Error& e) {
+    EXPECT_STREQ(e.what(), "the bag b: metadata.yaml: write failed");
+  }
+  EXPECT_EQ(closed, (std::vector<int>{1, 2, 3}));
+  EXPECT_NO_THROW(asf::closeEach({{"a: ", [] {}}}));
 }
 
 TEST(AtomicFile, RegularFileIsReplacedWholeAndNoTemporaryStays) {

@@ -1,7 +1,6 @@
 // The live source's state, independent of DDS (live_core.h).
 #include "live_core.h"
 
-#include <asf/errors.h>
 #include <asf/statistics.h>
 
 #include <sys/resource.h>
@@ -283,16 +282,6 @@ std::string bridgeCpuLine(const std::map<std::string, double>& threads, double r
      << " s on Cyclone DDS's threads (" << names.str() << "), of " << processCpuSeconds()
      << " s for the whole run (" << other << " s on its other threads)";
   return os.str();
-}
-
-void closeEach(const std::vector<std::pair<std::string, std::function<void()>>>& closers) {
-  std::string lost;
-  for (const auto& [label, close] : closers) try {
-      close();
-    } catch (const std::exception& e) {
-      if (lost.empty()) lost = label + e.what();
-    }
-  if (!lost.empty()) throw asf::Error(lost);
 }
 
 }  // namespace asf::ros2live

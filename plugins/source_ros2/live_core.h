@@ -13,7 +13,6 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
-#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -170,9 +169,5 @@ double processCpuSeconds();
 /// (otherThreadsCpuByName), against the whole process.
 std::string bridgeCpuLine(const std::map<std::string, double>& threads, double run_thread_s,
                           double recording_s);
-
-/// Runs every closer, each even when one before failed; then throws asf::Error with the first
-/// failure's message after its label (a run's recordings: none is left open by another's loss).
-void closeEach(const std::vector<std::pair<std::string, std::function<void()>>>& closers);
 
 }  // namespace asf::ros2live

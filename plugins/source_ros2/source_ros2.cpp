@@ -7,6 +7,7 @@
 // a path on its map, followed with geometry_msgs/Twist on /cmd_vel (velocity_drive.h). An
 // operator starts, pauses, stops or sends the robot home with std_msgs/String on /asf/command.
 // Every run is recorded as a rawlog.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/io/ground_truth.h>
 #include <asf/mapping/odometry_noise.h>
@@ -78,7 +79,7 @@ class Ros2Source final : public asf::Source {
       link_.reset();
       if (frames_ > 0) logCpu(threads);
     }
-    asf::ros2live::closeEach({{"the bag " + bag_.folder() + ": ", [&] {
+    asf::closeEach({{"the bag " + bag_.folder() + ": ", [&] {
                                  if (const std::uint64_t n = bag_.close())
                                    MRPT_LOG_INFO_STREAM("wrote " << n << " messages to the bag " << bag_.folder());
                                }},

@@ -4,6 +4,7 @@
 // the odometry noise model (CActionRobotMovement2D's Gaussian model); an optional tilted laser
 // is ray cast over the height field. The robot plans on the *estimated* map, drives in fixed
 // steps and never passes through a true obstacle, low or not.
+#include <asf/atomic_file.h>
 #include <asf/errors.h>
 #include <asf/io/occupancy_io.h>
 #include <asf/io/rawlog_io.h>
@@ -278,18 +279,9 @@ class Sim2dSource final : public asf::Source {
                                        << " (ground truth: " << gt_path_ << ")");
   }
 
-  // Both closed even when the first fails; its error is the one reported.
   void endRecording() override {
-    try {
-      if (writer_) writer_->close();
-    } catch (...) {
-      try {
-        if (gt_writer_) gt_writer_->close();
-      } catch (...) {  // the rawlog's loss is the one reported
-      }
-      throw;
-    }
-    if (gt_writer_) gt_writer_->close();
+    asf::closeEach({{"", [&] { if (writer_) writer_->close(); }},
+                    {"", [&] { if (gt_writer_) gt_writer_->close(); }}});
   }
 
   bool isActive() const override { return true; }

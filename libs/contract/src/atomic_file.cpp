@@ -60,4 +60,14 @@ void writeFileAtomically(const std::string& path, const std::string& text,
   });
 }
 
+void closeEach(const std::vector<std::pair<std::string, std::function<void()>>>& closers) {
+  std::string lost;
+  for (const auto& [label, close] : closers) try {
+      close();
+    } catch (const std::exception& e) {
+      if (lost.empty()) lost = label + e.what();
+    }
+  if (!lost.empty()) throw Error(lost);
+}
+
 }  // namespace asf

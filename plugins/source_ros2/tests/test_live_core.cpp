@@ -2,10 +2,6 @@
 // outcomes through an action's status list, the scan queue.
 #include <gtest/gtest.h>
 
-#include <asf/errors.h>
-
-#include <stdexcept>
-
 #include "../live_core.h"
 
 using namespace asf::ros2live;
@@ -136,26 +132,4 @@ TEST(LiveCore, LatencySummaryTakesTheSortedElementAtTheQuantile) {
   for (int i = 21; i >= 1; i -= 2) v.push_back(i);
   for (int i = 2; i <= 20; i += 2) v.push_back(i);
   EXPECT_EQ(latencySummary(v), "median 11 ms, p95 20 ms, max 21 ms over 21");
-}
-
-// A run's recordings: every one is closed even when one before fails, and the first loss is
-// the error, after its label.
-TEST(CloseEach, ClosesEveryFileAndReportsTheFirstLoss) {
-  std::vector<int> closed;
-  auto fail = [&](int k, const char* why) {
-    return [&closed, k, why] {
-      closed.push_back(k);
-      throw std::runtime_error(why);
-    };
-  };
-  try {
-    closeEach({{"a: ", [&] { closed.push_back(1); }},
-               {"the bag b: ", fail(2, "metadata.yaml: write failed")},
-               {"", fail(3, "c.rawlog: write failed")}});
-    ADD_FAILURE() << "no error thrown";
-  } catch (const asf::Error& e) {
-    EXPECT_STREQ(e.what(), "the bag b: metadata.yaml: write failed");
-  }
-  EXPECT_EQ(closed, (std::vector<int>{1, 2, 3}));
-  EXPECT_NO_THROW(closeEach({{"a: ", [] {}}}));
 }

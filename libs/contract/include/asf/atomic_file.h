@@ -4,6 +4,8 @@
 /// it, then renamed over it. What `-o FILE` and every run output go through.
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace asf {
 
@@ -47,5 +49,10 @@ class AtomicOutput {
 /// writeFileVia with `text` as the whole content (binary; the stream's close checked).
 void writeFileAtomically(const std::string& path, const std::string& text,
                          const std::string& what = "file");
+
+/// Runs every closer, each even when one before failed, then throws asf::Error with the first
+/// failure's message after its label: closing a run's recordings, none is left open by
+/// another's loss.
+void closeEach(const std::vector<std::pair<std::string, std::function<void()>>>& closers);
 
 }  // namespace asf
